@@ -1,0 +1,231 @@
+//! Streaming accumulation of the block-Hankel products in memory independent of the number of
+//! samples.
+//!
+//! Stack the signals as `w(t) = [z(t); ȳ(t)]`. Block row `a` of the `K = f + p` block-row
+//! Hankel matrix holds `w(a), …, w(a + j − 1)`. Each block of its Gram matrix is a lagged sum
+//! over a window (`τ = b − a ≥ 0`):
+//!
+//! ```text
+//! G[a, b] = Σ_{t=a}^{a+j−1} w(t) w(t+τ)ᵀ = R_τ − Σ_{t<a} w(t) w(t+τ)ᵀ − Σ_{t≥a+j} w(t) w(t+τ)ᵀ
+//! ```
+//!
+//! with the full-range lagged sums `R_τ = Σ_t w(t) w(t+τ)ᵀ`. The corrections involve only the
+//! first `K` and the last `K` samples, so the accumulator keeps `R_0 … R_{K−1}`, the first `K`
+//! samples and a ring of the last `K`: `K·(M+1)²` sums plus `2K` samples, whatever the length
+//! of the experiment. The Gram blocks it produces are those of the explicit Hankel matrices,
+//! exactly (up to rounding). Samples are stored as their position on the nonlinearity
+//! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
+//! two channels, so one update costs `O(K)` multiply-adds.
+
+use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
+use crate::scalar::Real;
+
+/// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lagged<T, const M: usize> {
+    /// `Σ z_i(t) z_j(t+τ)`, indexed `[i][j]`.
+    pub zz: [[T; M]; M],
+    /// `Σ z_i(t) ȳ(t+τ)`.
+    pub zy: [T; M],
+    /// `Σ ȳ(t) z_j(t+τ)`.
+    pub yz: [T; M],
+    /// `Σ ȳ(t) ȳ(t+τ)`.
+    pub yy: T,
+}
+
+impl<T: Real, const M: usize> Default for Lagged<T, M> {
+    fn default() -> Self {
+        Self {
+            zz: [[T::zero(); M]; M],
+            zy: [T::zero(); M],
+            yz: [T::zero(); M],
+            yy: T::zero(),
+        }
+    }
+}
+
+impl<T: Real, const M: usize> Lagged<T, M> {
+    /// Adds `sign · w(s) w(s+τ)ᵀ` for the samples `early = w(s)` and `late = w(s+τ)`.
+    #[inline]
+    fn add_outer(
+        &mut self,
+        knots: &Knots<T, M>,
+        basis: Basis,
+        early: &Entry<T>,
+        late: &Entry<T>,
+        sign: T,
+    ) {
+        let (ye, yl) = (early.y * sign, late.y);
+        for_each_nonzero(knots, basis, &early.at, |i, zi| {
+            let zi = zi * sign;
+            if let Some(row) = self.zz.get_mut(i) {
+                for_each_nonzero(knots, basis, &late.at, |j, zj| {
+                    if let Some(v) = row.get_mut(j) {
+                        *v += zi * zj;
+                    }
+                });
+            }
+            if let Some(v) = self.zy.get_mut(i) {
+                *v += zi * yl;
+            }
+        });
+        for_each_nonzero(knots, basis, &late.at, |j, zj| {
+            if let Some(v) = self.yz.get_mut(j) {
+                *v += ye * zj;
+            }
+        });
+        self.yy += ye * yl;
+    }
+}
+
+/// One stored sample: where it is on the nonlinearity, and `ȳ = y − μ0`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Entry<T> {
+    /// Path, segment and position: determines z(t).
+    pub at: Located<T>,
+    /// `ȳ(t)`.
+    pub y: T,
+}
+
+/// The streaming accumulator: lagged sums for `τ = 0 … K−1`, the first `K` samples and the
+/// last `K` samples. `M` regressor channels, `K = f + p` block rows.
+#[derive(Clone, Debug)]
+pub struct Accumulator<T, const M: usize, const K: usize> {
+    lags: [Lagged<T, M>; K],
+    head: [Entry<T>; K],
+    ring: [Entry<T>; K],
+    pos: usize,
+    count: u64,
+}
+
+impl<T: Real, const M: usize, const K: usize> Default for Accumulator<T, M, K> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
+    /// An empty accumulator.
+    pub fn new() -> Self {
+        const { assert!(K >= 2, "K = f + p block rows must be at least 2") };
+        const { assert!(M >= 2, "M (segments on both paths) must be at least 2") };
+        Self {
+            lags: [Lagged::default(); K],
+            head: [Entry::default(); K],
+            ring: [Entry::default(); K],
+            pos: 0,
+            count: 0,
+        }
+    }
+
+    /// Samples accumulated so far (`N`).
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Hankel columns `j = N − K + 1` (0 while `N < K`).
+    pub fn columns(&self) -> u64 {
+        (self.count + 1).saturating_sub(K as u64)
+    }
+
+    /// The lagged sum `R_τ` (`None` for `τ >= K`).
+    pub fn lag(&self, tau: usize) -> Option<&Lagged<T, M>> {
+        self.lags.get(tau)
+    }
+
+    /// Adds one sample. `O(K)` work for the hat basis; no allocation, no failure.
+    pub fn push(&mut self, knots: &Knots<T, M>, basis: Basis, at: Located<T>, y: T) {
+        let new = Entry { at, y };
+        if let Some(slot) = usize::try_from(self.count)
+            .ok()
+            .and_then(|t| self.head.get_mut(t))
+        {
+            *slot = new;
+        }
+        if let Some(slot) = self.ring.get_mut(self.pos) {
+            *slot = new;
+        }
+        let lags_now = usize::try_from(self.count).map_or(K, |c| c.saturating_add(1).min(K));
+        for tau in 0..lags_now {
+            let idx = (self.pos + K - tau) % K;
+            if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
+                lag.add_outer(knots, basis, old, &new, T::one());
+            }
+        }
+        self.pos = (self.pos + 1) % K;
+        self.count += 1;
+    }
+
+    /// Sample `t` if it is still stored (among the first `K` or the last `K`).
+    fn sample(&self, t: u64) -> Option<&Entry<T>> {
+        if t < K as u64 {
+            return self.head.get(t as usize);
+        }
+        if t >= self.count || t + (K as u64) < self.count {
+            return None;
+        }
+        // The ring slot of sample t: pos points at sample `count`'s slot.
+        let back = (self.count - t) as usize; // 1..=K
+        self.ring.get((self.pos + K - back) % K)
+    }
+
+    /// Visits every upper block `G[a, b]` (`a <= b < K`) of the Gram of the stacked Hankel
+    /// matrix with `j = N − K + 1` columns, as `sink(a, b, block)`. Needs `N >= K`.
+    ///
+    /// Blocks along one lag are produced with a running correction, so the whole Gram costs
+    /// `O(K²·M²)` and one `Lagged` of scratch.
+    pub fn for_each_block(
+        &self,
+        knots: &Knots<T, M>,
+        basis: Basis,
+        mut sink: impl FnMut(usize, usize, &Lagged<T, M>),
+    ) {
+        let j = self.columns();
+        if j == 0 {
+            return;
+        }
+        let n = self.count;
+        let mut block = Lagged::<T, M>::default();
+        for (tau, r) in self.lags.iter().enumerate() {
+            let tau64 = tau as u64;
+            let mut corr = Lagged::<T, M>::default();
+            // Tail correction for a = 0: samples t = j … N−1−τ.
+            let mut t = j;
+            while t + tau64 < n {
+                if let (Some(e), Some(l)) = (self.sample(t), self.sample(t + tau64)) {
+                    corr.add_outer(knots, basis, e, l, T::one());
+                }
+                t += 1;
+            }
+            for a in 0..(K - tau) {
+                subtract(&mut block, r, &corr);
+                sink(a, a + tau, &block);
+                let a64 = a as u64;
+                // Move the window one column: the head gains w(a), the tail loses w(a + j).
+                if let (Some(e), Some(l)) = (self.sample(a64), self.sample(a64 + tau64)) {
+                    corr.add_outer(knots, basis, e, l, T::one());
+                }
+                if let (Some(e), Some(l)) = (self.sample(a64 + j), self.sample(a64 + j + tau64)) {
+                    corr.add_outer(knots, basis, e, l, -T::one());
+                }
+            }
+        }
+    }
+}
+
+/// `out = r − c`, block by block.
+fn subtract<T: Real, const M: usize>(out: &mut Lagged<T, M>, r: &Lagged<T, M>, c: &Lagged<T, M>) {
+    for ((o, a), b) in out.zz.iter_mut().zip(&r.zz).zip(&c.zz) {
+        for ((o, &a), &b) in o.iter_mut().zip(a).zip(b) {
+            *o = a - b;
+        }
+    }
+    for ((o, &a), &b) in out.zy.iter_mut().zip(&r.zy).zip(&c.zy) {
+        *o = a - b;
+    }
+    for ((o, &a), &b) in out.yz.iter_mut().zip(&r.yz).zip(&c.yz) {
+        *o = a - b;
+    }
+    out.yy = r.yy - c.yy;
+}

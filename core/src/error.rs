@@ -1,0 +1,270 @@
+//! Typed errors: every way the identification can fail says what was wrong and what to change.
+
+use core::fmt;
+
+use crate::regressor::Direction;
+
+/// Which measured signal a per-sample fault concerns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Signal {
+    /// The actuator command `u`.
+    Input,
+    /// The measured output `y`.
+    Output,
+}
+
+/// The step of the solve an error comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Stage {
+    /// Cholesky factor of the Gram of the input Hankel matrices `[Z_f; Z_p]`.
+    InputHankel,
+    /// SVD of the projection `O_f` (eq. 11).
+    Projection,
+    /// Shift invariance for `A`.
+    ShiftInvariance,
+    /// Least squares for `[D; B]`.
+    InputMatrices,
+    /// Rank-1 split of `[D; B]` (eq. 14).
+    RankOneSplit,
+    /// `(I - A)` for the static gain.
+    StaticGain,
+}
+
+/// Everything that can go wrong, from configuration to the final solve.
+///
+/// Values are reported as `f64` whatever the scalar type, so that messages are comparable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Error {
+    /// `u_min` must be finite and strictly less than `u_max`.
+    InvalidInterval {
+        /// Lower end given.
+        u_min: f64,
+        /// Upper end given.
+        u_max: f64,
+    },
+    /// A knot vector has fewer than two knots (one segment).
+    TooFewKnots {
+        /// The path concerned.
+        path: Direction,
+        /// Number of knots given.
+        count: usize,
+    },
+    /// Knots must be finite and strictly increasing.
+    KnotsNotIncreasing {
+        /// The path concerned.
+        path: Direction,
+        /// Index of the first knot that is not larger than its predecessor (or not finite).
+        index: usize,
+    },
+    /// The first and last knots must be `u_min` and `u_max`.
+    KnotEndpoints {
+        /// The path concerned.
+        path: Direction,
+        /// First knot given.
+        first: f64,
+        /// Last knot given.
+        last: f64,
+    },
+    /// The segment counts of the two paths must add up to the type's channel count `M`.
+    SegmentCount {
+        /// `M`, the number of regressor channels of the type.
+        expected: usize,
+        /// Ascending segments given.
+        ascending: usize,
+        /// Descending segments given.
+        descending: usize,
+    },
+    /// Horizons: `1 <= f < K` with `p = K - f >= 1`, and `f <= MAX_HORIZON`.
+    InvalidHorizon {
+        /// Future horizon requested.
+        f: usize,
+        /// Total block rows `K = f + p` of the type.
+        k: usize,
+    },
+    /// The requested model order must satisfy `1 <= n < f`.
+    OrderTooHigh {
+        /// Order requested.
+        order: usize,
+        /// Future horizon.
+        f: usize,
+    },
+    /// The hold at `u_min` must be longer than the samples skipped while the plant settles.
+    HoldTooShort {
+        /// Hold length in samples.
+        len: usize,
+        /// Samples skipped at its start.
+        settle: usize,
+    },
+    /// A sample of the hold was not at `u_min`.
+    HoldNotAtMin {
+        /// Index of the sample (0 = first sample pushed).
+        index: u64,
+        /// The input value found.
+        value: f64,
+    },
+    /// A sample was NaN or infinite.
+    NonFinite {
+        /// Index of the sample (0 = first sample pushed).
+        index: u64,
+        /// Which signal.
+        signal: Signal,
+    },
+    /// An input sample lies outside `[u_min, u_max]`.
+    InputOutOfRange {
+        /// Index of the sample (0 = first sample pushed).
+        index: u64,
+        /// The value found.
+        value: f64,
+    },
+    /// Not enough samples for the Hankel sizes.
+    TooFewSamples {
+        /// Samples accumulated after the hold.
+        have: u64,
+        /// Samples needed.
+        need: u64,
+    },
+    /// A regressor channel was never excited: the path never visited that knot's segments.
+    NoExcitation {
+        /// The path concerned.
+        path: Direction,
+        /// Knot index (1-based, as in the paper's `P_i`) whose basis function stayed zero.
+        knot: usize,
+    },
+    /// The data are rank deficient at the given stage.
+    RankDeficient {
+        /// Where.
+        stage: Stage,
+    },
+    /// An iterative step (SVD) did not converge within its iteration bound.
+    NoConvergence {
+        /// Where.
+        stage: Stage,
+    },
+    /// No singular value rose above the noise floor: no input-to-output dynamics detected.
+    NoDynamics,
+    /// The static gain of the normalised linear part is (near) zero, so γ is undefined.
+    ZeroStaticGain,
+    /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
+    IntegratingModel,
+    /// The caller-provided workspace is too small.
+    WorkspaceTooSmall {
+        /// Scalars needed.
+        need: usize,
+        /// Scalars given.
+        have: usize,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::InvalidInterval { u_min, u_max } => write!(
+                f,
+                "invalid input interval [{u_min}, {u_max}]: u_min must be finite and below u_max"
+            ),
+            Error::TooFewKnots { path, count } => write!(
+                f,
+                "{path} path has {count} knot(s): give at least two (u_min and u_max)"
+            ),
+            Error::KnotsNotIncreasing { path, index } => write!(
+                f,
+                "{path} knots must be finite and strictly increasing: knot {index} is not above knot {}",
+                index.saturating_sub(1)
+            ),
+            Error::KnotEndpoints { path, first, last } => write!(
+                f,
+                "{path} knots run from {first} to {last}: the first must be u_min and the last u_max"
+            ),
+            Error::SegmentCount {
+                expected,
+                ascending,
+                descending,
+            } => write!(
+                f,
+                "{ascending} ascending + {descending} descending segments, but the identifier has {expected} channels: make them add up"
+            ),
+            Error::InvalidHorizon { f: fh, k } => write!(
+                f,
+                "future horizon f = {fh} with K = {k} block rows: need 1 <= f < K (p = K - f >= 1) and f <= {}",
+                crate::MAX_HORIZON
+            ),
+            Error::OrderTooHigh { order, f: fh } => write!(
+                f,
+                "order {order} needs a future horizon f > {order} (f = {fh}): lower the order or raise f"
+            ),
+            Error::HoldTooShort { len, settle } => write!(
+                f,
+                "hold of {len} samples with {settle} skipped to settle leaves nothing to average for mu0: lengthen the hold"
+            ),
+            Error::HoldNotAtMin { index, value } => write!(
+                f,
+                "sample {index} belongs to the hold but u = {value} is not u_min: check the hold length"
+            ),
+            Error::NonFinite { index, signal } => {
+                write!(f, "sample {index}: {signal} is NaN or infinite")
+            }
+            Error::InputOutOfRange { index, value } => write!(
+                f,
+                "sample {index}: u = {value} lies outside [u_min, u_max]: widen the interval or fix the data"
+            ),
+            Error::TooFewSamples { have, need } => write!(
+                f,
+                "{have} samples after the hold, {need} needed for these Hankel sizes: record longer or lower f, p or the knot count"
+            ),
+            Error::NoExcitation { path, knot } => write!(
+                f,
+                "{path} path: the basis function of knot {knot} was never excited: the input must sweep the whole path (Table I excitation)"
+            ),
+            Error::RankDeficient { stage } => write!(
+                f,
+                "rank deficient data at {stage}: the input is not persistently exciting enough (use the Table I excitation, more samples or fewer knots)"
+            ),
+            Error::NoConvergence { stage } => {
+                write!(f, "no convergence within the iteration bound at {stage}")
+            }
+            Error::NoDynamics => write!(
+                f,
+                "no singular value above the noise floor: the output does not respond to the input"
+            ),
+            Error::ZeroStaticGain => write!(
+                f,
+                "the linear part has (near) zero static gain, so it cannot be normalised to G(1) = 1"
+            ),
+            Error::IntegratingModel => write!(
+                f,
+                "I - A is singular (integrating linear part): G(1) = 1 cannot be imposed"
+            ),
+            Error::WorkspaceTooSmall { need, have } => write!(
+                f,
+                "workspace has {have} scalars, the solve needs {need}: size it with hsid::workspace_len"
+            ),
+        }
+    }
+}
+
+impl fmt::Display for Signal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Signal::Input => "input u",
+            Signal::Output => "output y",
+        })
+    }
+}
+
+impl fmt::Display for Stage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Stage::InputHankel => "the input Hankel Gram [Z_f; Z_p]",
+            Stage::Projection => "the projection O_f (eq. 11)",
+            Stage::ShiftInvariance => "the shift-invariance step for A",
+            Stage::InputMatrices => "the least squares for B and D",
+            Stage::RankOneSplit => "the rank-1 split of [D; B] (eq. 14)",
+            Stage::StaticGain => "the static gain (I - A)",
+        })
+    }
+}
+
+impl core::error::Error for Error {}

@@ -1,0 +1,299 @@
+//! From the projection to the model: `A`, `C` by shift invariance, `[D; B]` by least squares,
+//! the rank-1 split of eq. (14) and γ so that `G(1) = 1`.
+//!
+//! `B` and `D` follow the MOESP procedure: with `U₂` the left singular vectors orthogonal to
+//! `Γ_f`, `U₂ᵀ Γ_f = 0` removes the states from `Ȳ_f = Γ_f X + Ξ_f Z_f + V`, so
+//! `U₂ᵀ Ξ_f(B, D) = U₂ᵀ Ȳ_f Z_fᵀ(Z_f Z_fᵀ)⁻¹ = U₂ᵀ L₃₁ L₁₁⁻¹`. `Ξ_f` is linear in `[D; B]`
+//! and every input channel enters separately with the same coefficients, so one small least
+//! squares with `m` right-hand sides gives the over-parameterised `[D; B]` ((n+1) × m).
+
+use heapless::Vec;
+
+use crate::MAX_HORIZON;
+use crate::error::{Error, Stage};
+use crate::linalg::{Small, apply_q, householder_qr, least_squares, packed, svd_small};
+use crate::model::Model;
+use crate::regressor::{Basis, Direction, Knots};
+use crate::scalar::Real;
+use crate::subspace::{Layout, Projection};
+
+/// Relative rank tolerance of the small least-squares problems.
+fn rank_tol<T: Real>(dim: usize) -> T {
+    T::EPS * T::of_usize(64 * dim.max(1))
+}
+
+/// Builds the model of order `n` from the factored Gram in `ws` and the projection.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn estimate<T: Real, const M: usize>(
+    proj: &Projection<T>,
+    n: usize,
+    lay: Layout,
+    ws: &mut [T],
+    knots: &Knots<T, M>,
+    basis: Basis,
+    mu0: T,
+) -> Result<Model<T, M>, Error> {
+    let (f, m) = (lay.f, lay.m);
+    let fm = f * m;
+    let d = lay.d();
+    let (gram, rest) = ws.split_at_mut(lay.gram());
+    let (bf, scratch) = rest.split_at_mut(lay.bf());
+
+    // 1. Γ_f = U₁ S₁^½, C = first row, A from Γ_under A = Γ_over.
+    let mut gamma = Small::<T>::zeros();
+    for c in 0..n {
+        let w = (proj.sv[c] * T::of(libm::sqrt(proj.j as f64))).sqrt();
+        for r in 0..f {
+            gamma[(r, c)] = proj.u[(r, c)] * w;
+        }
+    }
+    let mut a = Small::<T>::zeros();
+    {
+        let rows = f - 1;
+        let (ga, rest) = scratch.split_at_mut(rows * n);
+        let (gb, tau) = rest.split_at_mut(rows * n);
+        for c in 0..n {
+            for r in 0..rows {
+                ga[r + c * rows] = gamma[(r, c)];
+                gb[r + c * rows] = gamma[(r + 1, c)];
+            }
+        }
+        least_squares(ga, rows, n, gb, n, &mut tau[..n], rank_tol(rows)).map_err(|()| {
+            Error::RankDeficient {
+                stage: Stage::ShiftInvariance,
+            }
+        })?;
+        for c in 0..n {
+            for r in 0..n {
+                a[(r, c)] = gb[r + c * rows];
+            }
+        }
+    }
+    let mut cvec = [T::zero(); MAX_HORIZON];
+    for (c, v) in cvec.iter_mut().enumerate().take(n) {
+        *v = gamma[(0, c)];
+    }
+
+    // 2. B_f = L₃₁ L₁₁⁻¹ (f × f·m): each row solves x L₁₁ = l₃₁.
+    for i in 0..f {
+        let l31 = packed(d + i, 0);
+        let x = &mut bf[i * fm..(i + 1) * fm];
+        for col in (0..fm).rev() {
+            let mut s = gram[l31 + col];
+            for (r, &xr) in x.iter().enumerate().skip(col + 1) {
+                s -= xr * gram[packed(r, col)];
+            }
+            x[col] = s / gram[packed(col, col)];
+        }
+    }
+
+    // 3. [D; B] from U₂ᵀ Ξ_f = U₂ᵀ B_f. Rows (jj, r): block column jj, annihilator r.
+    let nr = f - n;
+    let rows = f * nr;
+    let cols = n + 1;
+    // C A^k, k = 0 … f − 2.
+    let mut ob = Small::<T>::zeros();
+    {
+        let mut row = cvec;
+        for k in 0..f.saturating_sub(1) {
+            for q in 0..n {
+                ob[(k, q)] = row[q];
+            }
+            let mut next = [T::zero(); MAX_HORIZON];
+            for (q, nq) in next.iter_mut().enumerate().take(n) {
+                for (p, &rp) in row.iter().enumerate().take(n) {
+                    *nq += rp * a[(p, q)];
+                }
+            }
+            row = next;
+        }
+    }
+    let (kmat, rest) = scratch.split_at_mut(rows * cols);
+    let (rhs, tau) = rest.split_at_mut(rows * m);
+    for jj in 0..f {
+        for r in 0..nr {
+            let row = jj * nr + r;
+            kmat[row] = proj.u[(jj, n + r)];
+            for q in 0..n {
+                let mut s = T::zero();
+                for kk in 0..(f - jj - 1) {
+                    s += proj.u[(jj + 1 + kk, n + r)] * ob[(kk, q)];
+                }
+                kmat[row + (1 + q) * rows] = s;
+            }
+            for c in 0..m {
+                let mut s = T::zero();
+                for i in 0..f {
+                    s += proj.u[(i, n + r)] * bf[i * fm + jj * m + c];
+                }
+                rhs[row + c * rows] = s;
+            }
+        }
+    }
+    least_squares(kmat, rows, cols, rhs, m, &mut tau[..cols], rank_tol(rows)).map_err(|()| {
+        Error::RankDeficient {
+            stage: Stage::InputMatrices,
+        }
+    })?;
+    // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
+
+    // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
+    let (s1, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, bf)?;
+
+    // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
+    let mut ia = Small::<T>::zeros();
+    for r in 0..n {
+        for c in 0..n {
+            ia[(r, c)] = if r == c { T::one() } else { T::zero() } - a[(r, c)];
+        }
+    }
+    let mut xb = [T::zero(); MAX_HORIZON];
+    {
+        let (ma, rest) = scratch.split_at_mut(n * n);
+        let (mb, tau) = rest.split_at_mut(n);
+        for r in 0..n {
+            mb[r] = uvec[1 + r];
+            for c in 0..n {
+                ma[r + c * n] = ia[(r, c)];
+            }
+        }
+        least_squares(ma, n, n, mb, 1, &mut tau[..n], rank_tol(n))
+            .map_err(|()| Error::IntegratingModel)?;
+        xb[..n].copy_from_slice(&mb[..n]);
+    }
+    let ud = uvec[0];
+    let mut g0 = ud;
+    let mut scale = ud.abs();
+    for q in 0..n {
+        g0 += cvec[q] * xb[q];
+        scale += (cvec[q] * xb[q]).abs();
+    }
+    let usable = g0.abs() > T::EPS.sqrt() * scale && g0.finite();
+    if !usable {
+        return Err(Error::ZeroStaticGain);
+    }
+    // B = γ s u_B = u_B / g0, D = u_D / g0, μ = s g0 v.
+    let mut bvec = [T::zero(); MAX_HORIZON];
+    let mut dc_state = [T::zero(); MAX_HORIZON];
+    for q in 0..n {
+        bvec[q] = uvec[1 + q] / g0;
+        dc_state[q] = xb[q] / g0;
+    }
+    let dval = ud / g0;
+    let mut coef = [T::zero(); M];
+    for (c, v) in coef.iter_mut().enumerate() {
+        *v = s1 * g0 * vvec[c];
+    }
+
+    // 6. Border values at the knots.
+    let border = |dir: Direction| -> Vec<T, M> {
+        let k = knots.path(dir);
+        let off = knots.offset(dir);
+        let mut out = Vec::new();
+        let mut acc = mu0;
+        let _ = out.push(mu0);
+        for i in 1..k.len() {
+            let c = coef.get(off + i - 1).copied().unwrap_or_default();
+            let v = match basis {
+                Basis::Hat => mu0 + c,
+                Basis::Ramp => {
+                    acc += c * (k[i] - k[i - 1]);
+                    acc
+                }
+            };
+            let _ = out.push(v);
+        }
+        out
+    };
+
+    let mut sv = [T::zero(); MAX_HORIZON];
+    let mut sv_white = [T::zero(); MAX_HORIZON];
+    sv[..f].copy_from_slice(&proj.sv[..f]);
+    sv_white[..f].copy_from_slice(&proj.sv_white[..f]);
+    Ok(Model {
+        n,
+        a,
+        b: bvec,
+        c: cvec,
+        d: dval,
+        dc_state,
+        mu0,
+        knots: knots.clone(),
+        border_asc: border(Direction::Ascending),
+        border_desc: border(Direction::Descending),
+        f,
+        columns: proj.j,
+        sv,
+        sv_white,
+    })
+}
+
+/// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading
+/// dimension `ld` in `x`. Returns `(s, u (n+1), v (m))`; `buf` is scratch of at least
+/// `m·(n+1) + m + n + 1` scalars.
+fn dominant_triple<T: Real, const M: usize>(
+    x: &[T],
+    ld: usize,
+    rows: usize,
+    m: usize,
+    buf: &mut [T],
+) -> Result<(T, [T; MAX_HORIZON], [T; M]), Error> {
+    let fail = Error::NoConvergence {
+        stage: Stage::RankOneSplit,
+    };
+    let mut u = [T::zero(); MAX_HORIZON];
+    let mut v = [T::zero(); M];
+    if m >= rows {
+        // Xᵀ = Q R (m × rows), X = Rᵀ Qᵀ, SVD(Rᵀ) = U S Wᵀ: u = U₀, v = Q W₀.
+        let (xt, rest) = buf.split_at_mut(m * rows);
+        let (tau, y) = rest.split_at_mut(rows);
+        for q in 0..rows {
+            for c in 0..m {
+                xt[c + q * m] = x[q + c * ld];
+            }
+        }
+        householder_qr(xt, m, rows, tau);
+        let mut rt = Small::<T>::zeros();
+        for i in 0..rows {
+            for k in 0..=i {
+                rt[(i, k)] = xt[k + i * m];
+            }
+        }
+        let (uu, s, w) = svd_small(rt).ok_or(fail)?;
+        let y = &mut y[..m];
+        y.fill(T::zero());
+        for i in 0..rows {
+            u[i] = uu[(i, 0)];
+            y[i] = w[(i, 0)];
+        }
+        apply_q(xt, m, rows, tau, y);
+        v.copy_from_slice(y);
+        Ok((s[0], u, v))
+    } else {
+        // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.
+        let (xc, rest) = buf.split_at_mut(rows * m);
+        let (tau, y) = rest.split_at_mut(m);
+        for q in 0..rows {
+            for c in 0..m {
+                xc[q + c * rows] = x[q + c * ld];
+            }
+        }
+        householder_qr(xc, rows, m, tau);
+        let mut r = Small::<T>::zeros();
+        for c in 0..m {
+            for k in 0..=c {
+                r[(k, c)] = xc[k + c * rows];
+            }
+        }
+        let (uu, s, w) = svd_small(r).ok_or(fail)?;
+        let y = &mut y[..rows];
+        y.fill(T::zero());
+        for i in 0..m {
+            y[i] = uu[(i, 0)];
+            v[i] = w[(i, 0)];
+        }
+        apply_q(xc, rows, m, tau, y);
+        u[..rows].copy_from_slice(y);
+        Ok((s[0], u, v))
+    }
+}

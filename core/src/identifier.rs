@@ -1,0 +1,237 @@
+//! The streaming front end: the hold, δ(t), z(t) and the accumulation sample by sample, then
+//! the final solve.
+
+use crate::MAX_HORIZON;
+use crate::accumulation::Accumulator;
+use crate::error::{Error, Signal};
+use crate::estimation::estimate;
+use crate::hold::{HoldMean, MuZero};
+use crate::model::Model;
+use crate::regressor::{Basis, Direction, Knots};
+use crate::scalar::Real;
+use crate::subspace::{Layout, Order, pi_moesp, select_order};
+
+/// Identification settings (validated by [`Identifier::new`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings<T, const M: usize> {
+    /// Knots of both paths; they also define `[u_min, u_max]`.
+    pub knots: Knots<T, M>,
+    /// Basis of the border expansion ([`Basis::Hat`] by default; same model either way).
+    pub basis: Basis,
+    /// Future horizon `f`; the past horizon is `p = K − f`.
+    pub f: usize,
+    /// Where μ0 comes from.
+    pub mu0: MuZero<T>,
+    /// Model order selection.
+    pub order: Order,
+}
+
+impl<T: Real, const M: usize> Settings<T, M> {
+    /// Settings with the hat basis and automatic order.
+    pub fn new(knots: Knots<T, M>, f: usize, mu0: MuZero<T>) -> Self {
+        Self {
+            knots,
+            basis: Basis::Hat,
+            f,
+            mu0,
+            order: Order::Auto,
+        }
+    }
+}
+
+/// Streaming identifier: `M` regressor channels (segments of both paths), `K = f + p` block
+/// rows. Memory is fixed by `M` and `K`, whatever the number of samples.
+///
+/// [`push`](Self::push) never fails: a bad sample (NaN, outside the interval, a hold sample
+/// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
+/// [`fault`](Self::fault) reports it at once and [`solve`](Self::solve) returns it.
+#[derive(Clone, Debug)]
+pub struct Identifier<T, const M: usize, const K: usize> {
+    settings: Settings<T, M>,
+    acc: Accumulator<T, M, K>,
+    hold: HoldMean<T>,
+    mu0: Option<T>,
+    u_prev: T,
+    dir: Direction,
+    index: u64,
+    fault: Option<Error>,
+}
+
+impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
+    /// Validates the settings against the shape `(M, K)`.
+    pub fn new(settings: Settings<T, M>) -> Result<Self, Error> {
+        let f = settings.f;
+        if f == 0 || f >= K || f > MAX_HORIZON {
+            return Err(Error::InvalidHorizon { f, k: K });
+        }
+        if let Order::Fixed(n) = settings.order
+            && (n == 0 || n >= f)
+        {
+            return Err(Error::OrderTooHigh { order: n, f });
+        }
+        settings.mu0.validate()?;
+        let mu0 = match settings.mu0 {
+            MuZero::Known(v) => Some(v),
+            MuZero::Hold { .. } => None,
+        };
+        let u_prev = settings.knots.u_min();
+        Ok(Self {
+            settings,
+            acc: Accumulator::new(),
+            hold: HoldMean::default(),
+            mu0,
+            u_prev,
+            dir: Direction::Descending,
+            index: 0,
+            fault: None,
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &Settings<T, M> {
+        &self.settings
+    }
+
+    /// Adds one sample `(u(t), y(t))`. Infallible; see the type's docs for bad samples.
+    pub fn push(&mut self, u: T, y: T) {
+        let index = self.index;
+        self.index += 1;
+        if self.fault.is_some() {
+            return;
+        }
+        let knots = &self.settings.knots;
+        let fault = if !u.finite() {
+            Some(Error::NonFinite {
+                index,
+                signal: Signal::Input,
+            })
+        } else if !y.finite() {
+            Some(Error::NonFinite {
+                index,
+                signal: Signal::Output,
+            })
+        } else if u < knots.u_min() || u > knots.u_max() {
+            Some(Error::InputOutOfRange {
+                index,
+                value: u.to_f64(),
+            })
+        } else {
+            None
+        };
+        if fault.is_some() {
+            self.fault = fault;
+            return;
+        }
+        if let MuZero::Hold { len, settle } = self.settings.mu0
+            && index < len as u64
+        {
+            if u != knots.u_min() {
+                self.fault = Some(Error::HoldNotAtMin {
+                    index,
+                    value: u.to_f64(),
+                });
+            } else if index >= settle as u64 {
+                self.hold.push(y);
+            }
+            self.u_prev = u;
+            return;
+        }
+        let mu0 = match self.mu0 {
+            Some(m) => m,
+            None => {
+                let m = self.hold.mean().unwrap_or_default();
+                self.mu0 = Some(m);
+                m
+            }
+        };
+        self.dir = self.dir.next(self.u_prev, u);
+        self.u_prev = u;
+        let at = knots.locate(self.dir, u);
+        self.acc
+            .push(&self.settings.knots, self.settings.basis, at, y - mu0);
+    }
+
+    /// The first bad sample seen, if any.
+    pub fn fault(&self) -> Option<Error> {
+        self.fault
+    }
+
+    /// μ0, once the hold is over (or given).
+    pub fn mu0(&self) -> Option<T> {
+        self.mu0
+    }
+
+    /// Samples pushed in all (hold included).
+    pub fn samples(&self) -> u64 {
+        self.index
+    }
+
+    /// The accumulated statistics.
+    pub fn accumulator(&self) -> &Accumulator<T, M, K> {
+        &self.acc
+    }
+
+    /// Samples after the hold needed before [`solve`](Self::solve) can succeed: the Gram of
+    /// `[Z_f; Z_p; Ȳ_f]` needs more Hankel columns than rows.
+    pub fn min_samples(&self) -> u64 {
+        let lay = self.layout();
+        (K as u64 - 1) + (lay.dt() as u64) + 1
+    }
+
+    fn layout(&self) -> Layout {
+        Layout {
+            m: M,
+            f: self.settings.f,
+            p: K - self.settings.f,
+        }
+    }
+
+    /// Scalars of workspace [`solve`](Self::solve) needs ([`workspace_len`](crate::workspace_len)).
+    pub fn workspace_len(&self) -> usize {
+        self.layout().total()
+    }
+
+    /// The final solve: PI-MOESP, order, `A`/`C`, `B`/`D`, rank-1 split and γ. The
+    /// accumulated statistics are left untouched, so more samples can follow and the solve
+    /// can be repeated. `ws` is caller-owned scratch of at least
+    /// [`workspace_len`](Self::workspace_len) scalars.
+    pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M>, Error> {
+        if let Some(e) = self.fault {
+            return Err(e);
+        }
+        let lay = self.layout();
+        let need = lay.total();
+        let have_ws = ws.len();
+        let ws = ws.get_mut(..need).ok_or(Error::WorkspaceTooSmall {
+            need,
+            have: have_ws,
+        })?;
+        let have = self.acc.count();
+        let need_samples = self.min_samples();
+        if have < need_samples {
+            return Err(Error::TooFewSamples {
+                have,
+                need: need_samples,
+            });
+        }
+        let (knots, basis) = (&self.settings.knots, self.settings.basis);
+        if let Some(lag0) = self.acc.lag(0) {
+            for dir in [Direction::Ascending, Direction::Descending] {
+                let off = knots.offset(dir);
+                for i in 0..knots.segments(dir) {
+                    let e = lag0.zz.get(off + i).and_then(|r| r.get(off + i));
+                    if !matches!(e, Some(&v) if v > T::zero()) {
+                        return Err(Error::NoExcitation {
+                            path: dir,
+                            knot: i + 1,
+                        });
+                    }
+                }
+            }
+        }
+        let mu0 = self.mu0.unwrap_or_default();
+        let proj = pi_moesp(&self.acc, knots, basis, lay, ws)?;
+        let n = select_order(self.settings.order, &proj, lay)?;
+        estimate(&proj, n, lay, ws, knots, basis, mu0)
+    }
+}

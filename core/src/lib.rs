@@ -1,0 +1,30 @@
+#![doc = include_str!("../../README.md")]
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod accumulation;
+pub mod error;
+pub mod estimation;
+pub mod excitation;
+pub mod hold;
+pub mod identifier;
+mod linalg;
+pub mod model;
+pub mod regressor;
+pub mod scalar;
+pub mod subspace;
+
+pub use accumulation::{Accumulator, Entry, Lagged};
+pub use error::{Error, Signal, Stage};
+pub use excitation::Excitation;
+pub use hold::{HoldMean, MuZero};
+pub use identifier::{Identifier, Settings};
+pub use model::{Model, ModelState};
+pub use regressor::{Basis, Direction, Knots, Located};
+pub use scalar::Real;
+pub use subspace::{AUTO_ORDER_MARGIN, Order, workspace_len};
+
+/// Largest future horizon `f` (and so model order + 1) the final solve handles: the small
+/// SVDs run on fixed `MAX_HORIZON × MAX_HORIZON` matrices on the stack.
+pub const MAX_HORIZON: usize = 16;

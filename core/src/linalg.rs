@@ -1,0 +1,213 @@
+//! Dense kernels on caller-owned slices: packed Cholesky, Householder QR and least squares,
+//! and a bounded SVD for the small square matrices of the final steps.
+//!
+//! Matrices are column-major (`a[r + c * rows]`) except the packed symmetric Gram, stored
+//! row-major lower-triangular (`row * (row + 1) / 2 + col`, `col <= row`), which keeps each
+//! Cholesky dot product contiguous.
+
+use nalgebra::SMatrix;
+
+use crate::MAX_HORIZON;
+use crate::scalar::Real;
+
+/// Offset of `(row, col)`, `col <= row`, in a packed lower triangle.
+#[inline]
+pub(crate) fn packed(row: usize, col: usize) -> usize {
+    row * (row + 1) / 2 + col
+}
+
+/// Length of a packed lower triangle of dimension `n`.
+pub(crate) const fn packed_len(n: usize) -> usize {
+    n * (n + 1) / 2
+}
+
+/// Dot product of two equal-length slices.
+#[inline]
+pub(crate) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
+    let mut s = T::zero();
+    for (&x, &y) in a.iter().zip(b) {
+        s += x * y;
+    }
+    s
+}
+
+/// What the Cholesky factorisation found in a row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Pivot {
+    /// Rows `0..strict` must have pivots above `rel_tol` times their original diagonal.
+    Deficient(usize),
+}
+
+/// In-place Cholesky `G = L Lᵀ` of a packed symmetric matrix of dimension `n`.
+///
+/// Rows `0..strict` must be positive definite (a pivot below `rel_tol` times the original
+/// diagonal is reported as rank deficiency at that row). Rows from `strict` on may be
+/// semi-definite: a non-positive pivot there is set to zero together with the entries that
+/// would divide by it, which is the exact factor of a singular residual block.
+pub(crate) fn cholesky_packed<T: Real>(
+    g: &mut [T],
+    n: usize,
+    strict: usize,
+    rel_tol: T,
+) -> Result<(), Pivot> {
+    for i in 0..n {
+        let ri = packed(i, 0);
+        for j in 0..=i {
+            let rj = packed(j, 0);
+            let (head, row_i) = g.split_at_mut(ri);
+            let s = {
+                let li = &row_i[..j];
+                let lj: &[T] = if j == i { li } else { &head[rj..rj + j] };
+                row_i[j] - dot(li, lj)
+            };
+            if j == i {
+                let orig = row_i[j];
+                if i < strict {
+                    let positive = s > rel_tol * orig && s.finite();
+                    if !positive {
+                        return Err(Pivot::Deficient(i));
+                    }
+                    row_i[j] = s.sqrt();
+                } else {
+                    row_i[j] = if s > T::zero() { s.sqrt() } else { T::zero() };
+                }
+            } else {
+                let d = head[rj + j];
+                row_i[j] = if d > T::zero() { s / d } else { T::zero() };
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Householder QR of the column-major `rows × cols` matrix `a` (`rows >= cols`), in place:
+/// `R` in the upper triangle, reflectors below it with scalars in `tau` (length `cols`).
+pub(crate) fn householder_qr<T: Real>(a: &mut [T], rows: usize, cols: usize, tau: &mut [T]) {
+    for k in 0..cols.min(rows) {
+        let col = &mut a[k * rows..(k + 1) * rows];
+        let x = &mut col[k..];
+        let alpha = x[0];
+        let norm_tail = dot(&x[1..], &x[1..]);
+        if norm_tail == T::zero() {
+            tau[k] = T::zero();
+            continue;
+        }
+        let norm = (alpha * alpha + norm_tail).sqrt();
+        let beta = if alpha >= T::zero() { -norm } else { norm };
+        let v0 = alpha - beta;
+        for v in x[1..].iter_mut() {
+            *v /= v0;
+        }
+        x[0] = beta;
+        let t = (beta - alpha) / beta;
+        tau[k] = t;
+        // Apply H = I - t v vᵀ (v = [1; x[1..]]) to the remaining columns.
+        for c in (k + 1)..cols {
+            let (left, right) = a.split_at_mut(c * rows);
+            let v = &left[k * rows + k..(k + 1) * rows];
+            let y = &mut right[k..rows];
+            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
+            y[0] -= s;
+            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
+                *yi -= s * vi;
+            }
+        }
+    }
+}
+
+/// Applies `Qᵀ` (from [`householder_qr`]) to the column-major `rows × nrhs` matrix `b`.
+pub(crate) fn apply_qt<T: Real>(
+    a: &[T],
+    rows: usize,
+    cols: usize,
+    tau: &[T],
+    b: &mut [T],
+    nrhs: usize,
+) {
+    for k in 0..cols.min(rows) {
+        let v = &a[k * rows + k..(k + 1) * rows];
+        let t = tau[k];
+        if t == T::zero() {
+            continue;
+        }
+        for c in 0..nrhs {
+            let y = &mut b[c * rows + k..(c + 1) * rows];
+            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
+            y[0] -= s;
+            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
+                *yi -= s * vi;
+            }
+        }
+    }
+}
+
+/// Applies `Q` (from [`householder_qr`]) to the vector `x` of length `rows`.
+pub(crate) fn apply_q<T: Real>(a: &[T], rows: usize, cols: usize, tau: &[T], x: &mut [T]) {
+    for k in (0..cols.min(rows)).rev() {
+        let v = &a[k * rows + k..(k + 1) * rows];
+        let t = tau[k];
+        let y = &mut x[k..rows];
+        let s = (y[0] + dot(&v[1..], &y[1..])) * t;
+        y[0] -= s;
+        for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
+            *yi -= s * vi;
+        }
+    }
+}
+
+/// Least squares `min ‖A X − B‖` for column-major `A` (`rows × cols`, `rows >= cols`) and
+/// `B` (`rows × nrhs`), both overwritten; the solution is left in the first `cols` rows of
+/// each column of `b`. Fails if `R` has a diagonal entry below `rel_tol · max|R_ii|`.
+pub(crate) fn least_squares<T: Real>(
+    a: &mut [T],
+    rows: usize,
+    cols: usize,
+    b: &mut [T],
+    nrhs: usize,
+    tau: &mut [T],
+    rel_tol: T,
+) -> Result<(), ()> {
+    if rows < cols {
+        return Err(());
+    }
+    householder_qr(a, rows, cols, tau);
+    let mut rmax = T::zero();
+    for k in 0..cols {
+        rmax = rmax.max(a[k * rows + k].abs());
+    }
+    for k in 0..cols {
+        let d = a[k * rows + k].abs();
+        let independent = d > rel_tol * rmax && d.finite();
+        if !independent {
+            return Err(());
+        }
+    }
+    apply_qt(a, rows, cols, tau, b, nrhs);
+    for c in 0..nrhs {
+        let x = &mut b[c * rows..c * rows + cols];
+        for i in (0..cols).rev() {
+            let mut s = x[i];
+            for j in (i + 1)..cols {
+                s -= a[j * rows + i] * x[j];
+            }
+            x[i] = s / a[i * rows + i];
+        }
+    }
+    Ok(())
+}
+
+/// A square matrix of at most [`MAX_HORIZON`] rows, padded with zeros.
+pub(crate) type Small<T> = SMatrix<T, MAX_HORIZON, MAX_HORIZON>;
+
+/// Singular values (descending) and left/right singular vectors of the leading `n × n` block
+/// of `m` (the rest must be zero). Iterations are bounded; `None` if they did not suffice.
+pub(crate) fn svd_small<T: Real>(m: Small<T>) -> Option<(Small<T>, [T; MAX_HORIZON], Small<T>)> {
+    let svd = nalgebra::SVD::try_new(m, true, true, T::EPS, 200 * MAX_HORIZON)?;
+    let u = svd.u?;
+    let v_t = svd.v_t?;
+    let mut s = [T::zero(); MAX_HORIZON];
+    for (dst, src) in s.iter_mut().zip(svd.singular_values.iter()) {
+        *dst = *src;
+    }
+    Some((u, s, v_t.transpose()))
+}

@@ -1,0 +1,289 @@
+//! Direction signal δ(t), knots, and the regressor z(t) of the over-parameterised model (eq. 4).
+//!
+//! The borders `P_a` / `P_d` are continuous piecewise-linear functions on user knots
+//! `n_0 = u_min < n_1 < … < n_{n_p} = u_max`, chosen separately for each path and possibly
+//! with a different count per path (Remark 3). Two bases span the same functions:
+//!
+//! * [`Basis::Ramp`], the paper's `P_i(u)`: `0` below `n_{i-1}`, `u - n_{i-1}` on the segment,
+//!   `n_i - n_{i-1}` above. The coefficients `μ_i` are the slopes of the border.
+//! * [`Basis::Hat`], linear B-splines `φ_i(u)` peaking at `n_i`. The coefficients are the border
+//!   values at the knots minus `μ0`. At most two are non-zero at any `u`, which makes the
+//!   streaming accumulation cheap, and the basis is better conditioned.
+//!
+//! Both give the same subspace, the same model and the same borders (up to rounding): the
+//! change of basis is a fixed invertible map per path applied to every block row of the
+//! input Hankel matrices, which leaves their row spaces unchanged.
+
+use core::fmt;
+
+use heapless::Vec;
+
+use crate::error::Error;
+use crate::scalar::Real;
+
+/// Which path the nonlinearity is on: δ(t) = 1 (ascending) or δ(t) = 0 (descending).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Direction {
+    /// δ(t) = 1: `u` went up, the output follows `P_a`.
+    Ascending,
+    /// δ(t) = 0: `u` went down, the output follows `P_d`. The initial direction.
+    #[default]
+    Descending,
+}
+
+impl Direction {
+    /// The paper's δ(t): `Ascending` if `u > u_prev`, `Descending` if `u < u_prev`, otherwise
+    /// the previous direction (first display of δ in Section II-B).
+    #[inline]
+    pub fn next<T: Real>(self, u_prev: T, u: T) -> Self {
+        if u > u_prev {
+            Direction::Ascending
+        } else if u < u_prev {
+            Direction::Descending
+        } else {
+            self
+        }
+    }
+
+    /// δ as a number: 1 ascending, 0 descending.
+    pub fn delta(self) -> u8 {
+        match self {
+            Direction::Ascending => 1,
+            Direction::Descending => 0,
+        }
+    }
+}
+
+impl fmt::Display for Direction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Direction::Ascending => "ascending",
+            Direction::Descending => "descending",
+        })
+    }
+}
+
+/// The basis the border functions are expanded in. See the [module docs](self).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Basis {
+    /// Linear B-splines (hat functions): sparse, well conditioned. The default.
+    #[default]
+    Hat,
+    /// The paper's ramp functions `P_i`.
+    Ramp,
+}
+
+/// The knots of both paths, with the input interval. `M` is the total number of segments
+/// (regressor channels): `n_a + n_d = M`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Knots<T, const M: usize> {
+    asc: Vec<T, M>,
+    desc: Vec<T, M>,
+}
+
+impl<T: Real, const M: usize> Knots<T, M> {
+    /// Knots for each path, both end points included (`asc[0] = desc[0] = u_min`,
+    /// last = `u_max`). The segment counts `asc.len() - 1` and `desc.len() - 1` must add up
+    /// to `M`; knots need not be uniform.
+    pub fn new(asc: &[T], desc: &[T]) -> Result<Self, Error> {
+        let ascending = asc.len().saturating_sub(1);
+        let descending = desc.len().saturating_sub(1);
+        for (path, k) in [(Direction::Ascending, asc), (Direction::Descending, desc)] {
+            if k.len() < 2 {
+                return Err(Error::TooFewKnots {
+                    path,
+                    count: k.len(),
+                });
+            }
+            for (i, w) in k.windows(2).enumerate() {
+                if let [a, b] = w
+                    && (!a.finite() || !b.finite() || b <= a)
+                {
+                    return Err(Error::KnotsNotIncreasing { path, index: i + 1 });
+                }
+            }
+        }
+        let first = |k: &[T]| k.first().map_or(f64::NAN, |v| v.to_f64());
+        let last = |k: &[T]| k.last().map_or(f64::NAN, |v| v.to_f64());
+        if first(asc) != first(desc) || last(asc) != last(desc) {
+            return Err(Error::KnotEndpoints {
+                path: Direction::Descending,
+                first: first(desc),
+                last: last(desc),
+            });
+        }
+        if ascending + descending != M {
+            return Err(Error::SegmentCount {
+                expected: M,
+                ascending,
+                descending,
+            });
+        }
+        let mut a = Vec::new();
+        let mut d = Vec::new();
+        // Capacity M holds n + 1 knots because the other path has at least one segment.
+        a.extend_from_slice(asc).map_err(|_| Error::SegmentCount {
+            expected: M,
+            ascending,
+            descending,
+        })?;
+        d.extend_from_slice(desc).map_err(|_| Error::SegmentCount {
+            expected: M,
+            ascending,
+            descending,
+        })?;
+        Ok(Self { asc: a, desc: d })
+    }
+
+    /// Uniform knots on `[u_min, u_max]` with `n_asc` and `n_desc` segments (`n_asc + n_desc = M`).
+    pub fn uniform(u_min: T, u_max: T, n_asc: usize, n_desc: usize) -> Result<Self, Error> {
+        if !(u_min.finite() && u_max.finite() && u_min < u_max) {
+            return Err(Error::InvalidInterval {
+                u_min: u_min.to_f64(),
+                u_max: u_max.to_f64(),
+            });
+        }
+        let make = |n: usize| -> Vec<T, M> {
+            let mut v = Vec::new();
+            for i in 0..=n {
+                let x = if i == n {
+                    u_max
+                } else {
+                    u_min + (u_max - u_min) * T::of_usize(i) / T::of_usize(n.max(1))
+                };
+                if v.push(x).is_err() {
+                    break;
+                }
+            }
+            v
+        };
+        let (a, d) = (make(n_asc), make(n_desc));
+        Self::new(&a, &d)
+    }
+
+    /// Knots of one path, end points included.
+    pub fn path(&self, dir: Direction) -> &[T] {
+        match dir {
+            Direction::Ascending => &self.asc,
+            Direction::Descending => &self.desc,
+        }
+    }
+
+    /// Number of segments on a path.
+    pub fn segments(&self, dir: Direction) -> usize {
+        self.path(dir).len().saturating_sub(1)
+    }
+
+    /// `u_min`, the first knot.
+    pub fn u_min(&self) -> T {
+        self.asc.first().copied().unwrap_or_default()
+    }
+
+    /// `u_max`, the last knot.
+    pub fn u_max(&self) -> T {
+        self.asc.last().copied().unwrap_or_default()
+    }
+
+    /// First regressor channel of a path: the ascending channels come first.
+    pub fn offset(&self, dir: Direction) -> usize {
+        match dir {
+            Direction::Ascending => 0,
+            Direction::Descending => self.segments(Direction::Ascending),
+        }
+    }
+
+    /// Locates `u` on a path: the segment `s` (0-based, `n_s <= u <= n_{s+1}`) and the
+    /// position `θ ∈ [0, 1]` inside it. `u` is clamped to the interval by the caller's checks.
+    pub fn locate(&self, dir: Direction, u: T) -> Located<T> {
+        let k = self.path(dir);
+        let segs = k.len().saturating_sub(1);
+        // Binary search for the last knot <= u among knots 0..segs-1.
+        let (mut lo, mut hi) = (0usize, segs);
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            match k.get(mid) {
+                Some(&x) if x <= u => lo = mid,
+                _ => hi = mid,
+            }
+        }
+        let (a, b) = match (k.get(lo), k.get(lo + 1)) {
+            (Some(&a), Some(&b)) => (a, b),
+            _ => (T::zero(), T::one()),
+        };
+        let mut theta = (u - a) / (b - a);
+        if theta < T::zero() {
+            theta = T::zero();
+        } else if theta > T::one() {
+            theta = T::one();
+        }
+        Located {
+            dir,
+            segment: lo as u16,
+            theta,
+        }
+    }
+}
+
+/// A sample's position on the nonlinearity: the path, the knot segment and the position
+/// inside it. This is all z(t) depends on; it is what the accumulator stores per sample.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Located<T> {
+    /// The path (δ(t)).
+    pub dir: Direction,
+    /// Segment index `s`: `n_s <= u <= n_{s+1}`.
+    pub segment: u16,
+    /// Position in the segment, `(u - n_s) / (n_{s+1} - n_s)`.
+    pub theta: T,
+}
+
+/// Evaluates z(t) for a located sample: calls `visit(channel, value)` for every channel that
+/// can be non-zero (at most two for hats, at most `n_p` for ramps). Channels not visited are 0.
+#[inline]
+pub fn for_each_nonzero<T: Real, const M: usize>(
+    knots: &Knots<T, M>,
+    basis: Basis,
+    at: &Located<T>,
+    mut visit: impl FnMut(usize, T),
+) {
+    let off = knots.offset(at.dir);
+    let s = at.segment as usize;
+    match basis {
+        Basis::Hat => {
+            // φ_s (peak at n_s) and φ_{s+1}; φ_0 is excluded (its coefficient is zero).
+            if s >= 1 {
+                visit(off + s - 1, T::one() - at.theta);
+            }
+            visit(off + s, at.theta);
+        }
+        Basis::Ramp => {
+            let k = knots.path(at.dir);
+            for i in 0..=s {
+                let len = match (k.get(i), k.get(i + 1)) {
+                    (Some(&a), Some(&b)) => b - a,
+                    _ => T::zero(),
+                };
+                let v = if i < s { len } else { at.theta * len };
+                visit(off + i, v);
+            }
+        }
+    }
+}
+
+/// The dense regressor z(t) ∈ R^M of a located sample (for tests, examples and host code;
+/// the accumulator uses [`for_each_nonzero`]).
+pub fn dense<T: Real, const M: usize>(
+    knots: &Knots<T, M>,
+    basis: Basis,
+    at: &Located<T>,
+) -> [T; M] {
+    let mut z = [T::zero(); M];
+    for_each_nonzero(knots, basis, at, |i, v| {
+        if let Some(slot) = z.get_mut(i) {
+            *slot = v;
+        }
+    });
+    z
+}

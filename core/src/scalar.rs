@@ -1,0 +1,48 @@
+//! The floating-point types the core runs on: `f32` (microcontrollers) and `f64` (desktop).
+
+use nalgebra::RealField;
+
+/// A real scalar the identification can run on. Implemented for `f32` and `f64`.
+///
+/// All arithmetic goes through [`RealField`] (and so through `libm` on targets without a
+/// floating-point library), so the same code runs on a desktop and on a Cortex-M4F.
+pub trait Real: RealField + Copy + Default + core::fmt::Debug {
+    /// Machine epsilon.
+    const EPS: Self;
+    /// Converts from `f64` (rounding to nearest for `f32`).
+    fn of(x: f64) -> Self;
+    /// Converts to `f64` (exact for both implementations).
+    fn to_f64(self) -> f64;
+    /// Converts a count to the scalar type.
+    fn of_usize(n: usize) -> Self {
+        Self::of(n as f64)
+    }
+    /// `true` if the value is neither NaN nor infinite.
+    fn finite(self) -> bool;
+}
+
+impl Real for f32 {
+    const EPS: Self = f32::EPSILON;
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Real for f64 {
+    const EPS: Self = f64::EPSILON;
+    fn of(x: f64) -> Self {
+        x
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
