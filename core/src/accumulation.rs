@@ -1,7 +1,7 @@
 //! Streaming accumulation of the block-Hankel products in memory independent of the number of
 //! samples.
 //!
-//! Stack the signals as `w(t) = [z(t); ȳ(t)]`. Block row `a` of the `K = f + p` block-row
+//! Stack the signals as `w(t) = [z(t); ȳ(t)]`. Block row `a` of the `k = f + p` block-row
 //! Hankel matrix holds `w(a), …, w(a + j − 1)`. Each block of its Gram matrix is a lagged sum
 //! over a window (`τ = b − a ≥ 0`):
 //!
@@ -10,13 +10,15 @@
 //! ```
 //!
 //! with the full-range lagged sums `R_τ = Σ_t w(t) w(t+τ)ᵀ`. The corrections involve only the
-//! first `K` and the last `K` samples, so the accumulator keeps `R_0 … R_{K−1}`, the first `K`
-//! samples and a ring of the last `K`: `K·(M+1)²` sums plus `2K` samples, whatever the length
-//! of the experiment. The Gram blocks it produces are those of the explicit Hankel matrices,
+//! first `k` and the last `k` samples, so the accumulator keeps `R_0 … R_{k−1}`, the first `k`
+//! samples and a ring of the last `k`: `k·(m+1)²` sums plus `2k` samples, whatever the length
+//! of the experiment. The type's `M` and `K` are capacities (`m <= M`, `k <= K`): firmware
+//! sets them to the exact sizes, a desktop tool to the largest it accepts. The Gram blocks it produces are those of the explicit Hankel matrices,
 //! exactly (up to rounding). Samples are stored as their position on the nonlinearity
 //! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
-//! two channels, so one update costs `O(K)` multiply-adds.
+//! two channels, so one update costs `O(k)` multiply-adds.
 
+use crate::error::Error;
 use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
@@ -88,35 +90,39 @@ pub struct Entry<T> {
     pub y: T,
 }
 
-/// The streaming accumulator: lagged sums for `τ = 0 … K−1`, the first `K` samples and the
-/// last `K` samples. `M` regressor channels, `K = f + p` block rows.
+/// The streaming accumulator: lagged sums for `τ = 0 … k−1`, the first `k` samples and the
+/// last `k` samples, for up to `M` regressor channels and up to `K` block rows (`k = f + p`).
 #[derive(Clone, Debug)]
 pub struct Accumulator<T, const M: usize, const K: usize> {
     lags: [Lagged<T, M>; K],
     head: [Entry<T>; K],
     ring: [Entry<T>; K],
+    k: usize,
     pos: usize,
     count: u64,
 }
 
-impl<T: Real, const M: usize, const K: usize> Default for Accumulator<T, M, K> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
-    /// An empty accumulator.
-    pub fn new() -> Self {
-        const { assert!(K >= 2, "K = f + p block rows must be at least 2") };
+    /// An empty accumulator for `k = f + p` block rows (`2 <= k <= K`).
+    pub fn new(k: usize) -> Result<Self, Error> {
+        const { assert!(K >= 2, "K (block rows f + p) must be at least 2") };
         const { assert!(M >= 2, "M (segments on both paths) must be at least 2") };
-        Self {
+        if !(2..=K).contains(&k) {
+            return Err(Error::InvalidHorizon { f: 0, k });
+        }
+        Ok(Self {
             lags: [Lagged::default(); K],
             head: [Entry::default(); K],
             ring: [Entry::default(); K],
+            k,
             pos: 0,
             count: 0,
-        }
+        })
+    }
+
+    /// Block rows `k = f + p`.
+    pub fn block_rows(&self) -> usize {
+        self.k
     }
 
     /// Samples accumulated so far (`N`).
@@ -124,17 +130,17 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         self.count
     }
 
-    /// Hankel columns `j = N − K + 1` (0 while `N < K`).
+    /// Hankel columns `j = N − k + 1` (0 while `N < k`).
     pub fn columns(&self) -> u64 {
-        (self.count + 1).saturating_sub(K as u64)
+        (self.count + 1).saturating_sub(self.k as u64)
     }
 
-    /// The lagged sum `R_τ` (`None` for `τ >= K`).
+    /// The lagged sum `R_τ` (`None` for `τ >= k`).
     pub fn lag(&self, tau: usize) -> Option<&Lagged<T, M>> {
-        self.lags.get(tau)
+        self.lags.get(..self.k).and_then(|l| l.get(tau))
     }
 
-    /// Adds one sample. `O(K)` work for the hat basis; no allocation, no failure.
+    /// Adds one sample. `O(k)` work for the hat basis; no allocation, no failure.
     pub fn push(&mut self, knots: &Knots<T, M>, basis: Basis, at: Located<T>, y: T) {
         let new = Entry { at, y };
         if let Some(slot) = usize::try_from(self.count)
@@ -146,35 +152,37 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         if let Some(slot) = self.ring.get_mut(self.pos) {
             *slot = new;
         }
-        let lags_now = usize::try_from(self.count).map_or(K, |c| c.saturating_add(1).min(K));
+        let k = self.k.clamp(1, K);
+        let lags_now = usize::try_from(self.count).map_or(k, |c| c.saturating_add(1).min(k));
         for tau in 0..lags_now {
-            let idx = (self.pos + K - tau) % K;
+            let idx = (self.pos + k - tau) % k;
             if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
                 lag.add_outer(knots, basis, old, &new, T::one());
             }
         }
-        self.pos = (self.pos + 1) % K;
+        self.pos = (self.pos + 1) % k;
         self.count += 1;
     }
 
-    /// Sample `t` if it is still stored (among the first `K` or the last `K`).
+    /// Sample `t` if it is still stored (among the first `k` or the last `k`).
     fn sample(&self, t: u64) -> Option<&Entry<T>> {
-        if t < K as u64 {
+        let k = self.k.clamp(1, K);
+        if t < k as u64 {
             return self.head.get(t as usize);
         }
-        if t >= self.count || t + (K as u64) < self.count {
+        if t >= self.count || t + (k as u64) < self.count {
             return None;
         }
         // The ring slot of sample t: pos points at sample `count`'s slot.
-        let back = (self.count - t) as usize; // 1..=K
-        self.ring.get((self.pos + K - back) % K)
+        let back = (self.count - t) as usize; // 1..=k
+        self.ring.get((self.pos + k - back) % k)
     }
 
-    /// Visits every upper block `G[a, b]` (`a <= b < K`) of the Gram of the stacked Hankel
-    /// matrix with `j = N − K + 1` columns, as `sink(a, b, block)`. Needs `N >= K`.
+    /// Visits every upper block `G[a, b]` (`a <= b < k`) of the Gram of the stacked Hankel
+    /// matrix with `j = N − k + 1` columns, as `sink(a, b, block)`. Needs `N >= k`.
     ///
     /// Blocks along one lag are produced with a running correction, so the whole Gram costs
-    /// `O(K²·M²)` and one `Lagged` of scratch.
+    /// `O(k²·M²)` and one `Lagged` of scratch.
     pub fn for_each_block(
         &self,
         knots: &Knots<T, M>,
@@ -187,7 +195,8 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         }
         let n = self.count;
         let mut block = Lagged::<T, M>::default();
-        for (tau, r) in self.lags.iter().enumerate() {
+        let k = self.k;
+        for (tau, r) in self.lags.iter().take(k).enumerate() {
             let tau64 = tau as u64;
             let mut corr = Lagged::<T, M>::default();
             // Tail correction for a = 0: samples t = j … N−1−τ.
@@ -198,7 +207,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
                 }
                 t += 1;
             }
-            for a in 0..(K - tau) {
+            for a in 0..(k - tau) {
                 subtract(&mut block, r, &corr);
                 sink(a, a + tau, &block);
                 let a64 = a as u64;

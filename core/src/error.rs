@@ -68,20 +68,20 @@ pub enum Error {
         /// Last knot given.
         last: f64,
     },
-    /// The segment counts of the two paths must add up to the type's channel count `M`.
+    /// The segment counts of the two paths must add up to at most the type's capacity `M`.
     SegmentCount {
-        /// `M`, the number of regressor channels of the type.
+        /// `M`, the channel capacity of the type.
         expected: usize,
         /// Ascending segments given.
         ascending: usize,
         /// Descending segments given.
         descending: usize,
     },
-    /// Horizons: `1 <= f < K` with `p = K - f >= 1`, and `f <= MAX_HORIZON`.
+    /// Horizons: `2 <= f <= MAX_HORIZON`, `p >= 1` and `f + p <= K` (the capacity).
     InvalidHorizon {
         /// Future horizon requested.
         f: usize,
-        /// Total block rows `K = f + p` of the type.
+        /// Block rows `f + p` requested.
         k: usize,
     },
     /// The requested model order must satisfy `1 <= n < f`.
@@ -184,11 +184,11 @@ impl fmt::Display for Error {
                 descending,
             } => write!(
                 f,
-                "{ascending} ascending + {descending} descending segments, but the identifier has {expected} channels: make them add up"
+                "{ascending} ascending + {descending} descending segments, exceed the capacity of {expected} channels: use fewer knots or a larger M"
             ),
             Error::InvalidHorizon { f: fh, k } => write!(
                 f,
-                "future horizon f = {fh} with K = {k} block rows: need 1 <= f < K (p = K - f >= 1) and f <= {}",
+                "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
                 crate::MAX_HORIZON
             ),
             Error::OrderTooHigh { order, f: fh } => write!(

@@ -267,7 +267,7 @@ fn dominant_triple<T: Real, const M: usize>(
             y[i] = w[(i, 0)];
         }
         apply_q(xt, m, rows, tau, y);
-        v.copy_from_slice(y);
+        v[..m].copy_from_slice(y);
         Ok((s[0], u, v))
     } else {
         // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.

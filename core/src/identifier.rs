@@ -18,8 +18,10 @@ pub struct Settings<T, const M: usize> {
     pub knots: Knots<T, M>,
     /// Basis of the border expansion ([`Basis::Hat`] by default; same model either way).
     pub basis: Basis,
-    /// Future horizon `f`; the past horizon is `p = K − f`.
+    /// Future horizon `f` (block rows of `Z_f`, `Ȳ_f`).
     pub f: usize,
+    /// Past horizon `p` (block rows of `Z_p`).
+    pub p: usize,
     /// Where μ0 comes from.
     pub mu0: MuZero<T>,
     /// Model order selection.
@@ -27,20 +29,22 @@ pub struct Settings<T, const M: usize> {
 }
 
 impl<T: Real, const M: usize> Settings<T, M> {
-    /// Settings with the hat basis and automatic order.
-    pub fn new(knots: Knots<T, M>, f: usize, mu0: MuZero<T>) -> Self {
+    /// Settings with horizons `f` and `p`, the hat basis and automatic order.
+    pub fn new(knots: Knots<T, M>, f: usize, p: usize, mu0: MuZero<T>) -> Self {
         Self {
             knots,
             basis: Basis::Hat,
             f,
+            p,
             mu0,
             order: Order::Auto,
         }
     }
 }
 
-/// Streaming identifier: `M` regressor channels (segments of both paths), `K = f + p` block
-/// rows. Memory is fixed by `M` and `K`, whatever the number of samples.
+/// Streaming identifier for up to `M` regressor channels (segments of both paths) and up to
+/// `K` block rows (`f + p`). Memory is fixed by `M` and `K`, whatever the number of samples:
+/// firmware sets them to the exact sizes, a desktop tool to the largest it accepts.
 ///
 /// [`push`](Self::push) never fails: a bad sample (NaN, outside the interval, a hold sample
 /// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
@@ -58,11 +62,12 @@ pub struct Identifier<T, const M: usize, const K: usize> {
 }
 
 impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
-    /// Validates the settings against the shape `(M, K)`.
+    /// Validates the settings against the capacities `(M, K)`.
     pub fn new(settings: Settings<T, M>) -> Result<Self, Error> {
-        let f = settings.f;
-        if f == 0 || f >= K || f > MAX_HORIZON {
-            return Err(Error::InvalidHorizon { f, k: K });
+        let (f, p) = (settings.f, settings.p);
+        let k = f.saturating_add(p);
+        if f < 2 || p == 0 || f > MAX_HORIZON || k > K {
+            return Err(Error::InvalidHorizon { f, k });
         }
         if let Order::Fixed(n) = settings.order
             && (n == 0 || n >= f)
@@ -77,7 +82,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         let u_prev = settings.knots.u_min();
         Ok(Self {
             settings,
-            acc: Accumulator::new(),
+            acc: Accumulator::new(k)?,
             hold: HoldMean::default(),
             mu0,
             u_prev,
@@ -175,14 +180,14 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
     /// `[Z_f; Z_p; Ȳ_f]` needs more Hankel columns than rows.
     pub fn min_samples(&self) -> u64 {
         let lay = self.layout();
-        (K as u64 - 1) + (lay.dt() as u64) + 1
+        (lay.f + lay.p) as u64 + lay.dt() as u64
     }
 
     fn layout(&self) -> Layout {
         Layout {
-            m: M,
+            m: self.settings.knots.channels(),
             f: self.settings.f,
-            p: K - self.settings.f,
+            p: self.settings.p,
         }
     }
 

@@ -75,8 +75,8 @@ pub enum Basis {
     Ramp,
 }
 
-/// The knots of both paths, with the input interval. `M` is the total number of segments
-/// (regressor channels): `n_a + n_d = M`.
+/// The knots of both paths, with the input interval. `M` is the capacity in segments
+/// (regressor channels): `m = n_a + n_d <= M`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Knots<T, const M: usize> {
     asc: Vec<T, M>,
@@ -85,8 +85,8 @@ pub struct Knots<T, const M: usize> {
 
 impl<T: Real, const M: usize> Knots<T, M> {
     /// Knots for each path, both end points included (`asc[0] = desc[0] = u_min`,
-    /// last = `u_max`). The segment counts `asc.len() - 1` and `desc.len() - 1` must add up
-    /// to `M`; knots need not be uniform.
+    /// last = `u_max`). The segment counts `asc.len() - 1` and `desc.len() - 1` may differ
+    /// (Remark 3) and must add up to at most `M`; knots need not be uniform.
     pub fn new(asc: &[T], desc: &[T]) -> Result<Self, Error> {
         let ascending = asc.len().saturating_sub(1);
         let descending = desc.len().saturating_sub(1);
@@ -114,7 +114,7 @@ impl<T: Real, const M: usize> Knots<T, M> {
                 last: last(desc),
             });
         }
-        if ascending + descending != M {
+        if ascending + descending > M {
             return Err(Error::SegmentCount {
                 expected: M,
                 ascending,
@@ -137,7 +137,7 @@ impl<T: Real, const M: usize> Knots<T, M> {
         Ok(Self { asc: a, desc: d })
     }
 
-    /// Uniform knots on `[u_min, u_max]` with `n_asc` and `n_desc` segments (`n_asc + n_desc = M`).
+    /// Uniform knots on `[u_min, u_max]` with `n_asc` and `n_desc` segments (`n_asc + n_desc <= M`).
     pub fn uniform(u_min: T, u_max: T, n_asc: usize, n_desc: usize) -> Result<Self, Error> {
         if !(u_min.finite() && u_max.finite() && u_min < u_max) {
             return Err(Error::InvalidInterval {
@@ -169,6 +169,11 @@ impl<T: Real, const M: usize> Knots<T, M> {
             Direction::Ascending => &self.asc,
             Direction::Descending => &self.desc,
         }
+    }
+
+    /// Regressor channels in use, `m = n_a + n_d`.
+    pub fn channels(&self) -> usize {
+        self.segments(Direction::Ascending) + self.segments(Direction::Descending)
     }
 
     /// Number of segments on a path.

@@ -125,7 +125,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     acc.for_each_block(knots, basis, |a, b, blk| {
         for i in 0..m {
             let ra = lay.z_row(a, i);
-            for (jj, &v) in blk.zz[i].iter().enumerate() {
+            for (jj, &v) in blk.zz[i].iter().enumerate().take(m) {
                 let rb = lay.z_row(b, jj);
                 gram[packed(ra.max(rb), ra.min(rb))] = v;
             }
@@ -134,7 +134,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             }
         }
         if let Some(ra) = lay.y_row(a) {
-            for (jj, &v) in blk.yz.iter().enumerate() {
+            for (jj, &v) in blk.yz.iter().enumerate().take(m) {
                 let rb = lay.z_row(b, jj);
                 gram[packed(ra.max(rb), ra.min(rb))] = v;
             }

@@ -51,6 +51,7 @@ fn run(basis: Basis, order: Order) -> hsid::Model<f64, 14> {
     let mut settings = Settings::new(
         knots,
         10,
+        10,
         MuZero::Hold {
             len: 400,
             settle: 300,
