@@ -1,0 +1,407 @@
+//! Desktop front end to the core: run-time sizes, `f64`, whole records in memory.
+//!
+//! The core sizes its buffers by capacities in its types; this module picks a capacity that
+//! fits the requested knots and horizons and runs the streaming identifier on a thread with a
+//! stack large enough for it, then converts the result into a [`HostModel`] with poles,
+//! frequency response and simulation.
+
+use std::fmt;
+
+use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
+use nalgebra::DMatrix;
+
+use crate::io::ModelJson;
+use crate::sim::eigenvalues;
+
+/// Everything the desktop identification needs besides the data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifyOptions {
+    /// Ascending-path knots, `u_min` … `u_max`.
+    pub knots_asc: Vec<f64>,
+    /// Descending-path knots, `u_min` … `u_max`.
+    pub knots_desc: Vec<f64>,
+    /// Future horizon.
+    pub f: usize,
+    /// Past horizon.
+    pub p: usize,
+    /// Fixed order, or `None` for automatic selection.
+    pub order: Option<usize>,
+    /// Samples of the initial hold at `u_min` (0: μ0 must be given in `mu0`).
+    pub hold: usize,
+    /// Samples skipped at the start of the hold.
+    pub settle: usize,
+    /// Known μ0 (used when `hold == 0`).
+    pub mu0: Option<f64>,
+    /// Border basis.
+    pub basis: Basis,
+}
+
+impl IdentifyOptions {
+    /// Uniform knots with `segments` segments per path on `[u_min, u_max]`, `f = p = 10`,
+    /// automatic order, a hold of `hold` samples of which the first half settles.
+    pub fn uniform(u_min: f64, u_max: f64, segments: usize, hold: usize) -> Self {
+        let knots: Vec<f64> = (0..=segments)
+            .map(|i| {
+                if i == segments {
+                    u_max
+                } else {
+                    u_min + (u_max - u_min) * i as f64 / segments as f64
+                }
+            })
+            .collect();
+        Self {
+            knots_asc: knots.clone(),
+            knots_desc: knots,
+            f: 10,
+            p: 10,
+            order: None,
+            hold,
+            settle: hold / 2,
+            mu0: None,
+            basis: Basis::Hat,
+        }
+    }
+
+    /// `u_min`, the first knot.
+    pub fn u_min(&self) -> f64 {
+        self.knots_asc.first().copied().unwrap_or(f64::NAN)
+    }
+
+    /// `u_max`, the last knot.
+    pub fn u_max(&self) -> f64 {
+        self.knots_asc.last().copied().unwrap_or(f64::NAN)
+    }
+}
+
+/// Why a desktop identification failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum IdentifyError {
+    /// The core rejected the settings or the data.
+    Core(hsid::Error),
+    /// `u` and `y` differ in length.
+    LengthMismatch {
+        /// Samples of `u`.
+        u: usize,
+        /// Samples of `y`.
+        y: usize,
+    },
+    /// More segments or block rows than the largest capacity compiled in.
+    TooLarge {
+        /// Channels requested.
+        channels: usize,
+        /// Block rows requested.
+        block_rows: usize,
+    },
+}
+
+impl fmt::Display for IdentifyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IdentifyError::Core(e) => write!(f, "{e}"),
+            IdentifyError::LengthMismatch { u, y } => {
+                write!(f, "u has {u} samples but y has {y}: give one y per u")
+            }
+            IdentifyError::TooLarge {
+                channels,
+                block_rows,
+            } => write!(
+                f,
+                "{channels} segments and {block_rows} block rows exceed the largest supported ({MAX_CHANNELS} segments, {MAX_BLOCK_ROWS} block rows)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for IdentifyError {}
+
+impl From<hsid::Error> for IdentifyError {
+    fn from(e: hsid::Error) -> Self {
+        IdentifyError::Core(e)
+    }
+}
+
+/// Largest number of segments (both paths together) the desktop front end accepts.
+pub const MAX_CHANNELS: usize = 64;
+/// Largest `f + p` the desktop front end accepts.
+pub const MAX_BLOCK_ROWS: usize = 48;
+
+/// An identified model with `f64` matrices, ready for analysis and JSON.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HostModel {
+    /// Order `n`.
+    pub order: usize,
+    /// `A` (`n × n`).
+    pub a: DMatrix<f64>,
+    /// `B` (length `n`).
+    pub b: Vec<f64>,
+    /// `C` (length `n`).
+    pub c: Vec<f64>,
+    /// `D`.
+    pub d: f64,
+    /// μ0.
+    pub mu0: f64,
+    /// Ascending knots.
+    pub knots_asc: Vec<f64>,
+    /// Descending knots.
+    pub knots_desc: Vec<f64>,
+    /// `P_a` at the ascending knots.
+    pub border_asc: Vec<f64>,
+    /// `P_d` at the descending knots.
+    pub border_desc: Vec<f64>,
+    /// Singular values of `O_f / √j`.
+    pub singular_values: Vec<f64>,
+    /// Whitened singular values used for the order.
+    pub whitened_singular_values: Vec<f64>,
+    /// Future horizon.
+    pub f: usize,
+    /// Past horizon.
+    pub p: usize,
+    /// Samples used (hold included).
+    pub samples: usize,
+}
+
+/// Identifies a model from a whole record (hold first, if any).
+pub fn identify(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<HostModel, IdentifyError> {
+    if u.len() != y.len() {
+        return Err(IdentifyError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    let channels = opts.knots_asc.len().saturating_sub(1) + opts.knots_desc.len().saturating_sub(1);
+    let block_rows = opts.f + opts.p;
+    let small = channels <= 16 && block_rows <= 24;
+    if small {
+        // The paper's size and anything like it: small enough for any thread's stack.
+        return run::<16, 24>(u, y, opts);
+    }
+    if channels > MAX_CHANNELS || block_rows > MAX_BLOCK_ROWS {
+        return Err(IdentifyError::TooLarge {
+            channels,
+            block_rows,
+        });
+    }
+    // Larger capacities hold up to a few MB of sums: run them on a thread with room for them.
+    std::thread::scope(|s| {
+        let handle = std::thread::Builder::new()
+            .stack_size(256 << 20)
+            .spawn_scoped(s, || {
+                if channels <= 32 && block_rows <= 48 {
+                    run::<32, 48>(u, y, opts)
+                } else {
+                    run::<64, 48>(u, y, opts)
+                }
+            });
+        match handle {
+            Ok(h) => h.join().unwrap_or(Err(IdentifyError::TooLarge {
+                channels,
+                block_rows,
+            })),
+            Err(_) => Err(IdentifyError::TooLarge {
+                channels,
+                block_rows,
+            }),
+        }
+    })
+}
+
+fn run<const M: usize, const K: usize>(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+) -> Result<HostModel, IdentifyError> {
+    let knots = Knots::<f64, M>::new(&opts.knots_asc, &opts.knots_desc)?;
+    let mu0 = if opts.hold > 0 {
+        MuZero::Hold {
+            len: opts.hold,
+            settle: opts.settle,
+        }
+    } else {
+        MuZero::Known(opts.mu0.unwrap_or(0.0))
+    };
+    let mut settings = Settings::new(knots, opts.f, opts.p, mu0);
+    settings.basis = opts.basis;
+    settings.order = opts.order.map_or(Order::Auto, Order::Fixed);
+    let mut id = Box::new(Identifier::<f64, M, K>::new(settings)?);
+    for (&ui, &yi) in u.iter().zip(y) {
+        id.push(ui, yi);
+    }
+    let mut ws = vec![0.0; id.workspace_len()];
+    let m = id.solve(&mut ws)?;
+    let n = m.order();
+    Ok(HostModel {
+        order: n,
+        a: DMatrix::from_fn(n, n, |i, j| m.a(i, j)),
+        b: m.b().to_vec(),
+        c: m.c().to_vec(),
+        d: m.d(),
+        mu0: m.mu0(),
+        knots_asc: m.knots().path(Direction::Ascending).to_vec(),
+        knots_desc: m.knots().path(Direction::Descending).to_vec(),
+        border_asc: m.border_values(Direction::Ascending).to_vec(),
+        border_desc: m.border_values(Direction::Descending).to_vec(),
+        singular_values: m.singular_values().to_vec(),
+        whitened_singular_values: m.whitened_singular_values().to_vec(),
+        f: opts.f,
+        p: opts.p,
+        samples: u.len(),
+    })
+}
+
+/// Linear interpolation of border values `v` on knots `x` (clamped outside).
+pub fn interpolate(x: &[f64], v: &[f64], u: f64) -> f64 {
+    let n = x.len().min(v.len());
+    if n == 0 {
+        return f64::NAN;
+    }
+    if u <= x[0] {
+        return v[0];
+    }
+    for i in 0..n - 1 {
+        if u <= x[i + 1] {
+            return v[i] + (v[i + 1] - v[i]) * (u - x[i]) / (x[i + 1] - x[i]);
+        }
+    }
+    v[n - 1]
+}
+
+impl HostModel {
+    /// `P_a(u)`.
+    pub fn border_asc_at(&self, u: f64) -> f64 {
+        interpolate(&self.knots_asc, &self.border_asc, u)
+    }
+
+    /// `P_d(u)`.
+    pub fn border_desc_at(&self, u: f64) -> f64 {
+        interpolate(&self.knots_desc, &self.border_desc, u)
+    }
+
+    /// Eigenvalues of `A` as `(re, im)`.
+    pub fn poles(&self) -> Vec<(f64, f64)> {
+        if self.order == 0 {
+            return Vec::new();
+        }
+        eigenvalues(self.a.clone()).unwrap_or_default()
+    }
+
+    /// `G(e^{jw}) = C (e^{jw} I − A)⁻¹ B + D` as `(re, im)`.
+    pub fn freq_response(&self, w: f64) -> (f64, f64) {
+        let n = self.order;
+        // Solve (zI − A) x = B in complex arithmetic as a real 2n system.
+        let (cr, ci) = (w.cos(), w.sin());
+        let mut m = DMatrix::<f64>::zeros(2 * n, 2 * n);
+        let mut rhs = nalgebra::DVector::<f64>::zeros(2 * n);
+        for i in 0..n {
+            for j in 0..n {
+                let re = if i == j { cr } else { 0.0 } - self.a[(i, j)];
+                let im = if i == j { ci } else { 0.0 };
+                m[(i, j)] = re;
+                m[(i, j + n)] = -im;
+                m[(i + n, j)] = im;
+                m[(i + n, j + n)] = re;
+            }
+            rhs[i] = self.b[i];
+        }
+        let Some(x) = m.lu().solve(&rhs) else {
+            return (f64::NAN, f64::NAN);
+        };
+        let mut re = self.d;
+        let mut im = 0.0;
+        for i in 0..n {
+            re += self.c[i] * x[i];
+            im += self.c[i] * x[i + n];
+        }
+        (re, im)
+    }
+
+    /// `|G(e^{jw})|` in dB.
+    pub fn magnitude_db(&self, w: f64) -> f64 {
+        let (re, im) = self.freq_response(w);
+        10.0 * (re * re + im * im).log10()
+    }
+
+    /// Simulates the model for an input record, starting at rest at `u_min` (as after the
+    /// identification hold): δ(t) from the input, `H = P_a(u)` or `P_d(u)`, then `G`.
+    pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        let n = self.order;
+        // Rest state: x = (I − A)⁻¹ B μ0.
+        let ia = DMatrix::<f64>::identity(n, n) - &self.a;
+        let bvec = nalgebra::DVector::from_column_slice(&self.b) * self.mu0;
+        let mut x = ia
+            .lu()
+            .solve(&bvec)
+            .unwrap_or_else(|| nalgebra::DVector::zeros(n));
+        let mut up = false;
+        let mut prev = self.knots_asc.first().copied().unwrap_or(0.0);
+        let mut out = Vec::with_capacity(u.len());
+        for &ui in u {
+            if ui > prev {
+                up = true;
+            } else if ui < prev {
+                up = false;
+            }
+            prev = ui;
+            let h = if up {
+                self.border_asc_at(ui)
+            } else {
+                self.border_desc_at(ui)
+            };
+            let y = self.d * h + self.c.iter().zip(x.iter()).map(|(c, x)| c * x).sum::<f64>();
+            let mut next = &self.a * &x;
+            for (i, b) in self.b.iter().enumerate() {
+                next[i] += b * h;
+            }
+            x = next;
+            out.push(y);
+        }
+        out
+    }
+
+    /// The model in the JSON schema of [`ModelJson`].
+    pub fn to_json(&self, nonlinearity: Option<String>) -> ModelJson {
+        ModelJson {
+            order: self.order,
+            a: (0..self.order)
+                .map(|i| (0..self.order).map(|j| self.a[(i, j)]).collect())
+                .collect(),
+            b: self.b.clone(),
+            c: self.c.clone(),
+            d: self.d,
+            poles: self.poles().into_iter().map(|(r, i)| [r, i]).collect(),
+            mu0: self.mu0,
+            knots_asc: self.knots_asc.clone(),
+            knots_desc: self.knots_desc.clone(),
+            border_asc: self.border_asc.clone(),
+            border_desc: self.border_desc.clone(),
+            singular_values: self.singular_values.clone(),
+            u_min: self.knots_asc.first().copied().unwrap_or(f64::NAN),
+            u_max: self.knots_asc.last().copied().unwrap_or(f64::NAN),
+            nonlinearity,
+            f: self.f,
+            p: self.p,
+            samples: self.samples,
+        }
+    }
+
+    /// A model read back from its JSON form (the whitened singular values are not stored).
+    pub fn from_json(j: &ModelJson) -> Self {
+        let n = j.order;
+        HostModel {
+            order: n,
+            a: DMatrix::from_fn(n, n, |r, c| j.a[r][c]),
+            b: j.b.clone(),
+            c: j.c.clone(),
+            d: j.d,
+            mu0: j.mu0,
+            knots_asc: j.knots_asc.clone(),
+            knots_desc: j.knots_desc.clone(),
+            border_asc: j.border_asc.clone(),
+            border_desc: j.border_desc.clone(),
+            singular_values: j.singular_values.clone(),
+            whitened_singular_values: Vec::new(),
+            f: j.f,
+            p: j.p,
+            samples: j.samples,
+        }
+    }
+}

@@ -1,0 +1,296 @@
+//! `hsid`: identify backlash/switch Hammerstein systems from data, reproduce the paper.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use hsid::Excitation;
+use hsid_host::identify::{IdentifyOptions, identify};
+use hsid_host::io::{load_json, read_columns, save_json, write_columns_to};
+use hsid_host::paper::{Case, PaperConfig, run_case, write_figures};
+use hsid_host::report::{fit_report, model_text, paper_table};
+use indicatif::{ProgressBar, ProgressStyle};
+use rand_core::SeedableRng;
+use rand_pcg::Pcg32;
+
+#[derive(Parser)]
+#[command(
+    name = "hsid",
+    version,
+    about = "Subspace identification of Hammerstein systems with backlash or switch input nonlinearities"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum CaseArg {
+    Switch,
+    Backlash,
+    Both,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Reproduce Section IV: Monte Carlo on the switch and backlash examples.
+    Paper {
+        /// Which example.
+        #[arg(long, value_enum, default_value = "both")]
+        case: CaseArg,
+        /// Runs per case.
+        #[arg(long, default_value_t = 100)]
+        runs: usize,
+        /// Base seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output folder for summary.json and the figures.
+        #[arg(long, default_value = "out/paper")]
+        out: PathBuf,
+        /// Fixed model order (default: automatic).
+        #[arg(long)]
+        order: Option<usize>,
+    },
+    /// Print the Table I excitation as CSV (column `u`).
+    Excite {
+        /// Lower end of the input interval.
+        #[arg(long, allow_hyphen_values = true)]
+        umin: f64,
+        /// Upper end of the input interval.
+        #[arg(long, allow_hyphen_values = true)]
+        umax: f64,
+        /// Samples in all (hold included).
+        #[arg(long)]
+        samples: usize,
+        /// Initial hold at u_min (samples).
+        #[arg(long, default_value_t = 300)]
+        hold: usize,
+        /// Seed of the PCG32 generator.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Identify a model from a CSV file with columns `u,y`.
+    Identify {
+        /// CSV file with a header.
+        #[arg(long)]
+        data: PathBuf,
+        /// Lower end of the input interval.
+        #[arg(long, allow_hyphen_values = true)]
+        umin: f64,
+        /// Upper end of the input interval.
+        #[arg(long, allow_hyphen_values = true)]
+        umax: f64,
+        /// Uniform segments per path (ignored when knots are given).
+        #[arg(long, default_value_t = 7)]
+        segments: usize,
+        /// Ascending knots, comma separated, u_min first and u_max last.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        knots_asc: Option<Vec<f64>>,
+        /// Descending knots, comma separated, u_min first and u_max last.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        knots_desc: Option<Vec<f64>>,
+        /// Model order (default: automatic).
+        #[arg(long)]
+        order: Option<usize>,
+        /// Samples of the initial hold at u_min.
+        #[arg(long, default_value_t = 300)]
+        hold: usize,
+        /// Samples of the hold skipped while the plant settles (default: half the hold).
+        #[arg(long)]
+        settle: Option<usize>,
+        /// Future horizon f.
+        #[arg(long, default_value_t = 10)]
+        f: usize,
+        /// Past horizon p.
+        #[arg(long, default_value_t = 10)]
+        p: usize,
+        /// Input column name.
+        #[arg(long, default_value = "u")]
+        input_column: String,
+        /// Output column name.
+        #[arg(long, default_value = "y")]
+        output_column: String,
+        /// Write the model as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Simulate a model on a CSV file with columns `u,y` and print the fit.
+    Validate {
+        /// Model JSON written by `hsid identify`.
+        #[arg(long)]
+        model: PathBuf,
+        /// CSV file with a header.
+        #[arg(long)]
+        data: PathBuf,
+        /// Samples at the start left out of the fit (e.g. the hold).
+        #[arg(long, default_value_t = 0)]
+        skip: usize,
+        /// Input column name.
+        #[arg(long, default_value = "u")]
+        input_column: String,
+        /// Output column name.
+        #[arg(long, default_value = "y")]
+        output_column: String,
+    },
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hsid: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.cmd {
+        Cmd::Paper {
+            case,
+            runs,
+            seed,
+            out,
+            order,
+        } => {
+            let cfg = PaperConfig {
+                runs,
+                seed,
+                order,
+                ..PaperConfig::default()
+            };
+            let cases: Vec<Case> = match case {
+                CaseArg::Switch => vec![Case::Switch],
+                CaseArg::Backlash => vec![Case::Backlash],
+                CaseArg::Both => vec![Case::Switch, Case::Backlash],
+            };
+            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            let bar = ProgressBar::new((runs * cases.len()) as u64);
+            bar.set_style(
+                ProgressStyle::with_template("{msg:>9} [{bar:40}] {pos}/{len} runs ({elapsed})")
+                    .map_err(|e| e.to_string())?
+                    .progress_chars("=> "),
+            );
+            let mut results = Vec::new();
+            for c in cases {
+                bar.set_message(c.name());
+                let tick = || bar.inc(1);
+                results.push(run_case(c, &cfg, &tick));
+            }
+            bar.finish_and_clear();
+            println!("{}", paper_table(&cfg, &results));
+            let mut files = Vec::new();
+            for r in &results {
+                files.extend(write_figures(r, &out)?);
+            }
+            let summary: serde_json::Map<String, serde_json::Value> = results
+                .iter()
+                .map(|r| {
+                    (
+                        r.summary.case.clone(),
+                        serde_json::to_value(&r.summary).unwrap_or_default(),
+                    )
+                })
+                .collect();
+            let path = out.join("summary.json");
+            let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+            std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("wrote {}", path.display());
+            for f in files {
+                println!("wrote {f}");
+            }
+            Ok(())
+        }
+        Cmd::Excite {
+            umin,
+            umax,
+            samples,
+            hold,
+            seed,
+        } => {
+            let u: Vec<f64> = Excitation::new(umin, umax, hold, Pcg32::seed_from_u64(seed))
+                .map_err(|e| e.to_string())?
+                .take(samples)
+                .collect();
+            let stdout = std::io::stdout();
+            write_columns_to("<stdout>", stdout.lock(), &["u"], &[u]).map_err(|e| e.to_string())
+        }
+        Cmd::Identify {
+            data,
+            umin,
+            umax,
+            segments,
+            knots_asc,
+            knots_desc,
+            order,
+            hold,
+            settle,
+            f,
+            p,
+            input_column,
+            output_column,
+            json,
+        } => {
+            let cols = read_columns(&data, &[input_column.as_str(), output_column.as_str()])
+                .map_err(|e| e.to_string())?;
+            let (u, y) = (&cols[0], &cols[1]);
+            let mut opts = IdentifyOptions::uniform(umin, umax, segments, hold);
+            if let Some(k) = knots_asc {
+                opts.knots_asc = k;
+            }
+            if let Some(k) = knots_desc {
+                opts.knots_desc = k;
+            }
+            for (name, k) in [
+                ("--knots-asc", &opts.knots_asc),
+                ("--knots-desc", &opts.knots_desc),
+            ] {
+                if k.first() != Some(&umin) || k.last() != Some(&umax) {
+                    return Err(format!(
+                        "{name} must start at --umin {umin} and end at --umax {umax}"
+                    ));
+                }
+            }
+            opts.f = f;
+            opts.p = p;
+            opts.order = order;
+            opts.settle = settle.unwrap_or(hold / 2);
+            let model = identify(u, y, &opts).map_err(|e| format!("{}: {e}", data.display()))?;
+            println!("{}", model_text(&model));
+            let sim = model.simulate(u);
+            println!("{}", fit_report(&y[hold..], &sim[hold..]));
+            if let Some(path) = json {
+                save_json(&path, &model.to_json(None)).map_err(|e| e.to_string())?;
+                println!("wrote {}", path.display());
+            }
+            Ok(())
+        }
+        Cmd::Validate {
+            model,
+            data,
+            skip,
+            input_column,
+            output_column,
+        } => {
+            let m = load_json(&model).map_err(|e| e.to_string())?;
+            let m = hsid_host::identify::HostModel::from_json(&m);
+            let cols = read_columns(&data, &[input_column.as_str(), output_column.as_str()])
+                .map_err(|e| e.to_string())?;
+            let (u, y) = (&cols[0], &cols[1]);
+            if skip >= u.len() {
+                return Err(format!("--skip {skip} leaves no samples of {}", u.len()));
+            }
+            let (lo, hi) = (m.knots_asc[0], m.knots_asc[m.knots_asc.len() - 1]);
+            if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| **v < lo || **v > hi) {
+                return Err(format!(
+                    "{} line {}: u = {v} lies outside the model's interval [{lo}, {hi}]",
+                    data.display(),
+                    i + 2
+                ));
+            }
+            let sim = m.simulate(u);
+            println!("{}", fit_report(&y[skip..], &sim[skip..]));
+            Ok(())
+        }
+    }
+}

@@ -1,0 +1,518 @@
+//! Section IV of the paper, reproduced: Monte Carlo identification of the switch and the
+//! backlash cases, statistics against the true system, `summary.json` and Figs. 6–11.
+
+use std::path::Path;
+
+use hsid::Excitation;
+use rand_core::SeedableRng;
+use rand_pcg::Pcg32;
+use serde::Serialize;
+
+use crate::identify::{HostModel, IdentifyOptions, identify, interpolate};
+use crate::plot::{bode_magnitude_figure, border_figure, pole_figure};
+use crate::sim::{
+    Backlash, Lti, Nonlinearity, Switch, TruePaths, paper_backlash, paper_noise_model, paper_plant,
+    paper_switch, simulate,
+};
+
+/// The two examples of Section IV.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Case {
+    /// Case 1: the switch nonlinearity.
+    Switch,
+    /// Case 2: the backlash nonlinearity.
+    Backlash,
+}
+
+impl Case {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Case::Switch => "switch",
+            Case::Backlash => "backlash",
+        }
+    }
+
+    fn id(self) -> u64 {
+        match self {
+            Case::Switch => 1,
+            Case::Backlash => 2,
+        }
+    }
+}
+
+/// Monte Carlo settings; [`Default`] is the paper's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaperConfig {
+    /// Runs per case (paper: 100).
+    pub runs: usize,
+    /// Base seed; run `r` of a case uses seeds derived from `(seed, case, r)`.
+    pub seed: u64,
+    /// Hankel columns (paper: 4000).
+    pub j: usize,
+    /// Future horizon.
+    pub f: usize,
+    /// Past horizon.
+    pub p: usize,
+    /// Segments per path, uniform knots (paper: n_p = 7).
+    pub segments: usize,
+    /// Hold at `u_min` before the excitation, for μ0.
+    pub hold: usize,
+    /// Samples of the hold skipped while the plant settles.
+    pub settle: usize,
+    /// Signal-to-noise ratio in dB (paper: 10).
+    pub snr_db: f64,
+    /// Input interval (paper: [-3, 3]).
+    pub u_min: f64,
+    /// Input interval (paper: [-3, 3]).
+    pub u_max: f64,
+    /// Fixed model order, or automatic.
+    pub order: Option<usize>,
+}
+
+impl Default for PaperConfig {
+    fn default() -> Self {
+        Self {
+            runs: 100,
+            seed: 1,
+            j: 4000,
+            f: 10,
+            p: 10,
+            segments: 7,
+            hold: 300,
+            settle: 150,
+            snr_db: 10.0,
+            u_min: -3.0,
+            u_max: 3.0,
+            order: None,
+        }
+    }
+}
+
+/// A seed for one purpose of one run (SplitMix64 finaliser over the inputs).
+pub fn derive_seed(base: u64, case: u64, run: u64, purpose: u64) -> u64 {
+    let mut z = base
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(case << 48)
+        .wrapping_add(run << 8)
+        .wrapping_add(purpose);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// One simulated experiment: input and measured output, hold first.
+#[derive(Clone, Debug)]
+pub struct Experiment {
+    /// Input record (hold included).
+    pub u: Vec<f64>,
+    /// Measured output.
+    pub y: Vec<f64>,
+    /// Noise-free output.
+    pub y_clean: Vec<f64>,
+}
+
+/// The element, plant and noise model of a case.
+pub fn case_system(case: Case) -> (Box<dyn Nonlinearity>, TruePaths, Lti, Lti) {
+    let (nl, paths): (Box<dyn Nonlinearity>, TruePaths) = match case {
+        Case::Switch => {
+            let s: Switch = paper_switch();
+            let p = s.true_paths(-3.0, 3.0);
+            (Box::new(s), p)
+        }
+        Case::Backlash => {
+            let b: Backlash = paper_backlash();
+            let p = b.true_paths(-3.0, 3.0);
+            (Box::new(b), p)
+        }
+    };
+    (nl, paths, paper_plant(), paper_noise_model())
+}
+
+/// Simulates run `run` of a case: the Table I excitation from the core's generator, the true
+/// element, `G(q)` and the coloured noise at the requested SNR (over the excitation part).
+pub fn experiment(case: Case, cfg: &PaperConfig, run: usize) -> Result<Experiment, String> {
+    let n = cfg.hold + cfg.j + cfg.f + cfg.p - 1;
+    let rng = Pcg32::seed_from_u64(derive_seed(cfg.seed, case.id(), run as u64, 1));
+    let u: Vec<f64> = Excitation::new(cfg.u_min, cfg.u_max, cfg.hold, rng)
+        .map_err(|e| e.to_string())?
+        .take(n)
+        .collect();
+    let (mut nl, _, plant, noise) = case_system(case);
+    let mut noise_rng = Pcg32::seed_from_u64(derive_seed(cfg.seed, case.id(), run as u64, 2));
+    let snr = cfg.snr_db.is_finite().then_some(cfg.snr_db);
+    let sim = simulate(
+        &u,
+        nl.as_mut(),
+        &plant,
+        &noise,
+        snr,
+        cfg.hold..n,
+        &mut noise_rng,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(Experiment {
+        u,
+        y: sim.y,
+        y_clean: sim.y_clean,
+    })
+}
+
+/// The identification options of the Monte Carlo.
+pub fn options(cfg: &PaperConfig) -> IdentifyOptions {
+    let mut o = IdentifyOptions::uniform(cfg.u_min, cfg.u_max, cfg.segments, cfg.hold);
+    o.f = cfg.f;
+    o.p = cfg.p;
+    o.settle = cfg.settle;
+    o.order = cfg.order;
+    o
+}
+
+/// Statistics of one case.
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseSummary {
+    /// Case name.
+    pub case: String,
+    /// Runs attempted.
+    pub runs: usize,
+    /// Runs whose identification failed, with the reason.
+    pub failures: Vec<String>,
+    /// How many runs selected each order (index = order).
+    pub order_counts: Vec<usize>,
+    /// True poles `[re, im]`.
+    pub true_poles: Vec<[f64; 2]>,
+    /// Mean of the estimated pole in the upper half plane, `[re, im]` (order-2 runs).
+    pub pole_mean: [f64; 2],
+    /// Sample standard deviation of that pole, `[re, im]`.
+    pub pole_std: [f64; 2],
+    /// `|mean − true|` of that pole.
+    pub pole_bias: f64,
+    /// RMS error of the average border (both paths, 601-point grid) against the true paths.
+    pub border_rms_of_average: f64,
+    /// Median over runs of the single-run border RMS error.
+    pub border_rms_single_median: f64,
+    /// RMS error of the best piecewise-linear fit with the same knots (the floor).
+    pub border_rms_best_pwl: f64,
+    /// Largest Bode magnitude error (dB) of the average model over the frequency grid.
+    pub bode_max_db_error_of_average: f64,
+    /// Mean μ0 estimate and its true value.
+    pub mu0_mean: f64,
+    /// True μ0.
+    pub mu0_true: f64,
+}
+
+/// Everything a case produced, for figures and tests.
+#[derive(Clone, Debug)]
+pub struct CaseResult {
+    /// The statistics.
+    pub summary: CaseSummary,
+    /// Every successful model.
+    pub models: Vec<HostModel>,
+    /// The border grid.
+    pub grid: Vec<f64>,
+    /// True `P_a`, `P_d` on the grid.
+    pub true_asc: Vec<f64>,
+    /// True `P_d` on the grid.
+    pub true_desc: Vec<f64>,
+    /// Average estimated `P_a` on the grid.
+    pub avg_asc: Vec<f64>,
+    /// Average estimated `P_d` on the grid.
+    pub avg_desc: Vec<f64>,
+    /// Frequency grid (rad/sample).
+    pub w: Vec<f64>,
+    /// True `|G|` in dB.
+    pub true_db: Vec<f64>,
+    /// Average model `|G|` in dB (average of the magnitudes).
+    pub avg_db: Vec<f64>,
+}
+
+fn rms(a: &[f64], b: &[f64]) -> f64 {
+    let s: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
+    (s / a.len().max(1) as f64).sqrt()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Least-squares continuous piecewise-linear fit of `g` on the knots, evaluated on the grid.
+pub fn best_pwl(knots: &[f64], grid: &[f64], g: &[f64]) -> Vec<f64> {
+    let k = knots.len();
+    let hat = |i: usize, u: f64| -> f64 {
+        let left = if i > 0 {
+            knots[i - 1]
+        } else {
+            f64::NEG_INFINITY
+        };
+        let right = if i + 1 < k {
+            knots[i + 1]
+        } else {
+            f64::INFINITY
+        };
+        let c = knots[i];
+        if u <= c && u >= left {
+            if left.is_finite() {
+                (u - left) / (c - left)
+            } else {
+                1.0
+            }
+        } else if u > c && u <= right {
+            if right.is_finite() {
+                (right - u) / (right - c)
+            } else {
+                1.0
+            }
+        } else {
+            0.0
+        }
+    };
+    let a = nalgebra::DMatrix::from_fn(grid.len(), k, |r, c| hat(c, grid[r]));
+    let b = nalgebra::DVector::from_column_slice(g);
+    let sol = a
+        .clone()
+        .svd(true, true)
+        .solve(&b, 1e-12)
+        .unwrap_or_else(|_| nalgebra::DVector::zeros(k));
+    (a * sol).iter().copied().collect()
+}
+
+/// Runs one case; `tick` is called after every run (for a progress bar).
+pub fn run_case(case: Case, cfg: &PaperConfig, tick: &(dyn Fn() + Sync)) -> CaseResult {
+    let opts = options(cfg);
+    let results: Vec<Result<HostModel, String>> = {
+        let runs: Vec<usize> = (0..cfg.runs).collect();
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(8);
+        let chunk = runs.len().div_ceil(threads.max(1)).max(1);
+        std::thread::scope(|s| {
+            let handles: Vec<_> = runs
+                .chunks(chunk)
+                .map(|rs| {
+                    let opts = &opts;
+                    s.spawn(move || {
+                        rs.iter()
+                            .map(|&r| {
+                                let out = experiment(case, cfg, r).and_then(|e| {
+                                    identify(&e.u, &e.y, opts).map_err(|e| e.to_string())
+                                });
+                                tick();
+                                out
+                            })
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| h.join().unwrap_or_default())
+                .collect()
+        })
+    };
+    let mut models = Vec::new();
+    let mut failures = Vec::new();
+    for (r, res) in results.into_iter().enumerate() {
+        match res {
+            Ok(m) => models.push(m),
+            Err(e) => failures.push(format!("run {r}: {e}")),
+        }
+    }
+
+    let (_, paths, plant, _) = case_system(case);
+    let mut true_poles: Vec<[f64; 2]> = plant
+        .poles()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(r, i)| [r, i])
+        .collect();
+    true_poles.sort_by(|a, b| b[1].total_cmp(&a[1]));
+    let true_upper = true_poles.first().copied().unwrap_or([f64::NAN; 2]);
+
+    let mut order_counts = vec![0usize; cfg.f + 1];
+    let mut upper = Vec::new();
+    for m in &models {
+        if let Some(c) = order_counts.get_mut(m.order) {
+            *c += 1;
+        }
+        if m.order == 2 {
+            let p = m.poles();
+            if let Some(&(re, im)) = p.iter().max_by(|a, b| a.1.total_cmp(&b.1)) {
+                upper.push((re, im));
+            }
+        }
+    }
+    let n = upper.len() as f64;
+    let mean = [
+        upper.iter().map(|p| p.0).sum::<f64>() / n,
+        upper.iter().map(|p| p.1).sum::<f64>() / n,
+    ];
+    let std = [
+        (upper.iter().map(|p| (p.0 - mean[0]).powi(2)).sum::<f64>() / (n - 1.0)).sqrt(),
+        (upper.iter().map(|p| (p.1 - mean[1]).powi(2)).sum::<f64>() / (n - 1.0)).sqrt(),
+    ];
+
+    let grid: Vec<f64> = (0..=600)
+        .map(|i| cfg.u_min + (cfg.u_max - cfg.u_min) * i as f64 / 600.0)
+        .collect();
+    let true_asc: Vec<f64> = grid.iter().map(|&u| paths.asc(u)).collect();
+    let true_desc: Vec<f64> = grid.iter().map(|&u| paths.desc(u)).collect();
+    let mut avg_asc = vec![0.0; grid.len()];
+    let mut avg_desc = vec![0.0; grid.len()];
+    let mut single = Vec::new();
+    for m in &models {
+        let a: Vec<f64> = grid.iter().map(|&u| m.border_asc_at(u)).collect();
+        let d: Vec<f64> = grid.iter().map(|&u| m.border_desc_at(u)).collect();
+        for (s, v) in avg_asc.iter_mut().zip(&a) {
+            *s += v / models.len() as f64;
+        }
+        for (s, v) in avg_desc.iter_mut().zip(&d) {
+            *s += v / models.len() as f64;
+        }
+        let both = [a, d].concat();
+        single.push(rms(&both, &[true_asc.clone(), true_desc.clone()].concat()));
+    }
+    let truth = [true_asc.clone(), true_desc.clone()].concat();
+    let border_rms_of_average = rms(&[avg_asc.clone(), avg_desc.clone()].concat(), &truth);
+    let knots = opts.knots_asc.clone();
+    let best = [
+        best_pwl(&knots, &grid, &true_asc),
+        best_pwl(&opts.knots_desc, &grid, &true_desc),
+    ]
+    .concat();
+    let border_rms_best_pwl = rms(&best, &truth);
+
+    let w: Vec<f64> = (0..=400)
+        .map(|i| 10f64.powf(-3.0 + (std::f64::consts::PI.log10() + 3.0) * i as f64 / 400.0))
+        .collect();
+    let true_db: Vec<f64> = w
+        .iter()
+        .map(|&x| {
+            let (re, im) = plant.freq_response(x);
+            10.0 * (re * re + im * im).log10()
+        })
+        .collect();
+    let avg_db: Vec<f64> = w
+        .iter()
+        .map(|&x| {
+            let s: f64 = models
+                .iter()
+                .map(|m| {
+                    let (re, im) = m.freq_response(x);
+                    (re * re + im * im).sqrt()
+                })
+                .sum();
+            20.0 * (s / models.len() as f64).log10()
+        })
+        .collect();
+    let bode_max = true_db
+        .iter()
+        .zip(&avg_db)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let mu0_true = paths.asc(cfg.u_min);
+    let mu0_mean = models.iter().map(|m| m.mu0).sum::<f64>() / models.len() as f64;
+
+    CaseResult {
+        summary: CaseSummary {
+            case: case.name().to_string(),
+            runs: cfg.runs,
+            failures,
+            order_counts,
+            true_poles,
+            pole_mean: mean,
+            pole_std: std,
+            pole_bias: ((mean[0] - true_upper[0]).powi(2) + (mean[1] - true_upper[1]).powi(2))
+                .sqrt(),
+            border_rms_of_average,
+            border_rms_single_median: median(single),
+            border_rms_best_pwl,
+            bode_max_db_error_of_average: bode_max,
+            mu0_mean,
+            mu0_true,
+        },
+        models,
+        grid,
+        true_asc,
+        true_desc,
+        avg_asc,
+        avg_desc,
+        w,
+        true_db,
+        avg_db,
+    }
+}
+
+/// Writes the three figures of a case (pole scatter, Bode magnitude, borders) into `dir`,
+/// named after the paper's figure numbers. Returns the paths written.
+pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<String>, String> {
+    let name = &res.summary.case;
+    let (fp, fb, fh) = if name == "switch" {
+        (6, 7, 8)
+    } else {
+        (9, 10, 11)
+    };
+    let title_case = if name == "switch" {
+        "Switch"
+    } else {
+        "Backlash"
+    };
+    let est: Vec<(f64, f64)> = res.models.iter().flat_map(|m| m.poles()).collect();
+    let truth: Vec<(f64, f64)> = res
+        .summary
+        .true_poles
+        .iter()
+        .map(|p| (p[0], p[1]))
+        .collect();
+    let mut out = Vec::new();
+    let p1 = dir.join(format!("fig{fp}-{name}-poles.svg"));
+    pole_figure(
+        &format!(
+            "{title_case} nonlinearity: eigenvalues of the estimated A ({} runs)",
+            res.models.len()
+        ),
+        &truth,
+        &est,
+        Some((0.88, 1.0, -0.19, 0.19)),
+    )
+    .save(&p1)
+    .map_err(|e| e.to_string())?;
+    out.push(p1.display().to_string());
+    let p2 = dir.join(format!("fig{fb}-{name}-bode.svg"));
+    bode_magnitude_figure(
+        &format!("{title_case} nonlinearity: Bode magnitude, true and average model"),
+        &res.w,
+        &[("true G", &res.true_db), ("average estimate", &res.avg_db)],
+    )
+    .save(&p2)
+    .map_err(|e| e.to_string())?;
+    out.push(p2.display().to_string());
+    let p3 = dir.join(format!("fig{fh}-{name}-borders.svg"));
+    border_figure(
+        &format!("{title_case} nonlinearity: H[·] and its average estimate"),
+        &res.grid,
+        &[
+            ("true P_a", &res.true_asc),
+            ("true P_d", &res.true_desc),
+            ("average estimate P_a", &res.avg_asc),
+            ("average estimate P_d", &res.avg_desc),
+        ],
+    )
+    .save(&p3)
+    .map_err(|e| e.to_string())?;
+    out.push(p3.display().to_string());
+    Ok(out)
+}
+
+/// Interpolation helper re-exported for tests of the figures' data.
+pub fn border_at(knots: &[f64], values: &[f64], u: f64) -> f64 {
+    interpolate(knots, values, u)
+}

@@ -1,0 +1,577 @@
+//! Tests of the CSV and model JSON I/O, on the shared measurement files and on small texts.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::PathBuf;
+
+use hsid_host::io::{
+    IoError, ModelJson, load_json, parse_columns, read_columns, save_json, write_columns,
+    write_columns_to,
+};
+
+const TANKS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/cascaded-tanks/dataBenchmark.csv"
+);
+const MOTOR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/dc-motor-deadzone/run_minimal.csv"
+);
+
+/// A fresh scratch directory under the system temp dir, unique per test, removed on drop.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn join(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn scratch(test: &str) -> Scratch {
+    let dir = std::env::temp_dir().join(format!("hsid-io-test-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    Scratch(dir)
+}
+
+fn parse(text: &str, names: &[&str]) -> Result<Vec<Vec<f64>>, IoError> {
+    parse_columns("data.csv", text, names)
+}
+
+// ----- the shared measurement files ---------------------------------------------------------
+
+#[test]
+fn cascaded_tanks_benchmark() {
+    let cols = read_columns(TANKS, &["uEst", "uVal", "yEst", "yVal"]).unwrap();
+    assert_eq!(cols.len(), 4);
+    for c in &cols {
+        assert_eq!(c.len(), 1024);
+    }
+    assert_eq!(
+        [cols[0][0], cols[1][0], cols[2][0], cols[3][0]],
+        [3.2567, 0.97619, 5.205, 4.9728]
+    );
+    assert_eq!(cols[0][1], 3.2466);
+    // The last data row: 3.2615,0.94805,3.6831,3.7179,,
+    assert_eq!(
+        [cols[0][1023], cols[1][1023], cols[2][1023], cols[3][1023]],
+        [3.2615, 0.94805, 3.6831, 3.7179]
+    );
+    // Order of the result follows the request, not the file.
+    let swapped = read_columns(TANKS, &["yVal", "uEst"]).unwrap();
+    assert_eq!(swapped[0], cols[3]);
+    assert_eq!(swapped[1], cols[0]);
+}
+
+#[test]
+fn cascaded_tanks_ts_is_only_on_the_first_row() {
+    let err = read_columns(TANKS, &["uEst", "Ts"]).unwrap_err();
+    match &err {
+        IoError::EmptyCell { line, column, .. } => {
+            assert_eq!(*line, 3);
+            assert_eq!(column, "Ts");
+        }
+        other => panic!("unexpected error {other:?}"),
+    }
+    assert!(
+        err.to_string()
+            .ends_with("dataBenchmark.csv line 3: column \"Ts\" is empty")
+    );
+}
+
+#[test]
+fn dc_motor_numeric_columns() {
+    let cols = read_columns(MOTOR, &["voltage", "rpm"]).unwrap();
+    assert_eq!(cols[0].len(), 6601);
+    assert_eq!(cols[1].len(), 6601);
+    let vmax = cols[0].iter().copied().fold(f64::MIN, f64::max);
+    let vmin = cols[0].iter().copied().fold(f64::MAX, f64::min);
+    // The file stores the top level as 8.8100004196167 (a float32 value printed in full).
+    assert!((vmax - 8.81).abs() < 1e-6, "{vmax}");
+    assert!((vmin + 8.81).abs() < 1e-6, "{vmin}");
+    let t = read_columns(MOTOR, &["time"]).unwrap();
+    assert_eq!(t[0][0], 0.0);
+    assert_eq!(t[0][1], 0.01);
+}
+
+#[test]
+fn dc_motor_direction_is_text() {
+    let err = read_columns(MOTOR, &["voltage", "direction"]).unwrap_err();
+    match &err {
+        IoError::BadNumber {
+            line, column, text, ..
+        } => {
+            assert_eq!(*line, 2);
+            assert_eq!(column, "direction");
+            assert_eq!(text, "up");
+        }
+        other => panic!("unexpected error {other:?}"),
+    }
+    assert!(
+        err.to_string()
+            .ends_with("run_minimal.csv line 2: column \"direction\": \"up\" is not a number"),
+        "{err}"
+    );
+}
+
+#[test]
+fn missing_column_lists_the_columns() {
+    let err = read_columns(TANKS, &["uEst", "yest"]).unwrap_err();
+    match &err {
+        IoError::MissingColumn {
+            column, available, ..
+        } => {
+            assert_eq!(column, "yest");
+            assert_eq!(available, &["uEst", "uVal", "yEst", "yVal", "Ts"]);
+        }
+        other => panic!("unexpected error {other:?}"),
+    }
+    let msg = err.to_string();
+    assert!(msg.contains("no column \"yest\""), "{msg}");
+    assert!(
+        msg.contains("\"uEst\", \"uVal\", \"yEst\", \"yVal\", \"Ts\""),
+        "{msg}"
+    );
+}
+
+#[test]
+fn file_not_found() {
+    let err = read_columns("/nonexistent/dir/data.csv", &["a"]).unwrap_err();
+    assert!(matches!(err, IoError::Open { .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with("/nonexistent/dir/data.csv: cannot read file"),
+        "{msg}"
+    );
+    assert!(std::error::Error::source(&err).is_some());
+}
+
+#[test]
+fn not_utf8() {
+    let dir = scratch("utf8");
+    let p = dir.join("bad.csv");
+    std::fs::write(&p, b"a,b\n1,2\n3,\xff\n").unwrap();
+    let err = read_columns(&p, &["a"]).unwrap_err();
+    assert!(matches!(err, IoError::NotUtf8 { line: 3, .. }), "{err:?}");
+}
+
+// ----- tolerated quirks ---------------------------------------------------------------------
+
+#[test]
+fn quotes_spaces_trailing_fields_crlf_bom() {
+    let text = "\u{feff} \"a\" , \"b\",c,\r\n 1 ,\"2.5\",x,\r\n-3, 4e-3 ,,\r\n\r\n\n";
+    let cols = parse(text, &["b", "a"]).unwrap();
+    assert_eq!(cols, vec![vec![2.5, 0.004], vec![1.0, -3.0]]);
+    // The request is trimmed the same way as the header.
+    let cols = parse(text, &[" \"a\""]).unwrap();
+    assert_eq!(cols, vec![vec![1.0, -3.0]]);
+}
+
+#[test]
+fn quoted_commas_stay_in_one_field() {
+    let text = "\"t, s\",y\n0,1\n1,2\n";
+    let cols = parse(text, &["t, s", "y"]).unwrap();
+    assert_eq!(cols, vec![vec![0.0, 1.0], vec![1.0, 2.0]]);
+}
+
+#[test]
+fn no_columns_requested_still_checks_rows() {
+    assert_eq!(parse("a,b\n1,2\n", &[]).unwrap(), Vec::<Vec<f64>>::new());
+    assert!(matches!(
+        parse("a,b\n1\n", &[]),
+        Err(IoError::TooFewFields { .. })
+    ));
+}
+
+// ----- errors -------------------------------------------------------------------------------
+
+#[test]
+fn empty_file() {
+    for text in ["", "\n\n", "  \r\n \n"] {
+        let err = parse(text, &["a"]).unwrap_err();
+        assert!(matches!(err, IoError::Empty { .. }), "{err:?}");
+        assert_eq!(err.to_string(), "data.csv: file is empty");
+    }
+}
+
+#[test]
+fn header_only() {
+    for text in ["a,b", "a,b\n", "a,b\n\n  \n"] {
+        let err = parse(text, &["a"]).unwrap_err();
+        assert!(matches!(err, IoError::NoData { .. }), "{err:?}");
+        assert_eq!(
+            err.to_string(),
+            "data.csv: file has a header row but no data rows"
+        );
+    }
+}
+
+#[test]
+fn malformed_number() {
+    let mut text = String::from("x,y\n");
+    for i in 0..15 {
+        text.push_str(&format!("{i},{i}.5\n"));
+    }
+    text.push_str("15,1.2.3\n16,0\n");
+    let err = parse(&text, &["x", "y"]).unwrap_err();
+    match &err {
+        IoError::BadNumber {
+            line, column, text, ..
+        } => {
+            assert_eq!((*line, column.as_str(), text.as_str()), (17, "y", "1.2.3"));
+        }
+        other => panic!("unexpected error {other:?}"),
+    }
+    assert_eq!(
+        err.to_string(),
+        "data.csv line 17: column \"y\": \"1.2.3\" is not a number"
+    );
+    // The same text in a column that is not requested is fine.
+    assert_eq!(parse(&text, &["x"]).unwrap()[0].len(), 17);
+}
+
+#[test]
+fn too_few_fields() {
+    let err = parse("a,b,c\n1,2,3\n4,5\n", &["a"]).unwrap_err();
+    match &err {
+        IoError::TooFewFields {
+            line,
+            expected,
+            found,
+            ..
+        } => assert_eq!((*line, *expected, *found), (3, 3, 2)),
+        other => panic!("unexpected error {other:?}"),
+    }
+    assert_eq!(err.to_string(), "data.csv line 3: 2 fields, expected 3");
+}
+
+#[test]
+fn too_many_fields() {
+    let err = parse("a,b\n1,2\n4,5,6\n", &["a"]).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IoError::TooManyFields {
+                line: 3,
+                expected: 2,
+                found: 3,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    // Extra *empty* fields are fine.
+    assert_eq!(parse("a,b\n1,2,,\n", &["b"]).unwrap(), vec![vec![2.0]]);
+}
+
+#[test]
+fn empty_requested_cell() {
+    let err = parse("a,b\n1,2\n,3\n", &["a", "b"]).unwrap_err();
+    assert!(matches!(err, IoError::EmptyCell { line: 3, .. }), "{err:?}");
+    assert_eq!(err.to_string(), "data.csv line 3: column \"a\" is empty");
+}
+
+#[test]
+fn non_finite_values() {
+    for (cell, what) in [
+        ("NaN", "NaN"),
+        ("nan", "NaN"),
+        ("inf", "inf"),
+        ("-Infinity", "-inf"),
+        ("1e400", "inf"),
+    ] {
+        let text = format!("a,b\n1,2\n3,{cell}\n");
+        let err = parse(&text, &["a", "b"]).unwrap_err();
+        match &err {
+            IoError::NonFinite { line, column, .. } => {
+                assert_eq!((*line, column.as_str()), (3, "b"));
+            }
+            other => panic!("unexpected error {other:?} for {cell}"),
+        }
+        assert_eq!(
+            err.to_string(),
+            format!("data.csv line 3: column \"b\": {what} is not a finite number")
+        );
+    }
+}
+
+#[test]
+fn blank_lines_inside_data() {
+    let err = parse("a\n1\n\n2\n", &["a"]).unwrap_err();
+    assert!(matches!(err, IoError::BlankLine { line: 3, .. }), "{err:?}");
+    let err = parse("\na\n1\n", &["a"]).unwrap_err();
+    assert!(matches!(err, IoError::BlankLine { line: 1, .. }), "{err:?}");
+}
+
+#[test]
+fn duplicate_requested_column() {
+    let err = parse("a,b,a\n1,2,3\n", &["a"]).unwrap_err();
+    assert!(matches!(err, IoError::DuplicateColumn { .. }), "{err:?}");
+    // A duplicate that is not requested does no harm.
+    assert_eq!(parse("a,b,a\n1,2,3\n", &["b"]).unwrap(), vec![vec![2.0]]);
+}
+
+// ----- writing ------------------------------------------------------------------------------
+
+#[test]
+fn write_read_round_trip_is_exact() {
+    let dir = scratch("roundtrip");
+    let p = dir.join("out.csv");
+    let mut x = vec![
+        0.0,
+        -0.0,
+        1.0 / 3.0,
+        -2.0 / 7.0,
+        1e-300,
+        -1e300,
+        f64::MAX,
+        f64::MIN_POSITIVE,
+        5e-324,
+        0.1 + 0.2,
+        123_456_789.123_456_78,
+        1e-5,
+        9_999_999_999_999_998.0,
+    ];
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    for _ in 0..200 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let bits = state;
+        let v = f64::from_bits(bits);
+        if v.is_finite() {
+            x.push(v);
+        }
+        x.push((bits >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0);
+    }
+    let y: Vec<f64> = x.iter().map(|v| -v * 0.5).collect();
+    write_columns(&p, &["x", "y, scaled"], &[&x[..], &y[..]]).unwrap();
+    let back = read_columns(&p, &["x", "y, scaled"]).unwrap();
+    assert_eq!(back[0].len(), x.len());
+    for (a, b) in back[0].iter().zip(&x).chain(back[1].iter().zip(&y)) {
+        assert_eq!(a.to_bits(), b.to_bits(), "{a} vs {b}");
+    }
+    let text = std::fs::read_to_string(&p).unwrap();
+    assert!(text.starts_with("x,\"y, scaled\"\n0,-0\n"), "{text}");
+    assert!(text.contains("\n1e-300,-5e-301\n"), "no exponent form");
+}
+
+#[test]
+fn write_to_a_writer() {
+    let mut buf = Vec::new();
+    let cols = vec![vec![1.0, 2.5], vec![-3.0, 0.125]];
+    write_columns_to("mem", &mut buf, &["u", "y"], &cols).unwrap();
+    assert_eq!(String::from_utf8(buf).unwrap(), "u,y\n1,-3\n2.5,0.125\n");
+}
+
+#[test]
+fn write_errors() {
+    let mut buf = Vec::new();
+    let err =
+        write_columns_to("o.csv", &mut buf, &["a", "b"], &[vec![1.0, 2.0], vec![1.0]]).unwrap_err();
+    assert!(matches!(err, IoError::InvalidColumns { .. }), "{err:?}");
+    let err = write_columns_to("o.csv", &mut buf, &["a"], &[vec![1.0], vec![1.0]]).unwrap_err();
+    assert!(matches!(err, IoError::InvalidColumns { .. }), "{err:?}");
+    let err = write_columns_to("o.csv", &mut buf, &["a\"b"], &[vec![1.0]]).unwrap_err();
+    assert!(matches!(err, IoError::InvalidColumns { .. }), "{err:?}");
+    let err =
+        write_columns_to("o.csv", &mut buf, &["a", "a"], &[vec![1.0], vec![1.0]]).unwrap_err();
+    assert!(matches!(err, IoError::InvalidColumns { .. }), "{err:?}");
+    let err = write_columns_to(
+        "o.csv",
+        &mut buf,
+        &["a", "b"],
+        &[vec![1.0, 2.0], vec![1.0, f64::NAN]],
+    )
+    .unwrap_err();
+    assert!(matches!(err, IoError::NonFinite { line: 3, .. }), "{err:?}");
+    assert_eq!(
+        err.to_string(),
+        "o.csv line 3: column \"b\": NaN is not a finite number"
+    );
+    let err = write_columns("/nonexistent/dir/o.csv", &["a"], &[vec![1.0]]).unwrap_err();
+    assert!(matches!(err, IoError::Write { .. }), "{err:?}");
+}
+
+// ----- model JSON ---------------------------------------------------------------------------
+
+fn model() -> ModelJson {
+    ModelJson {
+        order: 2,
+        a: vec![vec![1.8858, -0.9048], vec![1.0, 0.0]],
+        b: vec![1.0, 0.0],
+        c: vec![0.1994, -0.1804],
+        d: 0.0,
+        poles: vec![[0.9429, 0.1256], [0.9429, -0.1256]],
+        mu0: -0.25,
+        knots_asc: vec![-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0],
+        knots_desc: vec![-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0],
+        border_asc: vec![-1.0, -1.0, -0.5, 0.0, 0.5, 1.0, 1.0],
+        border_desc: vec![-1.0, -1.0, -0.6, 0.1, 0.6, 1.0, 1.0],
+        singular_values: vec![10.0, 5.0, 0.1, 0.01],
+        u_min: -3.0,
+        u_max: 3.0,
+        nonlinearity: Some("switch".to_string()),
+        f: 10,
+        p: 10,
+        samples: 8000,
+    }
+}
+
+#[test]
+fn json_round_trip_and_keys() {
+    let dir = scratch("json");
+    let p = dir.join("model.json");
+    let m = model();
+    save_json(&p, &m).unwrap();
+    assert_eq!(load_json(&p).unwrap(), m);
+
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    let mut keys: Vec<&str> = value
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.as_str())
+        .collect();
+    keys.sort_unstable();
+    let mut expected = vec![
+        "order",
+        "A",
+        "B",
+        "C",
+        "D",
+        "poles",
+        "mu0",
+        "knots_asc",
+        "knots_desc",
+        "border_asc",
+        "border_desc",
+        "singular_values",
+        "u_min",
+        "u_max",
+        "nonlinearity",
+        "f",
+        "p",
+        "samples",
+    ];
+    expected.sort_unstable();
+    assert_eq!(keys, expected);
+    assert_eq!(value["A"][0][1], serde_json::json!(-0.9048));
+    assert_eq!(value["poles"][1], serde_json::json!([0.9429, -0.1256]));
+
+    let unknown = ModelJson {
+        nonlinearity: None,
+        ..model()
+    };
+    save_json(&p, &unknown).unwrap();
+    assert_eq!(load_json(&p).unwrap().nonlinearity, None);
+}
+
+fn json_with(edit: impl FnOnce(&mut serde_json::Map<String, serde_json::Value>)) -> String {
+    let mut v = serde_json::to_value(model()).unwrap();
+    edit(v.as_object_mut().unwrap());
+    serde_json::to_string(&v).unwrap()
+}
+
+fn field_of(err: &IoError) -> &str {
+    match err {
+        IoError::InvalidModel { field, .. } => field,
+        other => panic!("expected InvalidModel, got {other:?}"),
+    }
+}
+
+#[test]
+fn json_shape_errors_name_the_field() {
+    use serde_json::json;
+    let cases: Vec<(&str, String)> = vec![
+        (
+            "A",
+            json_with(|m| drop(m.insert("A".into(), json!([[1.0, 2.0]])))),
+        ),
+        (
+            "A",
+            json_with(|m| drop(m.insert("A".into(), json!([[1.0, 2.0], [3.0]])))),
+        ),
+        ("B", json_with(|m| drop(m.insert("B".into(), json!([1.0]))))),
+        (
+            "C",
+            json_with(|m| drop(m.insert("C".into(), json!([1.0, 2.0, 3.0])))),
+        ),
+        (
+            "poles",
+            json_with(|m| drop(m.insert("poles".into(), json!([])))),
+        ),
+        (
+            "border_asc",
+            json_with(|m| drop(m.insert("border_asc".into(), json!([0.0, 1.0])))),
+        ),
+        (
+            "border_desc",
+            json_with(|m| drop(m.insert("knots_desc".into(), json!([0.0])))),
+        ),
+        (
+            "u_max",
+            json_with(|m| drop(m.insert("u_max".into(), json!(-4.0)))),
+        ),
+    ];
+    for (field, text) in cases {
+        let err = ModelJson::from_json_str("m.json", &text).unwrap_err();
+        assert_eq!(field_of(&err), field, "{err}");
+        assert!(
+            err.to_string()
+                .starts_with(&format!("m.json: field \"{field}\": ")),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn json_type_errors_name_the_field() {
+    use serde_json::json;
+    let missing = json_with(|m| drop(m.remove("A")));
+    let err = ModelJson::from_json_str("m.json", &missing).unwrap_err();
+    assert!(matches!(err, IoError::Json { .. }));
+    assert!(err.to_string().contains("missing field `A`"), "{err}");
+
+    let wrong = json_with(|m| drop(m.insert("A".into(), json!([[1.0, "x"], [0.0, 1.0]]))));
+    let err = ModelJson::from_json_str("m.json", &wrong).unwrap_err();
+    assert!(
+        err.to_string().starts_with("m.json: field A[0][1]: "),
+        "{err}"
+    );
+
+    let pole = json_with(|m| drop(m.insert("poles".into(), json!([[1.0], [0.0, 1.0]]))));
+    let err = ModelJson::from_json_str("m.json", &pole).unwrap_err();
+    assert!(err.to_string().contains("field poles[0]"), "{err}");
+
+    let unknown = json_with(|m| drop(m.insert("a".into(), json!(1))));
+    let err = ModelJson::from_json_str("m.json", &unknown).unwrap_err();
+    assert!(err.to_string().contains("unknown field `a`"), "{err}");
+
+    let err = ModelJson::from_json_str("m.json", "{\"order\": 2,").unwrap_err();
+    assert!(matches!(err, IoError::Json { .. }), "{err:?}");
+    let err = ModelJson::from_json_str("m.json", &format!("{} x", json_with(|_| ()))).unwrap_err();
+    assert!(matches!(err, IoError::Json { .. }), "{err:?}");
+}
+
+#[test]
+fn json_non_finite_is_refused_on_save() {
+    let dir = scratch("json-nan");
+    let p = dir.join("nan.json");
+    let mut m = model();
+    m.border_desc[3] = f64::NAN;
+    let err = save_json(&p, &m).unwrap_err();
+    assert_eq!(field_of(&err), "border_desc");
+    assert!(!p.exists());
+}
+
+#[test]
+fn json_load_missing_file() {
+    let err = load_json("/nonexistent/model.json").unwrap_err();
+    assert!(matches!(err, IoError::Open { .. }), "{err:?}");
+}
