@@ -10,9 +10,14 @@
 //!   values at the knots minus `μ0`. At most two are non-zero at any `u`, which makes the
 //!   streaming accumulation cheap, and the basis is better conditioned.
 //!
-//! Both give the same subspace, the same model and the same borders (up to rounding): the
-//! change of basis is a fixed invertible map per path applied to every block row of the
-//! input Hankel matrices, which leaves their row spaces unchanged.
+//! Both give the same projection, singular values, order, `A` and `C` (up to rounding): the
+//! change of basis is a fixed invertible map per path applied to every block row of the input
+//! Hankel matrices, which leaves their row spaces unchanged. The rank-1 split of eq. (14) is
+//! done in the chosen coordinates, and a best rank-1 approximation is not invariant under a
+//! non-orthogonal change of coordinates: with noise, `B`, `D` and the borders differ. On the
+//! paper's Monte Carlo the split in hat coordinates is the better estimate (the ramp
+//! coordinates are slopes, differences of border values, which amplify noise and bias the
+//! split; see the README). [`Basis::Ramp`] reproduces the paper's estimator exactly.
 
 use core::fmt;
 
@@ -71,7 +76,7 @@ pub enum Basis {
     /// Linear B-splines (hat functions): sparse, well conditioned. The default.
     #[default]
     Hat,
-    /// The paper's ramp functions `P_i`.
+    /// The paper's ramp functions `P_i`: the paper's estimator, step for step.
     Ramp,
 }
 

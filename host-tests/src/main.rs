@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use hsid::Excitation;
+use hsid::{Basis, Excitation};
 use hsid_host::identify::{IdentifyOptions, identify};
 use hsid_host::io::{load_json, read_columns, save_json, write_columns_to};
 use hsid_host::paper::{Case, PaperConfig, run_case, write_figures};
@@ -31,6 +31,23 @@ enum CaseArg {
     Both,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum BasisArg {
+    /// Linear B-splines (hat functions): sparse, better conditioned.
+    Hat,
+    /// The paper's ramp functions P_i.
+    Ramp,
+}
+
+impl From<BasisArg> for Basis {
+    fn from(b: BasisArg) -> Self {
+        match b {
+            BasisArg::Hat => Basis::Hat,
+            BasisArg::Ramp => Basis::Ramp,
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Cmd {
     /// Reproduce Section IV: Monte Carlo on the switch and backlash examples.
@@ -50,6 +67,9 @@ enum Cmd {
         /// Fixed model order (default: automatic).
         #[arg(long)]
         order: Option<usize>,
+        /// Border basis (coordinates of the regressor and of the rank-1 split).
+        #[arg(long, value_enum, default_value = "hat")]
+        basis: BasisArg,
     },
     /// Print the Table I excitation as CSV (column `u`).
     Excite {
@@ -110,6 +130,9 @@ enum Cmd {
         /// Output column name.
         #[arg(long, default_value = "y")]
         output_column: String,
+        /// Border basis (coordinates of the regressor and of the rank-1 split).
+        #[arg(long, value_enum, default_value = "hat")]
+        basis: BasisArg,
         /// Write the model as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -152,11 +175,13 @@ fn run(cli: Cli) -> Result<(), String> {
             seed,
             out,
             order,
+            basis,
         } => {
             let cfg = PaperConfig {
                 runs,
                 seed,
                 order,
+                basis: basis.into(),
                 ..PaperConfig::default()
             };
             let cases: Vec<Case> = match case {
@@ -229,6 +254,7 @@ fn run(cli: Cli) -> Result<(), String> {
             p,
             input_column,
             output_column,
+            basis,
             json,
         } => {
             let cols = read_columns(&data, &[input_column.as_str(), output_column.as_str()])
@@ -254,6 +280,7 @@ fn run(cli: Cli) -> Result<(), String> {
             opts.f = f;
             opts.p = p;
             opts.order = order;
+            opts.basis = basis.into();
             opts.settle = settle.unwrap_or(hold / 2);
             let model = identify(u, y, &opts).map_err(|e| format!("{}: {e}", data.display()))?;
             println!("{}", model_text(&model));

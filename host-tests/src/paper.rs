@@ -68,6 +68,8 @@ pub struct PaperConfig {
     pub u_max: f64,
     /// Fixed model order, or automatic.
     pub order: Option<usize>,
+    /// Border basis (coordinates of the regressor and of the rank-1 split).
+    pub basis: hsid::Basis,
 }
 
 impl Default for PaperConfig {
@@ -85,6 +87,7 @@ impl Default for PaperConfig {
             u_min: -3.0,
             u_max: 3.0,
             order: None,
+            basis: hsid::Basis::Hat,
         }
     }
 }
@@ -165,6 +168,7 @@ pub fn options(cfg: &PaperConfig) -> IdentifyOptions {
     o.p = cfg.p;
     o.settle = cfg.settle;
     o.order = cfg.order;
+    o.basis = cfg.basis;
     o
 }
 

@@ -83,8 +83,8 @@ pub fn paper_table(cfg: &PaperConfig, results: &[CaseResult]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "Monte Carlo: {} runs per case, j = {}, f = p = {}, SNR = {} dB, {} uniform segments per path on [{}, {}], seed {}",
-        cfg.runs, cfg.j, cfg.f, cfg.snr_db, cfg.segments, cfg.u_min, cfg.u_max, cfg.seed
+        "Monte Carlo: {} runs per case, j = {}, f = p = {}, SNR = {} dB, {} uniform segments per path on [{}, {}], {:?} basis, seed {}",
+        cfg.runs, cfg.j, cfg.f, cfg.snr_db, cfg.segments, cfg.u_min, cfg.u_max, cfg.basis, cfg.seed
     );
     let _ = writeln!(s);
     let _ = writeln!(
