@@ -1,0 +1,282 @@
+//! Onboard identification of a servo with backlash, on a Cortex-M4F (thumbv7em-none-eabihf).
+//!
+//! The whole pipeline runs on the target: the Table I excitation (core's [`Excitation`], seeded
+//! [`Pcg32`]), the plant behind the "apply u, read y" interface ([`plant`]), the streaming
+//! accumulation sample by sample ([`Identifier::push`]), and the final solve with a statically
+//! allocated workspace. The model and the costs are printed through semihosting as `HSID ...`
+//! lines (format in README.md); QEMU's exit status is 0 if the solve succeeded, 1 otherwise.
+#![no_std]
+#![no_main]
+
+mod cost;
+mod plant;
+mod report;
+mod stack;
+
+use core::panic::PanicInfo;
+
+use cortex_m_rt::{ExceptionFrame, entry, exception};
+use cortex_m_semihosting::debug;
+use hsid::{Excitation, Identifier, Knots, Model, MuZero, Settings, workspace_len};
+use rand_core::SeedableRng;
+use rand_pcg::Pcg32;
+use static_cell::{ConstStaticCell, StaticCell};
+
+use plant::Plant;
+use report::out;
+
+#[cfg(feature = "defmt")]
+use defmt_semihosting as _; // the defmt global logger
+
+/// Working interval `[u_min, u_max]` of the input (paper, Section IV).
+const U_MIN: f32 = -3.0;
+const U_MAX: f32 = 3.0;
+/// Uniform segments per path (`n_p`); `M` regressor channels in all.
+const SEGMENTS: usize = 7;
+const M: usize = 2 * SEGMENTS;
+/// Future and past horizons; `K = f + p` block rows.
+const F: usize = 10;
+const P: usize = 10;
+const K: usize = F + P;
+/// Hankel columns `j`.
+const J: usize = 4000;
+/// Samples of the initial hold at `u_min` (μ0 is the mean output over the last
+/// `HOLD_LEN − HOLD_SETTLE` of them; the plant's slowest mode, |z| = √0.9048 ≈ 0.951, decays
+/// by 5·10⁻⁴ over the settling part).
+const HOLD_LEN: usize = 300;
+const HOLD_SETTLE: usize = 150;
+/// Samples after the hold: `j + f + p − 1`.
+const EXCITATION_LEN: usize = J + K - 1;
+/// Seed of the excitation's [`Pcg32`] (`Pcg32::seed_from_u64`).
+const EXCITATION_SEED: u64 = 1;
+
+/// Scalars of the solve workspace.
+const WORKSPACE_LEN: usize = workspace_len(M, F, P);
+/// The solve workspace, in `.bss` (zero-initialised at compile time, handed out once).
+static WORKSPACE: ConstStaticCell<[f32; WORKSPACE_LEN]> =
+    ConstStaticCell::new([0.0; WORKSPACE_LEN]);
+
+/// The identifier (the accumulated statistics), in `.bss`.
+static IDENTIFIER: StaticCell<Result<Identifier<f32, M, K>, hsid::Error>> = StaticCell::new();
+
+/// Builds the identifier into its static. Not inlined: the temporaries of the by-value
+/// construction live in this short-lived frame, not in `main`'s for the whole run.
+#[inline(never)]
+fn identifier() -> &'static mut Identifier<f32, M, K> {
+    let knots =
+        Knots::uniform(U_MIN, U_MAX, SEGMENTS, SEGMENTS).unwrap_or_else(|e| fail_with("knots", &e));
+    let mu0 = MuZero::Hold {
+        len: HOLD_LEN,
+        settle: HOLD_SETTLE,
+    };
+    match IDENTIFIER.init_with(|| Identifier::new(Settings::new(knots, F, P, mu0))) {
+        Ok(id) => id,
+        Err(e) => fail_with("settings", e),
+    }
+}
+
+/// The final solve, measured. Not inlined, like [`identifier`]: the solve's temporaries live
+/// in this frame only while it runs, not in `main`'s during the whole experiment.
+#[inline(never)]
+fn solve(id: &Identifier<f32, M, K>, ws: &mut [f32]) -> (Result<Model<f32, M>, hsid::Error>, u64) {
+    cost::measure_with(|| id.solve(ws))
+}
+
+#[entry]
+fn main() -> ! {
+    let cp = cortex_m::Peripherals::take().unwrap_or_else(|| fail("peripherals already taken"));
+    cost::init(cp.SYST);
+
+    #[cfg(feature = "calibrate")]
+    calibrate();
+
+    let id = identifier();
+    let mut excitation = Excitation::new(
+        U_MIN,
+        U_MAX,
+        HOLD_LEN,
+        Pcg32::seed_from_u64(EXCITATION_SEED),
+    )
+    .unwrap_or_else(|e| fail_with("excitation", &e));
+    let mut servo = plant::plant();
+
+    report::config(&report::Config {
+        u_min: U_MIN,
+        u_max: U_MAX,
+        segments: SEGMENTS,
+        f: F,
+        p: P,
+        hold: HOLD_LEN,
+        settle: HOLD_SETTLE,
+        samples: HOLD_LEN + EXCITATION_LEN,
+        excitation_seed: EXCITATION_SEED,
+        noise_seed: plant::NOISE_SEED,
+        noise_amplitude: plant::NOISE_AMPLITUDE,
+        workspace_len: WORKSPACE_LEN,
+    });
+
+    // The experiment: one sample per period, apply u(t), read y(t), accumulate.
+    let mut push = report::PushCost::default();
+    for t in 0..HOLD_LEN + EXCITATION_LEN {
+        let u = excitation.next().unwrap_or(U_MIN); // endless iterator: never None
+        servo.apply(u);
+        let y = servo.read();
+        #[cfg(feature = "dump-samples")]
+        report::sample(t, u, y);
+        let ticks = cost::measure(|| id.push(u, y));
+        let overhead = cost::measure(|| {});
+        if t >= HOLD_LEN {
+            push.add(ticks, overhead);
+        }
+    }
+    if let Some(e) = id.fault() {
+        fail_with("push", &e);
+    }
+
+    let stack_peak_accumulation = stack::peak_bytes();
+
+    // The final solve, with the static workspace; its stack peak is measured on its own.
+    let ws = WORKSPACE.take();
+    stack::repaint();
+    let (model, solve_ticks) = solve(id, ws);
+    let stack_peak_solve = stack::peak_bytes();
+    report::cost(&report::Cost {
+        push: &push,
+        solve_ticks,
+        stack_peak_accumulation_bytes: stack_peak_accumulation,
+        stack_peak_solve_bytes: stack_peak_solve,
+        stack_capacity_bytes: stack::capacity_bytes(),
+        identifier_bytes: core::mem::size_of_val(id),
+        workspace_bytes: core::mem::size_of_val(ws),
+    });
+    match model {
+        Ok(model) => {
+            report::model(&model);
+            out!("HSID ok");
+            debug::exit(debug::EXIT_SUCCESS);
+            fail("semihosting exit returned")
+        }
+        Err(e) => fail_with("solve", &e),
+    }
+}
+
+/// Calibration of SysTick ticks against instructions: a loop whose instruction count is read
+/// from the disassembly (`calib_loop`, see README.md), and a monotonicity check of the 64-bit
+/// tick count across two SysTick wraps.
+#[cfg(feature = "calibrate")]
+fn calibrate() {
+    use core::hint::black_box;
+    const N: u32 = 1_000_000;
+    let t_small = cost::measure(|| {
+        black_box(calib_loop(black_box(1000)));
+    });
+    let t_big = cost::measure(|| {
+        black_box(calib_loop(black_box(1000 + N)));
+    });
+    out!(
+        "HSID calib iterations={} ticks={} ticks_small={}",
+        N,
+        t_big - t_small,
+        t_small
+    );
+
+    let start = cost::now();
+    let mut prev = start;
+    let mut max_step = 0u64;
+    let mut backwards = 0u32;
+    while prev - start < 2 * (1 << 24) + 1000 {
+        let t = cost::now();
+        if t < prev {
+            backwards += 1;
+        } else {
+            max_step = max_step.max(t - prev);
+        }
+        prev = t;
+    }
+    out!(
+        "HSID calib wrap_test ticks={} backwards={} max_step={}",
+        prev - start,
+        backwards,
+        max_step
+    );
+}
+
+/// Counts down from `n`; the loop's instruction count is checked in the disassembly.
+#[cfg(feature = "calibrate")]
+#[inline(never)]
+fn calib_loop(n: u32) -> u32 {
+    let mut i = n;
+    let mut acc = 0u32;
+    while i != 0 {
+        acc = acc.wrapping_add(i ^ (acc >> 3));
+        i -= 1;
+    }
+    acc
+}
+
+/// Prints `HSID fail <what>: <error>` and exits QEMU with a failure status.
+fn fail_with(what: &str, e: &hsid::Error) -> ! {
+    // With the `defmt` feature this goes through the core's `defmt::Format` derive.
+    out!("HSID fail {}: {}", what, e);
+    exit_failure()
+}
+
+/// Prints `HSID fail <why>` and exits QEMU with a failure status.
+fn fail(why: &str) -> ! {
+    out!("HSID fail {}", why);
+    exit_failure()
+}
+
+fn exit_failure() -> ! {
+    debug::exit(debug::EXIT_FAILURE);
+    loop {
+        cortex_m::asm::bkpt();
+    }
+}
+
+/// Prints `HSID panic <file>:<line>: <message>` and exits QEMU with a failure status.
+#[panic_handler]
+fn panic(info: &PanicInfo) -> ! {
+    #[cfg(not(feature = "defmt"))]
+    match info.location() {
+        Some(at) => cortex_m_semihosting::hprintln!(
+            "HSID panic {}:{}: {}",
+            at.file(),
+            at.line(),
+            info.message()
+        ),
+        None => cortex_m_semihosting::hprintln!("HSID panic {}", info.message()),
+    }
+    #[cfg(feature = "defmt")]
+    match info.location() {
+        Some(at) => defmt::println!(
+            "HSID panic {=str}:{=u32}: {}",
+            at.file(),
+            at.line(),
+            defmt::Display2Format(&info.message())
+        ),
+        None => defmt::println!("HSID panic {}", defmt::Display2Format(&info.message())),
+    }
+    exit_failure()
+}
+
+// The `unsafe` on the two handlers below is cortex-m-rt's contract for defining them (they
+// may run at any time); they only print, read the stacked frame they are given, and exit.
+
+/// A fault (bus error, bad instruction, stack overflow into unmapped memory, ...): report, fail.
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    out!(
+        "HSID fail hardfault pc={:#x} lr={:#x}",
+        frame.pc(),
+        frame.lr()
+    );
+    exit_failure()
+}
+
+/// Any exception or interrupt nobody expects: report and fail instead of spinning forever.
+#[exception]
+unsafe fn DefaultHandler(irqn: i16) {
+    out!("HSID fail unexpected exception irqn={}", irqn);
+    exit_failure()
+}

@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# Measures the onboard-identification firmware (examples/firmware) in release:
+#   flash (.vector_table + .text + .rodata + .data load image), static RAM (.data + .bss +
+#   .uninit), peak stack (stack painting, reported by the firmware), and instruction counts
+#   per sample update and for the final solve (SysTick under QEMU `-icount shift=0`, where one
+#   tick is 40 instructions; reported by the firmware on its `HSID cost ...` line).
+# Prints a markdown table on stdout. Exits non-zero if the build or the firmware fails.
+#
+# Usage: scripts/firmware-measure.sh [--log FILE] [-- EXTRA CARGO BUILD ARGS...]
+#   e.g. scripts/firmware-measure.sh -- --features defmt   (the defmt variant; needs defmt-print)
+# Needs: cargo with the thumbv7em-none-eabihf target (added with rustup if missing),
+#        qemu-system-arm (Debian: qemu-system-arm), arm-none-eabi-size or binutils' size
+#        (Debian: binutils-arm-none-eabi or binutils), and for a defmt build defmt-print
+#        (cargo install defmt-print).
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+FW="$ROOT/examples/firmware"
+TARGET=thumbv7em-none-eabihf
+ELF="$FW/target/$TARGET/release/hsid-firmware"
+LOG=""
+EXTRA=()
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --log) LOG="$2"; shift 2 ;;
+    --) shift; EXTRA=("$@"); break ;;
+    -h|--help) sed -n '2,16p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "firmware-measure: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+die() { echo "firmware-measure: $*" >&2; exit 1; }
+
+command -v cargo >/dev/null || die "cargo not found"
+if command -v rustup >/dev/null && ! rustup target list --installed | grep -qx "$TARGET"; then
+  rustup target add "$TARGET" >&2
+fi
+command -v qemu-system-arm >/dev/null \
+  || die "qemu-system-arm not found (Debian: apt-get install -y qemu-system-arm)"
+if command -v arm-none-eabi-size >/dev/null; then SIZE=arm-none-eabi-size
+elif command -v size >/dev/null; then SIZE=size
+else die "no size tool (Debian: apt-get install -y binutils-arm-none-eabi)"; fi
+
+echo "firmware-measure: building $FW (release)" >&2
+(cd "$FW" && cargo build --release "${EXTRA[@]}" >&2)
+[[ -f "$ELF" ]] || die "no ELF at $ELF"
+
+# Section sizes (SysV format: name size addr).
+declare -A SEC=()
+while read -r name size _; do
+  [[ "$name" == .* && "$size" =~ ^[0-9]+$ ]] && SEC["$name"]=$size
+done < <("$SIZE" -A "$ELF")
+sec() { echo "${SEC[$1]:-0}"; }
+FLASH=$(( $(sec .vector_table) + $(sec .text) + $(sec .rodata) + $(sec .data) ))
+STATIC_RAM=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
+
+echo "firmware-measure: running under QEMU mps2-an386 with -icount shift=0" >&2
+OUT="$(mktemp)"
+trap 'rm -f "$OUT"' EXIT
+set +e
+timeout 900 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 \
+  -semihosting-config enable=on,target=native -nographic -monitor none -serial none \
+  -icount shift=0 -kernel "$ELF" >"$OUT" 2>&1
+STATUS=$?
+set -e
+# A defmt build (it has a .defmt section) prints binary defmt frames: decode them.
+if [[ -n "${SEC[.defmt]:-}" ]]; then
+  command -v defmt-print >/dev/null || die "defmt build: defmt-print not found (cargo install defmt-print)"
+  DECODED="$(mktemp)"
+  defmt-print -e "$ELF" --log-format '{s}' <"$OUT" >"$DECODED" 2>&1 || true
+  mv "$DECODED" "$OUT"
+fi
+[[ -n "$LOG" ]] && cp "$OUT" "$LOG"
+if [[ $STATUS -ne 0 ]]; then
+  grep -E '^HSID (fail|panic)' "$OUT" >&2 || tail -n 20 "$OUT" >&2
+  die "firmware exited with status $STATUS"
+fi
+
+COST="$(grep -m1 '^HSID cost ' "$OUT" || true)"
+[[ -n "$COST" ]] || die "no 'HSID cost' line in the firmware output"
+declare -A K=()
+for kv in ${COST#HSID cost }; do K["${kv%%=*}"]="${kv#*=}"; done
+key() { echo "${K[$1]:-n/a}"; }
+
+kib() { awk -v b="$1" 'BEGIN { printf "%.1f KiB", b / 1024 }'; }
+num() { echo "$1" | sed -e ':a' -e 's/\([0-9]\)\([0-9]\{3\}\)\($\|,\)/\1,\2\3/' -e 'ta'; }
+ok() { # value limit -> ✓/✗ (n/a when the value is missing)
+  [[ "$1" =~ ^[0-9]+$ ]] || { echo "n/a"; return; }
+  (( $1 <= $2 )) && echo "✓" || echo "✗"
+}
+
+PEAK="$(key stack_peak_bytes)"
+TOTAL_RAM="n/a"
+[[ "$PEAK" =~ ^[0-9]+$ ]] && TOTAL_RAM=$(( STATIC_RAM + PEAK ))
+PER_SAMPLE="$(key per_sample_instr)"
+SOLVE="$(key solve_instr)"
+
+echo "| quantity | value | budget |"
+echo "| --- | --- | --- |"
+echo "| flash (.vector_table + .text + .rodata + .data) | $(num "$FLASH") B ($(kib "$FLASH")) | ≤ 128 KiB $(ok "$FLASH" 131072) |"
+echo "| static RAM (.data + .bss + .uninit) | $(num "$STATIC_RAM") B ($(kib "$STATIC_RAM")) | |"
+if [[ "${K[workspace_bytes]+x}" ]]; then
+  echo "| … of which solve workspace | $(num "$(key workspace_bytes)") B | |"
+  echo "| … of which identifier (accumulated state) | $(num "$(key identifier_bytes)") B | |"
+fi
+echo "| peak stack (painted) | $(num "$PEAK") B ($(kib "${PEAK//[^0-9]/}")) | |"
+if [[ "${K[stack_peak_solve_bytes]+x}" ]]; then
+  echo "| … until the end of the accumulation | $(num "$(key stack_peak_accumulation_bytes)") B | |"
+  echo "| … during the solve | $(num "$(key stack_peak_solve_bytes)") B | |"
+fi
+if [[ "$TOTAL_RAM" != n/a ]]; then
+  echo "| RAM total (static + peak stack) | $(num "$TOTAL_RAM") B ($(kib "$TOTAL_RAM")) | ≤ 192 KiB $(ok "$TOTAL_RAM" 196608); stretch ≤ 64 KiB $(ok "$TOTAL_RAM" 65536) |"
+fi
+echo "| samples accumulated (after the hold) | $(num "$(key samples)") | |"
+echo "| instructions per sample update (push), mean | $(num "$PER_SAMPLE") | ≤ 5,000 $(ok "$PER_SAMPLE" 5000) |"
+if [[ "${K[per_sample_max_instr]+x}" ]]; then
+  echo "| instructions per sample update (push), max | $(num "$(key per_sample_max_instr)") | |"
+fi
+echo "| instructions for the final solve | $(num "$SOLVE") | ≤ 50,000,000 $(ok "$SOLVE" 50000000) |"
+echo
+echo "Measured by \`scripts/firmware-measure.sh\`: QEMU $(qemu-system-arm --version | head -n1 | awk '{print $4}') mps2-an386 (Cortex-M4), \`-icount shift=0\`, 1 SysTick tick = $(key instr_per_tick) instructions; sizes by \`$SIZE -A\`."
