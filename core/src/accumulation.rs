@@ -100,6 +100,18 @@ pub struct Accumulator<T, const M: usize, const K: usize> {
     k: usize,
     pos: usize,
     count: u64,
+    sum_z: [T; M],
+    sum_y: T,
+}
+
+/// Sums of `z` and `ȳ` over the columns of every block row of the Hankel matrix (for
+/// centring the rows when μ0 is estimated from the data).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowSums<T, const M: usize, const K: usize> {
+    /// `Σ_c z(a + c)` for block row `a`.
+    pub z: [[T; M]; K],
+    /// `Σ_c ȳ(a + c)` for block row `a`.
+    pub y: [T; K],
 }
 
 impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
@@ -117,6 +129,8 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
             k,
             pos: 0,
             count: 0,
+            sum_z: [T::zero(); M],
+            sum_y: T::zero(),
         })
     }
 
@@ -133,6 +147,42 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     /// Hankel columns `j = N − k + 1` (0 while `N < k`).
     pub fn columns(&self) -> u64 {
         (self.count + 1).saturating_sub(self.k as u64)
+    }
+
+    /// Sums of `z` and `ȳ` over all samples.
+    pub fn sums(&self) -> (&[T; M], T) {
+        (&self.sum_z, self.sum_y)
+    }
+
+    /// Row sums of every block row over its `j` columns: the total minus the samples before
+    /// the row's window (head) and after it (tail).
+    pub fn row_sums(&self, knots: &Knots<T, M>, basis: Basis) -> RowSums<T, M, K> {
+        let mut out = RowSums {
+            z: [self.sum_z; K],
+            y: [self.sum_y; K],
+        };
+        let j = self.columns();
+        for (a, (rz, ry)) in out
+            .z
+            .iter_mut()
+            .zip(out.y.iter_mut())
+            .enumerate()
+            .take(self.k)
+        {
+            let a64 = a as u64;
+            let outside = (0..a64).chain((a64 + j)..self.count);
+            for t in outside {
+                if let Some(e) = self.sample(t) {
+                    for_each_nonzero(knots, basis, &e.at, |i, v| {
+                        if let Some(s) = rz.get_mut(i) {
+                            *s -= v;
+                        }
+                    });
+                    *ry -= e.y;
+                }
+            }
+        }
+        out
     }
 
     /// The lagged sum `R_τ` (`None` for `τ >= k`).
@@ -161,6 +211,12 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
             }
         }
         self.pos = (self.pos + 1) % k;
+        for_each_nonzero(knots, basis, &at, |i, v| {
+            if let Some(s) = self.sum_z.get_mut(i) {
+                *s += v;
+            }
+        });
+        self.sum_y += y;
         self.count += 1;
     }
 

@@ -85,7 +85,7 @@ pub enum Error {
         k: usize,
     },
     /// The requested model order must satisfy `1 <= n < f`.
-    OrderTooHigh {
+    InvalidOrder {
         /// Order requested.
         order: usize,
         /// Future horizon.
@@ -191,7 +191,10 @@ impl fmt::Display for Error {
                 "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
                 crate::MAX_HORIZON
             ),
-            Error::OrderTooHigh { order, f: fh } => write!(
+            Error::InvalidOrder { order: 0, .. } => {
+                write!(f, "order 0 requested: the model order must be at least 1")
+            }
+            Error::InvalidOrder { order, f: fh } => write!(
                 f,
                 "order {order} needs a future horizon f > {order} (f = {fh}): lower the order or raise f"
             ),

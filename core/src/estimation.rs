@@ -22,6 +22,23 @@ fn rank_tol<T: Real>(dim: usize) -> T {
     T::EPS * T::of_usize(64 * dim.max(1))
 }
 
+/// Where μ0 comes from in the final model.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Mu0<T, const M: usize> {
+    /// Known (from the hold or given).
+    Known(T),
+    /// Estimated: `offset` was subtracted from `y` during the accumulation; with `G(1) = 1`,
+    /// `μ0 = offset + mean(ȳ) − coef·mean(z)`.
+    FromMeans {
+        /// Provisional offset subtracted from every `y`.
+        offset: T,
+        /// Mean of `ȳ = y − offset`.
+        mean_y: T,
+        /// Mean of z.
+        mean_z: [T; M],
+    },
+}
+
 /// Builds the model of order `n` from the factored Gram in `ws` and the projection.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn estimate<T: Real, const M: usize>(
@@ -31,7 +48,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     ws: &mut [T],
     knots: &Knots<T, M>,
     basis: Basis,
-    mu0: T,
+    mu0: Mu0<T, M>,
 ) -> Result<Model<T, M>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
@@ -184,6 +201,21 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     for (c, v) in coef.iter_mut().enumerate() {
         *v = s1 * g0 * vvec[c];
     }
+
+    let mu0 = match mu0 {
+        Mu0::Known(v) => v,
+        Mu0::FromMeans {
+            offset,
+            mean_y,
+            mean_z,
+        } => {
+            let mut s = offset + mean_y;
+            for (&c, &z) in coef.iter().zip(&mean_z) {
+                s -= c * z;
+            }
+            s
+        }
+    };
 
     // 6. Border values at the knots.
     let border = |dir: Direction| -> Vec<T, M> {

@@ -18,6 +18,11 @@ pub enum MuZero<T> {
     },
     /// μ0 is known (e.g. measured separately); every sample is excitation.
     Known(T),
+    /// No hold: μ0 is estimated with the model. Every Hankel row is centred (the constant is
+    /// projected out of eq. 11 and of the least squares for `B`, `D`), and after the rank-1
+    /// split `μ0 = mean(y) − μ·mean(z)`, which holds because `G(1) = 1`. For records that did
+    /// not start with a hold, or whose input is not the Table I excitation.
+    Estimate,
 }
 
 impl<T: Real> MuZero<T> {
@@ -39,7 +44,7 @@ impl<T: Real> MuZero<T> {
     pub fn hold_len(&self) -> usize {
         match *self {
             MuZero::Hold { len, .. } => len,
-            MuZero::Known(_) => 0,
+            MuZero::Known(_) | MuZero::Estimate => 0,
         }
     }
 }

@@ -4,7 +4,7 @@
 use crate::MAX_HORIZON;
 use crate::accumulation::Accumulator;
 use crate::error::{Error, Signal};
-use crate::estimation::estimate;
+use crate::estimation::{Mu0, estimate};
 use crate::hold::{HoldMean, MuZero};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
@@ -72,12 +72,12 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         if let Order::Fixed(n) = settings.order
             && (n == 0 || n >= f)
         {
-            return Err(Error::OrderTooHigh { order: n, f });
+            return Err(Error::InvalidOrder { order: n, f });
         }
         settings.mu0.validate()?;
         let mu0 = match settings.mu0 {
             MuZero::Known(v) => Some(v),
-            MuZero::Hold { .. } => None,
+            MuZero::Hold { .. } | MuZero::Estimate => None,
         };
         let u_prev = settings.knots.u_min();
         Ok(Self {
@@ -144,7 +144,12 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         let mu0 = match self.mu0 {
             Some(m) => m,
             None => {
-                let m = self.hold.mean().unwrap_or_default();
+                // After a hold: its settled mean. Without one (MuZero::Estimate): the first
+                // output, a provisional offset that keeps ȳ small; the rows are centred anyway.
+                let m = match self.settings.mu0 {
+                    MuZero::Hold { .. } => self.hold.mean().unwrap_or_default(),
+                    _ => y,
+                };
                 self.mu0 = Some(m);
                 m
             }
@@ -234,9 +239,25 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
                 }
             }
         }
-        let mu0 = self.mu0.unwrap_or_default();
-        let proj = pi_moesp(&self.acc, knots, basis, lay, ws)?;
+        let offset = self.mu0.unwrap_or_default();
+        let centred = matches!(self.settings.mu0, MuZero::Estimate);
+        let proj = pi_moesp(&self.acc, knots, basis, lay, centred, ws)?;
         let n = select_order(self.settings.order, &proj, lay)?;
+        let mu0 = if centred {
+            let (sz, sy) = self.acc.sums();
+            let count = T::of(self.acc.count() as f64);
+            let mut mean_z = [T::zero(); M];
+            for (m, &s) in mean_z.iter_mut().zip(sz) {
+                *m = s / count;
+            }
+            Mu0::FromMeans {
+                offset,
+                mean_y: sy / count,
+                mean_z,
+            }
+        } else {
+            Mu0::Known(offset)
+        };
         estimate(&proj, n, lay, ws, knots, basis, mu0)
     }
 }

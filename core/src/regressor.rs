@@ -86,6 +86,7 @@ pub enum Basis {
 pub struct Knots<T, const M: usize> {
     asc: Vec<T, M>,
     desc: Vec<T, M>,
+    shared: bool,
 }
 
 impl<T: Real, const M: usize> Knots<T, M> {
@@ -95,7 +96,60 @@ impl<T: Real, const M: usize> Knots<T, M> {
     pub fn new(asc: &[T], desc: &[T]) -> Result<Self, Error> {
         let ascending = asc.len().saturating_sub(1);
         let descending = desc.len().saturating_sub(1);
-        for (path, k) in [(Direction::Ascending, asc), (Direction::Descending, desc)] {
+        if ascending + descending > M {
+            return Err(Error::SegmentCount {
+                expected: M,
+                ascending,
+                descending,
+            });
+        }
+        Self::new_unchecked_count(asc, desc)
+    }
+
+    /// One knot vector for both directions: a static (memoryless) piecewise-linear
+    /// nonlinearity `P_a = P_d`, for data without hysteresis or not recorded with the Table I
+    /// excitation. Both directions use the same `n` channels. The `n + 1` knots are stored in
+    /// the capacity, so `n < M`.
+    pub fn shared(knots: &[T]) -> Result<Self, Error> {
+        let n = knots.len().saturating_sub(1);
+        if n >= M {
+            return Err(Error::SegmentCount {
+                expected: M - 1,
+                ascending: n,
+                descending: 0,
+            });
+        }
+        // Validate as two paths of n segments each, then keep one set of channels.
+        let mut k = Self::new_unchecked_count(knots, knots)?;
+        k.shared = true;
+        Ok(k)
+    }
+
+    fn new_unchecked_count(asc: &[T], desc: &[T]) -> Result<Self, Error> {
+        let mut a = Vec::new();
+        let mut d = Vec::new();
+        let full = Error::SegmentCount {
+            expected: M,
+            ascending: asc.len().saturating_sub(1),
+            descending: 0,
+        };
+        a.extend_from_slice(asc).map_err(|_| full)?;
+        d.extend_from_slice(desc).map_err(|_| full)?;
+        let k = Self {
+            asc: a,
+            desc: d,
+            shared: false,
+        };
+        k.validate()?;
+        Ok(k)
+    }
+
+    /// Checks both knot vectors: at least two knots, finite, strictly increasing, same ends.
+    fn validate(&self) -> Result<(), Error> {
+        for (path, k) in [
+            (Direction::Ascending, &self.asc[..]),
+            (Direction::Descending, &self.desc[..]),
+        ] {
             if k.len() < 2 {
                 return Err(Error::TooFewKnots {
                     path,
@@ -110,36 +164,19 @@ impl<T: Real, const M: usize> Knots<T, M> {
                 }
             }
         }
-        let first = |k: &[T]| k.first().map_or(f64::NAN, |v| v.to_f64());
-        let last = |k: &[T]| k.last().map_or(f64::NAN, |v| v.to_f64());
-        if first(asc) != first(desc) || last(asc) != last(desc) {
+        if self.asc.first() != self.desc.first() || self.asc.last() != self.desc.last() {
             return Err(Error::KnotEndpoints {
                 path: Direction::Descending,
-                first: first(desc),
-                last: last(desc),
+                first: self.desc.first().map_or(f64::NAN, |v| v.to_f64()),
+                last: self.desc.last().map_or(f64::NAN, |v| v.to_f64()),
             });
         }
-        if ascending + descending > M {
-            return Err(Error::SegmentCount {
-                expected: M,
-                ascending,
-                descending,
-            });
-        }
-        let mut a = Vec::new();
-        let mut d = Vec::new();
-        // Capacity M holds n + 1 knots because the other path has at least one segment.
-        a.extend_from_slice(asc).map_err(|_| Error::SegmentCount {
-            expected: M,
-            ascending,
-            descending,
-        })?;
-        d.extend_from_slice(desc).map_err(|_| Error::SegmentCount {
-            expected: M,
-            ascending,
-            descending,
-        })?;
-        Ok(Self { asc: a, desc: d })
+        Ok(())
+    }
+
+    /// `true` for a static nonlinearity ([`Knots::shared`]).
+    pub fn is_shared(&self) -> bool {
+        self.shared
     }
 
     /// Uniform knots on `[u_min, u_max]` with `n_asc` and `n_desc` segments (`n_asc + n_desc <= M`).
@@ -176,9 +213,13 @@ impl<T: Real, const M: usize> Knots<T, M> {
         }
     }
 
-    /// Regressor channels in use, `m = n_a + n_d`.
+    /// Regressor channels in use, `m = n_a + n_d` (`n` for a shared, static nonlinearity).
     pub fn channels(&self) -> usize {
-        self.segments(Direction::Ascending) + self.segments(Direction::Descending)
+        if self.shared {
+            self.segments(Direction::Ascending)
+        } else {
+            self.segments(Direction::Ascending) + self.segments(Direction::Descending)
+        }
     }
 
     /// Number of segments on a path.
@@ -200,6 +241,7 @@ impl<T: Real, const M: usize> Knots<T, M> {
     pub fn offset(&self, dir: Direction) -> usize {
         match dir {
             Direction::Ascending => 0,
+            Direction::Descending if self.shared => 0,
             Direction::Descending => self.segments(Direction::Ascending),
         }
     }

@@ -114,6 +114,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     knots: &Knots<T, M>,
     basis: Basis,
     lay: Layout,
+    centred: bool,
     ws: &mut [T],
 ) -> Result<Projection<T>, Error> {
     let (f, m) = (lay.f, lay.m);
@@ -121,8 +122,29 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let (gram, rest) = ws.split_at_mut(lay.gram());
     let scratch = &mut rest[lay.bf()..];
 
-    // 1. The Gram, block by block, in the order [Z_f; Z_p; Ȳ_f].
+    // 1. The Gram, block by block, in the order [Z_f; Z_p; Ȳ_f]; rows centred if asked
+    // (subtract the outer product of the row sums divided by j).
+    let sums = centred.then(|| acc.row_sums(knots, basis));
+    let inv_j = T::one() / T::of(acc.columns().max(1) as f64);
     acc.for_each_block(knots, basis, |a, b, blk| {
+        let mut blk = *blk;
+        if let Some(s) = &sums {
+            let (za, zb, ya, yb) = (s.z[a], s.z[b], s.y[a] * inv_j, s.y[b] * inv_j);
+            for (row, &zi) in blk.zz.iter_mut().zip(&za) {
+                let zi = zi * inv_j;
+                for (v, &zj) in row.iter_mut().zip(&zb) {
+                    *v -= zi * zj;
+                }
+            }
+            for (v, &zi) in blk.zy.iter_mut().zip(&za) {
+                *v -= zi * yb;
+            }
+            for (v, &zj) in blk.yz.iter_mut().zip(&zb) {
+                *v -= ya * zj;
+            }
+            blk.yy -= ya * s.y[b];
+        }
+        let blk = &blk;
         for i in 0..m {
             let ra = lay.z_row(a, i);
             for (jj, &v) in blk.zz[i].iter().enumerate().take(m) {

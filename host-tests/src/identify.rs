@@ -30,10 +30,13 @@ pub struct IdentifyOptions {
     pub hold: usize,
     /// Samples skipped at the start of the hold.
     pub settle: usize,
-    /// Known μ0 (used when `hold == 0`).
+    /// Known μ0, used when `hold == 0`; with no hold and no μ0 it is estimated
+    /// ([`hsid::MuZero::Estimate`]).
     pub mu0: Option<f64>,
     /// Border basis.
     pub basis: Basis,
+    /// A static (memoryless) nonlinearity: one border for both directions, on `knots_asc`.
+    pub static_nonlinearity: bool,
 }
 
 impl IdentifyOptions {
@@ -59,6 +62,7 @@ impl IdentifyOptions {
             settle: hold / 2,
             mu0: None,
             basis: Basis::Hat,
+            static_nonlinearity: false,
         }
     }
 
@@ -168,7 +172,12 @@ pub fn identify(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<HostMode
             y: y.len(),
         });
     }
-    let channels = opts.knots_asc.len().saturating_sub(1) + opts.knots_desc.len().saturating_sub(1);
+    // Capacity needed: channels, plus one for a shared knot vector (it stores n + 1 knots).
+    let channels = if opts.static_nonlinearity {
+        opts.knots_asc.len()
+    } else {
+        opts.knots_asc.len().saturating_sub(1) + opts.knots_desc.len().saturating_sub(1)
+    };
     let block_rows = opts.f + opts.p;
     let small = channels <= 16 && block_rows <= 24;
     if small {
@@ -210,14 +219,18 @@ fn run<const M: usize, const K: usize>(
     y: &[f64],
     opts: &IdentifyOptions,
 ) -> Result<HostModel, IdentifyError> {
-    let knots = Knots::<f64, M>::new(&opts.knots_asc, &opts.knots_desc)?;
-    let mu0 = if opts.hold > 0 {
-        MuZero::Hold {
-            len: opts.hold,
-            settle: opts.settle,
-        }
+    let knots = if opts.static_nonlinearity {
+        Knots::<f64, M>::shared(&opts.knots_asc)?
     } else {
-        MuZero::Known(opts.mu0.unwrap_or(0.0))
+        Knots::<f64, M>::new(&opts.knots_asc, &opts.knots_desc)?
+    };
+    let mu0 = match (opts.hold, opts.mu0) {
+        (0, Some(v)) => MuZero::Known(v),
+        (0, None) => MuZero::Estimate,
+        (len, _) => MuZero::Hold {
+            len,
+            settle: opts.settle,
+        },
     };
     let mut settings = Settings::new(knots, opts.f, opts.p, mu0);
     settings.basis = opts.basis;
@@ -266,6 +279,16 @@ pub fn interpolate(x: &[f64], v: &[f64], u: f64) -> f64 {
 }
 
 impl HostModel {
+    /// `u_min`, the first knot.
+    pub fn u_min(&self) -> f64 {
+        self.knots_asc.first().copied().unwrap_or(f64::NAN)
+    }
+
+    /// `u_max`, the last knot.
+    pub fn u_max(&self) -> f64 {
+        self.knots_asc.last().copied().unwrap_or(f64::NAN)
+    }
+
     /// `P_a(u)`.
     pub fn border_asc_at(&self, u: f64) -> f64 {
         interpolate(&self.knots_asc, &self.border_asc, u)

@@ -259,7 +259,7 @@ impl fmt::Display for IoError {
                 location,
                 source,
             } => {
-                if location == "." {
+                if location == "." || location == "?" {
                     write!(f, "{}: {source}", path.display())
                 } else {
                     write!(f, "{}: field {location}: {source}", path.display())
@@ -718,11 +718,46 @@ impl ModelJson {
         finite("singular_values", &mut self.singular_values.iter().copied())?;
         finite("u_min", &mut std::iter::once(self.u_min))?;
         finite("u_max", &mut std::iter::once(self.u_max))?;
-        if self.u_min > self.u_max {
+        if self.u_min >= self.u_max {
             return Err(bad(
                 "u_max",
-                format!("{} is below u_min = {}", self.u_max, self.u_min),
+                format!("{} is not above u_min = {}", self.u_max, self.u_min),
             ));
+        }
+        for (field, k) in [
+            ("knots_asc", &self.knots_asc),
+            ("knots_desc", &self.knots_desc),
+        ] {
+            if k.len() < 2 {
+                return Err(bad(
+                    field,
+                    format!(
+                        "has {} knots: at least two (u_min and u_max) are needed",
+                        k.len()
+                    ),
+                ));
+            }
+            if let Some(i) = k.windows(2).position(|w| w[1] <= w[0]) {
+                return Err(bad(
+                    field,
+                    format!(
+                        "knot {} is not above knot {i}: knots must increase strictly",
+                        i + 1
+                    ),
+                ));
+            }
+            if k[0] != self.u_min || k[k.len() - 1] != self.u_max {
+                return Err(bad(
+                    field,
+                    format!(
+                        "runs from {} to {}, but the interval is [u_min, u_max] = [{}, {}]",
+                        k[0],
+                        k[k.len() - 1],
+                        self.u_min,
+                        self.u_max
+                    ),
+                ));
+            }
         }
         Ok(())
     }

@@ -48,6 +48,54 @@ impl From<BasisArg> for Basis {
     }
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum NonlinearityArg {
+    /// Backlash (play operator): two paths.
+    Backlash,
+    /// Switch (hysteresis relay with borders): two paths.
+    Switch,
+    /// Static, memoryless: one border for both directions.
+    Static,
+}
+
+impl NonlinearityArg {
+    fn name(self) -> &'static str {
+        match self {
+            NonlinearityArg::Backlash => "backlash",
+            NonlinearityArg::Switch => "switch",
+            NonlinearityArg::Static => "static",
+        }
+    }
+}
+
+/// A core error about sample `index` (0 = first data row) as a file position: the CSV's line
+/// is `index + 2` (one header line, 1-based lines).
+fn locate_sample_error(data: &std::path::Path, e: &hsid_host::identify::IdentifyError) -> String {
+    use hsid::Error;
+    use hsid_host::identify::IdentifyError;
+    let line = |i: u64| i + 2;
+    match e {
+        IdentifyError::Core(Error::NonFinite { index, signal }) => {
+            format!(
+                "{} line {}: {signal} is NaN or infinite",
+                data.display(),
+                line(*index)
+            )
+        }
+        IdentifyError::Core(Error::InputOutOfRange { index, value }) => format!(
+            "{} line {}: u = {value} lies outside [--umin, --umax]: widen the interval or fix the data",
+            data.display(),
+            line(*index)
+        ),
+        IdentifyError::Core(Error::HoldNotAtMin { index, value }) => format!(
+            "{} line {}: u = {value} is not --umin but the hold (--hold) is not over: check the hold length",
+            data.display(),
+            line(*index)
+        ),
+        other => format!("{}: {other}", data.display()),
+    }
+}
+
 #[derive(Subcommand)]
 enum Cmd {
     /// Reproduce Section IV: Monte Carlo on the switch and backlash examples.
@@ -133,6 +181,14 @@ enum Cmd {
         /// Border basis (coordinates of the regressor and of the rank-1 split).
         #[arg(long, value_enum, default_value = "hat")]
         basis: BasisArg,
+        /// The input element: backlash or switch (two paths, Table I data), or static (one
+        /// memoryless border for both directions, any input).
+        #[arg(long, value_enum, default_value = "backlash")]
+        nonlinearity: NonlinearityArg,
+        /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
+        /// hold, μ0 is estimated with the model.
+        #[arg(long, allow_hyphen_values = true)]
+        mu0: Option<f64>,
         /// Write the model as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -255,12 +311,31 @@ fn run(cli: Cli) -> Result<(), String> {
             input_column,
             output_column,
             basis,
+            nonlinearity,
+            mu0,
             json,
         } => {
+            if !(umin.is_finite() && umax.is_finite() && umin < umax) {
+                return Err(format!(
+                    "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
+                ));
+            }
+            if segments == 0 {
+                return Err("--segments 0: each path needs at least one segment".to_string());
+            }
             let cols = read_columns(&data, &[input_column.as_str(), output_column.as_str()])
                 .map_err(|e| e.to_string())?;
             let (u, y) = (&cols[0], &cols[1]);
+            if hold >= u.len() {
+                return Err(format!(
+                    "{}: {} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
+                    data.display(),
+                    u.len()
+                ));
+            }
             let mut opts = IdentifyOptions::uniform(umin, umax, segments, hold);
+            opts.mu0 = mu0;
+            opts.static_nonlinearity = matches!(nonlinearity, NonlinearityArg::Static);
             if let Some(k) = knots_asc {
                 opts.knots_asc = k;
             }
@@ -282,12 +357,13 @@ fn run(cli: Cli) -> Result<(), String> {
             opts.order = order;
             opts.basis = basis.into();
             opts.settle = settle.unwrap_or(hold / 2);
-            let model = identify(u, y, &opts).map_err(|e| format!("{}: {e}", data.display()))?;
+            let model = identify(u, y, &opts).map_err(|e| locate_sample_error(&data, &e))?;
             println!("{}", model_text(&model));
             let sim = model.simulate(u);
-            println!("{}", fit_report(&y[hold..], &sim[hold..]));
+            println!("{}", fit_report(&y[hold..], &sim[hold..])?);
             if let Some(path) = json {
-                save_json(&path, &model.to_json(None)).map_err(|e| e.to_string())?;
+                save_json(&path, &model.to_json(Some(nonlinearity.name().to_string())))
+                    .map_err(|e| e.to_string())?;
                 println!("wrote {}", path.display());
             }
             Ok(())
@@ -307,7 +383,7 @@ fn run(cli: Cli) -> Result<(), String> {
             if skip >= u.len() {
                 return Err(format!("--skip {skip} leaves no samples of {}", u.len()));
             }
-            let (lo, hi) = (m.knots_asc[0], m.knots_asc[m.knots_asc.len() - 1]);
+            let (lo, hi) = (m.u_min(), m.u_max());
             if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| **v < lo || **v > hi) {
                 return Err(format!(
                     "{} line {}: u = {v} lies outside the model's interval [{lo}, {hi}]",
@@ -316,7 +392,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 ));
             }
             let sim = m.simulate(u);
-            println!("{}", fit_report(&y[skip..], &sim[skip..]));
+            println!("{}", fit_report(&y[skip..], &sim[skip..])?);
             Ok(())
         }
     }

@@ -29,16 +29,23 @@ pub fn fit(meas: &[f64], sim: &[f64]) -> Fit {
     }
 }
 
-/// One-line fit report.
-pub fn fit_report(meas: &[f64], sim: &[f64]) -> String {
+/// One-line fit report; an error when the measurement is constant (the NRMSE and fit are
+/// undefined) or empty.
+pub fn fit_report(meas: &[f64], sim: &[f64]) -> Result<String, String> {
     let f = fit(meas, sim);
-    format!(
+    if !f.nrmse.is_finite() {
+        return Err(format!(
+            "the measured output is constant over the {} samples compared: NRMSE and fit are undefined",
+            meas.len()
+        ));
+    }
+    Ok(format!(
         "simulation fit on {} samples: RMSE {:.6}, NRMSE {:.4}, fit {:.2} %",
         meas.len(),
         f.rmse,
         f.nrmse,
         f.fit_percent
-    )
+    ))
 }
 
 fn row(v: &[f64]) -> String {

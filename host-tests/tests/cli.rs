@@ -529,7 +529,7 @@ fn identify_rejects_too_few_samples() {
     let e = noisy();
     // 200 samples: shorter than the hold itself.
     let data = dir.write_uy("short.csv", &e.u[..200], &e.y[..200]);
-    identify(&data, &[]).clean_error(&["short.csv", "samples", "needed"]);
+    identify(&data, &[]).clean_error(&["short.csv", "200 samples", "inside the hold of 300"]);
     // 500 samples: 200 after the hold, 310 needed for f = p = 10 and 14 segments.
     let data = dir.write_uy("short2.csv", &e.u[..500], &e.y[..500]);
     identify(&data, &[]).clean_error(&["short2.csv", "200 samples after the hold", "310 needed"]);
@@ -565,8 +565,9 @@ fn identify_rejects_a_hold_longer_than_the_recorded_one() {
     let dir = Scratch::new("long-hold");
     let e = noisy();
     let data = dir.write_uy("data.csv", &e.u, &e.y);
-    // The data hold u_min for 300 samples; sample 300 is the first excitation sample.
-    identify(&data, &["--hold", "400"]).clean_error(&["sample 300", "hold"]);
+    // The data hold u_min for 300 samples; sample 300 (CSV line 302) is the first excitation
+    // sample.
+    identify(&data, &["--hold", "400"]).clean_error(&["line 302", "hold"]);
 }
 
 #[test]
@@ -689,11 +690,10 @@ fn validate_rejects_a_skip_beyond_the_data() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Known problems, kept as ignored regression tests until the CLI is fixed
+// Regression tests for problems found and fixed
 // ---------------------------------------------------------------------------------------------
 
 #[test]
-#[ignore = "bug: validate panics (index out of bounds, main.rs) on a model whose knots_asc is empty"]
 fn validate_rejects_a_model_without_knots() {
     let dir = Scratch::new("validate-no-knots");
     let (data, text) = identified(&dir);
@@ -708,7 +708,6 @@ fn validate_rejects_a_model_without_knots() {
 }
 
 #[test]
-#[ignore = "bug: unsorted model knots are accepted and reported as an inverted interval"]
 fn validate_rejects_a_model_with_unsorted_knots() {
     let dir = Scratch::new("validate-unsorted-knots");
     let (data, text) = identified(&dir);
@@ -723,7 +722,6 @@ fn validate_rejects_a_model_with_unsorted_knots() {
 }
 
 #[test]
-#[ignore = "bug: `--order 0` is reported as needing a horizon f > 0"]
 fn identify_rejects_order_zero_clearly() {
     let dir = Scratch::new("order-zero");
     let e = noisy();
@@ -733,7 +731,6 @@ fn identify_rejects_order_zero_clearly() {
 }
 
 #[test]
-#[ignore = "bug: `--segments 0` is reported as knots not starting at --umin"]
 fn identify_rejects_zero_segments_clearly() {
     let dir = Scratch::new("segments-zero");
     let e = noisy();

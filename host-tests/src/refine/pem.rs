@@ -1,0 +1,675 @@
+//! Prediction-error refinement of the whole structured model (item 4 of the issue).
+//!
+//! # Model structure
+//!
+//! `y(t) = μ0 + G(q)[H(t) − μ0] + (I(q)/F(q)) δ_{t0}(t) + (C(q)/D(q)) e(t)` for `t ≥ t0`, with
+//!
+//! * the plant `G(q) = B(q)/F(q)`, `F = 1 + f₁q⁻¹ + … + f_n q⁻ⁿ`,
+//!   `B = b₀ + b₁q⁻¹ + … + b_n q⁻ⁿ`, in which `b₀ = F(1) − b₁ − … − b_n` is not a parameter:
+//!   this fixes the scale by `G(1) = 1` (assumption A.2) and, the transfer function being
+//!   unique, removes the similarity freedom of a state-space parameterisation (the refined
+//!   state space is returned in observer canonical form, `D = b₀`);
+//! * `H(t) = Σ_k β_k w_k(t)`, the hat-basis regressors of [`signal`](super::signal) with the
+//!   border values `β = (μ0, P_a(n₁ᵃ) …, P_d(n₁ᵈ) …)` as parameters (μ0 is estimated jointly,
+//!   with or without a hold);
+//! * the noise model `C(q)/D(q)` (ARMA, order from BIC on the starting residual or given);
+//! * optionally the initial plant state as the free response `I(q)/F(q)`, `deg I = n − 1`
+//!   ([`InitialState::Estimate`]); with [`InitialState::Rest`] the plant starts at rest at μ0
+//!   at `t0` (after a settled hold).
+//!
+//! The one-step-ahead prediction error is `ε(t) = (D/C)(y − ŷ_det)`; its Jacobian is computed
+//! analytically by filtering (`∂ŷ/∂f_i = (1/F)(H − μ0) − q⁻ⁱ(1/F)(ŷ_det − μ0)`, `∂ŷ/∂b_i =
+//! ((q⁻ⁱ − 1)/F)(H − μ0)`, `∂ŷ/∂β_k = G w_k`, `∂ε/∂d_i = (q⁻ⁱ/C)(y − ŷ_det)`,
+//! `∂ε/∂c_i = −(q⁻ⁱ/C) ε`). The cost `Σ ε²` is minimised by Levenberg–Marquardt with
+//! Marquardt's diagonal scaling; a trial step that makes `F` or `C` unstable is rejected like
+//! one that increases the cost. The iteration count is bounded; a non-finite cost or exploding
+//! parameters give [`RefineError::Diverged`], the limit [`RefineError::NoConvergence`].
+//!
+//! At the optimum, `σ̂² = Σε²/(N − d)` and the asymptotic covariance of the parameters is
+//! `σ̂² (JᵀJ)⁻¹` ([`PemFit::covariance`]), from which [`uncertainty`](super::uncertainty)
+//! derives the standard deviations of the poles, the Bode magnitude and the borders.
+
+use std::time::Instant;
+
+use nalgebra::DMatrix;
+
+use super::poly::{observer_form, spectral_radius, tf_from_ss};
+use super::signal::{HatRegressors, delay, filter};
+use super::stochastic::{NoiseModel, fit_noise};
+use super::{RefineError, Unstable};
+use crate::identify::{HostModel, IdentifyOptions, identify};
+
+pub use super::stochastic::NoiseOrder;
+
+/// How the plant's state at the first sample used is handled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InitialState {
+    /// At rest at μ0 (the record starts inside a settled hold at `u_min`).
+    Rest,
+    /// Estimated: `n` more parameters (any record).
+    Estimate,
+}
+
+/// Settings of the refinement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PemOptions {
+    /// Noise model order.
+    pub noise_order: NoiseOrder,
+    /// Initial plant state.
+    pub initial: InitialState,
+    /// First sample used (e.g. the end of the settling part of the hold).
+    pub start: usize,
+    /// Iteration limit.
+    pub max_iter: usize,
+    /// Convergence: relative cost decrease below this.
+    pub tol: f64,
+}
+
+impl Default for PemOptions {
+    fn default() -> Self {
+        Self {
+            noise_order: NoiseOrder::default(),
+            initial: InitialState::Rest,
+            start: 0,
+            max_iter: 100,
+            tol: 1e-10,
+        }
+    }
+}
+
+impl PemOptions {
+    /// The options matching a subspace identification's: start after the settling part of
+    /// the hold with the plant at rest, or, without a hold, at the first sample with the
+    /// initial state estimated.
+    pub fn for_identify(opts: &IdentifyOptions) -> Self {
+        if opts.hold > 0 {
+            Self {
+                start: opts.settle,
+                initial: InitialState::Rest,
+                ..Self::default()
+            }
+        } else {
+            Self {
+                start: 0,
+                initial: InitialState::Estimate,
+                ..Self::default()
+            }
+        }
+    }
+}
+
+/// Where each parameter group sits in `θ`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ParamLayout {
+    /// Plant order `n`.
+    pub n: usize,
+    /// Border channels `1 + n_a + n_d` (μ0 first).
+    pub channels: usize,
+    /// Noise order.
+    pub nv: usize,
+    /// Whether the initial state is estimated.
+    pub init: bool,
+}
+
+impl ParamLayout {
+    /// `f₁ … f_n`.
+    pub fn f(&self) -> std::ops::Range<usize> {
+        0..self.n
+    }
+    /// `b₁ … b_n`.
+    pub fn b(&self) -> std::ops::Range<usize> {
+        self.n..2 * self.n
+    }
+    /// `β` (μ0 then the border values).
+    pub fn beta(&self) -> std::ops::Range<usize> {
+        2 * self.n..2 * self.n + self.channels
+    }
+    /// Noise denominator `d₁ …`.
+    pub fn nd(&self) -> std::ops::Range<usize> {
+        let s = self.beta().end;
+        s..s + self.nv
+    }
+    /// Noise numerator `c₁ …`.
+    pub fn nc(&self) -> std::ops::Range<usize> {
+        let s = self.nd().end;
+        s..s + self.nv
+    }
+    /// Initial-state coefficients `ι₀ … ι_{n−1}` (empty unless estimated).
+    pub fn iota(&self) -> std::ops::Range<usize> {
+        let s = self.nc().end;
+        s..s + if self.init { self.n } else { 0 }
+    }
+    /// Number of parameters.
+    pub fn len(&self) -> usize {
+        self.iota().end
+    }
+    /// Whether there are no parameters (never: the plant has at least order 1).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The polynomials of a parameter vector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polynomials {
+    /// `F = [1, f₁ …]`.
+    pub f: Vec<f64>,
+    /// `B = [b₀, b₁ …]` with `b₀ = F(1) − Σ b_i`.
+    pub b: Vec<f64>,
+    /// Noise numerator `[1, c₁ …]`.
+    pub c: Vec<f64>,
+    /// Noise denominator `[1, d₁ …]`.
+    pub d: Vec<f64>,
+}
+
+impl ParamLayout {
+    /// Splits `θ` into its polynomials.
+    pub fn polynomials(&self, th: &[f64]) -> Polynomials {
+        let mut f = vec![1.0];
+        f.extend(&th[self.f()]);
+        let bs = &th[self.b()];
+        let b0 = f.iter().sum::<f64>() - bs.iter().sum::<f64>();
+        let mut b = vec![b0];
+        b.extend(bs);
+        let mut c = vec![1.0];
+        c.extend(&th[self.nc()]);
+        let mut d = vec![1.0];
+        d.extend(&th[self.nd()]);
+        Polynomials { f, b, c, d }
+    }
+}
+
+/// A prediction-error problem: the data and the structure, without the parameters.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    layout: ParamLayout,
+    hat: HatRegressors,
+    /// Dense hat channels over `start..`.
+    w: Vec<Vec<f64>>,
+    /// `y[start..]`.
+    y: Vec<f64>,
+    start: usize,
+}
+
+/// Prediction errors and their Jacobian at one parameter vector.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// `ε(t)`, `t = start …`.
+    pub eps: Vec<f64>,
+    /// `∂ε/∂θ` (`N × d`).
+    pub jac: DMatrix<f64>,
+    /// `Σ ε²`.
+    pub cost: f64,
+}
+
+impl Problem {
+    /// Sets up the problem for plant order `n`, noise order `nv` on `u`, `y` from `start`.
+    pub fn new(
+        u: &[f64],
+        y: &[f64],
+        knots_asc: &[f64],
+        knots_desc: &[f64],
+        n: usize,
+        nv: usize,
+        initial: InitialState,
+        start: usize,
+    ) -> Result<Self, RefineError> {
+        if u.len() != y.len() {
+            return Err(RefineError::LengthMismatch {
+                u: u.len(),
+                y: y.len(),
+            });
+        }
+        if n == 0 {
+            return Err(RefineError::InvalidModel("order 0"));
+        }
+        if y.iter().any(|v| !v.is_finite()) {
+            return Err(RefineError::NonFinite);
+        }
+        let hat = HatRegressors::new(u, knots_asc, knots_desc)?;
+        let layout = ParamLayout {
+            n,
+            channels: hat.channels(),
+            nv,
+            init: initial == InitialState::Estimate,
+        };
+        let have = u.len().saturating_sub(start);
+        let need = 4 * layout.len() + 50;
+        if have < need {
+            return Err(RefineError::TooFewSamples { have, need });
+        }
+        let w = hat
+            .dense()
+            .into_iter()
+            .map(|c| c[start..].to_vec())
+            .collect();
+        Ok(Self {
+            layout,
+            hat,
+            w,
+            y: y[start..].to_vec(),
+            start,
+        })
+    }
+
+    /// The parameter layout.
+    pub fn layout(&self) -> ParamLayout {
+        self.layout
+    }
+
+    /// The hat regressors of the whole record.
+    pub fn regressors(&self) -> &HatRegressors {
+        &self.hat
+    }
+
+    /// Samples in the cost.
+    pub fn samples(&self) -> usize {
+        self.y.len()
+    }
+
+    /// First sample used.
+    pub fn start(&self) -> usize {
+        self.start
+    }
+
+    /// Whether the predictor of `θ` is stable (`F` and `C` inside the unit circle).
+    pub fn check_stable(&self, th: &[f64]) -> Result<(), RefineError> {
+        let p = self.layout.polynomials(th);
+        let rf = spectral_radius(&p.f);
+        if rf >= 1.0 {
+            return Err(RefineError::UnstablePredictor {
+                which: Unstable::Plant,
+                radius: rf,
+            });
+        }
+        let rc = spectral_radius(&p.c);
+        if rc >= 1.0 {
+            return Err(RefineError::UnstablePredictor {
+                which: Unstable::Noise,
+                radius: rc,
+            });
+        }
+        Ok(())
+    }
+
+    /// The deterministic output `ŷ_det(t)` over `start..` (no noise model).
+    pub fn simulate(&self, th: &[f64]) -> Vec<f64> {
+        self.parts(th).0
+    }
+
+    /// `(ŷ_det, H − μ0, x + r)`.
+    fn parts(&self, th: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let l = &self.layout;
+        let p = l.polynomials(th);
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
+        let len = self.y.len();
+        let mut hd = vec![0.0; len];
+        for (k, wk) in self.w.iter().enumerate() {
+            let bk = beta[k];
+            for (h, w) in hd.iter_mut().zip(wk) {
+                *h += bk * w;
+            }
+        }
+        hd.iter_mut().for_each(|h| *h -= mu0);
+        let mut xr = filter(&p.b, &p.f, &hd);
+        if l.init {
+            let mut imp = vec![0.0; len];
+            if let Some(i0) = imp.first_mut() {
+                *i0 = 1.0;
+            }
+            let r = filter(&th[l.iota()], &p.f, &imp);
+            xr.iter_mut().zip(&r).for_each(|(a, b)| *a += b);
+        }
+        let s = xr.iter().map(|v| v + mu0).collect();
+        (s, hd, xr)
+    }
+
+    /// Prediction errors only.
+    pub fn errors(&self, th: &[f64]) -> Vec<f64> {
+        let p = self.layout.polynomials(th);
+        let s = self.simulate(th);
+        let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
+        filter(&p.d, &p.c, &raw)
+    }
+
+    /// Prediction errors and the analytic Jacobian at `θ`.
+    pub fn evaluate(&self, th: &[f64]) -> Evaluation {
+        let l = self.layout;
+        let p = l.polynomials(th);
+        let len = self.y.len();
+        let (s, hd, xr) = self.parts(th);
+        let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
+        let eps = filter(&p.d, &p.c, &raw);
+        let cost = eps.iter().map(|e| e * e).sum();
+        let mut jac = DMatrix::<f64>::zeros(len, l.len());
+        let one = [1.0];
+        // Deterministic columns: ∂ε/∂θ = −(D/C) ∂ŷ/∂θ.
+        let mut put_det = |col: usize, ds: &[f64]| {
+            let v = filter(&p.d, &p.c, ds);
+            for (t, x) in v.iter().enumerate() {
+                jac[(t, col)] = -x;
+            }
+        };
+        let g = filter(&one, &p.f, &hd);
+        let kk = filter(&one, &p.f, &xr);
+        for i in 1..=l.n {
+            let kd = delay(&kk, i);
+            let col: Vec<f64> = g.iter().zip(&kd).map(|(a, b)| a - b).collect();
+            put_det(l.f().start + i - 1, &col);
+            let gd = delay(&g, i);
+            let col: Vec<f64> = gd.iter().zip(&g).map(|(a, b)| a - b).collect();
+            put_det(l.b().start + i - 1, &col);
+        }
+        for (k, wk) in self.w.iter().enumerate() {
+            if k == 0 {
+                let w0m: Vec<f64> = wk.iter().map(|v| v - 1.0).collect();
+                let col: Vec<f64> = filter(&p.b, &p.f, &w0m).iter().map(|v| v + 1.0).collect();
+                put_det(l.beta().start, &col);
+            } else {
+                put_det(l.beta().start + k, &filter(&p.b, &p.f, wk));
+            }
+        }
+        if l.init {
+            let mut imp = vec![0.0; len];
+            if let Some(i0) = imp.first_mut() {
+                *i0 = 1.0;
+            }
+            let gf = filter(&one, &p.f, &imp);
+            for k in 0..l.n {
+                put_det(l.iota().start + k, &delay(&gf, k));
+            }
+        }
+        // Noise columns.
+        let rc = filter(&one, &p.c, &raw);
+        let ec = filter(&one, &p.c, &eps);
+        for i in 1..=l.nv {
+            let a = delay(&rc, i);
+            let b = delay(&ec, i);
+            for t in 0..len {
+                jac[(t, l.nd().start + i - 1)] = a[t];
+                jac[(t, l.nc().start + i - 1)] = -b[t];
+            }
+        }
+        Evaluation { eps, jac, cost }
+    }
+
+    /// `θ` of a deterministic model and a noise model (initial-state coefficients 0).
+    pub fn theta_from(
+        &self,
+        model: &HostModel,
+        noise: &NoiseModel,
+    ) -> Result<Vec<f64>, RefineError> {
+        let l = self.layout;
+        if model.order != l.n || model.a.nrows() != l.n || model.b.len() != l.n {
+            return Err(RefineError::InvalidModel("order differs from the problem's"));
+        }
+        let (num, den) = tf_from_ss(&model.a, &model.b, &model.c, model.d);
+        let mut th = vec![0.0; l.len()];
+        th[l.f()].copy_from_slice(&den[1..]);
+        th[l.b()].copy_from_slice(&num[1..]);
+        let beta =
+            HatRegressors::beta_from_borders(model.mu0, &model.border_asc, &model.border_desc);
+        if beta.len() != l.channels {
+            return Err(RefineError::InvalidModel("border count differs from the knots'"));
+        }
+        th[l.beta()].copy_from_slice(&beta);
+        for (i, r) in l.nd().enumerate() {
+            th[r] = noise.d.get(i + 1).copied().unwrap_or(0.0);
+        }
+        for (i, r) in l.nc().enumerate() {
+            th[r] = noise.c.get(i + 1).copied().unwrap_or(0.0);
+        }
+        if th.iter().any(|v| !v.is_finite()) {
+            return Err(RefineError::NonFinite);
+        }
+        Ok(th)
+    }
+
+    /// The deterministic model of `θ` in observer canonical form, with the knots, singular
+    /// values and horizons of `template`.
+    pub fn model_of(&self, th: &[f64], template: &HostModel, samples: usize) -> HostModel {
+        let l = self.layout;
+        let p = l.polynomials(th);
+        let (a, b, c, d) = observer_form(&p.b, &p.f);
+        let (border_asc, border_desc) = self.hat.borders_from_beta(&th[l.beta()]);
+        HostModel {
+            order: l.n,
+            a,
+            b,
+            c,
+            d,
+            mu0: th[l.beta().start],
+            knots_asc: template.knots_asc.clone(),
+            knots_desc: template.knots_desc.clone(),
+            border_asc,
+            border_desc,
+            singular_values: template.singular_values.clone(),
+            whitened_singular_values: template.whitened_singular_values.clone(),
+            f: template.f,
+            p: template.p,
+            samples,
+        }
+    }
+
+    /// The noise model of `θ` with variance `sigma2`.
+    pub fn noise_of(&self, th: &[f64], sigma2: f64) -> NoiseModel {
+        let p = self.layout.polynomials(th);
+        NoiseModel {
+            c: p.c,
+            d: p.d,
+            sigma2,
+        }
+    }
+}
+
+/// The outcome of a refinement.
+#[derive(Clone, Debug)]
+pub struct PemFit {
+    /// The refined deterministic model (observer canonical form, `G(1) = 1`).
+    pub model: HostModel,
+    /// The refined noise model, `σ_e²` included.
+    pub noise: NoiseModel,
+    /// The parameter vector.
+    pub theta: Vec<f64>,
+    /// Where the parameter groups sit in `θ`.
+    pub layout: ParamLayout,
+    /// Asymptotic covariance `σ̂² (JᵀJ)⁻¹` of `θ`.
+    pub covariance: DMatrix<f64>,
+    /// Iterations done.
+    pub iterations: usize,
+    /// Mean squared prediction error `Σε²/N`.
+    pub mse: f64,
+    /// Samples in the cost.
+    pub samples: usize,
+    /// First sample used.
+    pub start: usize,
+    /// `(order, BIC)` of the noise orders tried on the starting residual.
+    pub noise_bic: Vec<(usize, f64)>,
+    /// Cost `Σε²` of the starting point (subspace model + fitted noise model).
+    pub initial_cost: f64,
+    /// Cost at the optimum.
+    pub cost: f64,
+    /// Wall-clock seconds of the refinement.
+    pub seconds: f64,
+}
+
+impl PemFit {
+    /// The innovation form `(A, B, C, D, K, σ_e²)` of the refined model.
+    pub fn innovation_form(&self) -> super::InnovationForm {
+        super::InnovationForm::new(&self.model, &self.noise)
+    }
+
+    /// Number of estimated parameters.
+    pub fn parameters(&self) -> usize {
+        self.layout.len()
+    }
+}
+
+/// Solves `(H + λ diag H) δ = −g`.
+fn lm_step(h: &DMatrix<f64>, g: &nalgebra::DVector<f64>, lambda: f64) -> Option<Vec<f64>> {
+    let mut m = h.clone();
+    for i in 0..m.nrows() {
+        let d = h[(i, i)].max(1e-12 * (1.0 + h[(i, i)].abs()));
+        m[(i, i)] += lambda * d;
+    }
+    m.cholesky().map(|c| (-c.solve(g)).iter().copied().collect())
+}
+
+/// Minimises the prediction-error cost of `problem` from `theta0`.
+///
+/// Returns `(θ, evaluation at θ, iterations)`.
+pub fn minimise(
+    problem: &Problem,
+    theta0: Vec<f64>,
+    max_iter: usize,
+    tol: f64,
+) -> Result<(Vec<f64>, Evaluation, usize), RefineError> {
+    problem.check_stable(&theta0)?;
+    let mut th = theta0;
+    let mut ev = problem.evaluate(&th);
+    if !ev.cost.is_finite() {
+        return Err(RefineError::Diverged { iteration: 0 });
+    }
+    let scale0 = 1.0 + th.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut lambda = 1e-3;
+    let mut last_decrease = f64::INFINITY;
+    for it in 1..=max_iter {
+        let h = ev.jac.tr_mul(&ev.jac);
+        let g = ev.jac.tr_mul(&nalgebra::DVector::from_column_slice(&ev.eps));
+        let mut accepted = false;
+        while lambda < 1e12 {
+            let Some(step) = lm_step(&h, &g, lambda) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let trial: Vec<f64> = th.iter().zip(&step).map(|(a, b)| a + b).collect();
+            if trial.iter().any(|v| !v.is_finite()) {
+                return Err(RefineError::Diverged { iteration: it });
+            }
+            if problem.check_stable(&trial).is_err() {
+                lambda *= 10.0;
+                continue;
+            }
+            let cost = problem.errors(&trial).iter().map(|e| e * e).sum::<f64>();
+            if cost.is_finite() && cost < ev.cost {
+                last_decrease = (ev.cost - cost) / ev.cost;
+                th = trial;
+                ev = problem.evaluate(&th);
+                lambda = (lambda / 10.0).max(1e-12);
+                accepted = true;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        let norm = th.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !ev.cost.is_finite() || norm > 1e8 * scale0 {
+            return Err(RefineError::Diverged { iteration: it });
+        }
+        // No decrease possible at any damping: a minimum to working precision.
+        if !accepted || last_decrease < tol {
+            return Ok((th, ev, it));
+        }
+    }
+    Err(RefineError::NoConvergence {
+        iterations: max_iter,
+        last_decrease,
+    })
+}
+
+/// `σ̂² (JᵀJ)⁻¹` at an evaluation.
+pub fn covariance(ev: &Evaluation) -> Result<(DMatrix<f64>, f64), RefineError> {
+    let (n, d) = ev.jac.shape();
+    let sigma2 = ev.cost / (n.saturating_sub(d)).max(1) as f64;
+    let h = ev.jac.tr_mul(&ev.jac);
+    // Scale to unit diagonal for the inversion.
+    let s: Vec<f64> = (0..d).map(|i| 1.0 / h[(i, i)].max(1e-300).sqrt()).collect();
+    let hs = DMatrix::from_fn(d, d, |i, j| h[(i, j)] * s[i] * s[j]);
+    let inv = hs
+        .cholesky()
+        .ok_or(RefineError::Singular("information matrix JᵀJ"))?
+        .inverse();
+    Ok((
+        DMatrix::from_fn(d, d, |i, j| sigma2 * inv[(i, j)] * s[i] * s[j]),
+        sigma2,
+    ))
+}
+
+/// Refines a subspace model `init` (with knots, μ0 and borders) on the record `(u, y)`.
+///
+/// The noise model starts from the Hannan–Rissanen fit of the simulation residual (order by
+/// BIC unless fixed), then every parameter is refined jointly.
+pub fn refine(
+    u: &[f64],
+    y: &[f64],
+    init: &HostModel,
+    opts: &PemOptions,
+) -> Result<PemFit, RefineError> {
+    let clock = Instant::now();
+    if u.len() != y.len() {
+        return Err(RefineError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    if init.order == 0 {
+        return Err(RefineError::InvalidModel("order 0"));
+    }
+    let start = opts.start.min(u.len());
+    let sim = init.simulate(u);
+    let resid: Vec<f64> = y
+        .iter()
+        .zip(&sim)
+        .skip(start)
+        .map(|(a, b)| a - b)
+        .collect();
+    let nfit = fit_noise(&resid, opts.noise_order)?;
+    let nv = nfit.model.order();
+    let problem = Problem::new(
+        u,
+        y,
+        &init.knots_asc,
+        &init.knots_desc,
+        init.order,
+        nv,
+        opts.initial,
+        start,
+    )?;
+    let th0 = problem.theta_from(init, &nfit.model)?;
+    let initial_cost = problem.errors(&th0).iter().map(|e| e * e).sum::<f64>();
+    let (th, ev, iterations) = minimise(&problem, th0, opts.max_iter, opts.tol)?;
+    let (cov, sigma2) = covariance(&ev)?;
+    let model = problem.model_of(&th, init, u.len());
+    let noise = problem.noise_of(&th, sigma2);
+    Ok(PemFit {
+        model,
+        noise,
+        layout: problem.layout(),
+        covariance: cov,
+        iterations,
+        mse: ev.cost / problem.samples() as f64,
+        samples: problem.samples(),
+        start,
+        noise_bic: nfit.bic,
+        initial_cost,
+        cost: ev.cost,
+        theta: th,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Subspace identification (the method in `opts`) followed by [`refine`] with
+/// [`PemOptions::for_identify`] and the given noise order.
+pub fn identify_pem(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+    noise_order: NoiseOrder,
+) -> Result<PemFit, RefineError> {
+    let init = identify(u, y, opts)?;
+    let pem = PemOptions {
+        noise_order,
+        ..PemOptions::for_identify(opts)
+    };
+    refine(u, y, &init, &pem)
+}

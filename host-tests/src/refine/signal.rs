@@ -1,0 +1,223 @@
+//! Signals of the refinement: rational filters in `q⁻¹` and the hat-basis regressors.
+//!
+//! The border functions are written in the hat basis with the border *values* as coefficients:
+//! `P(u) = Σᵢ vᵢ φᵢ(u)` with `φᵢ` the linear B-spline peaking at knot `nᵢ` (`Σᵢ φᵢ = 1`). Both
+//! paths share `v₀ = μ0 = P_a(u_min) = P_d(u_min)`, so the nonlinearity output is linear in
+//! `β = (μ0, v₁ᵃ … v_{n_a}ᵃ, v₁ᵈ … v_{n_d}ᵈ)`:
+//! `H[u(t)] = Σ_k β_k w_k(t)`, where `w_0(t) = φ₀(u(t))` on the current path, `w_i(t) =
+//! φᵢᵃ(u(t)) δ(t)` for the ascending channels and `φᵢᵈ(u(t)) (1 − δ(t))` for the descending
+//! ones. At most two `w_k(t)` are non-zero at any `t`.
+//!
+//! δ(t) follows the core's convention: `u(−1) = u_min` and the initial direction descending.
+
+use super::RefineError;
+
+/// Filters `x` through `b(q⁻¹) / a(q⁻¹)` from zero initial state; `a[0]` must be 1.
+///
+/// `y(t) = Σ_k b_k x(t−k) − Σ_{k≥1} a_k y(t−k)`.
+pub fn filter(b: &[f64], a: &[f64], x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    filter_into(b, a, x, &mut y);
+    y
+}
+
+/// [`filter`] into a caller-provided buffer of the same length as `x`.
+pub fn filter_into(b: &[f64], a: &[f64], x: &[f64], y: &mut [f64]) {
+    for t in 0..x.len().min(y.len()) {
+        let mut acc = 0.0;
+        for (k, bk) in b.iter().enumerate() {
+            if k > t {
+                break;
+            }
+            acc += bk * x[t - k];
+        }
+        for (k, ak) in a.iter().enumerate().skip(1) {
+            if k > t {
+                break;
+            }
+            acc -= ak * y[t - k];
+        }
+        y[t] = acc;
+    }
+}
+
+/// `x` delayed by `k` samples with zeros shifted in.
+pub fn delay(x: &[f64], k: usize) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    if k < x.len() {
+        y[k..].copy_from_slice(&x[..x.len() - k]);
+    }
+    y
+}
+
+/// Checks a knot vector: at least two finite, strictly increasing values.
+pub fn check_knots(k: &[f64], which: &'static str) -> Result<(), RefineError> {
+    if k.len() < 2 {
+        return Err(RefineError::InvalidKnots(which));
+    }
+    if k.iter().any(|v| !v.is_finite()) || k.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(RefineError::InvalidKnots(which));
+    }
+    Ok(())
+}
+
+/// The hat-basis regressors `w(t)` of a record (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HatRegressors {
+    n_asc: usize,
+    n_desc: usize,
+    /// Per sample: two channels and their weights (the second may have weight 0).
+    idx: Vec<[usize; 2]>,
+    w: Vec<[f64; 2]>,
+}
+
+fn locate(k: &[f64], u: f64) -> (usize, f64) {
+    let segs = k.len() - 1;
+    let (mut lo, mut hi) = (0usize, segs);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if k[mid] <= u {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let theta = ((u - k[lo]) / (k[lo + 1] - k[lo])).clamp(0.0, 1.0);
+    (lo, theta)
+}
+
+impl HatRegressors {
+    /// Builds the regressors of `u` on the given knots (both paths from `u_min` to `u_max`).
+    pub fn new(u: &[f64], knots_asc: &[f64], knots_desc: &[f64]) -> Result<Self, RefineError> {
+        check_knots(knots_asc, "ascending knots must be strictly increasing")?;
+        check_knots(knots_desc, "descending knots must be strictly increasing")?;
+        let (lo, hi) = (knots_asc[0], knots_asc[knots_asc.len() - 1]);
+        if knots_desc[0] != lo || knots_desc[knots_desc.len() - 1] != hi {
+            return Err(RefineError::InvalidKnots(
+                "both paths must start at u_min and end at u_max",
+            ));
+        }
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(RefineError::NonFinite);
+        }
+        if u.iter().any(|&v| v < lo || v > hi) {
+            return Err(RefineError::InvalidKnots(
+                "an input lies outside [u_min, u_max]",
+            ));
+        }
+        let n_asc = knots_asc.len() - 1;
+        let n_desc = knots_desc.len() - 1;
+        let mut idx = Vec::with_capacity(u.len());
+        let mut w = Vec::with_capacity(u.len());
+        let mut prev = lo;
+        let mut up = false;
+        for &ut in u {
+            if ut > prev {
+                up = true;
+            } else if ut < prev {
+                up = false;
+            }
+            prev = ut;
+            let (k, off) = if up {
+                (knots_asc, 0)
+            } else {
+                (knots_desc, n_asc)
+            };
+            let (s, th) = locate(k, ut);
+            // φ_s with weight 1 − θ, φ_{s+1} with weight θ; φ_0 is channel 0 on both paths.
+            let ch = |i: usize| if i == 0 { 0 } else { off + i };
+            idx.push([ch(s), ch(s + 1)]);
+            w.push([1.0 - th, th]);
+        }
+        Ok(Self {
+            n_asc,
+            n_desc,
+            idx,
+            w,
+        })
+    }
+
+    /// Samples.
+    pub fn len(&self) -> usize {
+        self.idx.len()
+    }
+
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.idx.is_empty()
+    }
+
+    /// Channels: `1 + n_a + n_d` (μ0 first).
+    pub fn channels(&self) -> usize {
+        1 + self.n_asc + self.n_desc
+    }
+
+    /// Ascending segments `n_a`.
+    pub fn n_asc(&self) -> usize {
+        self.n_asc
+    }
+
+    /// Descending segments `n_d`.
+    pub fn n_desc(&self) -> usize {
+        self.n_desc
+    }
+
+    /// `H[u(t)] = Σ_k β_k w_k(t)` for every sample.
+    pub fn output(&self, beta: &[f64]) -> Vec<f64> {
+        self.idx
+            .iter()
+            .zip(&self.w)
+            .map(|(i, w)| {
+                beta.get(i[0]).copied().unwrap_or(0.0) * w[0]
+                    + beta.get(i[1]).copied().unwrap_or(0.0) * w[1]
+            })
+            .collect()
+    }
+
+    /// Channel `k` as a dense signal.
+    pub fn channel(&self, k: usize) -> Vec<f64> {
+        self.idx
+            .iter()
+            .zip(&self.w)
+            .map(|(i, w)| {
+                let mut v = 0.0;
+                if i[0] == k {
+                    v += w[0];
+                }
+                if i[1] == k {
+                    v += w[1];
+                }
+                v
+            })
+            .collect()
+    }
+
+    /// All channels as dense signals (channel-major).
+    pub fn dense(&self) -> Vec<Vec<f64>> {
+        let mut out = vec![vec![0.0; self.len()]; self.channels()];
+        for (t, (i, w)) in self.idx.iter().zip(&self.w).enumerate() {
+            out[i[0]][t] += w[0];
+            out[i[1]][t] += w[1];
+        }
+        out
+    }
+
+    /// `β` from border values at the knots: `(μ0, P_a(n₁) …, P_d(n₁) …)`.
+    pub fn beta_from_borders(mu0: f64, border_asc: &[f64], border_desc: &[f64]) -> Vec<f64> {
+        let mut beta = vec![mu0];
+        beta.extend(border_asc.iter().skip(1));
+        beta.extend(border_desc.iter().skip(1));
+        beta
+    }
+
+    /// Border values at the knots from `β`: `(P_a at the ascending knots, P_d at the
+    /// descending knots)`, both starting with μ0.
+    pub fn borders_from_beta(&self, beta: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let mu0 = beta.first().copied().unwrap_or(f64::NAN);
+        let mut asc = vec![mu0];
+        asc.extend(beta.iter().skip(1).take(self.n_asc));
+        let mut desc = vec![mu0];
+        desc.extend(beta.iter().skip(1 + self.n_asc).take(self.n_desc));
+        (asc, desc)
+    }
+}
