@@ -94,14 +94,14 @@ pub struct Entry<T> {
 /// last `k` samples, for up to `M` regressor channels and up to `K` block rows (`k = f + p`).
 #[derive(Clone, Debug)]
 pub struct Accumulator<T, const M: usize, const K: usize> {
-    lags: [Lagged<T, M>; K],
-    head: [Entry<T>; K],
-    ring: [Entry<T>; K],
-    k: usize,
-    pos: usize,
-    count: u64,
-    sum_z: [T; M],
-    sum_y: T,
+    pub(crate) lags: [Lagged<T, M>; K],
+    pub(crate) head: [Entry<T>; K],
+    pub(crate) ring: [Entry<T>; K],
+    pub(crate) k: usize,
+    pub(crate) pos: usize,
+    pub(crate) count: u64,
+    pub(crate) sum_z: [T; M],
+    pub(crate) sum_y: T,
 }
 
 /// Sums of `z` and `ȳ` over the columns of every block row of the Hankel matrix (for

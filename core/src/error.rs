@@ -149,6 +149,8 @@ pub enum Error {
     ZeroStaticGain,
     /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
     IntegratingModel,
+    /// A checkpoint could not be saved or restored.
+    Checkpoint(crate::checkpoint::CheckpointError),
     /// The caller-provided workspace is too small.
     WorkspaceTooSmall {
         /// Scalars needed.
@@ -240,6 +242,7 @@ impl fmt::Display for Error {
                 f,
                 "I - A is singular (integrating linear part): G(1) = 1 cannot be imposed"
             ),
+            Error::Checkpoint(e) => write!(f, "checkpoint: {e}"),
             Error::WorkspaceTooSmall { need, have } => write!(
                 f,
                 "workspace has {have} scalars, the solve needs {need}: size it with hsid::workspace_len"
@@ -271,3 +274,21 @@ impl fmt::Display for Stage {
 }
 
 impl core::error::Error for Error {}
+
+impl fmt::Display for crate::checkpoint::CheckpointError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use crate::checkpoint::CheckpointError as C;
+        f.write_str(match self {
+            C::Truncated => {
+                "the buffer is shorter than the checkpoint (truncated, or too small to save into)"
+            }
+            C::NotACheckpoint => "not an hsid checkpoint (wrong magic)",
+            C::Version => "written by another checkpoint format version",
+            C::ScalarType => "written with another scalar type (f32 vs f64)",
+            C::Checksum => "checksum mismatch: the checkpoint is corrupted",
+            C::SettingsMismatch => "written with other settings than this identifier's",
+            C::Capacity => "needs more channels or block rows than this identifier's capacity",
+            C::Invalid => "a field holds an impossible value",
+        })
+    }
+}

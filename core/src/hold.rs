@@ -54,9 +54,9 @@ impl<T: Real> MuZero<T> {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct HoldMean<T> {
-    sum: T,
-    comp: T,
-    count: u32,
+    pub(crate) sum: T,
+    pub(crate) comp: T,
+    pub(crate) count: u32,
 }
 
 impl<T: Real> HoldMean<T> {

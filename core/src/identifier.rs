@@ -51,14 +51,14 @@ impl<T: Real, const M: usize> Settings<T, M> {
 /// [`fault`](Self::fault) reports it at once and [`solve`](Self::solve) returns it.
 #[derive(Clone, Debug)]
 pub struct Identifier<T, const M: usize, const K: usize> {
-    settings: Settings<T, M>,
-    acc: Accumulator<T, M, K>,
-    hold: HoldMean<T>,
-    mu0: Option<T>,
-    u_prev: T,
-    dir: Direction,
-    index: u64,
-    fault: Option<Error>,
+    pub(crate) settings: Settings<T, M>,
+    pub(crate) acc: Accumulator<T, M, K>,
+    pub(crate) hold: HoldMean<T>,
+    pub(crate) mu0: Option<T>,
+    pub(crate) u_prev: T,
+    pub(crate) dir: Direction,
+    pub(crate) index: u64,
+    pub(crate) fault: Option<Error>,
 }
 
 impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {

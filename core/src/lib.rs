@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 pub mod accumulation;
+pub mod checkpoint;
 pub mod error;
 pub mod estimation;
 pub mod excitation;
@@ -15,7 +16,8 @@ pub mod regressor;
 pub mod scalar;
 pub mod subspace;
 
-pub use accumulation::{Accumulator, Entry, Lagged};
+pub use accumulation::{Accumulator, Entry, Lagged, RowSums};
+pub use checkpoint::{CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, crc32};
 pub use error::{Error, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};

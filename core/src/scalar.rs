@@ -19,6 +19,13 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     }
     /// `true` if the value is neither NaN nor infinite.
     fn finite(self) -> bool;
+    /// Size of the little-endian encoding (4 or 8).
+    const BYTES: usize;
+    /// Writes the exact bit pattern, little-endian, into the first [`Self::BYTES`] bytes.
+    /// Returns `false` (writing nothing) if `out` is too short.
+    fn write_le(self, out: &mut [u8]) -> bool;
+    /// Reads a value written by [`Real::write_le`]; `None` if `bytes` is too short.
+    fn read_le(bytes: &[u8]) -> Option<Self>;
 }
 
 impl Real for f32 {
@@ -32,6 +39,20 @@ impl Real for f32 {
     fn finite(self) -> bool {
         self.is_finite()
     }
+    const BYTES: usize = 4;
+    fn write_le(self, out: &mut [u8]) -> bool {
+        match out.get_mut(..4) {
+            Some(o) => {
+                o.copy_from_slice(&self.to_bits().to_le_bytes());
+                true
+            }
+            None => false,
+        }
+    }
+    fn read_le(bytes: &[u8]) -> Option<Self> {
+        let b: [u8; 4] = bytes.get(..4)?.try_into().ok()?;
+        Some(f32::from_bits(u32::from_le_bytes(b)))
+    }
 }
 
 impl Real for f64 {
@@ -44,5 +65,19 @@ impl Real for f64 {
     }
     fn finite(self) -> bool {
         self.is_finite()
+    }
+    const BYTES: usize = 8;
+    fn write_le(self, out: &mut [u8]) -> bool {
+        match out.get_mut(..8) {
+            Some(o) => {
+                o.copy_from_slice(&self.to_bits().to_le_bytes());
+                true
+            }
+            None => false,
+        }
+    }
+    fn read_le(bytes: &[u8]) -> Option<Self> {
+        let b: [u8; 8] = bytes.get(..8)?.try_into().ok()?;
+        Some(f64::from_bits(u64::from_le_bytes(b)))
     }
 }
