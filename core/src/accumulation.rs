@@ -19,7 +19,7 @@
 //! two channels, so one update costs `O(k)` multiply-adds.
 
 use crate::error::Error;
-use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
+use crate::regressor::{Basis, Direction, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
 /// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.
@@ -47,8 +47,16 @@ impl<T: Real, const M: usize> Default for Lagged<T, M> {
 }
 
 impl<T: Real, const M: usize> Lagged<T, M> {
+    /// All sums zero.
+    pub const ZERO: Self = Self {
+        zz: [[T::ZERO; M]; M],
+        zy: [T::ZERO; M],
+        yz: [T::ZERO; M],
+        yy: T::ZERO,
+    };
+
     /// Adds `sign · w(s) w(s+τ)ᵀ` for the samples `early = w(s)` and `late = w(s+τ)`.
-    #[inline]
+    #[inline(always)]
     fn add_outer(
         &mut self,
         knots: &Knots<T, M>,
@@ -78,6 +86,18 @@ impl<T: Real, const M: usize> Lagged<T, M> {
         });
         self.yy += ye * yl;
     }
+}
+
+impl<T: Real> Entry<T> {
+    /// A zero sample (descending, segment 0).
+    pub const ZERO: Self = Self {
+        at: Located {
+            dir: Direction::Descending,
+            segment: 0,
+            theta: T::ZERO,
+        },
+        y: T::ZERO,
+    };
 }
 
 /// One stored sample: where it is on the nonlinearity, and `ȳ = y − μ0`.
@@ -115,6 +135,38 @@ pub struct RowSums<T, const M: usize, const K: usize> {
 }
 
 impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
+    /// An empty accumulator for `k = 2` block rows, usable in constant expressions so that a
+    /// `static` can hold it; [`reset`](Self::reset) sets the block rows in place.
+    pub const EMPTY: Self = Self {
+        lags: [Lagged::ZERO; K],
+        head: [Entry::ZERO; K],
+        ring: [Entry::ZERO; K],
+        k: 2,
+        pos: 0,
+        count: 0,
+        sum_z: [T::ZERO; M],
+        sum_y: T::ZERO,
+    };
+
+    /// Empties the accumulator in place for `k` block rows (`2 <= k <= K`), without building
+    /// a new value on the stack.
+    pub fn reset(&mut self, k: usize) -> Result<(), Error> {
+        if !(2..=K).contains(&k) {
+            return Err(Error::InvalidHorizon { f: 0, k });
+        }
+        for l in self.lags.iter_mut() {
+            *l = Lagged::ZERO;
+        }
+        self.head.fill(Entry::ZERO);
+        self.ring.fill(Entry::ZERO);
+        self.sum_z.fill(T::ZERO);
+        self.sum_y = T::ZERO;
+        self.k = k;
+        self.pos = 0;
+        self.count = 0;
+        Ok(())
+    }
+
     /// An empty accumulator for `k = f + p` block rows (`2 <= k <= K`).
     pub fn new(k: usize) -> Result<Self, Error> {
         const { assert!(K >= 2, "K (block rows f + p) must be at least 2") };
@@ -243,6 +295,19 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         &self,
         knots: &Knots<T, M>,
         basis: Basis,
+        sink: impl FnMut(usize, usize, &Lagged<T, M>),
+    ) {
+        self.for_each_block_where(knots, basis, |_, _| true, sink);
+    }
+
+    /// [`for_each_block`](Self::for_each_block) for the blocks `(a, b)` with `want(a, b)`
+    /// only: the running corrections are still updated for every block, but the others are
+    /// neither formed nor passed on.
+    pub fn for_each_block_where(
+        &self,
+        knots: &Knots<T, M>,
+        basis: Basis,
+        want: impl Fn(usize, usize) -> bool,
         mut sink: impl FnMut(usize, usize, &Lagged<T, M>),
     ) {
         let j = self.columns();
@@ -264,8 +329,10 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
                 t += 1;
             }
             for a in 0..(k - tau) {
-                subtract(&mut block, r, &corr);
-                sink(a, a + tau, &block);
+                if want(a, a + tau) {
+                    subtract(&mut block, r, &corr);
+                    sink(a, a + tau, &block);
+                }
                 let a64 = a as u64;
                 // Move the window one column: the head gains w(a), the tail loses w(a + j).
                 if let (Some(e), Some(l)) = (self.sample(a64), self.sample(a64 + tau64)) {

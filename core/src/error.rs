@@ -151,6 +151,8 @@ pub enum Error {
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
     Checkpoint(crate::checkpoint::CheckpointError),
+    /// The identifier was created with `Identifier::EMPTY` and not configured with `reset`.
+    Unconfigured,
     /// The caller-provided workspace is too small.
     WorkspaceTooSmall {
         /// Scalars needed.
@@ -243,6 +245,10 @@ impl fmt::Display for Error {
                 "I - A is singular (integrating linear part): G(1) = 1 cannot be imposed"
             ),
             Error::Checkpoint(e) => write!(f, "checkpoint: {e}"),
+            Error::Unconfigured => write!(
+                f,
+                "the identifier is not configured: call reset with its settings first"
+            ),
             Error::WorkspaceTooSmall { need, have } => write!(
                 f,
                 "workspace has {have} scalars, the solve needs {need}: size it with hsid::workspace_len"

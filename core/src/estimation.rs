@@ -11,7 +11,7 @@ use heapless::Vec;
 
 use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, apply_q, householder_qr, least_squares, packed, svd_small};
+use crate::linalg::{Small, apply_q, householder_qr, least_squares, svd_small};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
 use crate::scalar::Real;
@@ -52,9 +52,9 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 ) -> Result<Model<T, M>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
-    let d = lay.d();
-    let (gram, rest) = ws.split_at_mut(lay.gram());
-    let (bf, scratch) = rest.split_at_mut(lay.bf());
+    let rest = &mut ws[lay.lff() + lay.schur()..];
+    let (bf, rest) = rest.split_at_mut(lay.bf());
+    let scratch = &mut rest[lay.cache()..];
 
     // 1. Γ_f = U₁ S₁^½, C = first row, A from Γ_under A = Γ_over.
     let mut gamma = Small::<T>::zeros();
@@ -91,18 +91,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         *v = gamma[(0, c)];
     }
 
-    // 2. B_f = L₃₁ L₁₁⁻¹ (f × f·m): each row solves x L₁₁ = l₃₁.
-    for i in 0..f {
-        let l31 = packed(d + i, 0);
-        let x = &mut bf[i * fm..(i + 1) * fm];
-        for col in (0..fm).rev() {
-            let mut s = gram[l31 + col];
-            for (r, &xr) in x.iter().enumerate().skip(col + 1) {
-                s -= xr * gram[packed(r, col)];
-            }
-            x[col] = s / gram[packed(col, col)];
-        }
-    }
+    // 2. B_f = L₃₁ L₁₁⁻¹ (f × f·m) was left in the workspace by the projection step.
 
     // 3. [D; B] from U₂ᵀ Ξ_f = U₂ᵀ B_f. Rows (jj, r): block column jj, annihilator r.
     let nr = f - n;

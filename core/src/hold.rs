@@ -60,6 +60,13 @@ pub struct HoldMean<T> {
 }
 
 impl<T: Real> HoldMean<T> {
+    /// Nothing accumulated.
+    pub const ZERO: Self = Self {
+        sum: T::ZERO,
+        comp: T::ZERO,
+        count: 0,
+    };
+
     /// Adds one settled hold sample.
     #[inline]
     pub fn push(&mut self, y: T) {

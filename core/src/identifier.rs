@@ -62,8 +62,37 @@ pub struct Identifier<T, const M: usize, const K: usize> {
 }
 
 impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
+    /// An unconfigured identifier, usable in constant expressions so that firmware can place
+    /// it in a `static` (no copy through the stack); configure it with
+    /// [`reset`](Self::reset). It refuses samples until then (every `push` records a fault).
+    pub const EMPTY: Self = Self {
+        settings: Settings {
+            knots: Knots::EMPTY,
+            basis: Basis::Hat,
+            f: 0,
+            p: 0,
+            mu0: MuZero::Known(T::ZERO),
+            order: Order::Auto,
+        },
+        acc: Accumulator::EMPTY,
+        hold: HoldMean::ZERO,
+        mu0: None,
+        u_prev: T::ZERO,
+        dir: Direction::Descending,
+        index: 0,
+        fault: Some(Error::Unconfigured),
+    };
+
     /// Validates the settings against the capacities `(M, K)`.
     pub fn new(settings: Settings<T, M>) -> Result<Self, Error> {
+        let mut id = Self::EMPTY;
+        id.reset(settings)?;
+        Ok(id)
+    }
+
+    /// Validates the settings and starts a new identification in place: all accumulated
+    /// statistics are cleared. On error the identifier is left unchanged.
+    pub fn reset(&mut self, settings: Settings<T, M>) -> Result<(), Error> {
         let (f, p) = (settings.f, settings.p);
         let k = f.saturating_add(p);
         if f < 2 || p == 0 || f > MAX_HORIZON || k > K {
@@ -74,22 +103,25 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         {
             return Err(Error::InvalidOrder { order: n, f });
         }
+        if settings.knots.channels() == 0 {
+            return Err(Error::TooFewKnots {
+                path: Direction::Ascending,
+                count: 0,
+            });
+        }
         settings.mu0.validate()?;
-        let mu0 = match settings.mu0 {
+        self.acc.reset(k)?;
+        self.mu0 = match settings.mu0 {
             MuZero::Known(v) => Some(v),
             MuZero::Hold { .. } | MuZero::Estimate => None,
         };
-        let u_prev = settings.knots.u_min();
-        Ok(Self {
-            settings,
-            acc: Accumulator::new(k)?,
-            hold: HoldMean::default(),
-            mu0,
-            u_prev,
-            dir: Direction::Descending,
-            index: 0,
-            fault: None,
-        })
+        self.u_prev = settings.knots.u_min();
+        self.settings = settings;
+        self.hold = HoldMean::ZERO;
+        self.dir = Direction::Descending;
+        self.index = 0;
+        self.fault = None;
+        Ok(())
     }
 
     /// The settings.
@@ -185,20 +217,33 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
     /// `[Z_f; Z_p; Ȳ_f]` needs more Hankel columns than rows.
     pub fn min_samples(&self) -> u64 {
         let lay = self.layout();
-        (lay.f + lay.p) as u64 + lay.dt() as u64
+        (lay.f + lay.p) as u64 + (lay.d() + lay.f) as u64
     }
 
     fn layout(&self) -> Layout {
-        Layout {
-            m: self.settings.knots.channels(),
-            f: self.settings.f,
-            p: self.settings.p,
-        }
+        Layout::new(
+            self.settings.knots.channels(),
+            self.settings.f,
+            self.settings.p,
+        )
     }
 
-    /// Scalars of workspace [`solve`](Self::solve) needs ([`workspace_len`](crate::workspace_len)).
+    /// Scalars of workspace for [`solve`](Self::solve) with the default block width
+    /// ([`workspace_len`](crate::workspace_len)); the solve accepts less (slower, down to
+    /// [`min_workspace_len`](Self::min_workspace_len)) or more (faster).
     pub fn workspace_len(&self) -> usize {
         self.layout().total()
+    }
+
+    /// The smallest workspace [`solve`](Self::solve) accepts.
+    pub fn min_workspace_len(&self) -> usize {
+        Layout::with_block(
+            self.settings.knots.channels(),
+            self.settings.f,
+            self.settings.p,
+            1,
+        )
+        .total()
     }
 
     /// The final solve: PI-MOESP, order, `A`/`C`, `B`/`D`, rank-1 split and γ. The
@@ -209,13 +254,19 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         if let Some(e) = self.fault {
             return Err(e);
         }
-        let lay = self.layout();
-        let need = lay.total();
-        let have_ws = ws.len();
-        let ws = ws.get_mut(..need).ok_or(Error::WorkspaceTooSmall {
-            need,
-            have: have_ws,
-        })?;
+        let min = Layout::with_block(
+            self.settings.knots.channels(),
+            self.settings.f,
+            self.settings.p,
+            1,
+        );
+        let lay = self
+            .layout()
+            .fitting(ws.len())
+            .ok_or(Error::WorkspaceTooSmall {
+                need: min.total(),
+                have: ws.len(),
+            })?;
         let have = self.acc.count();
         let need_samples = self.min_samples();
         if have < need_samples {

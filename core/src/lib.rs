@@ -25,7 +25,9 @@ pub use identifier::{Identifier, Settings};
 pub use model::{Model, ModelState};
 pub use regressor::{Basis, Direction, Knots, Located};
 pub use scalar::Real;
-pub use subspace::{AUTO_ORDER_MARGIN, Order, workspace_len};
+pub use subspace::{
+    AUTO_ORDER_MARGIN, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
+};
 
 /// Largest future horizon `f` (and so model order + 1) the final solve handles: the small
 /// SVDs run on fixed `MAX_HORIZON × MAX_HORIZON` matrices on the stack.

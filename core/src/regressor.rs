@@ -90,6 +90,14 @@ pub struct Knots<T, const M: usize> {
 }
 
 impl<T: Real, const M: usize> Knots<T, M> {
+    /// No knots: a placeholder for constant initialisation of a `static` identifier. Every
+    /// identifier built from it is rejected until real knots are set.
+    pub const EMPTY: Self = Self {
+        asc: Vec::new(),
+        desc: Vec::new(),
+        shared: false,
+    };
+
     /// Knots for each path, both end points included (`asc[0] = desc[0] = u_min`,
     /// last = `u_max`). The segment counts `asc.len() - 1` and `desc.len() - 1` may differ
     /// (Remark 3) and must add up to at most `M`; knots need not be uniform.
@@ -293,7 +301,7 @@ pub struct Located<T> {
 
 /// Evaluates z(t) for a located sample: calls `visit(channel, value)` for every channel that
 /// can be non-zero (at most two for hats, at most `n_p` for ramps). Channels not visited are 0.
-#[inline]
+#[inline(always)]
 pub fn for_each_nonzero<T: Real, const M: usize>(
     knots: &Knots<T, M>,
     basis: Basis,

@@ -9,6 +9,8 @@ use nalgebra::RealField;
 pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     /// Machine epsilon.
     const EPS: Self;
+    /// Zero, usable in constant expressions (static buffers).
+    const ZERO: Self;
     /// Converts from `f64` (rounding to nearest for `f32`).
     fn of(x: f64) -> Self;
     /// Converts to `f64` (exact for both implementations).
@@ -30,6 +32,7 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
 
 impl Real for f32 {
     const EPS: Self = f32::EPSILON;
+    const ZERO: Self = 0.0;
     fn of(x: f64) -> Self {
         x as f32
     }
@@ -57,6 +60,7 @@ impl Real for f32 {
 
 impl Real for f64 {
     const EPS: Self = f64::EPSILON;
+    const ZERO: Self = 0.0;
     fn of(x: f64) -> Self {
         x
     }

@@ -186,3 +186,60 @@ fn static_nonlinearity_with_shared_knots() {
         "{re} {im}"
     );
 }
+
+/// The solve adapts its Schur-complement block to the workspace it gets: the smallest
+/// workspace, the default and a generous one give the same model, bit for bit (every entry of
+/// the Schur complement is updated by the same dot product whatever the block width).
+#[test]
+fn workspace_size_changes_speed_not_result() {
+    let knots = Knots::<f64, 14>::uniform(-3.0, 3.0, 7, 7).unwrap();
+    let s = Settings::new(
+        knots,
+        10,
+        10,
+        MuZero::Hold {
+            len: 100,
+            settle: 50,
+        },
+    );
+    let mut id = Identifier::<f64, 14, 20>::new(s).unwrap();
+    let mut plant = Plant {
+        w: [0.0; 3],
+        y: [0.0; 2],
+    };
+    for u in Excitation::new(-3.0, 3.0, 100, Pcg32::seed_from_u64(11))
+        .unwrap()
+        .take(2100)
+    {
+        id.push(u, plant.step((u - 1.0f64).atan()) + 1e-3 * (u * 7.0).sin());
+    }
+    let solve = |len: usize| {
+        let mut ws = vec![0.0; len];
+        let m = id.solve(&mut ws).unwrap();
+        (0..20).map(|k| m.markov(k).to_bits()).collect::<Vec<_>>()
+    };
+    let small = solve(id.min_workspace_len());
+    assert_eq!(small, solve(id.workspace_len()));
+    assert_eq!(
+        small,
+        solve(hsid::workspace_len_with_block(14, 10, 10, 150))
+    );
+    let mut ws = vec![0.0; id.min_workspace_len() - 1];
+    assert!(matches!(
+        id.solve(&mut ws),
+        Err(hsid::Error::WorkspaceTooSmall { .. })
+    ));
+}
+
+/// `Identifier::EMPTY` refuses work until configured, then behaves like `new`.
+#[test]
+fn empty_identifier_is_configured_in_place() {
+    let mut id = Identifier::<f64, 14, 20>::EMPTY;
+    id.push(0.0, 0.0);
+    assert_eq!(id.fault(), Some(hsid::Error::Unconfigured));
+    let knots = Knots::<f64, 14>::uniform(-3.0, 3.0, 7, 7).unwrap();
+    id.reset(Settings::new(knots, 10, 10, MuZero::Known(0.0)))
+        .unwrap();
+    assert_eq!(id.fault(), None);
+    assert_eq!(id.samples(), 0);
+}
