@@ -30,7 +30,7 @@ use crate::hold::{HoldMean, MuZero};
 use crate::identifier::{Identifier, Settings};
 use crate::regressor::{Basis, Direction, Knots, Located};
 use crate::scalar::Real;
-use crate::subspace::Order;
+use crate::subspace::{Method, Order};
 
 /// Format version written into every checkpoint.
 pub const CHECKPOINT_VERSION: u16 = 1;
@@ -215,6 +215,12 @@ fn write_settings<T: Real, const M: usize>(w: &mut Writer<'_>, s: &Settings<T, M
         Order::Auto => w.u16(0),
         Order::Fixed(n) => w.u16(n as u16),
     }
+    w.u8(match s.method {
+        Method::PiMoesp => 0,
+        Method::PoMoesp => 1,
+        Method::N4sid => 2,
+        Method::Cva => 3,
+    });
 }
 
 fn read_settings<T: Real, const M: usize>(
@@ -248,6 +254,13 @@ fn read_settings<T: Real, const M: usize>(
         0 => Order::Auto,
         n => Order::Fixed(n as usize),
     };
+    let method = match r.u8()? {
+        0 => Method::PiMoesp,
+        1 => Method::PoMoesp,
+        2 => Method::N4sid,
+        3 => Method::Cva,
+        _ => return Err(CheckpointError::Invalid),
+    };
     let (asc, desc) = (&knots[0][..lens[0]], &knots[1][..lens[1]]);
     let knots = if flags & 1 != 0 {
         Knots::shared(asc)
@@ -265,6 +278,7 @@ fn read_settings<T: Real, const M: usize>(
         p,
         mu0,
         order,
+        method,
     }))
 }
 
@@ -524,7 +538,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
 /// scalar of `bytes` bytes (4 or 8): size a static buffer with it.
 pub const fn checkpoint_capacity(m: usize, k: usize, bytes: usize) -> usize {
     let knots = m + 2;
-    let settings = 1 + 2 + 2 + 2 + 2 + knots * bytes + 1 + 4 + 4 + bytes + 2;
+    let settings = 1 + 2 + 2 + 2 + 2 + knots * bytes + 1 + 4 + 4 + bytes + 2 + 1;
     let header = 4 + 2 + 1 + settings + 4;
     let state = 8 + 8 + bytes + 1 + 1 + bytes + (2 * bytes + 4) + (1 + 8 + 8 + 1);
     header

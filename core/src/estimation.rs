@@ -52,16 +52,37 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 ) -> Result<Model<T, M>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
-    let rest = &mut ws[lay.lff() + lay.schur()..];
+    let rest = &mut ws[lay.lff() + lay.schur() + lay.wgram()..];
     let (bf, rest) = rest.split_at_mut(lay.bf());
     let scratch = &mut rest[lay.cache()..];
 
-    // 1. Γ_f = U₁ S₁^½, C = first row, A from Γ_under A = Γ_over.
+    // 1. Γ_f (first n columns of the weighting's estimate), C = first row, A from
+    // Γ_under A = Γ_over.
     let mut gamma = Small::<T>::zeros();
     for c in 0..n {
-        let w = (proj.sv[c] * T::of(libm::sqrt(proj.j as f64))).sqrt();
         for r in 0..f {
-            gamma[(r, c)] = proj.u[(r, c)] * w;
+            gamma[(r, c)] = proj.gamma[(r, c)];
+        }
+    }
+    // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
+    let mut u2 = Small::<T>::zeros();
+    {
+        let (g, rest) = scratch.split_at_mut(f * n);
+        let (tau, e) = rest.split_at_mut(n);
+        for c in 0..n {
+            for r in 0..f {
+                g[r + c * f] = gamma[(r, c)];
+            }
+        }
+        householder_qr(g, f, n, tau);
+        let e = &mut e[..f];
+        for r in 0..f - n {
+            e.fill(T::zero());
+            e[n + r] = T::one();
+            apply_q(g, f, n, tau, e);
+            for (i, &v) in e.iter().enumerate() {
+                u2[(i, r)] = v;
+            }
         }
     }
     let mut a = Small::<T>::zeros();
@@ -119,18 +140,18 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     for jj in 0..f {
         for r in 0..nr {
             let row = jj * nr + r;
-            kmat[row] = proj.u[(jj, n + r)];
+            kmat[row] = u2[(jj, r)];
             for q in 0..n {
                 let mut s = T::zero();
                 for kk in 0..(f - jj - 1) {
-                    s += proj.u[(jj + 1 + kk, n + r)] * ob[(kk, q)];
+                    s += u2[(jj + 1 + kk, r)] * ob[(kk, q)];
                 }
                 kmat[row + (1 + q) * rows] = s;
             }
             for c in 0..m {
                 let mut s = T::zero();
                 for i in 0..f {
-                    s += proj.u[(i, n + r)] * bf[i * fm + jj * m + c];
+                    s += u2[(i, r)] * bf[i * fm + jj * m + c];
                 }
                 rhs[row + c * rows] = s;
             }

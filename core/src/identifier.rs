@@ -9,7 +9,7 @@ use crate::hold::{HoldMean, MuZero};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
 use crate::scalar::Real;
-use crate::subspace::{Layout, Order, pi_moesp, select_order};
+use crate::subspace::{Layout, Method, Order, pi_moesp, select_order};
 
 /// Identification settings (validated by [`Identifier::new`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -26,6 +26,8 @@ pub struct Settings<T, const M: usize> {
     pub mu0: MuZero<T>,
     /// Model order selection.
     pub order: Order,
+    /// Subspace weighting (PI-MOESP, the paper's, by default).
+    pub method: Method,
 }
 
 impl<T: Real, const M: usize> Settings<T, M> {
@@ -38,6 +40,7 @@ impl<T: Real, const M: usize> Settings<T, M> {
             p,
             mu0,
             order: Order::Auto,
+            method: Method::PiMoesp,
         }
     }
 }
@@ -73,6 +76,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             p: 0,
             mu0: MuZero::Known(T::ZERO),
             order: Order::Auto,
+            method: Method::PiMoesp,
         },
         acc: Accumulator::EMPTY,
         hold: HoldMean::ZERO,
@@ -217,14 +221,16 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
     /// `[Z_f; Z_p; Ȳ_f]` needs more Hankel columns than rows.
     pub fn min_samples(&self) -> u64 {
         let lay = self.layout();
-        (lay.f + lay.p) as u64 + (lay.d() + lay.f) as u64
+        (lay.f + lay.p) as u64 + (lay.d() + lay.py() + lay.f) as u64
     }
 
     fn layout(&self) -> Layout {
-        Layout::new(
+        Layout::for_method(
             self.settings.knots.channels(),
             self.settings.f,
             self.settings.p,
+            crate::subspace::SCHUR_BLOCK,
+            self.settings.method,
         )
     }
 
@@ -237,11 +243,12 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
 
     /// The smallest workspace [`solve`](Self::solve) accepts.
     pub fn min_workspace_len(&self) -> usize {
-        Layout::with_block(
+        Layout::for_method(
             self.settings.knots.channels(),
             self.settings.f,
             self.settings.p,
             1,
+            self.settings.method,
         )
         .total()
     }
@@ -254,11 +261,12 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         if let Some(e) = self.fault {
             return Err(e);
         }
-        let min = Layout::with_block(
+        let min = Layout::for_method(
             self.settings.knots.channels(),
             self.settings.f,
             self.settings.p,
             1,
+            self.settings.method,
         );
         let lay = self
             .layout()

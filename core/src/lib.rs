@@ -26,7 +26,7 @@ pub use model::{Model, ModelState};
 pub use regressor::{Basis, Direction, Knots, Located};
 pub use scalar::Real;
 pub use subspace::{
-    AUTO_ORDER_MARGIN, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
+    AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
 };
 
 /// Largest future horizon `f` (and so model order + 1) the final solve handles: the small

@@ -20,6 +20,31 @@ use crate::linalg::{Small, cholesky_packed, dot, householder_qr, packed, packed_
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 
+/// The subspace weighting (Remark 4): which instruments and which weights enter the SVD that
+/// gives `Γ_f`. All four share the accumulation, the Schur complement and the `B`, `D` step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Method {
+    /// PI-MOESP, the paper's eq. (11): past inputs as instruments, SVD of `L₃₂`.
+    #[default]
+    PiMoesp,
+    /// PO-MOESP: past inputs and past outputs `[Z_p; Ȳ_p]` as instruments, SVD of `L₃₂`.
+    PoMoesp,
+    /// N4SID (unit weights): SVD of the oblique projection of `Ȳ_f` along `Z_f` on
+    /// `W_p = [Z_p; Ȳ_p]`, i.e. of `L₃₂ L₂₂⁻¹ chol(W_p W_pᵀ)`.
+    N4sid,
+    /// CVA: PO-MOESP with the left weight `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` (canonical correlations);
+    /// `Γ_f = L_yy U₁ S₁^½`.
+    Cva,
+}
+
+impl Method {
+    /// Whether past outputs enter the instruments.
+    pub const fn past_outputs(self) -> bool {
+        !matches!(self, Method::PiMoesp)
+    }
+}
+
 /// How the model order is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -48,6 +73,8 @@ pub(crate) struct Layout {
     pub p: usize,
     /// Columns per block of the Schur complement (at least 1, at most `q`).
     pub block: usize,
+    /// The weighting; decides whether `Ȳ_p` rows are part of the instruments.
+    pub method: Method,
 }
 
 impl Layout {
@@ -61,7 +88,19 @@ impl Layout {
     }
     /// Rows of `[Z_p; Ȳ_f]`, the block that stays after `Z_f` is eliminated.
     pub const fn q(&self) -> usize {
-        self.p * self.m + self.f
+        self.w() + self.f
+    }
+    /// Rows of the instruments `W_p`: `Z_p`, and `Ȳ_p` for the methods that use past outputs.
+    pub const fn w(&self) -> usize {
+        self.p * self.m + self.py()
+    }
+    /// Rows of `Ȳ_p` in the instruments (0 for PI-MOESP).
+    pub const fn py(&self) -> usize {
+        if self.method.past_outputs() {
+            self.p
+        } else {
+            0
+        }
     }
     /// A layout with the default block width ([`SCHUR_BLOCK`], or `q` if smaller).
     pub const fn new(m: usize, f: usize, p: usize) -> Self {
@@ -69,21 +108,28 @@ impl Layout {
     }
     /// A layout with the given block width, clamped to `1 ..= q`.
     pub const fn with_block(m: usize, f: usize, p: usize, block: usize) -> Self {
-        let q = p * m + f;
-        let b = if block > q { q } else { block };
-        Self {
+        Self::for_method(m, f, p, block, Method::PiMoesp)
+    }
+    /// A layout for a weighting, with the given block width clamped to `1 ..= q`.
+    pub const fn for_method(m: usize, f: usize, p: usize, block: usize, method: Method) -> Self {
+        let mut lay = Self {
             m,
             f,
             p,
-            block: if b == 0 { 1 } else { b },
-        }
+            block: 1,
+            method,
+        };
+        let q = lay.q();
+        let b = if block > q { q } else { block };
+        lay.block = if b == 0 { 1 } else { b };
+        lay
     }
     /// The widest block that fits in `len` scalars, if any.
     pub fn fitting(self, len: usize) -> Option<Self> {
         let fixed = self.total() - self.cache();
         let per = 2 * self.fm();
         let b = len.checked_sub(fixed)? / per.max(1);
-        (b >= 1).then(|| Self::with_block(self.m, self.f, self.p, b))
+        (b >= 1).then(|| Self::for_method(self.m, self.f, self.p, b, self.method))
     }
     /// Columns per block of the Schur complement.
     pub const fn block(&self) -> usize {
@@ -97,6 +143,14 @@ impl Layout {
     pub const fn schur(&self) -> usize {
         packed_len(self.q())
     }
+    /// Packed Gram of the instruments `W_p` (N4SID only).
+    pub const fn wgram(&self) -> usize {
+        if matches!(self.method, Method::N4sid) {
+            packed_len(self.w())
+        } else {
+            0
+        }
+    }
     /// Length of `B_f = L₃₁ L₁₁⁻¹` (`f × f·m`).
     pub const fn bf(&self) -> usize {
         self.f * self.fm()
@@ -107,8 +161,8 @@ impl Layout {
     }
     /// Scratch for the QR/least-squares steps.
     pub const fn scratch(&self) -> usize {
-        let (f, m, p) = (self.f, self.m, self.p);
-        let a = p * m * f + f;
+        let (f, m) = (self.f, self.m);
+        let a = self.w() * f + f;
         let b = f * f * (f + m + 1) + f;
         let c = m * f + m + f;
         let ab = if a > b { a } else { b };
@@ -116,7 +170,7 @@ impl Layout {
     }
     /// Whole workspace.
     pub const fn total(&self) -> usize {
-        self.lff() + self.schur() + self.bf() + self.cache() + self.scratch()
+        self.lff() + self.schur() + self.wgram() + self.bf() + self.cache() + self.scratch()
     }
     /// Row of channel `c` of block row `a` of `z` in `[Z_f; Z_p; Ȳ_f]`.
     #[inline]
@@ -127,10 +181,17 @@ impl Layout {
             self.f * self.m + a * self.m + c
         }
     }
-    /// Row of `ȳ` in block row `a`, if it belongs to `Ȳ_f`.
+    /// Row of `ȳ` in block row `a` in `[Z_f; Z_p; Ȳ_p; Ȳ_f]`, if it is used.
     #[inline]
     pub fn y_row(&self, a: usize) -> Option<usize> {
-        (a >= self.p).then(|| self.d() + (a - self.p))
+        let base = self.fm() + self.p * self.m;
+        if a >= self.p {
+            Some(base + self.py() + (a - self.p))
+        } else if self.py() > 0 {
+            Some(base + a)
+        } else {
+            None
+        }
     }
 }
 
@@ -159,8 +220,8 @@ pub(crate) struct Projection<T> {
     pub sv: [T; MAX_HORIZON],
     /// Whitened singular values (order selection), descending.
     pub sv_white: [T; MAX_HORIZON],
-    /// Left singular vectors of `O_f` (`f × f`).
-    pub u: Small<T>,
+    /// `Γ_f` for every order: its first `n` columns are the estimate of order `n`.
+    pub gamma: Small<T>,
 }
 
 /// Visits every entry `(r, c, v)`, `r >= c`, of the Gram of `[Z_f; Z_p; Ȳ_f]` (rows centred
@@ -233,9 +294,12 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
     let pm = p * m;
     let in_range = |col: usize| col >= c0 && col < c0 + width;
     // Block rows whose Z_p channels, or whose ȳ (in Ȳ_f), fall in the wanted columns.
+    let py = lay.py();
     let zp = |b: usize| b < p && c0 < (b + 1) * m && b * m < c0 + width;
-    let yf = |a: usize| a >= p && in_range(pm + a - p);
-    let want = |x: usize, y: usize| (x < p && y >= p && zp(x)) || (x >= p && (yf(x) || yf(y)));
+    let yp = |b: usize| b < p && py > 0 && in_range(pm + b);
+    let yf = |a: usize| a >= p && in_range(pm + py + a - p);
+    let want =
+        |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)));
     for_each_entry(acc, knots, basis, lay, sums, want, |r, c, v| {
         // r >= c: the Z_f row is c, the [Z_p; Ȳ_f] column is r − fm.
         if c < fm && r >= fm {
@@ -268,9 +332,10 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     ws: &mut [T],
 ) -> Result<Projection<T>, Error> {
     let (f, m) = (lay.f, lay.m);
-    let (fm, q, pm, d) = (lay.fm(), lay.q(), lay.p * m, lay.d());
+    let (fm, q, pm, d, w) = (lay.fm(), lay.q(), lay.p * m, lay.d(), lay.w());
     let (lff, rest) = ws.split_at_mut(lay.lff());
     let (schur, rest) = rest.split_at_mut(lay.schur());
+    let (wgram, rest) = rest.split_at_mut(lay.wgram());
     let (bf, rest) = rest.split_at_mut(lay.bf());
     let (cache, scratch) = rest.split_at_mut(lay.cache());
     let sums = centred.then(|| acc.row_sums(knots, basis));
@@ -289,10 +354,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 lff[packed(r, c)] = v;
             } else if c >= fm {
                 schur[packed(r - fm, c - fm)] = v;
+                if r < fm + w && !wgram.is_empty() {
+                    wgram[packed(r - fm, c - fm)] = v;
+                }
             }
         },
     );
-    let tol = T::EPS * T::of_usize(8 * (d + f));
+    let tol = T::EPS * T::of_usize(8 * (d + q));
     cholesky_packed(lff, fm, fm, tol).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
@@ -325,7 +393,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     }
 
     // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X.
-    cross_block(acc, knots, basis, lay, sums, lff, pm, f, bf);
+    cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
     for x in bf.chunks_exact_mut(fm).take(f) {
         for i in (0..fm).rev() {
             let mut s = x[i];
@@ -336,62 +404,179 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         }
     }
 
-    // 4. Cholesky of S: Z_p rows must be positive definite, Ȳ_f rows may be singular.
+    // 4. Cholesky of S: Z_p rows must be positive definite; Ȳ_p and Ȳ_f rows may be singular
+    // (noise-free data).
     cholesky_packed(schur, q, pm, tol).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
-
-    // 5. L₃₂ᵀ (p·m × f) into scratch, QR, and the f × f SVD of Rᵀ.
-    let (x, tau) = scratch.split_at_mut(pm * f);
-    for i in 0..f {
-        let row = packed(pm + i, 0);
-        x[i * pm..(i + 1) * pm].copy_from_slice(&schur[row..row + pm]);
-    }
-    householder_qr(x, pm, f, &mut tau[..f]);
-    let mut rt = Small::<T>::zeros();
-    for i in 0..f {
-        for k in 0..=i {
-            rt[(i, k)] = x[k + i * pm];
-        }
-    }
-    let (u, s, _) = svd_small(rt).ok_or(Error::NoConvergence {
-        stage: Stage::Projection,
-    })?;
-
-    // 6. Whitened singular values: √((j − d)/(p·m)) · L₃₃⁻¹ Rᵀ, with L₃₃'s diagonal floored
-    // at √ε·σ₁ so that noise-free data do not divide by zero.
     let j = acc.columns();
-    let floor = T::EPS.sqrt() * s[0];
-    let mut w = rt;
-    for c in 0..f {
-        for r in 0..f {
-            let row = packed(pm + r, pm);
-            let mut acc_v = w[(r, c)];
-            for k in 0..r {
-                acc_v -= schur[row + k] * w[(k, c)];
+
+    // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
+    // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
+    let (x, tau) = scratch.split_at_mut(w * f);
+    let load_l32 = |x: &mut [T]| {
+        for i in 0..f {
+            let row = packed(w + i, 0);
+            x[i * w..(i + 1) * w].copy_from_slice(&schur[row..row + w]);
+        }
+    };
+    let r_transposed = |x: &mut [T], tau: &mut [T]| {
+        householder_qr(x, w, f, &mut tau[..f]);
+        let mut rt = Small::<T>::zeros();
+        for i in 0..f {
+            for k in 0..=i {
+                rt[(i, k)] = x[k + i * w];
             }
-            let diag = schur[row + r].max(floor);
-            w[(r, c)] = if diag > T::zero() {
-                acc_v / diag
-            } else {
-                T::zero()
-            };
+        }
+        rt
+    };
+    load_l32(x);
+    let rt = r_transposed(x, tau);
+    // L₃₃ (f × f, lower) for the whitening and CVA.
+    let mut l33 = Small::<T>::zeros();
+    for r in 0..f {
+        let row = packed(w + r, w);
+        for c in 0..=r {
+            l33[(r, c)] = schur[row + c];
         }
     }
-    let dof = (j as f64 - d as f64).max(1.0);
-    let scale = T::of(libm::sqrt(dof / pm as f64));
-    let (_, sw, _) = svd_small(w).ok_or(Error::NoConvergence {
+    let sqrt_j = T::of(libm::sqrt(j as f64));
+    let (gamma, sv) = match lay.method {
+        Method::Cva => {
+            // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ.
+            let gram = rt * rt.transpose() + l33 * l33.transpose();
+            let lyy = small_cholesky(&gram, f).ok_or(Error::RankDeficient {
+                stage: Stage::Projection,
+            })?;
+            let wtd = lower_solve(&lyy, &rt, f);
+            let (u, s, _) = svd_small(wtd).ok_or(Error::NoConvergence {
+                stage: Stage::Projection,
+            })?;
+            let t = lyy * u;
+            (scale_columns(t, &s, f, T::one()), s)
+        }
+        Method::N4sid => {
+            // O = L₃₂ L₂₂⁻¹ L_W, L_W the Cholesky factor of the instruments' Gram W_p W_pᵀ.
+            cholesky_packed(wgram, w, pm, tol).map_err(|_| Error::RankDeficient {
+                stage: Stage::InputHankel,
+            })?;
+            load_l32(x);
+            for col in x.chunks_exact_mut(w).take(f) {
+                // x L₂₂ = l₃₂ (back substitution), then x L_W.
+                for c in (0..w).rev() {
+                    let mut s = col[c];
+                    for (r, &xr) in col.iter().enumerate().skip(c + 1) {
+                        s -= xr * schur[packed(r, c)];
+                    }
+                    let dgn = schur[packed(c, c)];
+                    col[c] = if dgn > T::zero() { s / dgn } else { T::zero() };
+                }
+                for c in 0..w {
+                    let mut s = T::zero();
+                    for (r, &xr) in col.iter().enumerate().skip(c) {
+                        s += xr * wgram[packed(r, c)];
+                    }
+                    col[c] = s;
+                }
+            }
+            let ot = r_transposed(x, tau);
+            let (u, s, _) = svd_small(ot).ok_or(Error::NoConvergence {
+                stage: Stage::Projection,
+            })?;
+            let mut sv = s;
+            for v in sv.iter_mut() {
+                *v /= sqrt_j;
+            }
+            (scale_columns(u, &s, f, T::one()), sv)
+        }
+        Method::PiMoesp | Method::PoMoesp => {
+            let (u, s, _) = svd_small(rt).ok_or(Error::NoConvergence {
+                stage: Stage::Projection,
+            })?;
+            let mut sv = s;
+            for v in sv.iter_mut() {
+                *v /= sqrt_j;
+            }
+            (scale_columns(u, &s, f, T::one()), sv)
+        }
+    };
+
+    // 6. Whitened singular values of L₃₂: √((j − d)/w) · L₃₃⁻¹ Rᵀ, with L₃₃'s diagonal
+    // floored at √ε·‖L₃₂‖ so that noise-free data do not divide by zero.
+    let norm = rt.iter().fold(T::zero(), |a, &v| a.max(v.abs()));
+    let floor = T::EPS.sqrt() * norm;
+    let mut l33f = l33;
+    for i in 0..f {
+        l33f[(i, i)] = l33f[(i, i)].max(floor);
+    }
+    let wh = lower_solve(&l33f, &rt, f);
+    let dof = (j as f64 - (d + lay.py()) as f64).max(1.0);
+    let scale = T::of(libm::sqrt(dof / w as f64));
+    let (_, sw, _) = svd_small(wh).ok_or(Error::NoConvergence {
         stage: Stage::Projection,
     })?;
-
-    let sqrt_j = T::of(libm::sqrt(j as f64));
-    let mut sv = [T::zero(); MAX_HORIZON];
     let mut sv_white = [T::zero(); MAX_HORIZON];
     for i in 0..f {
-        sv[i] = s[i] / sqrt_j;
         sv_white[i] = sw[i] * scale;
     }
-    Ok(Projection { j, sv, sv_white, u })
+    let mut svo = [T::zero(); MAX_HORIZON];
+    svo[..f].copy_from_slice(&sv[..f]);
+    Ok(Projection {
+        j,
+        sv: svo,
+        sv_white,
+        gamma,
+    })
+}
+
+/// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
+fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale: T) -> Small<T> {
+    for (c, &sc) in s.iter().enumerate().take(f) {
+        let w = (sc * scale).sqrt();
+        for r in 0..f {
+            t[(r, c)] *= w;
+        }
+    }
+    t
+}
+
+/// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix.
+fn small_cholesky<T: Real>(a: &Small<T>, n: usize) -> Option<Small<T>> {
+    let mut l = Small::<T>::zeros();
+    for i in 0..n {
+        for j in 0..=i {
+            let mut s = a[(i, j)];
+            for k in 0..j {
+                s -= l[(i, k)] * l[(j, k)];
+            }
+            if i == j {
+                let ok = s > T::zero() && s.finite();
+                if !ok {
+                    return None;
+                }
+                l[(i, i)] = s.sqrt();
+            } else {
+                l[(i, j)] = s / l[(j, j)];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// `L⁻¹ B` for lower-triangular `L` (leading `n × n`), zero diagonal entries giving zero rows.
+fn lower_solve<T: Real>(l: &Small<T>, b: &Small<T>, n: usize) -> Small<T> {
+    let mut x = *b;
+    for c in 0..n {
+        for r in 0..n {
+            let mut v = x[(r, c)];
+            for k in 0..r {
+                v -= l[(r, k)] * x[(k, c)];
+            }
+            let d = l[(r, r)];
+            x[(r, c)] = if d > T::zero() { v / d } else { T::zero() };
+        }
+    }
+    x
 }
 
 /// The order: fixed, or counted from the whitened singular values.
@@ -403,7 +588,7 @@ pub(crate) fn select_order<T: Real>(
     match order {
         Order::Fixed(n) => Ok(n),
         Order::Auto => {
-            let edge = 1.0 + libm::sqrt(lay.f as f64 / (lay.p * lay.m) as f64);
+            let edge = 1.0 + libm::sqrt(lay.f as f64 / lay.w() as f64);
             let thr = T::of(AUTO_ORDER_MARGIN * edge);
             let n = proj.sv_white[..lay.f]
                 .iter()

@@ -37,6 +37,8 @@ pub struct IdentifyOptions {
     pub basis: Basis,
     /// A static (memoryless) nonlinearity: one border for both directions, on `knots_asc`.
     pub static_nonlinearity: bool,
+    /// Subspace weighting.
+    pub method: hsid::Method,
 }
 
 impl IdentifyOptions {
@@ -63,6 +65,7 @@ impl IdentifyOptions {
             mu0: None,
             basis: Basis::Hat,
             static_nonlinearity: false,
+            method: hsid::Method::PiMoesp,
         }
     }
 
@@ -235,6 +238,7 @@ fn run<const M: usize, const K: usize>(
     let mut settings = Settings::new(knots, opts.f, opts.p, mu0);
     settings.basis = opts.basis;
     settings.order = opts.order.map_or(Order::Auto, Order::Fixed);
+    settings.method = opts.method;
     let mut id = Box::new(Identifier::<f64, M, K>::new(settings)?);
     for (&ui, &yi) in u.iter().zip(y) {
         id.push(ui, yi);
