@@ -463,6 +463,33 @@ fn least_squares(
 /// Identifies the Hammerstein model from the excitation `u`, the output `y` (same length, no
 /// hold) and `mu0` (see [`mu0_from_hold`]), following the paper's Section III (PI-MOESP).
 pub fn identify(u: &[f64], y: &[f64], mu0: f64, cfg: &RefConfig) -> Result<RefModel, RefError> {
+    identify_weighted(u, y, mu0, cfg, RefMethod::PiMoesp)
+}
+
+/// The subspace weightings of Remark 4, written with explicit matrices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RefMethod {
+    /// Eq. (11): `O_f = Ȳ_f Φᵀ(ΦΦᵀ)⁻¹Φ Π⊥_{Z_f}`, `Φ = [Z_p; Z_f]`; `Γ_f = U₁S₁^½`.
+    PiMoesp,
+    /// Eq. (11) with `Φ = [Z_p; Ȳ_p; Z_f]`; `Γ_f = U₁S₁^½`.
+    PoMoesp,
+    /// The oblique projection `O_f = (Ȳ_f Π⊥ W_pᵀ)(W_p Π⊥ W_pᵀ)⁻¹ W_p`, `W_p = [Z_p; Ȳ_p]`;
+    /// `Γ_f = U₁S₁^½`.
+    N4sid,
+    /// `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` times PO-MOESP's `O_f`: SVD `U S Vᵀ` of `L⁻¹ O_f` with
+    /// `L Lᵀ = Ȳ_f Π⊥ Ȳ_fᵀ`; `Γ_f = L U₁ S₁^½`; the singular values are canonical
+    /// correlations (not divided by `√j`).
+    Cva,
+}
+
+/// [`identify`] with a choice of weighting.
+pub fn identify_weighted(
+    u: &[f64],
+    y: &[f64],
+    mu0: f64,
+    cfg: &RefConfig,
+    method: RefMethod,
+) -> Result<RefModel, RefError> {
     cfg.validate()?;
     if u.len() != y.len() {
         return Err(RefError::LengthMismatch {
@@ -491,33 +518,79 @@ pub fn identify(u: &[f64], y: &[f64], mu0: f64, cfg: &RefConfig) -> Result<RefMo
     let zp = block_hankel(&z, 0, p, j);
     let zf = block_hankel(&z, p, f, j);
     let yf = block_hankel(&ybar, p, f, j);
-    let mut phi = DMatrix::zeros(k * m, j);
-    phi.view_mut((0, 0), (p * m, j)).copy_from(&zp);
-    phi.view_mut((p * m, 0), (f * m, j)).copy_from(&zf);
+    // Instruments W_p: past inputs, and past outputs for all but PI-MOESP.
+    let wp = if method == RefMethod::PiMoesp {
+        zp.clone()
+    } else {
+        let yp = block_hankel(&ybar, 0, p, j);
+        let mut w = DMatrix::zeros(p * m + p, j);
+        w.view_mut((0, 0), (p * m, j)).copy_from(&zp);
+        w.view_mut((p * m, 0), (p, j)).copy_from(&yp);
+        w
+    };
+    let nw = wp.nrows();
+    let mut phi = DMatrix::zeros(nw + f * m, j);
+    phi.view_mut((0, 0), (nw, j)).copy_from(&wp);
+    phi.view_mut((nw, 0), (f * m, j)).copy_from(&zf);
 
-    // Eq. (11): O_f = Ȳ_f Φᵀ (Φ Φᵀ)^{-1} Φ Π⊥_{Z_f}.
-    let gram_phi = &phi * phi.transpose();
-    let gram_zf = gram_phi.view((p * m, p * m), (f * m, f * m)).into_owned();
-    let chol_phi = spd_factor(gram_phi, "Phi Phi^T")?;
+    let gram_zf = &zf * zf.transpose();
     let chol_zf = spd_factor(gram_zf, "Z_f Z_f^T")?;
-    // L̂ = Ȳ_f Φᵀ (Φ Φᵀ)^{-1}  (f × k m)
-    let l_hat = chol_phi.solve(&(&phi * yf.transpose())).transpose();
-    // X = L̂ Φ, then O_f = X Π⊥ = X - (X Z_fᵀ)(Z_f Z_fᵀ)^{-1} Z_f.
-    let x_proj = &l_hat * &phi;
-    let xzt = &x_proj * zf.transpose();
-    let o_f = &x_proj - chol_zf.solve(&xzt.transpose()).transpose() * &zf;
+    // X Π⊥_{Z_f} = X - (X Z_fᵀ)(Z_f Z_fᵀ)^{-1} Z_f.
+    let perp = |x: &DMatrix<f64>| -> DMatrix<f64> {
+        let xzt = x * zf.transpose();
+        x - chol_zf.solve(&xzt.transpose()).transpose() * &zf
+    };
+    // Eq. (11): O_f = Ȳ_f Φᵀ (Φ Φᵀ)^{-1} Φ Π⊥_{Z_f} (PI- and PO-MOESP, and CVA's core).
+    let moesp = || -> Result<DMatrix<f64>, RefError> {
+        let chol_phi = spd_factor(&phi * phi.transpose(), "Phi Phi^T")?;
+        let l_hat = chol_phi.solve(&(&phi * yf.transpose())).transpose();
+        Ok(perp(&(&l_hat * &phi)))
+    };
+    let sqrt_j = (j as f64).sqrt();
+    let (o_f, left) = match method {
+        RefMethod::PiMoesp | RefMethod::PoMoesp => (moesp()?, None),
+        RefMethod::N4sid => {
+            let wperp = perp(&wp);
+            let yperp = perp(&yf);
+            let chol_w = spd_factor(&wperp * wp.transpose(), "W_p Pi W_p^T")?;
+            let coef = chol_w.solve(&(&wperp * yperp.transpose())).transpose();
+            (&coef * &wp, None)
+        }
+        RefMethod::Cva => {
+            let yperp = perp(&yf);
+            let lyy = (&yperp * yf.transpose())
+                .cholesky()
+                .ok_or(RefError::SingularGram("Y_f Pi Y_f^T"))?
+                .l();
+            let o = moesp()?;
+            let w = lyy
+                .solve_lower_triangular(&o)
+                .ok_or(RefError::SingularGram("Y_f Pi Y_f^T"))?;
+            (w, Some(lyy))
+        }
+    };
 
     // Eqs. (12)-(13).
     let svd = nalgebra::SVD::try_new(o_f, true, false, f64::EPSILON, 10_000)
         .ok_or(RefError::SvdFailed("O_f"))?;
     let u_full = svd.u.ok_or(RefError::SvdFailed("O_f"))?;
     let s = svd.singular_values;
-    let sqrt_j = (j as f64).sqrt();
-    let singular_values: Vec<f64> = s.iter().map(|v| v / sqrt_j).collect();
+    let singular_values: Vec<f64> = match method {
+        RefMethod::Cva => s.iter().copied().collect(),
+        _ => s.iter().map(|v| v / sqrt_j).collect(),
+    };
     let u1 = u_full.columns(0, n).into_owned();
-    let u2t = u_full.columns(n, f - n).transpose();
     let sqrt_s = DMatrix::from_diagonal(&s.rows(0, n).map(f64::sqrt));
-    let gamma_f = &u1 * sqrt_s;
+    let gamma_f = match &left {
+        Some(l) => l * &u1 * sqrt_s,
+        None => &u1 * sqrt_s,
+    };
+    // U₂: the orthogonal complement of range(Γ_f).
+    let q_full = gamma_f.clone().qr().q();
+    let mut basis = DMatrix::<f64>::identity(f, f);
+    basis.view_mut((0, 0), (f, n)).copy_from(&q_full);
+    let full_q = basis.qr().q();
+    let u2t = full_q.columns(n, f - n).transpose();
 
     // Step 1: C and A.
     let c: RowDVector<f64> = gamma_f.row(0).into_owned();

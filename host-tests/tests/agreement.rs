@@ -221,3 +221,62 @@ fn capacity_does_not_change_the_model() {
     let dh = rel_diff(&markov_core(&small, 30), &markov_core(&big, 30));
     assert!(dh < 1e-12, "{dh:e}");
 }
+
+/// Every weighting of Remark 4 in the streaming core against the same weighting written with
+/// explicit Hankel matrices (ramp basis, fixed order so that the comparison is of the same
+/// model): singular values, poles, Markov parameters and borders to rounding.
+#[test]
+fn every_weighting_matches_the_reference() {
+    use hsid_host::reference::RefMethod;
+    let d = data(Case::Backlash, 2, 10.0);
+    let (ka, kd) = knots();
+    let cfg = RefConfig {
+        u_min: -3.0,
+        u_max: 3.0,
+        knots_asc: ka.clone(),
+        knots_desc: kd.clone(),
+        f: 10,
+        p: 10,
+        order: 2,
+    };
+    let mu0 = reference::mu0_from_hold(&d.y[..HOLD], SETTLE);
+    for (method, rm) in [
+        (hsid::Method::PiMoesp, RefMethod::PiMoesp),
+        (hsid::Method::PoMoesp, RefMethod::PoMoesp),
+        (hsid::Method::N4sid, RefMethod::N4sid),
+        (hsid::Method::Cva, RefMethod::Cva),
+    ] {
+        let r = reference::identify_weighted(&d.u[HOLD..], &d.y[HOLD..], mu0, &cfg, rm).unwrap();
+        let knots = Knots::<f64, 13>::new(&ka, &kd).unwrap();
+        let mut s = Settings::new(
+            knots,
+            10,
+            10,
+            MuZero::Hold {
+                len: HOLD,
+                settle: SETTLE,
+            },
+        );
+        s.basis = Basis::Ramp;
+        s.order = Order::Fixed(2);
+        s.method = method;
+        let mut id = Identifier::<f64, 13, 20>::new(s).unwrap();
+        for (&u, &y) in d.u.iter().zip(&d.y) {
+            id.push(u, y);
+        }
+        let mut ws = vec![0.0; id.workspace_len()];
+        let c = id.solve(&mut ws).unwrap();
+        let dsv = rel_diff(c.singular_values(), &r.singular_values);
+        let dp = rel_diff(&poles_core(&c), &poles_ref(&r));
+        let rh: Vec<f64> = (0..40).map(|k| r.markov(k)).collect();
+        let dh = rel_diff(&markov_core(&c, 40), &rh);
+        let db = rel_diff(&borders_core(&c), &ref_borders(&r));
+        println!(
+            "{method:?}: singular values {dsv:.2e}, poles {dp:.2e}, Markov {dh:.2e}, borders {db:.2e}"
+        );
+        assert!(
+            dsv < 1e-9 && dp < 1e-9 && dh < 1e-9 && db < 1e-9,
+            "{method:?}"
+        );
+    }
+}
