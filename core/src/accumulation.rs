@@ -122,7 +122,17 @@ pub struct Accumulator<T, const M: usize, const K: usize> {
     pub(crate) count: u64,
     pub(crate) sum_z: [T; M],
     pub(crate) sum_y: T,
+    /// Forgetting factor λ (1: none). Column `c` of the Hankel matrices has weight
+    /// `λ^{j−1−c}`: the newest column 1, older ones less.
+    pub(crate) lambda: T,
+    /// Stored sums are the true λ-weighted sums times `scale`; new products enter multiplied
+    /// by it, and it grows by `1/λ` per sample until a renormalisation folds it back to 1.
+    pub(crate) scale: T,
 }
+
+/// Renormalise the stored sums when their scale passes this (a power of two, so the
+/// renormalisation is exact in binary floating point up to the sums' own rounding).
+const RENORM: f64 = 65536.0;
 
 /// Sums of `z` and `ȳ` over the columns of every block row of the Hankel matrix (for
 /// centring the rows when μ0 is estimated from the data).
@@ -146,14 +156,18 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         count: 0,
         sum_z: [T::ZERO; M],
         sum_y: T::ZERO,
+        lambda: T::ONE,
+        scale: T::ONE,
     };
 
     /// Empties the accumulator in place for `k` block rows (`2 <= k <= K`), without building
-    /// a new value on the stack.
+    /// a new value on the stack. No forgetting ([`set_forgetting`](Self::set_forgetting)).
     pub fn reset(&mut self, k: usize) -> Result<(), Error> {
         if !(2..=K).contains(&k) {
             return Err(Error::InvalidHorizon { f: 0, k });
         }
+        self.lambda = T::one();
+        self.scale = T::one();
         for l in self.lags.iter_mut() {
             *l = Lagged::ZERO;
         }
@@ -171,19 +185,60 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     pub fn new(k: usize) -> Result<Self, Error> {
         const { assert!(K >= 2, "K (block rows f + p) must be at least 2") };
         const { assert!(M >= 2, "M (segments on both paths) must be at least 2") };
-        if !(2..=K).contains(&k) {
-            return Err(Error::InvalidHorizon { f: 0, k });
+        let mut acc = Self::EMPTY;
+        acc.reset(k)?;
+        Ok(acc)
+    }
+
+    /// Sets the forgetting factor λ (`0 < λ <= 1`; 1 = none) for the samples to come.
+    pub fn set_forgetting(&mut self, lambda: T) -> Result<(), Error> {
+        let valid = lambda > T::zero() && lambda <= T::one() && lambda.finite();
+        if !valid {
+            return Err(Error::InvalidForgetting {
+                lambda: lambda.to_f64(),
+            });
         }
-        Ok(Self {
-            lags: [Lagged::default(); K],
-            head: [Entry::default(); K],
-            ring: [Entry::default(); K],
-            k,
-            pos: 0,
-            count: 0,
-            sum_z: [T::zero(); M],
-            sum_y: T::zero(),
-        })
+        self.lambda = lambda;
+        Ok(())
+    }
+
+    /// The forgetting factor λ (1: none).
+    pub fn forgetting(&self) -> T {
+        self.lambda
+    }
+
+    /// `λ^e` for a non-negative integer exponent (0 for underflow), in `f64`.
+    fn lambda_pow(&self, e: u64) -> T {
+        if self.lambda == T::one() {
+            T::one()
+        } else {
+            T::of(libm::pow(self.lambda.to_f64(), e as f64))
+        }
+    }
+
+    /// Sum of the column weights: `j` without forgetting, `(1 − λ^j)/(1 − λ)` with.
+    pub fn effective_columns(&self) -> T {
+        self.weight_sum(self.columns())
+    }
+
+    /// `Σ_{i<n} λ^i`.
+    fn weight_sum(&self, n: u64) -> T {
+        if self.lambda == T::one() {
+            T::of(n as f64)
+        } else {
+            let l = self.lambda.to_f64();
+            T::of((1.0 - libm::pow(l, n as f64)) / (1.0 - l))
+        }
+    }
+
+    /// The λ-weighted means of z and ȳ over all samples (weight `λ^{N−1−t}`).
+    pub fn weighted_means(&self) -> ([T; M], T) {
+        let w = self.weight_sum(self.count) * self.scale;
+        let mut z = self.sum_z;
+        for v in z.iter_mut() {
+            *v /= w;
+        }
+        (z, self.sum_y / w)
     }
 
     /// Block rows `k = f + p`.
@@ -201,7 +256,8 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         (self.count + 1).saturating_sub(self.k as u64)
     }
 
-    /// Sums of `z` and `ȳ` over all samples.
+    /// Sums of `z` and `ȳ` over all samples, as stored (λ-weighted and scaled when
+    /// forgetting; see [`weighted_means`](Self::weighted_means)).
     pub fn sums(&self) -> (&[T; M], T) {
         (&self.sum_z, self.sum_y)
     }
@@ -209,32 +265,48 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     /// Row sums of every block row over its `j` columns: the total minus the samples before
     /// the row's window (head) and after it (tail).
     pub fn row_sums(&self, knots: &Knots<T, M>, basis: Basis) -> RowSums<T, M, K> {
+        // Stored sums carry the weight λ^{N−1−t}·scale; a row's window gets λ^{j−1−c}, which
+        // is λ^{N−1−t}·λ^{a−(k−1)}: remove the samples outside the window with their stored
+        // weights, then rescale.
         let mut out = RowSums {
             z: [self.sum_z; K],
             y: [self.sum_y; K],
         };
         let j = self.columns();
-        for (a, (rz, ry)) in out
-            .z
-            .iter_mut()
-            .zip(out.y.iter_mut())
-            .enumerate()
-            .take(self.k)
-        {
+        let n = self.count;
+        let k = self.k;
+        for (a, (rz, ry)) in out.z.iter_mut().zip(out.y.iter_mut()).enumerate().take(k) {
             let a64 = a as u64;
-            let outside = (0..a64).chain((a64 + j)..self.count);
+            let outside = (0..a64).chain((a64 + j)..n);
             for t in outside {
                 if let Some(e) = self.sample(t) {
+                    let wt = self.lambda_pow(n - 1 - t) * self.scale;
                     for_each_nonzero(knots, basis, &e.at, |i, v| {
                         if let Some(s) = rz.get_mut(i) {
-                            *s -= v;
+                            *s -= v * wt;
                         }
                     });
-                    *ry -= e.y;
+                    *ry -= e.y * wt;
                 }
             }
+            let f = self.row_factor(a);
+            for v in rz.iter_mut() {
+                *v *= f;
+            }
+            *ry *= f;
         }
         out
+    }
+
+    /// From stored (scaled, λ^{N−1−·}-weighted) sums to the weighted Hankel Gram of a block
+    /// whose later block row is `b`: `λ^{−(k−1−b)} / scale`.
+    fn row_factor(&self, b: usize) -> T {
+        let up = self.k.saturating_sub(1).saturating_sub(b) as u64;
+        if self.lambda == T::one() {
+            T::one() / self.scale
+        } else {
+            T::one() / (self.lambda_pow(up) * self.scale)
+        }
     }
 
     /// The lagged sum `R_τ` (`None` for `τ >= k`).
@@ -255,21 +327,51 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
             *slot = new;
         }
         let k = self.k.clamp(1, K);
+        // Forgetting: every stored sum decays by λ, which is the same as new products
+        // entering 1/λ larger.
+        if self.lambda != T::one() {
+            self.scale /= self.lambda;
+        }
+        let w = self.scale;
         let lags_now = usize::try_from(self.count).map_or(k, |c| c.saturating_add(1).min(k));
         for tau in 0..lags_now {
             let idx = (self.pos + k - tau) % k;
             if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
-                lag.add_outer(knots, basis, old, &new, T::one());
+                lag.add_outer(knots, basis, old, &new, w);
             }
         }
         self.pos = (self.pos + 1) % k;
         for_each_nonzero(knots, basis, &at, |i, v| {
             if let Some(s) = self.sum_z.get_mut(i) {
-                *s += v;
+                *s += v * w;
             }
         });
-        self.sum_y += y;
+        self.sum_y += y * w;
         self.count += 1;
+        if self.scale > T::of(RENORM) {
+            self.renormalise();
+        }
+    }
+
+    /// Folds the scale back into the stored sums (rare: every `log(RENORM)/log(1/λ)` samples).
+    fn renormalise(&mut self) {
+        let inv = T::one() / self.scale;
+        for lag in self.lags.iter_mut() {
+            for row in lag.zz.iter_mut() {
+                for v in row.iter_mut() {
+                    *v *= inv;
+                }
+            }
+            for v in lag.zy.iter_mut().chain(lag.yz.iter_mut()) {
+                *v *= inv;
+            }
+            lag.yy *= inv;
+        }
+        for v in self.sum_z.iter_mut() {
+            *v *= inv;
+        }
+        self.sum_y *= inv;
+        self.scale = T::one();
     }
 
     /// Sample `t` if it is still stored (among the first `k` or the last `k`).
@@ -320,30 +422,49 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         for (tau, r) in self.lags.iter().take(k).enumerate() {
             let tau64 = tau as u64;
             let mut corr = Lagged::<T, M>::default();
+            // Stored weight of the product w(t) w(t+τ)ᵀ: λ^{N−1−t−τ}·scale.
+            let weight = |t: u64| self.lambda_pow(n - 1 - t - tau64) * self.scale;
             // Tail correction for a = 0: samples t = j … N−1−τ.
             let mut t = j;
             while t + tau64 < n {
                 if let (Some(e), Some(l)) = (self.sample(t), self.sample(t + tau64)) {
-                    corr.add_outer(knots, basis, e, l, T::one());
+                    corr.add_outer(knots, basis, e, l, weight(t));
                 }
                 t += 1;
             }
             for a in 0..(k - tau) {
                 if want(a, a + tau) {
                     subtract(&mut block, r, &corr);
+                    let f = self.row_factor(a + tau);
+                    if f != T::one() {
+                        scale_block(&mut block, f);
+                    }
                     sink(a, a + tau, &block);
                 }
                 let a64 = a as u64;
                 // Move the window one column: the head gains w(a), the tail loses w(a + j).
                 if let (Some(e), Some(l)) = (self.sample(a64), self.sample(a64 + tau64)) {
-                    corr.add_outer(knots, basis, e, l, T::one());
+                    corr.add_outer(knots, basis, e, l, weight(a64));
                 }
                 if let (Some(e), Some(l)) = (self.sample(a64 + j), self.sample(a64 + j + tau64)) {
-                    corr.add_outer(knots, basis, e, l, -T::one());
+                    corr.add_outer(knots, basis, e, l, -weight(a64 + j));
                 }
             }
         }
     }
+}
+
+/// `block *= f`.
+fn scale_block<T: Real, const M: usize>(block: &mut Lagged<T, M>, f: T) {
+    for row in block.zz.iter_mut() {
+        for v in row.iter_mut() {
+            *v *= f;
+        }
+    }
+    for v in block.zy.iter_mut().chain(block.yz.iter_mut()) {
+        *v *= f;
+    }
+    block.yy *= f;
 }
 
 /// `out = r − c`, block by block.

@@ -27,13 +27,13 @@
 use crate::accumulation::{Entry, Lagged};
 use crate::error::{Error, Signal};
 use crate::hold::{HoldMean, MuZero};
-use crate::identifier::{Identifier, Settings};
+use crate::identifier::{Forgetting, Identifier, Settings};
 use crate::regressor::{Basis, Direction, Knots, Located};
 use crate::scalar::Real;
 use crate::subspace::{Method, Order};
 
 /// Format version written into every checkpoint.
-pub const CHECKPOINT_VERSION: u16 = 1;
+pub const CHECKPOINT_VERSION: u16 = 2;
 const MAGIC: [u8; 4] = *b"HSID";
 
 /// What is wrong with a checkpoint.
@@ -221,6 +221,10 @@ fn write_settings<T: Real, const M: usize>(w: &mut Writer<'_>, s: &Settings<T, M
         Method::N4sid => 2,
         Method::Cva => 3,
     });
+    w.real(match s.forgetting {
+        Forgetting::None => T::one(),
+        Forgetting::Exponential { lambda } => lambda,
+    });
 }
 
 fn read_settings<T: Real, const M: usize>(
@@ -261,6 +265,12 @@ fn read_settings<T: Real, const M: usize>(
         3 => Method::Cva,
         _ => return Err(CheckpointError::Invalid),
     };
+    let lambda: T = r.real()?;
+    let forgetting = if lambda == T::one() {
+        Forgetting::None
+    } else {
+        Forgetting::Exponential { lambda }
+    };
     let (asc, desc) = (&knots[0][..lens[0]], &knots[1][..lens[1]]);
     let knots = if flags & 1 != 0 {
         Knots::shared(asc)
@@ -279,6 +289,7 @@ fn read_settings<T: Real, const M: usize>(
         mu0,
         order,
         method,
+        forgetting,
     }))
 }
 
@@ -372,6 +383,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             w.real(v);
         }
         w.real(acc.sum_y);
+        w.real(acc.scale);
         for lag in acc.lags.iter().take(k) {
             for row in lag.zz.iter().take(m) {
                 for &v in row.iter().take(m) {
@@ -490,6 +502,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
                 *v = r.real()?;
             }
             id.acc.sum_y = r.real()?;
+            id.acc.scale = r.real()?;
             for lag in id.acc.lags.iter_mut().take(k) {
                 let l: &mut Lagged<T, M> = lag;
                 for row in l.zz.iter_mut().take(m) {
@@ -538,13 +551,13 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
 /// scalar of `bytes` bytes (4 or 8): size a static buffer with it.
 pub const fn checkpoint_capacity(m: usize, k: usize, bytes: usize) -> usize {
     let knots = m + 2;
-    let settings = 1 + 2 + 2 + 2 + 2 + knots * bytes + 1 + 4 + 4 + bytes + 2 + 1;
+    let settings = 1 + 2 + 2 + 2 + 2 + knots * bytes + 1 + 4 + 4 + bytes + 2 + 1 + bytes;
     let header = 4 + 2 + 1 + settings + 4;
     let state = 8 + 8 + bytes + 1 + 1 + bytes + (2 * bytes + 4) + (1 + 8 + 8 + 1);
     header
         + state
         + m * bytes
-        + bytes
+        + 2 * bytes
         + k * (m * m + 2 * m + 1) * bytes
         + 2 * k * (1 + 2 + 2 * bytes)
         + 4

@@ -151,6 +151,11 @@ pub enum Error {
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
     Checkpoint(crate::checkpoint::CheckpointError),
+    /// The forgetting factor must satisfy `0 < λ <= 1`.
+    InvalidForgetting {
+        /// The value given.
+        lambda: f64,
+    },
     /// The identifier was created with `Identifier::EMPTY` and not configured with `reset`.
     Unconfigured,
     /// The caller-provided workspace is too small.
@@ -245,6 +250,10 @@ impl fmt::Display for Error {
                 "I - A is singular (integrating linear part): G(1) = 1 cannot be imposed"
             ),
             Error::Checkpoint(e) => write!(f, "checkpoint: {e}"),
+            Error::InvalidForgetting { lambda } => write!(
+                f,
+                "forgetting factor {lambda}: it must lie in (0, 1]; 1 - 1/N keeps about N samples"
+            ),
             Error::Unconfigured => write!(
                 f,
                 "the identifier is not configured: call reset with its settings first"

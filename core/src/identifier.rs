@@ -28,6 +28,24 @@ pub struct Settings<T, const M: usize> {
     pub order: Order,
     /// Subspace weighting (PI-MOESP, the paper's, by default).
     pub method: Method,
+    /// Memory of the accumulation: all samples alike, or exponential forgetting for
+    /// long-running devices that must track a slowly changing actuator.
+    pub forgetting: Forgetting<T>,
+}
+
+/// How the accumulation weighs old samples.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Forgetting<T> {
+    /// Every sample counts the same (the paper's setting).
+    #[default]
+    None,
+    /// Hankel column `c` of `j` weighs `λ^{j−1−c}` (`0 < λ < 1`): the model follows the last
+    /// `≈ 1/(1−λ)` samples. The weighted Grams are exact, like the unweighted ones.
+    Exponential {
+        /// The forgetting factor λ.
+        lambda: T,
+    },
 }
 
 impl<T: Real, const M: usize> Settings<T, M> {
@@ -41,6 +59,7 @@ impl<T: Real, const M: usize> Settings<T, M> {
             mu0,
             order: Order::Auto,
             method: Method::PiMoesp,
+            forgetting: Forgetting::None,
         }
     }
 }
@@ -77,6 +96,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             mu0: MuZero::Known(T::ZERO),
             order: Order::Auto,
             method: Method::PiMoesp,
+            forgetting: Forgetting::None,
         },
         acc: Accumulator::EMPTY,
         hold: HoldMean::ZERO,
@@ -114,7 +134,18 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             });
         }
         settings.mu0.validate()?;
+        let lambda = match settings.forgetting {
+            Forgetting::None => T::one(),
+            Forgetting::Exponential { lambda } => lambda,
+        };
+        let valid = lambda > T::zero() && lambda <= T::one() && lambda.finite();
+        if !valid {
+            return Err(Error::InvalidForgetting {
+                lambda: lambda.to_f64(),
+            });
+        }
         self.acc.reset(k)?;
+        self.acc.set_forgetting(lambda)?;
         self.mu0 = match settings.mu0 {
             MuZero::Known(v) => Some(v),
             MuZero::Hold { .. } | MuZero::Estimate => None,
@@ -303,15 +334,10 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         let proj = pi_moesp(&self.acc, knots, basis, lay, centred, ws)?;
         let n = select_order(self.settings.order, &proj, lay)?;
         let mu0 = if centred {
-            let (sz, sy) = self.acc.sums();
-            let count = T::of(self.acc.count() as f64);
-            let mut mean_z = [T::zero(); M];
-            for (m, &s) in mean_z.iter_mut().zip(sz) {
-                *m = s / count;
-            }
+            let (mean_z, mean_y) = self.acc.weighted_means();
             Mu0::FromMeans {
                 offset,
-                mean_y: sy / count,
+                mean_y,
                 mean_z,
             }
         } else {

@@ -21,7 +21,7 @@ pub use checkpoint::{CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, c
 pub use error::{Error, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
-pub use identifier::{Identifier, Settings};
+pub use identifier::{Forgetting, Identifier, Settings};
 pub use model::{Model, ModelState};
 pub use regressor::{Basis, Direction, Knots, Located};
 pub use scalar::Real;

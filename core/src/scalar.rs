@@ -11,6 +11,8 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     const EPS: Self;
     /// Zero, usable in constant expressions (static buffers).
     const ZERO: Self;
+    /// One, usable in constant expressions.
+    const ONE: Self;
     /// Converts from `f64` (rounding to nearest for `f32`).
     fn of(x: f64) -> Self;
     /// Converts to `f64` (exact for both implementations).
@@ -33,6 +35,7 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
 impl Real for f32 {
     const EPS: Self = f32::EPSILON;
     const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
     fn of(x: f64) -> Self {
         x as f32
     }
@@ -61,6 +64,7 @@ impl Real for f32 {
 impl Real for f64 {
     const EPS: Self = f64::EPSILON;
     const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
     fn of(x: f64) -> Self {
         x
     }

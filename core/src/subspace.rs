@@ -236,7 +236,7 @@ fn for_each_entry<T: Real, const M: usize, const K: usize>(
     mut sink: impl FnMut(usize, usize, T),
 ) {
     let m = lay.m;
-    let inv_j = T::one() / T::of(acc.columns().max(1) as f64);
+    let inv_j = T::one() / acc.effective_columns().max(T::one());
     let mut put = |ra: usize, rb: usize, v: T| sink(ra.max(rb), ra.min(rb), v);
     acc.for_each_block_where(knots, basis, want, |a, b, blk| {
         let mut blk = *blk;
@@ -440,7 +440,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             l33[(r, c)] = schur[row + c];
         }
     }
-    let sqrt_j = T::of(libm::sqrt(j as f64));
+    // With forgetting, the weighted Gram has the weight of j_eff = Σλ^i columns.
+    let j_eff = acc.effective_columns().to_f64();
+    let sqrt_j = T::of(libm::sqrt(j_eff));
     let (gamma, sv) = match lay.method {
         Method::Cva => {
             // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ.
@@ -510,7 +512,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         l33f[(i, i)] = l33f[(i, i)].max(floor);
     }
     let wh = lower_solve(&l33f, &rt, f);
-    let dof = (j as f64 - (d + lay.py()) as f64).max(1.0);
+    let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
     let scale = T::of(libm::sqrt(dof / w as f64));
     let (_, sw, _) = svd_small(wh).ok_or(Error::NoConvergence {
         stage: Stage::Projection,
