@@ -3,10 +3,13 @@
 #   flash (.vector_table + .text + .rodata + .data load image), static RAM (.data + .bss +
 #   .uninit), peak stack (stack painting, reported by the firmware), and instruction counts
 #   per sample update and for the final solve (SysTick under QEMU `-icount shift=0`, where one
-#   tick is 40 instructions; reported by the firmware on its `HSID cost ...` line).
+#   tick is 40 instructions; reported by the firmware on its `HSID cost ...` line), and the
+#   checkpoint the firmware exports (`HSID state ...`: its size and the cost of saving it).
 # Prints a markdown table on stdout. Exits non-zero if the build or the firmware fails.
+# QEMU runs in a scratch folder, where the firmware writes its checkpoint `hsid-state.bin`;
+# `--state FILE` keeps a copy (solve it with `hsid solve --state FILE`).
 #
-# Usage: scripts/firmware-measure.sh [--log FILE] [-- EXTRA CARGO BUILD ARGS...]
+# Usage: scripts/firmware-measure.sh [--log FILE] [--state FILE] [-- EXTRA CARGO BUILD ARGS...]
 #   e.g. scripts/firmware-measure.sh -- --features defmt   (the defmt variant; needs defmt-print)
 # Needs: cargo with the thumbv7em-none-eabihf target (added with rustup if missing),
 #        qemu-system-arm (Debian: qemu-system-arm), arm-none-eabi-size or binutils' size
@@ -19,12 +22,14 @@ FW="$ROOT/examples/firmware"
 TARGET=thumbv7em-none-eabihf
 ELF="$FW/target/$TARGET/release/hsid-firmware"
 LOG=""
+STATE=""
 EXTRA=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --log) LOG="$2"; shift 2 ;;
+    --state) STATE="$2"; shift 2 ;;
     --) shift; EXTRA=("$@"); break ;;
-    -h|--help) sed -n '2,16p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "firmware-measure: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -56,11 +61,13 @@ STATIC_RAM=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
 
 echo "firmware-measure: running under QEMU mps2-an386 with -icount shift=0" >&2
 OUT="$(mktemp)"
-trap 'rm -f "$OUT"' EXIT
+RUNDIR="$(mktemp -d)"
+trap 'rm -f "$OUT"; rm -rf "$RUNDIR"' EXIT
 set +e
-timeout 900 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 \
+# In a scratch folder: semihosting writes the firmware's hsid-state.bin relative to QEMU's cwd.
+(cd "$RUNDIR" && timeout 900 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 \
   -semihosting-config enable=on,target=native -nographic -monitor none -serial none \
-  -icount shift=0 -kernel "$ELF" >"$OUT" 2>&1
+  -icount shift=0 -kernel "$ELF") >"$OUT" 2>&1
 STATUS=$?
 set -e
 # A defmt build (it has a .defmt section) prints binary defmt frames: decode them.
@@ -75,6 +82,15 @@ if [[ $STATUS -ne 0 ]]; then
   grep -E '^HSID (fail|panic)' "$OUT" >&2 || tail -n 20 "$OUT" >&2
   die "firmware exited with status $STATUS"
 fi
+
+if [[ -n "$STATE" ]]; then
+  [[ -f "$RUNDIR/hsid-state.bin" ]] || die "the firmware wrote no hsid-state.bin"
+  cp "$RUNDIR/hsid-state.bin" "$STATE"
+  echo "firmware-measure: checkpoint copied to $STATE (hsid solve --state $STATE)" >&2
+fi
+declare -A ST=()
+STATE_LINE="$(grep -m1 '^HSID state ' "$OUT" || true)"
+for kv in ${STATE_LINE#HSID state }; do ST["${kv%%=*}"]="${kv#*=}"; done
 
 COST="$(grep -m1 '^HSID cost ' "$OUT" || true)"
 [[ -n "$COST" ]] || die "no 'HSID cost' line in the firmware output"
@@ -117,5 +133,9 @@ if [[ "${K[per_sample_max_instr]+x}" ]]; then
   echo "| instructions per sample update (push), max | $(num "$(key per_sample_max_instr)") | |"
 fi
 echo "| instructions for the final solve | $(num "$SOLVE") | ≤ 50,000,000 $(ok "$SOLVE" 50000000) |"
+if [[ -n "${ST[bytes]:-}" ]]; then
+  echo "| checkpoint exported to the host (\`hsid-state.bin\`) | $(num "${ST[bytes]}") B, crc ${ST[crc]:-?}, saved into $( [[ "${ST[buffer]:-}" == workspace ]] && echo "the idle solve workspace (no extra RAM)" || echo "a static buffer of its own" ) | |"
+  echo "| instructions to save the checkpoint (\`Identifier::save\`) | $(num "${ST[save_instr]:-n/a}") | |"
+fi
 echo
 echo "Measured by \`scripts/firmware-measure.sh\`: QEMU $(qemu-system-arm --version | head -n1 | awk '{print $4}') mps2-an386 (Cortex-M4), \`-icount shift=0\`, 1 SysTick tick = $(key instr_per_tick) instructions; sizes by \`$SIZE -A\`."

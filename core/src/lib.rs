@@ -31,4 +31,4 @@ pub use subspace::{
 
 /// Largest future horizon `f` (and so model order + 1) the final solve handles: the small
 /// SVDs run on fixed `MAX_HORIZON × MAX_HORIZON` matrices on the stack.
-pub const MAX_HORIZON: usize = 16;
+pub const MAX_HORIZON: usize = 12;

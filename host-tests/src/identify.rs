@@ -432,3 +432,165 @@ impl HostModel {
         }
     }
 }
+
+/// What a checkpoint's header says, read without restoring it ([`checkpoint_header`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CheckpointHeader {
+    /// Bytes of the scalar the state was accumulated in: 4 (`f32`) or 8 (`f64`).
+    pub scalar_bytes: usize,
+    /// Regressor channels `m` in use.
+    pub channels: usize,
+    /// Channel capacity an identifier needs to restore it (one more than `channels` for a
+    /// shared knot vector, which stores `n + 1` knots).
+    pub channel_capacity: usize,
+    /// Future horizon `f`.
+    pub f: usize,
+    /// Past horizon `p`.
+    pub p: usize,
+}
+
+impl CheckpointHeader {
+    /// `"f32"` or `"f64"`.
+    pub fn scalar_name(&self) -> &'static str {
+        if self.scalar_bytes == 4 { "f32" } else { "f64" }
+    }
+}
+
+/// A checkpoint solved on the host ([`solve_checkpoint`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckpointSolve {
+    /// The header (precision, sizes).
+    pub header: CheckpointHeader,
+    /// The model, solved in the checkpoint's precision and widened to `f64` (exactly).
+    pub model: HostModel,
+    /// Whether the knots are shared by both paths (a static nonlinearity).
+    pub shared_knots: bool,
+}
+
+/// Reads what a checkpoint's header says about its size (layout in `hsid::checkpoint`): magic,
+/// format version, scalar size, then from the settings the flags, `f`, `p` and the knot counts
+/// of both paths. Everything else, checksums included, is checked when the checkpoint is
+/// restored ([`solve_checkpoint`]).
+pub fn checkpoint_header(bytes: &[u8]) -> Result<CheckpointHeader, IdentifyError> {
+    use hsid::CheckpointError as C;
+    let err = |e: C| IdentifyError::Core(hsid::Error::Checkpoint(e));
+    let magic = b"HSID";
+    let head = bytes.get(..magic.len().min(bytes.len())).unwrap_or(&[]);
+    if head != &magic[..head.len()] {
+        return Err(err(C::NotACheckpoint));
+    }
+    let field = |at: usize, n: usize| bytes.get(at..at + n).ok_or(err(C::Truncated));
+    let u16_at = |at: usize| field(at, 2).map(|b| usize::from(u16::from_le_bytes([b[0], b[1]])));
+    field(0, 4)?;
+    if field(4, 2)?
+        .iter()
+        .all(|b| b.is_ascii_graphic() || *b == b' ')
+    {
+        // "HSID " and text: the firmware's printed output, not a checkpoint.
+        return Err(err(C::NotACheckpoint));
+    }
+    if u16_at(4)? != usize::from(hsid::CHECKPOINT_VERSION) {
+        return Err(err(C::Version));
+    }
+    let scalar_bytes = usize::from(field(6, 1)?[0]);
+    if scalar_bytes != 4 && scalar_bytes != 8 {
+        // Neither f32 nor f64: no writer produces that, the byte is damaged.
+        return Err(err(C::Invalid));
+    }
+    // After the settings fingerprint (u32 at 7): flags u8, f u16, p u16, then per path a u16
+    // knot count and the knots.
+    let settings_at = 11;
+    let shared = field(settings_at, 1)?[0] & 1 != 0;
+    let f = u16_at(settings_at + 1)?;
+    let p = u16_at(settings_at + 3)?;
+    let len_asc = u16_at(settings_at + 5)?;
+    let len_desc = u16_at(settings_at + 7 + len_asc * scalar_bytes)?;
+    let segments = |len: usize| len.saturating_sub(1);
+    let (channels, channel_capacity) = if shared {
+        (segments(len_asc), len_asc)
+    } else {
+        let m = segments(len_asc) + segments(len_desc);
+        (m, m.max(len_asc).max(len_desc))
+    };
+    Ok(CheckpointHeader {
+        scalar_bytes,
+        channels,
+        channel_capacity,
+        f,
+        p,
+    })
+}
+
+/// Restores a checkpoint written by [`hsid::Identifier::save`] (on a device or a desktop, in
+/// `f32` or `f64`) into an identifier with enough capacity and solves it, in the checkpoint's
+/// precision: an `f32` state solved here gives the model the device's solve gives, up to the
+/// differences between the two targets' floating-point code (`libm` vs the host's `std`).
+pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> {
+    let header = checkpoint_header(bytes)?;
+    let (m, k) = (header.channel_capacity, header.f + header.p);
+    let too_large = IdentifyError::TooLarge {
+        channels: header.channels,
+        block_rows: k,
+    };
+    let f32s = header.scalar_bytes == 4;
+    let solved = if m <= 16 && k <= 24 {
+        if f32s {
+            restore_and_solve::<f32, 16, 24>(bytes)
+        } else {
+            restore_and_solve::<f64, 16, 24>(bytes)
+        }
+    } else if m > MAX_CHANNELS || k > MAX_BLOCK_ROWS {
+        Err(too_large.clone())
+    } else {
+        // Larger capacities hold up to a few MB of sums: restore them on a roomy stack.
+        std::thread::scope(|s| {
+            let handle = std::thread::Builder::new()
+                .stack_size(256 << 20)
+                .spawn_scoped(s, || match (m <= 32, f32s) {
+                    (true, true) => restore_and_solve::<f32, 32, 48>(bytes),
+                    (true, false) => restore_and_solve::<f64, 32, 48>(bytes),
+                    (false, true) => restore_and_solve::<f32, 64, 48>(bytes),
+                    (false, false) => restore_and_solve::<f64, 64, 48>(bytes),
+                });
+            match handle {
+                Ok(h) => h.join().unwrap_or(Err(too_large.clone())),
+                Err(_) => Err(too_large.clone()),
+            }
+        })
+    };
+    let (model, shared_knots) = solved?;
+    Ok(CheckpointSolve {
+        header,
+        model,
+        shared_knots,
+    })
+}
+
+fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize>(
+    bytes: &[u8],
+) -> Result<(HostModel, bool), IdentifyError> {
+    let id = Box::new(Identifier::<T, M, K>::restore(bytes)?);
+    let mut ws = vec![T::zero(); id.workspace_len()];
+    let m = id.solve(&mut ws)?;
+    let wide = |v: &[T]| v.iter().map(|x| x.to_f64()).collect::<Vec<f64>>();
+    let n = m.order();
+    let settings = id.settings();
+    let model = HostModel {
+        order: n,
+        a: DMatrix::from_fn(n, n, |i, j| m.a(i, j).to_f64()),
+        b: wide(m.b()),
+        c: wide(m.c()),
+        d: m.d().to_f64(),
+        mu0: m.mu0().to_f64(),
+        knots_asc: wide(m.knots().path(Direction::Ascending)),
+        knots_desc: wide(m.knots().path(Direction::Descending)),
+        border_asc: wide(m.border_values(Direction::Ascending)),
+        border_desc: wide(m.border_values(Direction::Descending)),
+        singular_values: wide(m.singular_values()),
+        whitened_singular_values: wide(m.whitened_singular_values()),
+        f: settings.f,
+        p: settings.p,
+        samples: usize::try_from(id.samples()).unwrap_or(usize::MAX),
+    };
+    Ok((model, settings.knots.is_shared()))
+}

@@ -330,7 +330,18 @@ pub fn run_case(case: Case, cfg: &PaperConfig, tick: &(dyn Fn() + Sync)) -> Case
             Err(e) => failures.push(format!("run {r}: {e}")),
         }
     }
+    summarize(case, cfg, models, failures)
+}
 
+/// The statistics and figure data of a case from its identified models (and the failures, as
+/// `run r: reason`): what [`run_case`] reports, reusable for models from any method.
+pub fn summarize(
+    case: Case,
+    cfg: &PaperConfig,
+    models: Vec<HostModel>,
+    failures: Vec<String>,
+) -> CaseResult {
+    let opts = options(cfg);
     let (_, paths, plant, _) = case_system(case);
     let mut true_poles: Vec<[f64; 2]> = plant
         .poles()

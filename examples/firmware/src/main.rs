@@ -3,12 +3,16 @@
 //! The whole pipeline runs on the target: the Table I excitation (core's [`Excitation`], seeded
 //! [`Pcg32`]), the plant behind the "apply u, read y" interface ([`plant`]), the streaming
 //! accumulation sample by sample ([`Identifier::push`]), and the final solve with a statically
-//! allocated workspace. The model and the costs are printed through semihosting as `HSID ...`
-//! lines (format in README.md); QEMU's exit status is 0 if the solve succeeded, 1 otherwise.
+//! allocated workspace. Before the solve, the accumulated state is saved as a checkpoint and
+//! written to the host file `hsid-state.bin` through semihosting, so that the host can solve
+//! it too (`hsid solve --state hsid-state.bin`). The model and the costs are printed through
+//! semihosting as `HSID ...` lines (format in README.md); QEMU's exit status is 0 if the solve
+//! succeeded, 1 otherwise.
 #![no_std]
 #![no_main]
 
 mod cost;
+mod hostfile;
 mod plant;
 mod report;
 mod stack;
@@ -20,7 +24,7 @@ use cortex_m_semihosting::debug;
 use hsid::{Excitation, Identifier, Knots, Model, MuZero, Settings, workspace_len};
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
-use static_cell::{ConstStaticCell, StaticCell};
+use static_cell::ConstStaticCell;
 
 use plant::Plant;
 use report::out;
@@ -56,11 +60,31 @@ const WORKSPACE_LEN: usize = workspace_len(M, F, P);
 static WORKSPACE: ConstStaticCell<[f32; WORKSPACE_LEN]> =
     ConstStaticCell::new([0.0; WORKSPACE_LEN]);
 
-/// The identifier (the accumulated statistics), in `.bss`.
-static IDENTIFIER: StaticCell<Result<Identifier<f32, M, K>, hsid::Error>> = StaticCell::new();
+/// Bytes of the largest checkpoint of the identifier ([`Identifier::save`]).
+const CHECKPOINT_CAPACITY: usize = hsid::checkpoint_capacity(M, K, 4);
+/// The checkpoint is written into the solve workspace when it fits: the workspace is idle
+/// until the solve, which overwrites it, so the export costs no RAM. Otherwise it gets a
+/// static buffer of its own ([`CHECKPOINT_BUFFER`]).
+const CHECKPOINT_IN_WORKSPACE: bool = WORKSPACE_LEN * size_of::<f32>() >= CHECKPOINT_CAPACITY;
+/// Bytes of [`CHECKPOINT_BUFFER`]: none while the workspace can hold the checkpoint.
+const CHECKPOINT_BUFFER_LEN: usize = if CHECKPOINT_IN_WORKSPACE {
+    0
+} else {
+    CHECKPOINT_CAPACITY
+};
+/// The checkpoint's own buffer, used only if the workspace is too small for it.
+static CHECKPOINT_BUFFER: ConstStaticCell<[u8; CHECKPOINT_BUFFER_LEN]> =
+    ConstStaticCell::new([0; CHECKPOINT_BUFFER_LEN]);
+/// Host file (relative to QEMU's or the debugger's working directory) the checkpoint goes to,
+/// NUL-terminated for semihosting.
+const STATE_FILE: &[u8] = b"hsid-state.bin\0";
 
-/// Builds the identifier into its static. Not inlined: the temporaries of the by-value
-/// construction live in this short-lived frame, not in `main`'s for the whole run.
+/// The identifier (the accumulated statistics), in `.bss`.
+/// The identifier lives in a static from the start (`Identifier::EMPTY` is a constant), so
+/// nothing as large as its ~18 KB state is ever built on the stack.
+static IDENTIFIER: ConstStaticCell<Identifier<f32, M, K>> = ConstStaticCell::new(Identifier::EMPTY);
+
+/// Configures the identifier in place.
 #[inline(never)]
 fn identifier() -> &'static mut Identifier<f32, M, K> {
     let knots =
@@ -69,10 +93,53 @@ fn identifier() -> &'static mut Identifier<f32, M, K> {
         len: HOLD_LEN,
         settle: HOLD_SETTLE,
     };
-    match IDENTIFIER.init_with(|| Identifier::new(Settings::new(knots, F, P, mu0))) {
-        Ok(id) => id,
-        Err(e) => fail_with("settings", e),
+    let id = IDENTIFIER.take();
+    if let Err(e) = id.reset(Settings::new(knots, F, P, mu0)) {
+        fail_with("settings", &e);
     }
+    id
+}
+
+/// Saves the accumulated state as a checkpoint, writes it to the host file [`STATE_FILE`]
+/// and prints `HSID state bytes=.. crc=.. save_instr=.. buffer=.. file=..`. The bytes go into
+/// the solve workspace `ws` (which the solve overwrites afterwards) when they fit. A host that
+/// refuses the file is reported (`file=none` and an `HSID warn` line) but does not stop the
+/// solve.
+#[inline(never)]
+fn export_state(id: &Identifier<f32, M, K>, ws: &mut [f32]) {
+    let buf: &mut [u8] = if CHECKPOINT_IN_WORKSPACE {
+        bytemuck::cast_slice_mut(ws)
+    } else {
+        CHECKPOINT_BUFFER.take()
+    };
+    let (len, ticks) = cost::measure_with(|| id.save(buf));
+    let len = len.unwrap_or_else(|e| fail_with("save", &e));
+    let bytes = buf.get(..len).unwrap_or_else(|| fail("save: length"));
+    let written = hostfile::write(STATE_FILE, bytes);
+    let name = STATE_FILE.split_last().map_or(&[][..], |(_, n)| n);
+    report::state(&report::State {
+        bytes: len,
+        crc: stored_crc(bytes),
+        save_ticks: ticks,
+        buffer: if CHECKPOINT_IN_WORKSPACE {
+            "workspace"
+        } else {
+            "static"
+        },
+        file: core::str::from_utf8(name).unwrap_or("?"),
+        written: written.map_err(hostfile::HostFileError::as_str),
+    });
+}
+
+/// The CRC-32 a checkpoint ends with (little-endian): `hsid::crc32` of all its other bytes.
+/// (The CRC-32 of a whole checkpoint, its CRC included, is the same constant for every
+/// checkpoint, `0x2144df1c`, so it identifies nothing.)
+fn stored_crc(bytes: &[u8]) -> u32 {
+    let mut last = [0u8; 4];
+    if let Some(tail) = bytes.len().checked_sub(4).and_then(|at| bytes.get(at..)) {
+        last.copy_from_slice(tail);
+    }
+    u32::from_le_bytes(last)
 }
 
 /// The final solve, measured. Not inlined, like [`identifier`]: the solve's temporaries live
@@ -135,8 +202,10 @@ fn main() -> ! {
 
     let stack_peak_accumulation = stack::peak_bytes();
 
-    // The final solve, with the static workspace; its stack peak is measured on its own.
+    // Export the accumulated state (checkpoint) to the host, then the final solve with the
+    // static workspace; the solve's stack peak is measured on its own.
     let ws = WORKSPACE.take();
+    export_state(id, ws);
     stack::repaint();
     let (model, solve_ticks) = solve(id, ws);
     let stack_peak_solve = stack::peak_bytes();

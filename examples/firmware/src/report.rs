@@ -75,6 +75,55 @@ pub fn sample(t: usize, u: f32, y: f32) {
     );
 }
 
+/// The exported checkpoint (`HSID state ...`).
+pub struct State<'a> {
+    /// Bytes of the checkpoint.
+    pub bytes: usize,
+    /// The checkpoint's own CRC-32 (its last four bytes): `hsid::crc32` of the bytes before it.
+    pub crc: u32,
+    /// Ticks spent in `Identifier::save`.
+    pub save_ticks: u64,
+    /// Where the checkpoint was written on the target: `"workspace"` (the idle solve
+    /// workspace) or `"static"` (a buffer of its own).
+    pub buffer: &'a str,
+    /// Host file name.
+    pub file: &'a str,
+    /// Whether the host took the file, or why not.
+    pub written: Result<(), &'static str>,
+}
+
+/// `HSID state bytes=<n> crc=<8 hex digits> save_instr=<n> buffer=<workspace|static>
+/// file=<name|none>`, preceded by
+/// `HSID warn state export: <why>` if the host did not take the file.
+pub fn state(s: &State) {
+    let file = match s.written {
+        Ok(()) => s.file,
+        Err(why) => {
+            out!("HSID warn state export: {}: {}", s.file, why);
+            "none"
+        }
+    };
+    let save_instr = cost::instructions(s.save_ticks);
+    #[cfg(not(feature = "defmt"))]
+    cortex_m_semihosting::hprintln!(
+        "HSID state bytes={} crc={:08x} save_instr={} buffer={} file={}",
+        s.bytes,
+        s.crc,
+        save_instr,
+        s.buffer,
+        file
+    );
+    #[cfg(feature = "defmt")]
+    defmt::println!(
+        "HSID state bytes={} crc={=u32:08x} save_instr={} buffer={=str} file={=str}",
+        s.bytes,
+        s.crc,
+        save_instr,
+        s.buffer,
+        file
+    );
+}
+
 /// Ticks spent in [`hsid::Identifier::push`] over the accumulation samples (the hold's
 /// pushes are not counted), and the cost of an empty measurement for the same samples.
 #[derive(Default)]

@@ -35,7 +35,8 @@ pub mod signal;
 pub mod stochastic;
 pub mod uncertainty;
 
-pub use pem::{InitialState, NoiseOrder, PemFit, PemOptions, refine};
+pub use pem::{InitialState, PemFit, PemOptions, identify_pem, refine};
+pub use stochastic::NoiseOrder;
 pub use stochastic::{InnovationForm, NoiseModel};
 
 /// Which polynomial of the predictor lost stability.

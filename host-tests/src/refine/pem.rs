@@ -63,6 +63,23 @@ pub struct PemOptions {
     pub max_iter: usize,
     /// Convergence: relative cost decrease below this.
     pub tol: f64,
+    /// Direct feed-through of the plant.
+    pub feedthrough: Feedthrough,
+    /// A static (memoryless) nonlinearity: one border for both directions.
+    pub static_nonlinearity: bool,
+}
+
+/// Whether the plant has a direct feed-through `D`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feedthrough {
+    /// `D` is estimated (the subspace model's structure).
+    Free,
+    /// `D = 0`: the plant is strictly proper (a sampled plant without direct feed-through,
+    /// as the paper's `G(q) = q⁻¹(…)`).
+    Zero,
+    /// `D` is estimated, then dropped when the estimate is within two standard deviations of
+    /// zero (and the model refitted without it).
+    Auto,
 }
 
 impl Default for PemOptions {
@@ -73,6 +90,8 @@ impl Default for PemOptions {
             start: 0,
             max_iter: 100,
             tol: 1e-10,
+            feedthrough: Feedthrough::Auto,
+            static_nonlinearity: false,
         }
     }
 }
@@ -82,17 +101,21 @@ impl PemOptions {
     /// the hold with the plant at rest, or, without a hold, at the first sample with the
     /// initial state estimated.
     pub fn for_identify(opts: &IdentifyOptions) -> Self {
+        let base = Self {
+            static_nonlinearity: opts.static_nonlinearity,
+            ..Self::default()
+        };
         if opts.hold > 0 {
             Self {
-                start: opts.settle,
+                start: opts.settle.min(opts.hold),
                 initial: InitialState::Rest,
-                ..Self::default()
+                ..base
             }
         } else {
             Self {
                 start: 0,
                 initial: InitialState::Estimate,
-                ..Self::default()
+                ..base
             }
         }
     }
@@ -109,6 +132,11 @@ pub struct ParamLayout {
     pub nv: usize,
     /// Whether the initial state is estimated.
     pub init: bool,
+    /// Whether `G` has a direct feed-through `b₀ = D` (else `b₀ = 0`, the plant is strictly
+    /// proper, and `b_n` is the coefficient fixed by `G(1) = 1`).
+    pub feedthrough: bool,
+    /// Whether both directions share one border (a static nonlinearity).
+    pub shared: bool,
 }
 
 impl ParamLayout {
@@ -116,13 +144,23 @@ impl ParamLayout {
     pub fn f(&self) -> std::ops::Range<usize> {
         0..self.n
     }
-    /// `b₁ … b_n`.
+    /// The free numerator coefficients: `b₁ … b_n` with a feed-through, `b₁ … b_{n−1}`
+    /// without.
     pub fn b(&self) -> std::ops::Range<usize> {
-        self.n..2 * self.n
+        self.n..self.n + self.nb()
+    }
+    /// Number of free numerator coefficients.
+    pub fn nb(&self) -> usize {
+        if self.feedthrough { self.n } else { self.n - 1 }
+    }
+    /// Power of `q⁻¹` of the numerator coefficient fixed by `G(1) = 1` (0 or `n`).
+    pub fn eliminated(&self) -> usize {
+        if self.feedthrough { 0 } else { self.n }
     }
     /// `β` (μ0 then the border values).
     pub fn beta(&self) -> std::ops::Range<usize> {
-        2 * self.n..2 * self.n + self.channels
+        let s = self.b().end;
+        s..s + self.channels
     }
     /// Noise denominator `d₁ …`.
     pub fn nd(&self) -> std::ops::Range<usize> {
@@ -154,7 +192,7 @@ impl ParamLayout {
 pub struct Polynomials {
     /// `F = [1, f₁ …]`.
     pub f: Vec<f64>,
-    /// `B = [b₀, b₁ …]` with `b₀ = F(1) − Σ b_i`.
+    /// `B = [b₀, b₁ …, b_n]`, the eliminated coefficient set so that `B(1) = F(1)`.
     pub b: Vec<f64>,
     /// Noise numerator `[1, c₁ …]`.
     pub c: Vec<f64>,
@@ -168,9 +206,15 @@ impl ParamLayout {
         let mut f = vec![1.0];
         f.extend(&th[self.f()]);
         let bs = &th[self.b()];
-        let b0 = f.iter().sum::<f64>() - bs.iter().sum::<f64>();
-        let mut b = vec![b0];
-        b.extend(bs);
+        let rest = f.iter().sum::<f64>() - bs.iter().sum::<f64>();
+        let b = if self.feedthrough {
+            std::iter::once(rest).chain(bs.iter().copied()).collect()
+        } else {
+            std::iter::once(0.0)
+                .chain(bs.iter().copied())
+                .chain(std::iter::once(rest))
+                .collect()
+        };
         let mut c = vec![1.0];
         c.extend(&th[self.nc()]);
         let mut d = vec![1.0];
@@ -178,6 +222,34 @@ impl ParamLayout {
         Polynomials { f, b, c, d }
     }
 }
+
+/// The model structure of a [`Problem`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Structure {
+    /// Plant order `n`.
+    pub n: usize,
+    /// Noise model order (ARMA(nv, nv)).
+    pub nv: usize,
+    /// Initial plant state.
+    pub initial: InitialState,
+    /// First sample in the cost.
+    pub start: usize,
+    /// Direct feed-through `D` estimated (else `D = 0`).
+    pub feedthrough: bool,
+    /// A static nonlinearity: one border for both directions.
+    pub shared: bool,
+    /// Leading prediction errors left out of the cost (see [`BURN_IN`]).
+    pub burn: usize,
+}
+
+/// Default number of leading prediction errors left out of the cost. The predictor starts
+/// from a zero noise state, so its first errors are not innovations: they carry the
+/// stationary noise variance (`|G_v|²` times `σ_e²`, 7.6 times on the paper's example) while
+/// the filtered regressors of the constant channels are largest there (the step response of
+/// `D/C` from zero). Kept in the cost, they inflate the spread of μ0 and the borders well
+/// beyond `σ² (JᵀJ)⁻¹`; 50 samples let a noise numerator with roots up to 0.87 in modulus
+/// forget its initial state to 10⁻³.
+pub const BURN_IN: usize = 50;
 
 /// A prediction-error problem: the data and the structure, without the parameters.
 #[derive(Clone, Debug)]
@@ -189,12 +261,13 @@ pub struct Problem {
     /// `y[start..]`.
     y: Vec<f64>,
     start: usize,
+    burn: usize,
 }
 
 /// Prediction errors and their Jacobian at one parameter vector.
 #[derive(Clone, Debug)]
 pub struct Evaluation {
-    /// `ε(t)`, `t = start …`.
+    /// `ε(t)`, `t = start + burn …`.
     pub eps: Vec<f64>,
     /// `∂ε/∂θ` (`N × d`).
     pub jac: DMatrix<f64>,
@@ -203,38 +276,46 @@ pub struct Evaluation {
 }
 
 impl Problem {
-    /// Sets up the problem for plant order `n`, noise order `nv` on `u`, `y` from `start`.
+    /// Sets up the problem of structure `st` on `u`, `y` with the given knots.
     pub fn new(
         u: &[f64],
         y: &[f64],
         knots_asc: &[f64],
         knots_desc: &[f64],
-        n: usize,
-        nv: usize,
-        initial: InitialState,
-        start: usize,
+        st: Structure,
     ) -> Result<Self, RefineError> {
+        let Structure {
+            n,
+            nv,
+            initial,
+            start,
+            feedthrough,
+            shared,
+            burn,
+        } = st;
+        if n == 0 {
+            return Err(RefineError::InvalidModel("order 0"));
+        }
         if u.len() != y.len() {
             return Err(RefineError::LengthMismatch {
                 u: u.len(),
                 y: y.len(),
             });
         }
-        if n == 0 {
-            return Err(RefineError::InvalidModel("order 0"));
-        }
         if y.iter().any(|v| !v.is_finite()) {
             return Err(RefineError::NonFinite);
         }
-        let hat = HatRegressors::new(u, knots_asc, knots_desc)?;
+        let hat = HatRegressors::build(u, knots_asc, knots_desc, shared)?;
         let layout = ParamLayout {
             n,
             channels: hat.channels(),
             nv,
             init: initial == InitialState::Estimate,
+            feedthrough,
+            shared,
         };
         let have = u.len().saturating_sub(start);
-        let need = 4 * layout.len() + 50;
+        let need = 4 * layout.len() + 50 + burn;
         if have < need {
             return Err(RefineError::TooFewSamples { have, need });
         }
@@ -249,6 +330,7 @@ impl Problem {
             w,
             y: y[start..].to_vec(),
             start,
+            burn,
         })
     }
 
@@ -262,9 +344,9 @@ impl Problem {
         &self.hat
     }
 
-    /// Samples in the cost.
+    /// Samples in the cost (after the burn-in).
     pub fn samples(&self) -> usize {
-        self.y.len()
+        self.y.len().saturating_sub(self.burn)
     }
 
     /// First sample used.
@@ -325,12 +407,14 @@ impl Problem {
         (s, hd, xr)
     }
 
-    /// Prediction errors only.
+    /// Prediction errors in the cost (`t ≥ start + burn`).
     pub fn errors(&self, th: &[f64]) -> Vec<f64> {
         let p = self.layout.polynomials(th);
         let s = self.simulate(th);
         let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
-        filter(&p.d, &p.c, &raw)
+        let mut e = filter(&p.d, &p.c, &raw);
+        e.drain(..self.burn.min(e.len()));
+        e
     }
 
     /// Prediction errors and the analytic Jacobian at `θ`.
@@ -340,26 +424,32 @@ impl Problem {
         let len = self.y.len();
         let (s, hd, xr) = self.parts(th);
         let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
-        let eps = filter(&p.d, &p.c, &raw);
+        let eps_all = filter(&p.d, &p.c, &raw);
+        let burn = self.burn.min(len);
+        let eps = eps_all[burn..].to_vec();
         let cost = eps.iter().map(|e| e * e).sum();
-        let mut jac = DMatrix::<f64>::zeros(len, l.len());
+        let mut jac = DMatrix::<f64>::zeros(len - burn, l.len());
         let one = [1.0];
         // Deterministic columns: ∂ε/∂θ = −(D/C) ∂ŷ/∂θ.
         let mut put_det = |col: usize, ds: &[f64]| {
             let v = filter(&p.d, &p.c, ds);
-            for (t, x) in v.iter().enumerate() {
-                jac[(t, col)] = -x;
+            for (t, x) in v.iter().enumerate().skip(burn) {
+                jac[(t - burn, col)] = -x;
             }
         };
         let g = filter(&one, &p.f, &hd);
         let kk = filter(&one, &p.f, &xr);
+        // With e the eliminated power: ∂B/∂f_i = q⁻ᵉ, ∂B/∂b_i = q⁻ⁱ − q⁻ᵉ.
+        let ge = delay(&g, l.eliminated());
         for i in 1..=l.n {
             let kd = delay(&kk, i);
-            let col: Vec<f64> = g.iter().zip(&kd).map(|(a, b)| a - b).collect();
+            let col: Vec<f64> = ge.iter().zip(&kd).map(|(a, b)| a - b).collect();
             put_det(l.f().start + i - 1, &col);
+        }
+        for (j, i) in (1..=l.nb()).enumerate() {
             let gd = delay(&g, i);
-            let col: Vec<f64> = gd.iter().zip(&g).map(|(a, b)| a - b).collect();
-            put_det(l.b().start + i - 1, &col);
+            let col: Vec<f64> = gd.iter().zip(&ge).map(|(a, b)| a - b).collect();
+            put_det(l.b().start + j, &col);
         }
         for (k, wk) in self.w.iter().enumerate() {
             if k == 0 {
@@ -382,13 +472,13 @@ impl Problem {
         }
         // Noise columns.
         let rc = filter(&one, &p.c, &raw);
-        let ec = filter(&one, &p.c, &eps);
+        let ec = filter(&one, &p.c, &eps_all);
         for i in 1..=l.nv {
             let a = delay(&rc, i);
             let b = delay(&ec, i);
-            for t in 0..len {
-                jac[(t, l.nd().start + i - 1)] = a[t];
-                jac[(t, l.nc().start + i - 1)] = -b[t];
+            for t in burn..len {
+                jac[(t - burn, l.nd().start + i - 1)] = a[t];
+                jac[(t - burn, l.nc().start + i - 1)] = -b[t];
             }
         }
         Evaluation { eps, jac, cost }
@@ -402,16 +492,21 @@ impl Problem {
     ) -> Result<Vec<f64>, RefineError> {
         let l = self.layout;
         if model.order != l.n || model.a.nrows() != l.n || model.b.len() != l.n {
-            return Err(RefineError::InvalidModel("order differs from the problem's"));
+            return Err(RefineError::InvalidModel(
+                "order differs from the problem's",
+            ));
         }
         let (num, den) = tf_from_ss(&model.a, &model.b, &model.c, model.d);
         let mut th = vec![0.0; l.len()];
         th[l.f()].copy_from_slice(&den[1..]);
-        th[l.b()].copy_from_slice(&num[1..]);
-        let beta =
-            HatRegressors::beta_from_borders(model.mu0, &model.border_asc, &model.border_desc);
+        th[l.b()].copy_from_slice(&num[1..=l.nb()]);
+        let beta = self
+            .hat
+            .beta_of(model.mu0, &model.border_asc, &model.border_desc);
         if beta.len() != l.channels {
-            return Err(RefineError::InvalidModel("border count differs from the knots'"));
+            return Err(RefineError::InvalidModel(
+                "border count differs from the knots'",
+            ));
         }
         th[l.beta()].copy_from_slice(&beta);
         for (i, r) in l.nd().enumerate() {
@@ -484,7 +579,7 @@ pub struct PemFit {
     pub samples: usize,
     /// First sample used.
     pub start: usize,
-    /// `(order, BIC)` of the noise orders tried on the starting residual.
+    /// `(noise order, BIC)` of the Hannan–Rissanen candidates (the smallest BIC was kept).
     pub noise_bic: Vec<(usize, f64)>,
     /// Cost `Σε²` of the starting point (subspace model + fitted noise model).
     pub initial_cost: f64,
@@ -513,7 +608,8 @@ fn lm_step(h: &DMatrix<f64>, g: &nalgebra::DVector<f64>, lambda: f64) -> Option<
         let d = h[(i, i)].max(1e-12 * (1.0 + h[(i, i)].abs()));
         m[(i, i)] += lambda * d;
     }
-    m.cholesky().map(|c| (-c.solve(g)).iter().copied().collect())
+    m.cholesky()
+        .map(|c| (-c.solve(g)).iter().copied().collect())
 }
 
 /// Minimises the prediction-error cost of `problem` from `theta0`.
@@ -536,7 +632,9 @@ pub fn minimise(
     let mut last_decrease = f64::INFINITY;
     for it in 1..=max_iter {
         let h = ev.jac.tr_mul(&ev.jac);
-        let g = ev.jac.tr_mul(&nalgebra::DVector::from_column_slice(&ev.eps));
+        let g = ev
+            .jac
+            .tr_mul(&nalgebra::DVector::from_column_slice(&ev.eps));
         let mut accepted = false;
         while lambda < 1e12 {
             let Some(step) = lm_step(&h, &g, lambda) else {
@@ -597,8 +695,12 @@ pub fn covariance(ev: &Evaluation) -> Result<(DMatrix<f64>, f64), RefineError> {
 
 /// Refines a subspace model `init` (with knots, μ0 and borders) on the record `(u, y)`.
 ///
-/// The noise model starts from the Hannan–Rissanen fit of the simulation residual (order by
-/// BIC unless fixed), then every parameter is refined jointly.
+/// With [`NoiseOrder::Fixed`] the noise model starts from the Hannan–Rissanen fit of the
+/// simulation residual and every parameter is refined jointly. With [`NoiseOrder::Auto`] the
+/// plant and borders are first refined with a white noise model (output error), the noise
+/// order is chosen by BIC on that residual (which is then nearly the noise alone), and
+/// everything is refined jointly from there. With [`Feedthrough::Auto`] a feed-through `D`
+/// within two standard deviations of zero is dropped and the model refitted.
 pub fn refine(
     u: &[f64],
     y: &[f64],
@@ -615,33 +717,130 @@ pub fn refine(
     if init.order == 0 {
         return Err(RefineError::InvalidModel("order 0"));
     }
+    let (_, den) = tf_from_ss(&init.a, &init.b, &init.c, init.d);
+    let radius = spectral_radius(&den);
+    if radius >= 1.0 {
+        return Err(RefineError::UnstablePredictor {
+            which: Unstable::Plant,
+            radius,
+        });
+    }
     let start = opts.start.min(u.len());
     let sim = init.simulate(u);
-    let resid: Vec<f64> = y
-        .iter()
-        .zip(&sim)
-        .skip(start)
-        .map(|(a, b)| a - b)
+    let resid: Vec<f64> = y.iter().zip(&sim).skip(start).map(|(a, b)| a - b).collect();
+    let free = opts.feedthrough != Feedthrough::Zero;
+    let mut fit = refine_structure(u, y, init, opts, start, &resid, free)?;
+    if opts.feedthrough == Feedthrough::Auto {
+        let (d, sd) = feedthrough_std(&fit);
+        if d.abs() < 2.0 * sd
+            && let Ok((mut strict, _)) =
+                refine_from(u, y, &fit.model, &fit.noise, opts, start, false)
+        {
+            strict.noise_bic = std::mem::take(&mut fit.noise_bic);
+            strict.initial_cost = fit.initial_cost;
+            fit = strict;
+        }
+    }
+    fit.seconds = clock.elapsed().as_secs_f64();
+    Ok(fit)
+}
+
+/// `D = b₀` of a fit with a feed-through and its standard deviation (`(0, 0)` without one).
+pub fn feedthrough_std(fit: &PemFit) -> (f64, f64) {
+    let l = fit.layout;
+    if !l.feedthrough {
+        return (0.0, 0.0);
+    }
+    // b₀ = 1 + Σ f_i − Σ b_i: gradient +1 on f, −1 on b.
+    let idx: Vec<(usize, f64)> = l
+        .f()
+        .map(|i| (i, 1.0))
+        .chain(l.b().map(|i| (i, -1.0)))
         .collect();
-    let nfit = fit_noise(&resid, opts.noise_order)?;
-    let nv = nfit.model.order();
+    let mut var = 0.0;
+    for &(i, gi) in &idx {
+        for &(j, gj) in &idx {
+            var += gi * gj * fit.covariance[(i, j)];
+        }
+    }
+    (fit.model.d, var.max(0.0).sqrt())
+}
+
+/// The noise-order logic of [`refine`] for one feed-through structure.
+fn refine_structure(
+    u: &[f64],
+    y: &[f64],
+    init: &HostModel,
+    opts: &PemOptions,
+    start: usize,
+    resid: &[f64],
+    free: bool,
+) -> Result<PemFit, RefineError> {
+    match opts.noise_order {
+        NoiseOrder::Fixed(k) => {
+            let nfit = fit_noise(resid, NoiseOrder::Fixed(k))?;
+            let (mut fit, _) = refine_from(u, y, init, &nfit.model, opts, start, free)?;
+            fit.noise_bic = nfit.bic;
+            Ok(fit)
+        }
+        NoiseOrder::Auto { max } => {
+            // 1. Output error (white noise model): the plant and borders, nearly efficient.
+            let white = fit_noise(resid, NoiseOrder::Fixed(0))?;
+            let (oe, oe_resid) = refine_from(u, y, init, &white.model, opts, start, free)?;
+            // 2. The noise order by BIC on the output-error residual (≈ v(t) alone).
+            let nfit = fit_noise(&oe_resid, NoiseOrder::Auto { max })?;
+            if nfit.model.order() == 0 {
+                let mut fit = oe;
+                fit.noise_bic = nfit.bic;
+                return Ok(fit);
+            }
+            // 3. Everything jointly, from the output-error estimate and the fitted noise.
+            let (mut fit, _) = refine_from(u, y, &oe.model, &nfit.model, opts, start, free)?;
+            fit.noise_bic = nfit.bic;
+            fit.initial_cost = oe.initial_cost;
+            Ok(fit)
+        }
+    }
+}
+
+/// One refinement from `init` and the starting noise model `noise`; also returns the
+/// deterministic residual `y − ŷ_det` over `start..` at the optimum.
+fn refine_from(
+    u: &[f64],
+    y: &[f64],
+    init: &HostModel,
+    noise: &NoiseModel,
+    opts: &PemOptions,
+    start: usize,
+    feedthrough: bool,
+) -> Result<(PemFit, Vec<f64>), RefineError> {
     let problem = Problem::new(
         u,
         y,
         &init.knots_asc,
         &init.knots_desc,
-        init.order,
-        nv,
-        opts.initial,
-        start,
+        Structure {
+            n: init.order,
+            nv: noise.order(),
+            initial: opts.initial,
+            start,
+            feedthrough,
+            shared: opts.static_nonlinearity,
+            burn: BURN_IN,
+        },
     )?;
-    let th0 = problem.theta_from(init, &nfit.model)?;
+    let th0 = problem.theta_from(init, noise)?;
     let initial_cost = problem.errors(&th0).iter().map(|e| e * e).sum::<f64>();
     let (th, ev, iterations) = minimise(&problem, th0, opts.max_iter, opts.tol)?;
     let (cov, sigma2) = covariance(&ev)?;
     let model = problem.model_of(&th, init, u.len());
     let noise = problem.noise_of(&th, sigma2);
-    Ok(PemFit {
+    let raw: Vec<f64> = y[start..]
+        .iter()
+        .zip(problem.simulate(&th))
+        .map(|(a, b)| a - b)
+        .collect();
+    let fit = PemFit {
         model,
         noise,
         layout: problem.layout(),
@@ -650,12 +849,13 @@ pub fn refine(
         mse: ev.cost / problem.samples() as f64,
         samples: problem.samples(),
         start,
-        noise_bic: nfit.bic,
+        noise_bic: Vec::new(),
         initial_cost,
         cost: ev.cost,
         theta: th,
-        seconds: clock.elapsed().as_secs_f64(),
-    })
+        seconds: 0.0,
+    };
+    Ok((fit, raw))
 }
 
 /// Subspace identification (the method in `opts`) followed by [`refine`] with

@@ -139,16 +139,19 @@ pub fn stabilise(p: &[f64], r_max: f64) -> Result<Vec<f64>, RefineError> {
 
 /// `p(z) = zⁿ + p₁ zⁿ⁻¹ + … + p_n` at a complex `z`.
 pub fn eval_z(p: &[f64], z: Complex<f64>) -> Complex<f64> {
-    p.iter()
-        .fold(Complex::new(0.0, 0.0), |acc, &c| acc * z + Complex::new(c, 0.0))
+    p.iter().fold(Complex::new(0.0, 0.0), |acc, &c| {
+        acc * z + Complex::new(c, 0.0)
+    })
 }
 
 /// `p(q⁻¹)` at `q = e^{jw}`: `Σ_k p_k e^{−jwk}`.
 pub fn eval_w(p: &[f64], w: f64) -> Complex<f64> {
-    p.iter().enumerate().fold(Complex::new(0.0, 0.0), |acc, (k, &c)| {
-        let ph = -w * k as f64;
-        acc + Complex::new(c * ph.cos(), c * ph.sin())
-    })
+    p.iter()
+        .enumerate()
+        .fold(Complex::new(0.0, 0.0), |acc, (k, &c)| {
+            let ph = -w * k as f64;
+            acc + Complex::new(c * ph.cos(), c * ph.sin())
+        })
 }
 
 /// Derivatives of a simple root `z` of the monic `p` with respect to `p₁ … p_n`:

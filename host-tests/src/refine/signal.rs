@@ -23,18 +23,25 @@ pub fn filter(b: &[f64], a: &[f64], x: &[f64]) -> Vec<f64> {
 
 /// [`filter`] into a caller-provided buffer of the same length as `x`.
 pub fn filter_into(b: &[f64], a: &[f64], x: &[f64], y: &mut [f64]) {
-    for t in 0..x.len().min(y.len()) {
+    let n = x.len().min(y.len());
+    let warm = b.len().max(a.len()).min(n);
+    for t in 0..warm {
+        let mut acc = 0.0;
+        for (k, bk) in b.iter().enumerate().take(t + 1) {
+            acc += bk * x[t - k];
+        }
+        for (k, ak) in a.iter().enumerate().take(t + 1).skip(1) {
+            acc -= ak * y[t - k];
+        }
+        y[t] = acc;
+    }
+    // Past the first samples every tap exists: no branch in the loop.
+    for t in warm..n {
         let mut acc = 0.0;
         for (k, bk) in b.iter().enumerate() {
-            if k > t {
-                break;
-            }
             acc += bk * x[t - k];
         }
         for (k, ak) in a.iter().enumerate().skip(1) {
-            if k > t {
-                break;
-            }
             acc -= ak * y[t - k];
         }
         y[t] = acc;
@@ -62,10 +69,14 @@ pub fn check_knots(k: &[f64], which: &'static str) -> Result<(), RefineError> {
 }
 
 /// The hat-basis regressors `w(t)` of a record (see the [module docs](self)).
+///
+/// With a static (memoryless) nonlinearity both directions share one border: the descending
+/// samples use the ascending channels and there are no descending ones.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HatRegressors {
     n_asc: usize,
     n_desc: usize,
+    shared: bool,
     /// Per sample: two channels and their weights (the second may have weight 0).
     idx: Vec<[usize; 2]>,
     w: Vec<[f64; 2]>,
@@ -89,6 +100,21 @@ fn locate(k: &[f64], u: f64) -> (usize, f64) {
 impl HatRegressors {
     /// Builds the regressors of `u` on the given knots (both paths from `u_min` to `u_max`).
     pub fn new(u: &[f64], knots_asc: &[f64], knots_desc: &[f64]) -> Result<Self, RefineError> {
+        Self::build(u, knots_asc, knots_desc, false)
+    }
+
+    /// The regressors of a static nonlinearity: one border on `knots` for both directions.
+    pub fn shared(u: &[f64], knots: &[f64]) -> Result<Self, RefineError> {
+        Self::build(u, knots, knots, true)
+    }
+
+    /// [`new`](Self::new) or [`shared`](Self::shared).
+    pub fn build(
+        u: &[f64],
+        knots_asc: &[f64],
+        knots_desc: &[f64],
+        shared: bool,
+    ) -> Result<Self, RefineError> {
         check_knots(knots_asc, "ascending knots must be strictly increasing")?;
         check_knots(knots_desc, "descending knots must be strictly increasing")?;
         let (lo, hi) = (knots_asc[0], knots_asc[knots_asc.len() - 1]);
@@ -106,7 +132,7 @@ impl HatRegressors {
             ));
         }
         let n_asc = knots_asc.len() - 1;
-        let n_desc = knots_desc.len() - 1;
+        let n_desc = if shared { 0 } else { knots_desc.len() - 1 };
         let mut idx = Vec::with_capacity(u.len());
         let mut w = Vec::with_capacity(u.len());
         let mut prev = lo;
@@ -118,7 +144,7 @@ impl HatRegressors {
                 up = false;
             }
             prev = ut;
-            let (k, off) = if up {
+            let (k, off) = if up || shared {
                 (knots_asc, 0)
             } else {
                 (knots_desc, n_asc)
@@ -132,6 +158,7 @@ impl HatRegressors {
         Ok(Self {
             n_asc,
             n_desc,
+            shared,
             idx,
             w,
         })
@@ -147,7 +174,12 @@ impl HatRegressors {
         self.idx.is_empty()
     }
 
-    /// Channels: `1 + n_a + n_d` (μ0 first).
+    /// Whether both directions share one border (a static nonlinearity).
+    pub fn is_shared(&self) -> bool {
+        self.shared
+    }
+
+    /// Channels: `1 + n_a + n_d` (μ0 first; `1 + n` for a static nonlinearity).
     pub fn channels(&self) -> usize {
         1 + self.n_asc + self.n_desc
     }
@@ -202,11 +234,14 @@ impl HatRegressors {
         out
     }
 
-    /// `β` from border values at the knots: `(μ0, P_a(n₁) …, P_d(n₁) …)`.
-    pub fn beta_from_borders(mu0: f64, border_asc: &[f64], border_desc: &[f64]) -> Vec<f64> {
+    /// `β` from border values at the knots: `(μ0, P_a(n₁) …, P_d(n₁) …)` (the descending
+    /// values are left out for a static nonlinearity).
+    pub fn beta_of(&self, mu0: f64, border_asc: &[f64], border_desc: &[f64]) -> Vec<f64> {
         let mut beta = vec![mu0];
         beta.extend(border_asc.iter().skip(1));
-        beta.extend(border_desc.iter().skip(1));
+        if !self.shared {
+            beta.extend(border_desc.iter().skip(1));
+        }
         beta
     }
 
@@ -216,6 +251,9 @@ impl HatRegressors {
         let mu0 = beta.first().copied().unwrap_or(f64::NAN);
         let mut asc = vec![mu0];
         asc.extend(beta.iter().skip(1).take(self.n_asc));
+        if self.shared {
+            return (asc.clone(), asc);
+        }
         let mut desc = vec![mu0];
         desc.extend(beta.iter().skip(1 + self.n_asc).take(self.n_desc));
         (asc, desc)

@@ -73,8 +73,7 @@ impl NoiseModel {
 
     /// Reads a noise model JSON written by [`save`](Self::save) and checks it.
     pub fn load(path: &Path) -> Result<Self, String> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let m: NoiseModel =
             serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         let ok = m.c.first() == Some(&1.0)
@@ -112,7 +111,7 @@ pub enum NoiseOrder {
 
 impl Default for NoiseOrder {
     fn default() -> Self {
-        NoiseOrder::Auto { max: 3 }
+        NoiseOrder::Auto { max: 2 }
     }
 }
 
@@ -228,12 +227,7 @@ pub fn estimate_noise(
         });
     }
     let sim = model.simulate(u);
-    let r: Vec<f64> = y
-        .iter()
-        .zip(&sim)
-        .skip(start)
-        .map(|(a, b)| a - b)
-        .collect();
+    let r: Vec<f64> = y.iter().zip(&sim).skip(start).map(|(a, b)| a - b).collect();
     fit_noise(&r, order)
 }
 
@@ -342,4 +336,50 @@ impl InnovationForm {
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
         self.plant.simulate(u)
     }
+}
+
+/// Where `hsid identify` writes the noise model of a model JSON and where `hsid validate`
+/// looks for it: `model.json` → `model.noise.json`.
+pub fn sidecar_path(model_json: &Path) -> std::path::PathBuf {
+    let stem = model_json
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    model_json.with_file_name(format!("{stem}.noise.json"))
+}
+
+/// One-line report of one-step-ahead predictions against measurements.
+pub fn prediction_report(meas: &[f64], pred: &[f64], sigma2: f64) -> Result<String, String> {
+    let f = crate::report::fit(meas, pred);
+    if !f.nrmse.is_finite() {
+        return Err(format!(
+            "the measured output is constant over the {} samples compared: NRMSE and fit are undefined",
+            meas.len()
+        ));
+    }
+    Ok(format!(
+        "one-step prediction fit on {} samples: RMSE {:.6}, NRMSE {:.4}, fit {:.2} % (model innovation std {:.6})",
+        meas.len(),
+        f.rmse,
+        f.nrmse,
+        f.fit_percent,
+        sigma2.max(0.0).sqrt()
+    ))
+}
+
+/// One line describing a noise model.
+pub fn noise_text(m: &NoiseModel) -> String {
+    let fmt = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.5}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "noise model (innovation form): ARMA({0}, {0}), C = [{1}], D = [{2}], sigma_e^2 = {3:.6e}",
+        m.order(),
+        fmt(&m.c),
+        fmt(&m.d),
+        m.sigma2
+    )
 }

@@ -1,0 +1,361 @@
+//! Minimal, deterministic cases of the contract violations the property tests found (see
+//! `proptest_common::known_bugs`, whose predicates keep the properties away from them until
+//! they are fixed). Each test states the input, what happens and what should.
+//!
+//! These tests fail until the core is fixed; delete the matching `known_bugs` predicate with
+//! the fix so that the properties cover the region again.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod proptest_common;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use hsid::{
+    Basis, CheckpointError, Direction, Error, Excitation, Identifier, Knots, Method, MuZero, Order,
+    Real, Settings,
+};
+use proptest_common::{Id, Lti, M, PwlSwitch, fix_checksums, settings_end, table1};
+use rand_core::SeedableRng;
+use rand_pcg::Pcg32;
+
+/// Runs `f`, turning a panic into a test failure that says so.
+fn no_panic<R>(what: &str, f: impl FnOnce() -> R) -> R {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            panic!("{what} panicked: {msg}")
+        }
+    }
+}
+
+/// A Table I record on `[-3, 3]` through a smooth hysteresis and a first-order plant.
+fn record(n: usize, seed: u64) -> Vec<(f64, f64)> {
+    let mut plant = Lti::new(1, 0.5, 0.0, false, 0.0, 0.0);
+    let (mut up, mut prev) = (false, -3.0);
+    Excitation::<f64, _>::new(-3.0, 3.0, 1, Pcg32::seed_from_u64(seed))
+        .unwrap()
+        .take(n)
+        .map(|u| {
+            if u > prev {
+                up = true;
+            } else if u < prev {
+                up = false;
+            }
+            prev = u;
+            let x = (u + 3.0) / 6.0;
+            (u, plant.step(if up { x * x } else { x.sqrt() }))
+        })
+        .collect()
+}
+
+fn solve<const MM: usize, const KK: usize>(
+    id: &Identifier<f64, MM, KK>,
+) -> Result<hsid::Model<f64, MM>, Error> {
+    let mut ws = vec![0.0; id.workspace_len()];
+    no_panic("solve", || id.solve(&mut ws))
+}
+
+/// `solve` indexes past the QR scratch when the instruments have fewer rows than `f`
+/// (`p·m < f`; here m = 2, f = 3, p = 1): "index out of bounds" in `subspace.rs`. It should
+/// return a typed error (or refuse the settings in `new`: `p·m >= f` is needed for `n` up to
+/// `f − 1`).
+#[test]
+fn solve_with_fewer_instrument_rows_than_f_does_not_panic() {
+    let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 1, 1).unwrap();
+    let mut id =
+        Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 1, MuZero::Known(0.0))).unwrap();
+    for (u, y) in record(300, 1) {
+        id.push(u, y);
+    }
+    let _ = solve(&id);
+}
+
+/// With one channel (`Knots::shared(&[-3.0, 3.0])`) and `f = 2`, the rank-1 split's scratch
+/// (`B_f`, `f²·m` = 4 scalars) is shorter than the `(n+1)·m + m + n + 1` = 5 it needs:
+/// "range end index 2 out of range for slice of length 1" in `estimation.rs`.
+#[test]
+fn rank_one_split_with_one_channel_does_not_panic() {
+    let knots = Knots::<f64, 6>::shared(&[-3.0, 3.0]).unwrap();
+    let mut id =
+        Identifier::<f64, 6, 8>::new(Settings::new(knots, 2, 2, MuZero::Estimate)).unwrap();
+    for (u, y) in record(300, 2) {
+        id.push(u, y);
+    }
+    let _ = solve(&id);
+}
+
+/// `Knots::uniform(-3, 3, 1, 6)` with capacity 6 truncates the ascending... descending knots
+/// to the capacity and reports `KnotEndpoints { path: Descending, first: -3, last: 2 }`
+/// ("descending knots run from -3 to 2: the first must be u_min and the last u_max"); with
+/// (6, 6) it reports `SegmentCount` with 5 + 5 segments. It should report
+/// `SegmentCount { expected: 6, ascending: 1, descending: 6 }` (and 6 + 6).
+#[test]
+fn uniform_knots_beyond_the_capacity_report_the_segment_count() {
+    for (na, nd) in [(1, 6), (6, 1), (6, 6), (3, 4)] {
+        assert_eq!(
+            Knots::<f64, 6>::uniform(-3.0, 3.0, na, nd).err(),
+            Some(Error::SegmentCount {
+                expected: 6,
+                ascending: na,
+                descending: nd
+            }),
+            "uniform(-3, 3, {na}, {nd})"
+        );
+    }
+}
+
+/// `Knots::new` with a path of fewer than two knots and the other path longer than the
+/// capacity reports `SegmentCount { ascending: 0, descending: 0 }` ("0 ascending + 0
+/// descending segments, exceed the capacity of 6 channels") or 6 + 0. It should report the
+/// short path: `TooFewKnots`.
+#[test]
+fn a_short_path_is_reported_as_too_few_knots() {
+    let long = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+    assert_eq!(
+        Knots::<f64, 6>::new(&[-3.0], &long).err(),
+        Some(Error::TooFewKnots {
+            path: Direction::Ascending,
+            count: 1
+        })
+    );
+    assert_eq!(
+        Knots::<f64, 6>::new(&long, &[]).err(),
+        Some(Error::TooFewKnots {
+            path: Direction::Descending,
+            count: 0
+        })
+    );
+}
+
+/// Ascending knots `[-3, 0, 2.5]` with descending `[-3, 0, 3]` give `KnotEndpoints { path:
+/// Descending, first: -3, last: 3 }`: "descending knots run from -3 to 3: the first must be
+/// u_min and the last u_max" — the descending path is fine, and the 2.5 that is wrong is
+/// not mentioned. The message should name the mismatching end (2.5 against 3).
+#[test]
+fn mismatched_ends_name_the_mismatching_knot() {
+    let e = Knots::<f64, 6>::new(&[-3.0, 0.0, 2.5], &[-3.0, 0.0, 3.0]).unwrap_err();
+    assert!(matches!(e, Error::KnotEndpoints { .. }), "{e:?}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("2.5"),
+        "the message should name the ascending end 2.5: {msg}"
+    );
+}
+
+/// In `f32`, outputs of magnitude 1e20 (finite, accepted by `push`) overflow the lagged sums
+/// (`y² > f32::MAX`), and `solve` reports `NoConvergence { stage: Projection }` ("no
+/// convergence within the iteration bound at the projection O_f") — the cause is the
+/// overflow. It should say so (e.g. a fault at the sample whose product overflowed, or an
+/// error naming the overflow and suggesting to scale `y` or use `f64`).
+#[test]
+fn overflowing_sums_are_reported_as_such() {
+    let knots = Knots::<f32, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
+    let mut id =
+        Identifier::<f32, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Known(0.0))).unwrap();
+    for (u, y) in record(400, 3) {
+        id.push(u as f32, (y * 1e20) as f32);
+    }
+    let e = solve_f32(&id).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        !matches!(e, Error::NoConvergence { .. })
+            && (msg.contains("overflow") || msg.contains("large")),
+        "{e:?}: {msg}"
+    );
+}
+
+fn solve_f32(id: &Identifier<f32, 6, 8>) -> Result<hsid::Model<f32, 6>, Error> {
+    let mut ws = vec![0.0f32; id.workspace_len()];
+    no_panic("solve", || id.solve(&mut ws))
+}
+
+/// CVA on exactly noise-free data (ramp basis, f = p = 3, one segment per path, a
+/// first-order plant with a small feed-through) returns `Ok` with `A = 1.187` (the true pole is
+/// 0.1) and `P_a(4) = -2.87` (true 1.163): a silently wrong model. CVA's weighting
+/// `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` is undefined without noise; it should return a typed error there
+/// (as it does for the hat basis: the canonical correlations are all ≈ 1).
+#[test]
+fn cva_on_noise_free_data_is_not_silently_wrong() {
+    let mu0 = 0.559_244_191_709_063_6;
+    let truth = [mu0, mu0 + 0.603_576_311_149_058_3];
+    let k = [-2.0, 4.0];
+    let knots = Knots::<f64, M>::new(&k, &k).unwrap();
+    let mut s = Settings::new(knots.clone(), 3, 3, MuZero::Known(mu0));
+    s.order = Order::Fixed(1);
+    s.method = Method::Cva;
+    s.basis = Basis::Ramp;
+    let mut id = Id::<f64>::new(s).unwrap();
+    let mut sw = PwlSwitch::new(k.to_vec(), truth.to_vec(), k.to_vec(), vec![mu0, mu0 - 0.2]);
+    let mut plant = Lti::new(1, 0.1, 0.0, false, 0.0, 0.0);
+    plant.b = [-0.002_854_993_264_283_388, 0.902_854_993_264_283_4, 0.0];
+    for _ in 0..400 {
+        plant.step(mu0);
+    }
+    for (u, y) in table1(
+        &knots,
+        0,
+        1081,
+        15_029_245_326_058_622_124,
+        &mut sw,
+        &mut plant,
+    ) {
+        id.push(u, y);
+    }
+    if let Ok(m) = solve(&id) {
+        let got = m.border_values(Direction::Ascending)[1];
+        assert!(
+            (got - truth[1]).abs() < 0.05 && (m.a(0, 0) - 0.1).abs() < 0.05,
+            "CVA returned a wrong model: A = {}, P_a(4) = {got} (true 0.1, {})",
+            m.a(0, 0),
+            truth[1]
+        );
+    }
+}
+
+/// In `f32` the automatic order over-counts at high SNR: a first-order plant, PI-MOESP, one
+/// segment per path, f = p = 4, 1,543 samples after a hold, white noise of standard deviation
+/// 1e-4 on outputs of order 0.3 (about 70 dB): `f64` finds n = 1 in 50 runs of 50, `f32` in
+/// about 30 (the whitened noise-floor values are inflated by rounding of the Gram; with
+/// past outputs among the instruments — PO-MOESP, N4SID, CVA — it happens at 1e-3 too).
+/// At 1e-2 and 1e-6 `f32` is right. The noise floor of the whitening should account for the
+/// rounding of the accumulated sums.
+#[test]
+fn f32_automatic_order_at_high_snr() {
+    fn order<T: Real>(seed: u64) -> usize {
+        let k = [-2.0, 4.0];
+        let kt = [T::of(-2.0), T::of(4.0)];
+        let knots = Knots::<T, M>::new(&kt, &kt).unwrap();
+        let mut s = Settings::new(
+            knots.clone(),
+            4,
+            4,
+            MuZero::Hold {
+                len: 200,
+                settle: 180,
+            },
+        );
+        s.basis = Basis::Ramp;
+        let mut id = Id::<T>::new(s).unwrap();
+        let mut sw = PwlSwitch::new(k.to_vec(), vec![0.0, 0.63], k.to_vec(), vec![0.0, 0.2]);
+        let mut plant = Lti::new(1, -0.05, 0.0, false, 0.0, 0.0);
+        let mut r = seed;
+        for (u, y) in table1(
+            &knots,
+            200,
+            1743,
+            17_039_288_035_587_460_676,
+            &mut sw,
+            &mut plant,
+        ) {
+            r = r
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let e = ((r >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1e-4 * 12f64.sqrt();
+            id.push(u, y + T::of(e));
+        }
+        let mut ws = vec![T::zero(); id.workspace_len()];
+        id.solve(&mut ws).map(|m| m.order()).unwrap_or(0)
+    }
+    let (mut right32, mut right64) = (0, 0);
+    for seed in 0..50 {
+        right64 += usize::from(order::<f64>(seed) == 1);
+        right32 += usize::from(order::<f32>(seed) == 1);
+    }
+    assert_eq!(right64, 50);
+    assert!(
+        right32 >= 48,
+        "f32 found the true order in {right32} runs of 50 (f64: {right64})"
+    );
+}
+
+/// A checkpoint whose checksums are valid but whose sample counters are impossible is
+/// restored as is: `count = u64::MAX` then overflows `count + 1` in `Accumulator::columns`
+/// (a panic with overflow checks; without them `j` wraps to 0 and `solve` loops over 2^64
+/// samples in `row_sums`), and `count > index` (more samples accumulated than pushed) is
+/// accepted. `restore` should refuse both (`CheckpointError::Invalid`).
+#[test]
+fn checkpoints_with_impossible_counters_are_refused() {
+    let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
+    let mut id =
+        Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Estimate)).unwrap();
+    for (u, y) in record(100, 4) {
+        id.push(u, y);
+    }
+    let mut good = vec![0u8; id.checkpoint_len()];
+    id.save(&mut good).unwrap();
+    let end = settings_end(&good, 8).unwrap();
+    for (what, count, index) in [
+        ("count = u64::MAX", u64::MAX, u64::MAX),
+        ("count > index", 90, 50),
+        ("index = u64::MAX", 100, u64::MAX),
+    ] {
+        let mut bad = good.clone();
+        bad[end..end + 8].copy_from_slice(&count.to_le_bytes());
+        bad[end + 8..end + 16].copy_from_slice(&index.to_le_bytes());
+        fix_checksums(&mut bad, 8);
+        let r = no_panic("restore", || Identifier::<f64, 6, 8>::restore(&bad));
+        assert_eq!(
+            r.err(),
+            Some(Error::Checkpoint(CheckpointError::Invalid)),
+            "{what}"
+        );
+    }
+}
+
+/// `MuZero::Known(NaN)` is refused with `NonFinite { index: 0, signal: Output }`: "sample 0:
+/// output y is NaN or infinite" — no sample has been pushed; the known μ0 is what is wrong.
+/// The message should name μ0.
+#[test]
+fn a_non_finite_known_mu0_is_named() {
+    let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
+    let e = Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Known(f64::NAN)))
+        .unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("mu0") || msg.contains("μ0"), "{e:?}: {msg}");
+}
+
+/// Exactly noise-free data from the exact model class: `A` comes out exact (1e-16) but `D`
+/// (and with it `B` and the borders) is off by 1.2e-2 for f = 3, p = 2 and 1,372 samples (and
+/// exact for f = 2, p = 1 or 5,000 samples); with output noise of 1e-12 the error is still
+/// 5e-4, with 1e-9 it is 5e-7. The host reference implementation shows the same on other
+/// cases, so it is the formulation's sensitivity on data without a noise floor, not the
+/// streaming. A robustness observation rather than a broken guarantee (the model is finite
+/// and `G(1) = 1`): ignored by default.
+#[test]
+#[ignore = "numerical sensitivity of B, D on exactly noise-free data (see the doc comment)"]
+fn noise_free_b_and_d_do_not_depend_on_rounding() {
+    let mu0 = -0.929_702_026_786_703_9;
+    let k = [-2.0, 4.0];
+    let knots = Knots::<f64, M>::new(&k, &k).unwrap();
+    let mut s = Settings::new(knots.clone(), 3, 2, MuZero::Known(mu0));
+    s.order = Order::Fixed(1);
+    let mut id = Id::<f64>::new(s).unwrap();
+    let mut sw = PwlSwitch::new(
+        k.to_vec(),
+        vec![mu0, mu0 + 0.2],
+        k.to_vec(),
+        vec![mu0, mu0 + 0.455_710_346_569_417_4],
+    );
+    let mut plant = Lti::new(1, -0.05, 0.0, false, 0.0, 0.0);
+    for _ in 0..400 {
+        plant.step(mu0);
+    }
+    for (u, y) in table1(
+        &knots,
+        0,
+        1372,
+        16_463_568_061_613_932_314,
+        &mut sw,
+        &mut plant,
+    ) {
+        id.push(u, y);
+    }
+    let m = solve(&id).unwrap();
+    assert!((m.a(0, 0) + 0.05).abs() < 1e-12);
+    assert!(m.d().abs() < 1e-8, "D = {} (true 0)", m.d());
+}

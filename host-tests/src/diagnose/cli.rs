@@ -1,0 +1,286 @@
+//! The `hsid diagnose` command: arguments and the run.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use super::model::{InitialState, Record};
+use super::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation, diagnose, figures, report};
+use crate::identify::IdentifyOptions;
+use crate::io::read_columns;
+
+/// The input element of `hsid diagnose`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NonlinearityArg {
+    /// Backlash (play operator): two paths, Table I data.
+    Backlash,
+    /// Switch: two paths.
+    Switch,
+    /// Static, memoryless: one border for both directions, any input.
+    Static,
+}
+
+impl From<NonlinearityArg> for Nonlinearity {
+    fn from(n: NonlinearityArg) -> Self {
+        match n {
+            NonlinearityArg::Backlash => Nonlinearity::Backlash,
+            NonlinearityArg::Switch => Nonlinearity::Switch,
+            NonlinearityArg::Static => Nonlinearity::Static,
+        }
+    }
+}
+
+/// Initial state of the simulations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InitialArg {
+    /// At rest at u_min (after a hold).
+    Rest,
+    /// Least squares on the estimation record; every record starts from it.
+    Estimate,
+}
+
+/// Where the poles are refined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RefineArg {
+    /// Never.
+    Never,
+    /// In the reported models only.
+    Final,
+    /// In every fit.
+    Always,
+}
+
+/// Arguments of `hsid diagnose`.
+#[derive(Args, Clone, Debug)]
+pub struct DiagnoseArgs {
+    /// Estimation data: CSV file with a header.
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Validation data (CSV); without it the estimation file is split (see --split, --holdout).
+    #[arg(long)]
+    pub validation: Option<PathBuf>,
+    /// Without --validation: fraction of the samples after the hold used for estimation; the
+    /// rest validates.
+    #[arg(long, default_value_t = 0.7)]
+    pub split: f64,
+    /// Without --validation: hold out samples START..END (0-based, END exclusive) for
+    /// validation instead, and estimate on the rest.
+    #[arg(long)]
+    pub holdout: Option<String>,
+    /// Samples at the start of the validation file not scored (default: the hold).
+    #[arg(long)]
+    pub validation_skip: Option<usize>,
+    /// Input column name (both files).
+    #[arg(long, default_value = "u")]
+    pub input_column: String,
+    /// Output column name (both files).
+    #[arg(long, default_value = "y")]
+    pub output_column: String,
+    /// Input column of the validation file (default: --input-column).
+    #[arg(long)]
+    pub validation_input_column: Option<String>,
+    /// Output column of the validation file (default: --output-column).
+    #[arg(long)]
+    pub validation_output_column: Option<String>,
+    /// The input element.
+    #[arg(long, value_enum, default_value = "backlash")]
+    pub nonlinearity: NonlinearityArg,
+    /// Lower end of the input interval (default: the smallest input of the data).
+    #[arg(long, allow_hyphen_values = true)]
+    pub umin: Option<f64>,
+    /// Upper end of the input interval (default: the largest input of the data).
+    #[arg(long, allow_hyphen_values = true)]
+    pub umax: Option<f64>,
+    /// Uniform segments per path (ignored when knots are given).
+    #[arg(long, default_value_t = 7)]
+    pub segments: usize,
+    /// Knots of both paths (or of the static border), comma separated, u_min first, u_max last.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub knots: Option<Vec<f64>>,
+    /// Ascending knots (backlash, switch).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub knots_asc: Option<Vec<f64>>,
+    /// Descending knots (backlash, switch).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub knots_desc: Option<Vec<f64>>,
+    /// Model order (default: automatic).
+    #[arg(long)]
+    pub order: Option<usize>,
+    /// Samples of the initial hold at u_min (0: no hold).
+    #[arg(long, default_value_t = 300)]
+    pub hold: usize,
+    /// Samples of the hold skipped while the plant settles (default: half the hold).
+    #[arg(long)]
+    pub settle: Option<usize>,
+    /// Known μ0 = H(u_min) for data without a hold; without it μ0 is estimated.
+    #[arg(long, allow_hyphen_values = true)]
+    pub mu0: Option<f64>,
+    /// Future horizon f.
+    #[arg(long, default_value_t = 10)]
+    pub f: usize,
+    /// Past horizon p.
+    #[arg(long, default_value_t = 10)]
+    pub p: usize,
+    /// Initial state of the simulations (default: rest with a hold, estimate without).
+    #[arg(long, value_enum)]
+    pub initial_state: Option<InitialArg>,
+    /// Most effects added.
+    #[arg(long, default_value_t = 4)]
+    pub max_steps: usize,
+    /// Least relative reduction of the estimation hold-out MSE for an effect to be added.
+    #[arg(long, default_value_t = 0.20)]
+    pub min_gain: f64,
+    /// Largest extra input delay tried (samples).
+    #[arg(long, default_value_t = 10)]
+    pub max_delay: usize,
+    /// Fraction of the estimation samples (after the hold) the inner hold-out fits on; the
+    /// rest, one block, scores every setting and effect.
+    #[arg(long, default_value_t = 0.7)]
+    pub inner_fraction: f64,
+    /// Where the poles are refined by the simulation error (variable projection) after the
+    /// subspace step: never, in the reported models only, or in every fit.
+    #[arg(long, value_enum, default_value = "final")]
+    pub refine_poles: RefineArg,
+    /// Folder for the figures.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// File name prefix of the figures.
+    #[arg(long, default_value = "")]
+    pub prefix: String,
+    /// Title of the figures.
+    #[arg(long, default_value = "diagnosis")]
+    pub title: String,
+    /// Write the JSON report here.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
+    let (a, b) = s
+        .split_once("..")
+        .or_else(|| s.split_once(':'))
+        .ok_or_else(|| format!("--holdout {s}: expected START..END"))?;
+    let p = |v: &str| {
+        v.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("--holdout {s}: {v:?} is not a sample index"))
+    };
+    Ok(p(a)?..p(b)?)
+}
+
+/// Runs `hsid diagnose`: prints the text report, writes the figures and the JSON report.
+pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
+    let cols = read_columns(
+        &a.data,
+        &[a.input_column.as_str(), a.output_column.as_str()],
+    )
+    .map_err(|e| e.to_string())?;
+    let [u, y]: [Vec<f64>; 2] = cols
+        .try_into()
+        .map_err(|_| "internal: two columns expected".to_string())?;
+    let val = match &a.validation {
+        Some(path) => {
+            let ic = a
+                .validation_input_column
+                .as_deref()
+                .unwrap_or(&a.input_column);
+            let oc = a
+                .validation_output_column
+                .as_deref()
+                .unwrap_or(&a.output_column);
+            let c = read_columns(path, &[ic, oc]).map_err(|e| e.to_string())?;
+            let [vu, vy]: [Vec<f64>; 2] = c
+                .try_into()
+                .map_err(|_| "internal: two columns expected".to_string())?;
+            Some(Record::new(vu, vy))
+        }
+        None => None,
+    };
+    let all_u = u.iter().chain(val.iter().flat_map(|r| r.u.iter()));
+    let (lo, hi) = all_u.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+        (l.min(v), h.max(v))
+    });
+    let knots_all = a.knots.clone();
+    let umin = a
+        .umin
+        .or_else(|| knots_all.as_ref().and_then(|k| k.first().copied()))
+        .unwrap_or(lo);
+    let umax = a
+        .umax
+        .or_else(|| knots_all.as_ref().and_then(|k| k.last().copied()))
+        .unwrap_or(hi);
+    if !(umin.is_finite() && umax.is_finite() && umin < umax) {
+        return Err(format!(
+            "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
+        ));
+    }
+    if a.segments == 0 {
+        return Err("--segments 0: each path needs at least one segment".into());
+    }
+    let mut id = IdentifyOptions::uniform(umin, umax, a.segments, a.hold);
+    if let Some(k) = knots_all {
+        id.knots_asc = k.clone();
+        id.knots_desc = k;
+    }
+    if let Some(k) = &a.knots_asc {
+        id.knots_asc = k.clone();
+    }
+    if let Some(k) = &a.knots_desc {
+        id.knots_desc = k.clone();
+    }
+    for (name, k) in [("ascending", &id.knots_asc), ("descending", &id.knots_desc)] {
+        if k.first() != Some(&umin) || k.last() != Some(&umax) {
+            return Err(format!(
+                "{name} knots must start at u_min {umin} and end at u_max {umax}"
+            ));
+        }
+    }
+    id.order = a.order;
+    id.f = a.f;
+    id.p = a.p;
+    id.settle = a.settle.unwrap_or(a.hold / 2);
+    id.mu0 = a.mu0;
+    let mut opts = DiagnoseOptions::new(id, a.nonlinearity.into());
+    opts.initial = a.initial_state.map(|i| match i {
+        InitialArg::Rest => InitialState::Rest,
+        InitialArg::Estimate => InitialState::Estimated,
+    });
+    opts.max_steps = a.max_steps;
+    opts.min_gain = a.min_gain;
+    opts.max_delay = a.max_delay;
+    if !(a.inner_fraction > 0.0 && a.inner_fraction < 1.0) {
+        return Err(format!(
+            "--inner-fraction {} must lie strictly between 0 and 1",
+            a.inner_fraction
+        ));
+    }
+    opts.inner_fraction = a.inner_fraction;
+    opts.refine_poles = match a.refine_poles {
+        RefineArg::Never => PoleRefinement::Never,
+        RefineArg::Final => PoleRefinement::Final,
+        RefineArg::Always => PoleRefinement::Always,
+    };
+    let validation = match (val, &a.holdout) {
+        (Some(v), _) => Validation::Separate {
+            record: v,
+            skip: a.validation_skip.unwrap_or(a.hold),
+        },
+        (None, Some(r)) => Validation::Holdout(parse_range(r)?),
+        (None, None) => Validation::Split(a.split),
+    };
+    let d = diagnose(&Record::new(u, y), &validation, &opts)
+        .map_err(|e| format!("{}: {e}", a.data.display()))?;
+    println!("{}", report::text(&d));
+    if let Some(dir) = &a.out {
+        for f in figures::write_figures(&d, dir, &a.prefix, &a.title).map_err(|e| e.to_string())? {
+            println!("wrote {}", f.display());
+        }
+    }
+    if let Some(path) = &a.json {
+        let text = serde_json::to_string_pretty(&report::to_json(&d))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

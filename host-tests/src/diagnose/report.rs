@@ -1,0 +1,404 @@
+//! The diagnosis as JSON (`error_before`, `error_after`, `nrmse_before`, `nrmse_after`,
+//! `effects`, `tests_before`, `tests_after`, `warnings`, …) and as text.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use super::effects::{Effect, has_evidence};
+use super::model::{ArNoise, ExtendedModel, Metric, OutputMap, Structure};
+use super::residual::TestSet;
+use super::{Diagnosis, Warning};
+
+/// One entry of `effects`: an effect added, or one with evidence that was not added.
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectJson {
+    /// Catalog name.
+    pub name: String,
+    /// The tests that pointed at it, with their findings.
+    pub evidence: Vec<String>,
+    /// Whether it was added.
+    pub added: bool,
+    /// Its setting (added effects).
+    pub setting: Option<String>,
+    /// The model extension.
+    pub extension: String,
+    /// Relative reduction of the inner hold-out MSE (estimation data).
+    pub inner_gain: f64,
+    /// One-sided Diebold–Mariano p-value of that reduction.
+    pub inner_p: f64,
+    /// Settings tried on the inner hold-out with their RMSE.
+    pub tried: Vec<(String, f64)>,
+    /// Metric of `error_before` / `error_after`.
+    pub metric: Option<Metric>,
+    /// Validation error of the model before this effect, output units.
+    pub error_before: Option<f64>,
+    /// Validation error after adding it, output units (`null` when not added).
+    pub error_after: Option<f64>,
+    /// NRMSE after.
+    pub nrmse_after: Option<f64>,
+    /// Fit % after.
+    pub fit_after: Option<f64>,
+    /// Validation samples excluded as outliers.
+    pub excluded: Option<usize>,
+}
+
+/// A model in the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelSummary {
+    /// The extensions.
+    pub structure: Structure,
+    /// Order of `G`.
+    pub order: usize,
+    /// Poles `(re, im)`.
+    pub poles: Vec<[f64; 2]>,
+    /// μ0.
+    pub mu0: f64,
+    /// Knots of the ascending path.
+    pub knots_asc: Vec<f64>,
+    /// `P_a` at the knots.
+    pub border_asc: Vec<f64>,
+    /// Knots of the descending path.
+    pub knots_desc: Vec<f64>,
+    /// `P_d` at the knots.
+    pub border_desc: Vec<f64>,
+    /// `A`, `B`, `C`, `D`.
+    pub a: Vec<Vec<f64>>,
+    /// `B`.
+    pub b: Vec<f64>,
+    /// `C`.
+    pub c: Vec<f64>,
+    /// `D`.
+    pub d: f64,
+    /// Initial state of simulations.
+    pub x0: Vec<f64>,
+    /// Output map.
+    pub output_map: Option<OutputMap>,
+    /// Trend coefficients (normalised time) and sinusoids.
+    pub additive: super::model::Additive,
+    /// Noise model.
+    pub noise: Option<ArNoise>,
+    /// Estimation samples flagged as outliers.
+    pub flagged: usize,
+}
+
+impl ModelSummary {
+    /// Summary of a model.
+    pub fn of(m: &ExtendedModel) -> Self {
+        let h = &m.hammerstein;
+        Self {
+            structure: m.structure.clone(),
+            order: h.order,
+            poles: h.poles().into_iter().map(|(r, i)| [r, i]).collect(),
+            mu0: h.mu0,
+            knots_asc: h.knots_asc.clone(),
+            border_asc: h.border_asc.clone(),
+            knots_desc: h.knots_desc.clone(),
+            border_desc: h.border_desc.clone(),
+            a: (0..h.order)
+                .map(|i| (0..h.order).map(|j| h.a[(i, j)]).collect())
+                .collect(),
+            b: h.b.clone(),
+            c: h.c.clone(),
+            d: h.d,
+            x0: m.x0.clone(),
+            output_map: m.output_map.clone(),
+            additive: m.additive.clone(),
+            noise: m.noise.clone(),
+            flagged: m.flagged,
+        }
+    }
+}
+
+/// The JSON report.
+#[derive(Clone, Debug, Serialize)]
+pub struct DiagnosisJson {
+    /// Nonlinearity kind.
+    pub nonlinearity: String,
+    /// How estimation and validation data were formed.
+    pub data: String,
+    /// Estimation samples.
+    pub estimation_samples: usize,
+    /// Validation samples scored.
+    pub validation_samples: usize,
+    /// Data checks.
+    pub warnings: Vec<Warning>,
+    /// Validation simulation RMSE of the paper's estimate alone (subspace identification and
+    /// rank-1 split, no refit), output units.
+    pub error_paper: Option<f64>,
+    /// Validation simulation RMSE of the base model (the paper's structure refit on the
+    /// estimation data), output units: the error before any effect.
+    pub error_before: f64,
+    /// Its NRMSE.
+    pub nrmse_before: f64,
+    /// Its fit %.
+    pub fit_before: f64,
+    /// Validation simulation RMSE of the final model, output units (outliers excluded when
+    /// the outliers effect was added).
+    pub error_after: f64,
+    /// Its NRMSE.
+    pub nrmse_after: f64,
+    /// Its fit %.
+    pub fit_after: f64,
+    /// Validation samples excluded as outliers from `error_after`.
+    pub excluded_after: usize,
+    /// Validation one-step prediction RMSE of the final model (with a noise model).
+    pub prediction_error_after: Option<f64>,
+    /// Effects added (in order) then effects with evidence that were not added.
+    pub effects: Vec<EffectJson>,
+    /// Tests that fire and that no catalog effect explains.
+    pub unexplained: Vec<String>,
+    /// Conclusion.
+    pub verdict: String,
+    /// Tests on the validation residual of the paper's model.
+    pub tests_before: TestSet,
+    /// Tests on the final validation residual.
+    pub tests_after: TestSet,
+    /// The paper's model.
+    pub model_before: ModelSummary,
+    /// The final model.
+    pub model_after: ModelSummary,
+}
+
+/// The JSON report of a diagnosis.
+pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
+    let mut effects: Vec<EffectJson> = d
+        .steps
+        .iter()
+        .map(|s| EffectJson {
+            name: s.effect.name().into(),
+            evidence: s.evidence.clone(),
+            added: true,
+            setting: Some(s.setting.clone()),
+            extension: s.effect.extension().into(),
+            inner_gain: s.inner_gain,
+            inner_p: s.inner_p,
+            tried: s.tried.clone(),
+            metric: Some(s.metric),
+            error_before: Some(s.error_before),
+            error_after: Some(s.error_after),
+            nrmse_after: Some(s.nrmse_after),
+            fit_after: Some(s.fit_after),
+            excluded: Some(s.excluded),
+        })
+        .collect();
+    for r in &d.rejected {
+        effects.push(EffectJson {
+            name: r.effect.name().into(),
+            evidence: r.evidence.clone(),
+            added: false,
+            setting: None,
+            extension: r.effect.extension().into(),
+            inner_gain: r.inner_gain,
+            inner_p: r.inner_p,
+            tried: Vec::new(),
+            metric: None,
+            error_before: None,
+            error_after: None,
+            nrmse_after: None,
+            fit_after: None,
+            excluded: None,
+        });
+    }
+    DiagnosisJson {
+        nonlinearity: d.nonlinearity.name().into(),
+        data: d.data_description.clone(),
+        estimation_samples: d.estimation_samples,
+        validation_samples: d.validation_samples,
+        warnings: d.warnings.clone(),
+        error_paper: d.paper.as_ref().map(|p| p.rmse),
+        error_before: d.before.rmse,
+        nrmse_before: d.before.nrmse,
+        fit_before: d.before.fit_percent,
+        error_after: d.after.rmse,
+        nrmse_after: d.after.nrmse,
+        fit_after: d.after.fit_percent,
+        excluded_after: d.after.excluded.iter().filter(|&&e| e).count(),
+        prediction_error_after: d.after_prediction.as_ref().map(|e| e.rmse),
+        effects,
+        unexplained: d.unexplained.clone(),
+        verdict: d.verdict.clone(),
+        tests_before: d.tests_before.clone(),
+        tests_after: d.tests_after.clone(),
+        model_before: ModelSummary::of(&d.base),
+        model_after: ModelSummary::of(&d.model),
+    }
+}
+
+fn test_table(s: &mut String, before: &TestSet, after: &TestSet) {
+    let _ = writeln!(
+        s,
+        "  {:<22} {:>12} {:>10} {:>10}   {:>12} {:>10}",
+        "test (1 % level)", "before", "p", "", "after", "p"
+    );
+    for t in &before.tests {
+        let a = after.get(&t.name);
+        let mark = |f: bool| if f { "FIRES" } else { "" };
+        let _ = writeln!(
+            s,
+            "  {:<22} {:>12.3} {:>10.2e} {:>10}   {:>12.3} {:>10.2e} {}",
+            t.name,
+            t.statistic,
+            t.p_value,
+            mark(t.fired),
+            a.map_or(f64::NAN, |a| a.statistic),
+            a.map_or(f64::NAN, |a| a.p_value),
+            mark(a.is_some_and(|a| a.fired)),
+        );
+    }
+}
+
+/// The diagnosis as text.
+pub fn text(d: &Diagnosis) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "hsid diagnose ({} nonlinearity)", d.nonlinearity.name());
+    let _ = writeln!(s, "data: {}", d.data_description);
+    let _ = writeln!(s);
+    if d.warnings.is_empty() {
+        let _ = writeln!(s, "data checks: the data meet the method's assumptions");
+    } else {
+        let _ = writeln!(s, "data checks ({} warnings):", d.warnings.len());
+        for w in &d.warnings {
+            let _ = writeln!(s, "  warning [{}]: {}", w.check, w.message);
+        }
+    }
+    let _ = writeln!(s);
+    let b = &d.base.hammerstein;
+    let _ = writeln!(
+        s,
+        "base model: order {}, poles {}",
+        b.order,
+        poles(&d.base)
+    );
+    if let Some(p) = &d.paper {
+        let _ = writeln!(
+            s,
+            "the paper's estimate alone (subspace, rank-1 split): validation RMSE {:.5}, NRMSE {:.4}",
+            p.rmse, p.nrmse
+        );
+    }
+    let _ = writeln!(
+        s,
+        "validation error before (base model: borders, B, D refit by least squares{}): RMSE {:.5}, NRMSE {:.4}, fit {:.2} %",
+        if d.poles_refined { ", poles by the simulation error" } else { "" },
+        d.before.rmse,
+        d.before.nrmse,
+        d.before.fit_percent
+    );
+    let _ = writeln!(s);
+    for (i, st) in d.steps.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "step {}: {} — {} ({})",
+            i + 1,
+            st.effect.name(),
+            st.setting,
+            st.effect.extension()
+        );
+        for e in &st.evidence {
+            let _ = writeln!(s, "  evidence: {e}");
+        }
+        let tried: Vec<String> = st
+            .tried
+            .iter()
+            .map(|(l, r)| format!("{l}: {r:.5}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  estimation hold-out: MSE −{:.1} % (Diebold–Mariano p = {:.2e}); tried {}",
+            100.0 * st.inner_gain,
+            st.inner_p,
+            tried.join(", ")
+        );
+        if !st.competitors.is_empty() {
+            let c: Vec<String> = st
+                .competitors
+                .iter()
+                .map(|(e, g, p)| format!("{} −{:.1} % (p = {:.2})", e.name(), 100.0 * g, p))
+                .collect();
+            let _ = writeln!(s, "  other candidates: {}", c.join(", "));
+        }
+        let metric = match st.metric {
+            Metric::Simulation => "simulation",
+            Metric::Prediction => "one-step prediction",
+        };
+        let excl = if st.excluded > 0 {
+            format!(" ({} outliers excluded)", st.excluded)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            s,
+            "  validation {metric} RMSE {:.5} → {:.5}{excl} (NRMSE {:.4}, fit {:.2} %)",
+            st.error_before, st.error_after, st.nrmse_after, st.fit_after
+        );
+    }
+    if !d.steps.is_empty() {
+        let _ = writeln!(s);
+    }
+    for r in &d.rejected {
+        let _ = writeln!(
+            s,
+            "not added: {} (estimation hold-out MSE −{:.1} %, p = {:.2})",
+            r.effect.name(),
+            100.0 * r.inner_gain,
+            r.inner_p
+        );
+    }
+    for u in &d.unexplained {
+        let _ = writeln!(s, "not identified: {u}");
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "final model: order {}, poles {}",
+        d.model.hammerstein.order,
+        poles(&d.model)
+    );
+    let _ = writeln!(
+        s,
+        "validation error after: RMSE {:.5}, NRMSE {:.4}, fit {:.2} %{}",
+        d.after.rmse,
+        d.after.nrmse,
+        d.after.fit_percent,
+        match &d.after_prediction {
+            Some(p) => format!("; one-step prediction RMSE {:.5}", p.rmse),
+            None => String::new(),
+        }
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(s, "residual tests on the validation data:");
+    test_table(&mut s, &d.tests_before, &d.tests_after);
+    let _ = writeln!(
+        s,
+        "  strongest input–residual correlation: lag {} before, lag {} after",
+        d.tests_before.strongest_input_lag, d.tests_after.strongest_input_lag
+    );
+    let _ = writeln!(s);
+    let _ = write!(s, "verdict: {}", d.verdict);
+    s
+}
+
+fn poles(m: &ExtendedModel) -> String {
+    m.hammerstein
+        .poles()
+        .iter()
+        .map(|(r, i)| {
+            if i.abs() < 1e-12 {
+                format!("{r:.4}")
+            } else {
+                format!("{r:.4}{i:+.4}j")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Names of the effects whose evidence fired on a test set (for summaries).
+pub fn pointed_at(tests: &TestSet) -> Vec<&'static str> {
+    Effect::ALL
+        .into_iter()
+        .filter(|&e| has_evidence(e, tests))
+        .map(Effect::name)
+        .collect()
+}

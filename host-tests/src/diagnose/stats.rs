@@ -1,0 +1,601 @@
+//! Small statistics kit of the diagnosis: moments, correlations, the normal and chi-square
+//! distributions (quantiles computed here, no statistics crate), the FFT and periodogram,
+//! robust scale, heteroscedasticity-and-autocorrelation-consistent variances and small least
+//! squares problems.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Mean (0 for an empty slice).
+pub fn mean(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    x.iter().sum::<f64>() / x.len() as f64
+}
+
+/// Population variance (0 for an empty slice).
+pub fn variance(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    let m = mean(x);
+    x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / x.len() as f64
+}
+
+/// Root mean square (0 for an empty slice).
+pub fn rms(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Median (NaN for an empty slice).
+pub fn median(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return f64::NAN;
+    }
+    let mut v = x.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Robust standard deviation `1.4826 · median(|x − median(x)|)` (the MAD rule's scale).
+pub fn mad_sigma(x: &[f64]) -> f64 {
+    let m = median(x);
+    let dev: Vec<f64> = x.iter().map(|v| (v - m).abs()).collect();
+    1.4826 * median(&dev)
+}
+
+/// Running median with an odd window `w` (shrunk at the ends).
+pub fn running_median(x: &[f64], w: usize) -> Vec<f64> {
+    let h = w / 2;
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            let lo = i.saturating_sub(h);
+            let hi = (i + h + 1).min(n);
+            median(&x[lo..hi])
+        })
+        .collect()
+}
+
+/// Sample autocorrelation `ρ(k)`, `k = 0 … max_lag` (biased estimator, `ρ(0) = 1`).
+pub fn acf(x: &[f64], max_lag: usize) -> Vec<f64> {
+    let n = x.len();
+    let m = mean(x);
+    let c0: f64 = x.iter().map(|v| (v - m) * (v - m)).sum();
+    (0..=max_lag)
+        .map(|k| {
+            if c0 <= 0.0 || k >= n {
+                return if k == 0 { 1.0 } else { 0.0 };
+            }
+            let ck: f64 = (0..n - k).map(|t| (x[t] - m) * (x[t + k] - m)).sum();
+            ck / c0
+        })
+        .collect()
+}
+
+/// Sample cross-correlation `r_xy(k) = Σ_t x̃(t) ỹ(t + k) / (N σ_x σ_y)` for
+/// `k = −max_lag … max_lag` (index `k + max_lag`). Positive `k`: `y` follows `x` by `k`
+/// samples (for `x` an input and `y` a residual, an effect of the input `k` samples later).
+pub fn ccf(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
+    let n = x.len().min(y.len());
+    let (mx, my) = (mean(&x[..n]), mean(&y[..n]));
+    let sx: f64 = x[..n].iter().map(|v| (v - mx) * (v - mx)).sum::<f64>();
+    let sy: f64 = y[..n].iter().map(|v| (v - my) * (v - my)).sum::<f64>();
+    let den = (sx * sy).sqrt();
+    let k = max_lag as isize;
+    (-k..=k)
+        .map(|lag| {
+            if den <= 0.0 {
+                return 0.0;
+            }
+            let mut s = 0.0;
+            for t in 0..n as isize {
+                let u = t + lag;
+                if u >= 0 && u < n as isize {
+                    s += (x[t as usize] - mx) * (y[u as usize] - my);
+                }
+            }
+            s / den
+        })
+        .collect()
+}
+
+/// Standard deviation of a sample cross-correlation between two independent series with
+/// autocorrelations `ra`, `rb` (Bartlett): `√((1 + 2 Σ_k ρ_a(k) ρ_b(k)) / N)`.
+pub fn ccf_sigma(ra: &[f64], rb: &[f64], n: usize) -> f64 {
+    let s: f64 = ra.iter().zip(rb).skip(1).map(|(a, b)| a * b).sum();
+    ((1.0 + 2.0 * s).max(0.2) / n.max(1) as f64).sqrt()
+}
+
+/// Standard normal cumulative distribution function.
+pub fn normal_cdf(x: f64) -> f64 {
+    0.5 * erfc(-x / std::f64::consts::SQRT_2)
+}
+
+/// Upper tail `P(Z > x)` of the standard normal.
+pub fn normal_sf(x: f64) -> f64 {
+    0.5 * erfc(x / std::f64::consts::SQRT_2)
+}
+
+/// Complementary error function (Numerical Recipes' Chebyshev fit, relative error < 1.2e-7),
+/// refined for the tails by the continued fraction of `gamma_q(1/2, x²)`.
+pub fn erfc(x: f64) -> f64 {
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    let q = gamma_q(0.5, x * x);
+    if x >= 0.0 { q } else { 2.0 - q }
+}
+
+/// Quantile of the standard normal (Acklam's rational approximation, refined by one Halley
+/// step).
+pub fn normal_quantile(p: f64) -> f64 {
+    if !(p > 0.0 && p < 1.0) {
+        return if p <= 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        };
+    }
+    const A: [f64; 6] = [
+        -3.969_683_028_665_376e1,
+        2.209_460_984_245_205e2,
+        -2.759_285_104_469_687e2,
+        1.383_577_518_672_69e2,
+        -3.066_479_806_614_716e1,
+        2.506_628_277_459_239,
+    ];
+    const B: [f64; 5] = [
+        -5.447_609_879_822_406e1,
+        1.615_858_368_580_409e2,
+        -1.556_989_798_598_866e2,
+        6.680_131_188_771_972e1,
+        -1.328_068_155_288_572e1,
+    ];
+    const C: [f64; 6] = [
+        -7.784_894_002_430_293e-3,
+        -3.223_964_580_411_365e-1,
+        -2.400_758_277_161_838,
+        -2.549_732_539_343_734,
+        4.374_664_141_464_968,
+        2.938_163_982_698_783,
+    ];
+    const D: [f64; 4] = [
+        7.784_695_709_041_462e-3,
+        3.224_671_290_700_398e-1,
+        2.445_134_137_142_996,
+        3.754_408_661_907_416,
+    ];
+    let pl = 0.02425;
+    let x = if p < pl {
+        let q = (-2.0 * p.ln()).sqrt();
+        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    } else if p <= 1.0 - pl {
+        let q = p - 0.5;
+        let r = q * q;
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+    } else {
+        let q = (-2.0 * (1.0 - p).ln()).sqrt();
+        -(((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    };
+    // One Halley step on Φ(x) − p.
+    let e = normal_cdf(x) - p;
+    let u = e * (2.0 * std::f64::consts::PI).sqrt() * (x * x / 2.0).exp();
+    x - u / (1.0 + x * u / 2.0)
+}
+
+/// `ln Γ(x)` for `x > 0` (Lanczos, g = 7, 9 terms).
+pub fn ln_gamma(x: f64) -> f64 {
+    const G: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        let pi = std::f64::consts::PI;
+        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let mut a = G[0];
+    let t = x + 7.5;
+    for (i, g) in G.iter().enumerate().skip(1) {
+        a += g / (x + i as f64);
+    }
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+}
+
+/// Regularised lower incomplete gamma `P(a, x)`.
+pub fn gamma_p(a: f64, x: f64) -> f64 {
+    1.0 - gamma_q(a, x)
+}
+
+/// Regularised upper incomplete gamma `Q(a, x)` (series below `a + 1`, continued fraction
+/// above; Numerical Recipes §6.2).
+pub fn gamma_q(a: f64, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 1.0;
+    }
+    if !x.is_finite() {
+        return 0.0;
+    }
+    let gln = ln_gamma(a);
+    if x < a + 1.0 {
+        let mut ap = a;
+        let mut sum = 1.0 / a;
+        let mut del = sum;
+        for _ in 0..1000 {
+            ap += 1.0;
+            del *= x / ap;
+            sum += del;
+            if del.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        1.0 - sum * (-x + a * x.ln() - gln).exp()
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..1000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let del = d * c;
+            h *= del;
+            if (del - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        (-x + a * x.ln() - gln).exp() * h
+    }
+}
+
+/// Upper tail `P(χ²_k > x)`.
+pub fn chi2_sf(x: f64, k: f64) -> f64 {
+    gamma_q(0.5 * k, 0.5 * x)
+}
+
+/// Quantile of the chi-square distribution with `k` degrees of freedom: the Wilson–Hilferty
+/// cube-root normal approximation, polished by Newton steps on the exact distribution function.
+pub fn chi2_quantile(p: f64, k: f64) -> f64 {
+    let z = normal_quantile(p);
+    let h = 2.0 / (9.0 * k);
+    let mut x = (k * (1.0 - h + z * h.sqrt()).powi(3)).max(1e-8);
+    for _ in 0..50 {
+        let f = gamma_p(0.5 * k, 0.5 * x) - p;
+        // Density of χ²_k at x.
+        let ln_pdf = (0.5 * k - 1.0) * x.ln() - 0.5 * x - 0.5 * k * 2f64.ln() - ln_gamma(0.5 * k);
+        let pdf = ln_pdf.exp();
+        if !(pdf.is_finite() && pdf > 0.0) {
+            break;
+        }
+        let step = f / pdf;
+        let next = (x - step).max(0.5 * x);
+        if (next - x).abs() <= 1e-12 * x.max(1.0) {
+            x = next;
+            break;
+        }
+        x = next;
+    }
+    x
+}
+
+/// Upper tail `P(X ≥ k)` of a Poisson count with mean `lambda` (the binomial count of rare
+/// events): `P(k, λ)` of the incomplete gamma.
+pub fn poisson_sf(k: usize, lambda: f64) -> f64 {
+    if k == 0 {
+        return 1.0;
+    }
+    gamma_p(k as f64, lambda)
+}
+
+/// Long-run variance of the mean of `x` (Newey–West, Bartlett weights up to `lags`):
+/// `Var(x̄) ≈ (γ0 + 2 Σ_k (1 − k/(L+1)) γ_k) / N`.
+pub fn newey_west_var_of_mean(x: &[f64], lags: usize) -> f64 {
+    let n = x.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let m = mean(x);
+    let gamma = |k: usize| -> f64 {
+        (0..n.saturating_sub(k))
+            .map(|t| (x[t] - m) * (x[t + k] - m))
+            .sum::<f64>()
+            / n as f64
+    };
+    let mut s = gamma(0);
+    for k in 1..=lags.min(n.saturating_sub(1)) {
+        s += 2.0 * (1.0 - k as f64 / (lags as f64 + 1.0)) * gamma(k);
+    }
+    s.max(gamma(0) * 1e-3) / n as f64
+}
+
+/// Dot product with four accumulators (vectorises).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut s = [0.0f64; 4];
+    let chunks = n / 4;
+    for c in 0..chunks {
+        let i = 4 * c;
+        s[0] += a[i] * b[i];
+        s[1] += a[i + 1] * b[i + 1];
+        s[2] += a[i + 2] * b[i + 2];
+        s[3] += a[i + 3] * b[i + 3];
+    }
+    let mut tail = 0.0;
+    for i in 4 * chunks..n {
+        tail += a[i] * b[i];
+    }
+    (s[0] + s[1]) + (s[2] + s[3]) + tail
+}
+
+/// Least squares `min ‖X β − y‖` through the equilibrated normal equations, solved by a
+/// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out
+/// (a minimum-norm solution for rank-deficient `X`); `None` if not solvable. `O(N k²)` for
+/// `N × k` data, which is what the diagnosis needs (tall, small `k`).
+pub fn lstsq(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
+    let (n, k) = (x.nrows(), x.ncols());
+    if n == 0 || k == 0 || n != y.len() {
+        return None;
+    }
+    if x.iter().chain(y.iter()).any(|v| !v.is_finite()) {
+        return None;
+    }
+    // Column-major storage: column i is data[i n .. (i + 1) n].
+    let data = x.as_slice();
+    let col = |i: usize| &data[i * n..(i + 1) * n];
+    let mut g = DMatrix::<f64>::zeros(k, k);
+    for i in 0..k {
+        for j in i..k {
+            let v = dot(col(i), col(j));
+            g[(i, j)] = v;
+            g[(j, i)] = v;
+        }
+    }
+    let b = DVector::from_fn(k, |i, _| dot(col(i), y.as_slice()));
+    let scale: Vec<f64> = (0..k)
+        .map(|i| {
+            let d = g[(i, i)].sqrt();
+            if d > 0.0 { 1.0 / d } else { 0.0 }
+        })
+        .collect();
+    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
+    let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
+    let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
+    let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
+    let positive = max > 0.0;
+    if !positive {
+        return Some(DVector::zeros(k));
+    }
+    let qtb = eig.eigenvectors.tr_mul(&bs);
+    let mut z = DVector::zeros(k);
+    for i in 0..k {
+        let l = eig.eigenvalues[i];
+        if l > 1e-13 * max {
+            z[i] = qtb[i] / l;
+        }
+    }
+    let beta = &eig.eigenvectors * z;
+    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
+}
+
+/// Non-negative least squares `min ‖X β − y‖, β_i ≥ 0 for i ≥ free` (the first `free`
+/// coefficients are unconstrained): Lawson–Hanson active set on the normal equations.
+pub fn nnls(x: &DMatrix<f64>, y: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
+    if x.nrows() != y.len() || x.iter().chain(y.iter()).any(|v| !v.is_finite()) {
+        return None;
+    }
+    nnls_gram(&x.tr_mul(x), &x.tr_mul(y), free)
+}
+
+/// [`nnls`] from the Gram matrix `XᵀX` and `Xᵀy`.
+pub fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
+    let p = g.ncols();
+    let mut passive = vec![false; p];
+    for v in passive.iter_mut().take(free) {
+        *v = true;
+    }
+    let solve_passive = |passive: &[bool]| -> Option<DVector<f64>> {
+        let idx: Vec<usize> = (0..p).filter(|&i| passive[i]).collect();
+        let mut beta = DVector::zeros(p);
+        if idx.is_empty() {
+            return Some(beta);
+        }
+        let k = idx.len();
+        let gs = DMatrix::from_fn(k, k, |r, c| g[(idx[r], idx[c])]);
+        let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
+        let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
+        let bs = DVector::from_fn(k, |r, _| b[idx[r]]);
+        let qtb = eig.eigenvectors.tr_mul(&bs);
+        let mut z = DVector::zeros(k);
+        for i in 0..k {
+            let l = eig.eigenvalues[i];
+            if l > 1e-13 * max {
+                z[i] = qtb[i] / l;
+            }
+        }
+        let sol = &eig.eigenvectors * z;
+        for (r, &i) in idx.iter().enumerate() {
+            beta[i] = sol[r];
+        }
+        Some(beta)
+    };
+    let mut beta = solve_passive(&passive)?;
+    for _ in 0..(3 * p + 10) {
+        let w = b - g * &beta;
+        let cand = (free..p)
+            .filter(|&i| !passive[i])
+            .max_by(|&a, &c| w[a].total_cmp(&w[c]));
+        let Some(j) = cand else { break };
+        if w[j] <= 1e-12 * w.amax().max(1e-300) {
+            break;
+        }
+        passive[j] = true;
+        loop {
+            let z = solve_passive(&passive)?;
+            let bad: Vec<usize> = (free..p).filter(|&i| passive[i] && z[i] <= 0.0).collect();
+            if bad.is_empty() {
+                beta = z;
+                break;
+            }
+            let mut alpha = 1.0f64;
+            for &i in &bad {
+                let d = beta[i] - z[i];
+                if d > 0.0 {
+                    alpha = alpha.min(beta[i] / d);
+                }
+            }
+            beta = &beta + (&z - &beta) * alpha;
+            for i in free..p {
+                if passive[i] && beta[i] <= 1e-14 {
+                    passive[i] = false;
+                    beta[i] = 0.0;
+                }
+            }
+        }
+    }
+    Some(beta)
+}
+
+/// In-place radix-2 FFT of `(re, im)` pairs; the length must be a power of two.
+pub fn fft(data: &mut [(f64, f64)]) {
+    let n = data.len();
+    if n < 2 || !n.is_power_of_two() {
+        return;
+    }
+    let mut j = 0;
+    for i in 1..n {
+        let mut bit = n >> 1;
+        while j & bit != 0 {
+            j ^= bit;
+            bit >>= 1;
+        }
+        j |= bit;
+        if i < j {
+            data.swap(i, j);
+        }
+    }
+    let mut len = 2;
+    while len <= n {
+        let ang = -2.0 * std::f64::consts::PI / len as f64;
+        for start in (0..n).step_by(len) {
+            for k in 0..len / 2 {
+                let (s, c) = (ang * k as f64).sin_cos();
+                let (ar, ai) = data[start + k];
+                let (br, bi) = data[start + k + len / 2];
+                let (tr, ti) = (br * c - bi * s, br * s + bi * c);
+                data[start + k] = (ar + tr, ai + ti);
+                data[start + k + len / 2] = (ar - tr, ai - ti);
+            }
+        }
+        len <<= 1;
+    }
+}
+
+/// Hann-windowed periodogram of `x` (mean removed), zero-padded to a power of two at least
+/// twice the length: `(ω, I(ω))` for `0 < ω < π` in radians per sample. The window's power is
+/// normalised so that white noise of variance σ² has `E I(ω) = σ²`.
+pub fn periodogram(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let n = x.len();
+    if n < 4 {
+        return (Vec::new(), Vec::new());
+    }
+    let m = mean(x);
+    let nfft = (2 * n).next_power_of_two();
+    let w: Vec<f64> = (0..n)
+        .map(|t| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * t as f64 / (n - 1) as f64).cos())
+        .collect();
+    let wpow: f64 = w.iter().map(|v| v * v).sum();
+    let mut data = vec![(0.0, 0.0); nfft];
+    for t in 0..n {
+        data[t] = ((x[t] - m) * w[t], 0.0);
+    }
+    fft(&mut data);
+    let mut omega = Vec::with_capacity(nfft / 2);
+    let mut power = Vec::with_capacity(nfft / 2);
+    for (k, &(re, im)) in data.iter().enumerate().take(nfft / 2).skip(1) {
+        omega.push(2.0 * std::f64::consts::PI * k as f64 / nfft as f64);
+        power.push((re * re + im * im) / wpow);
+    }
+    (omega, power)
+}
+
+/// Excess kurtosis `m4 / m2² − 3`.
+pub fn excess_kurtosis(x: &[f64]) -> f64 {
+    let m = mean(x);
+    let m2 = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / x.len().max(1) as f64;
+    let m4 = x.iter().map(|v| (v - m).powi(4)).sum::<f64>() / x.len().max(1) as f64;
+    if m2 <= 0.0 {
+        return 0.0;
+    }
+    m4 / (m2 * m2) - 3.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_match_tables() {
+        assert!((normal_quantile(0.995) - 2.575_829).abs() < 1e-5);
+        assert!((normal_quantile(0.01) + 2.326_348).abs() < 1e-5);
+        assert!((chi2_quantile(0.99, 1.0) - 6.634_897).abs() < 1e-4);
+        assert!((chi2_quantile(0.99, 20.0) - 37.566_23).abs() < 1e-3);
+        assert!((chi2_quantile(0.95, 3.0) - 7.814_728).abs() < 1e-4);
+        assert!((chi2_sf(37.566_23, 20.0) - 0.01).abs() < 1e-6);
+        assert!((normal_sf(1.959_964) - 0.025).abs() < 1e-7);
+    }
+
+    #[test]
+    fn nnls_keeps_signs() {
+        let x = DMatrix::from_row_slice(4, 2, &[1.0, 0.0, 1.0, 1.0, 1.0, 2.0, 1.0, 3.0]);
+        let y = DVector::from_vec(vec![3.0, 2.0, 1.0, 0.0]);
+        let b = nnls(&x, &y, 1).unwrap_or_else(|| DVector::zeros(2));
+        assert!(b[1].abs() < 1e-12, "{b}");
+        assert!((b[0] - 1.5).abs() < 1e-12, "{b}");
+    }
+
+    #[test]
+    fn fft_of_a_tone() {
+        let n = 64;
+        let mut d: Vec<(f64, f64)> = (0..n)
+            .map(|t| {
+                (
+                    (2.0 * std::f64::consts::PI * 5.0 * t as f64 / n as f64).cos(),
+                    0.0,
+                )
+            })
+            .collect();
+        fft(&mut d);
+        assert!((d[5].0 - 32.0).abs() < 1e-9);
+        assert!(d[6].0.abs() < 1e-9);
+    }
+}
