@@ -189,7 +189,13 @@ fn op() -> impl Strategy<Value = Op> {
             .prop_map(|(at, len, v)| Op::ConstY { at, len, v }),
         (
             at.clone(),
-            prop_oneof![Just(1e6), Just(-1e30), Just(3e38), Just(1e200), Just(f64::MIN_POSITIVE)]
+            prop_oneof![
+                Just(1e6),
+                Just(-1e30),
+                Just(3e38),
+                Just(1e200),
+                Just(f64::MIN_POSITIVE)
+            ]
         )
             .prop_map(|(at, v)| Op::Spike { at, v }),
         (at.clone(), 1usize..20, any::<bool>(), 0u8..3).prop_map(|(at, len, input, kind)| {
