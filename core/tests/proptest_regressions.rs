@@ -14,7 +14,9 @@ use hsid::{
     Basis, CheckpointError, Direction, Error, Excitation, Identifier, Knots, Method, MuZero, Order,
     Real, Settings,
 };
-use proptest_common::{Id, Lti, M, PwlSwitch, fix_checksums, settings_end, table1};
+use proptest_common::{
+    Id, Lti, M, PwlSwitch, borders, fix_checksums, noisy_record, settings_end, table1,
+};
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 
@@ -65,6 +67,7 @@ fn solve<const MM: usize, const KK: usize>(
 /// return a typed error (or refuse the settings in `new`: `p·m >= f` is needed for `n` up to
 /// `f − 1`).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn solve_with_fewer_instrument_rows_than_f_does_not_panic() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 1, 1).unwrap();
     let mut id =
@@ -79,6 +82,7 @@ fn solve_with_fewer_instrument_rows_than_f_does_not_panic() {
 /// (`B_f`, `f²·m` = 4 scalars) is shorter than the `(n+1)·m + m + n + 1` = 5 it needs:
 /// "range end index 2 out of range for slice of length 1" in `estimation.rs`.
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn rank_one_split_with_one_channel_does_not_panic() {
     let knots = Knots::<f64, 6>::shared(&[-3.0, 3.0]).unwrap();
     let mut id =
@@ -114,6 +118,7 @@ fn uniform_knots_beyond_the_capacity_report_the_segment_count() {
 /// descending segments, exceed the capacity of 6 channels") or 6 + 0. It should report the
 /// short path: `TooFewKnots`.
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn a_short_path_is_reported_as_too_few_knots() {
     let long = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
     assert_eq!(
@@ -137,6 +142,7 @@ fn a_short_path_is_reported_as_too_few_knots() {
 /// u_min and the last u_max" — the descending path is fine, and the 2.5 that is wrong is
 /// not mentioned. The message should name the mismatching end (2.5 against 3).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn mismatched_ends_name_the_mismatching_knot() {
     let e = Knots::<f64, 6>::new(&[-3.0, 0.0, 2.5], &[-3.0, 0.0, 3.0]).unwrap_err();
     assert!(matches!(e, Error::KnotEndpoints { .. }), "{e:?}");
@@ -153,6 +159,7 @@ fn mismatched_ends_name_the_mismatching_knot() {
 /// overflow. It should say so (e.g. a fault at the sample whose product overflowed, or an
 /// error naming the overflow and suggesting to scale `y` or use `f64`).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn overflowing_sums_are_reported_as_such() {
     let knots = Knots::<f32, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
     let mut id =
@@ -180,6 +187,7 @@ fn solve_f32(id: &Identifier<f32, 6, 8>) -> Result<hsid::Model<f32, 6>, Error> {
 /// `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` is undefined without noise; it should return a typed error there
 /// (as it does for the hat basis: the canonical correlations are all ≈ 1).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn cva_on_noise_free_data_is_not_silently_wrong() {
     let mu0 = 0.559_244_191_709_063_6;
     let truth = [mu0, mu0 + 0.603_576_311_149_058_3];
@@ -279,6 +287,7 @@ fn f32_automatic_order_at_high_snr() {
 /// samples in `row_sums`), and `count > index` (more samples accumulated than pushed) is
 /// accepted. `restore` should refuse both (`CheckpointError::Invalid`).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn checkpoints_with_impossible_counters_are_refused() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
     let mut id =
@@ -311,6 +320,7 @@ fn checkpoints_with_impossible_counters_are_refused() {
 /// output y is NaN or infinite" — no sample has been pushed; the known μ0 is what is wrong.
 /// The message should name μ0.
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn a_non_finite_known_mu0_is_named() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
     let e = Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Known(f64::NAN)))
@@ -358,4 +368,154 @@ fn noise_free_b_and_d_do_not_depend_on_rounding() {
     let m = solve(&id).unwrap();
     assert!((m.a(0, 0) + 0.05).abs() < 1e-12);
     assert!(m.d().abs() < 1e-8, "D = {} (true 0)", m.d());
+}
+
+/// The record of a reconstruction-property case: knots rounded to `T`, the switch with
+/// [`borders`], the plant at rest at μ0, noise of standard deviation `noise`.
+#[allow(clippy::too_many_arguments)]
+fn case_record<T: Real>(
+    asc: &[f64],
+    desc: &[f64],
+    values: (&[f64], &[f64]),
+    mu0: f64,
+    plant: &Lti,
+    samples: usize,
+    seed: u64,
+    noise: f64,
+) -> (Knots<T, M>, Vec<(f64, f64)>) {
+    let a: Vec<T> = asc.iter().map(|&v| T::of(v)).collect();
+    let d: Vec<T> = desc.iter().map(|&v| T::of(v)).collect();
+    let knots = Knots::<T, M>::new(&a, &d).unwrap();
+    let ka: Vec<f64> = a.iter().map(|v| v.to_f64()).collect();
+    let kd: Vec<f64> = d.iter().map(|v| v.to_f64()).collect();
+    let mut sw = PwlSwitch::new(ka, borders(mu0, values.0), kd, borders(mu0, values.1));
+    let mut plant = plant.clone();
+    for _ in 0..400 {
+        plant.step(mu0);
+    }
+    let data = noisy_record(&knots, 0, samples, seed, noise, &mut sw, &mut plant);
+    (knots, data)
+}
+
+fn case_solve<T: Real>(
+    knots: Knots<T, M>,
+    f: usize,
+    p: usize,
+    method: Method,
+    order: usize,
+    mu0: f64,
+    data: &[(f64, f64)],
+) -> Result<hsid::Model<T, M>, Error> {
+    let mut s = Settings::new(knots, f, p, MuZero::Known(T::of(mu0)));
+    s.basis = Basis::Ramp;
+    s.method = method;
+    s.order = Order::Fixed(order);
+    let mut id = Id::<T>::new(s).unwrap();
+    for &(u, y) in data {
+        id.push(T::of(u), T::of(y));
+    }
+    let mut ws = vec![T::zero(); id.workspace_len()];
+    no_panic("solve", || id.solve(&mut ws))
+}
+
+/// `f32` CVA at about 30 dB (noise 1e-2) — ramp basis, f = 4, p = 3, 3 + 1 segments, a
+/// first-order plant with feed-through — returns `Ok` with Markov parameters off by 34 and
+/// borders by 0.9 from the `f64` model on the same data, which is right. (Elsewhere it refuses
+/// with `RankDeficient` data that `f64` identifies.) It should agree with `f64` to the
+/// README's `f32` tolerance (5e-3 in the ramp basis), or refuse.
+#[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
+fn f32_cva_is_not_silently_wrong() {
+    let mut plant = Lti::new(1, -0.403_720_715_923_295_4, 0.0, false, 0.0, 0.0);
+    plant.b = [-1.147_893_918_945_150_2, 2.551_614_634_868_445_6, 0.0];
+    let args = (
+        &[-2.0, 0.927_284_305_904_891_9, 1.827_284_305_904_892_2, 4.0][..],
+        &[-2.0, 4.0][..],
+        (
+            &[0.992_049_783_005_192_8, -0.134_011_220_548_561_52, 0.0][..],
+            &[0.0][..],
+        ),
+    );
+    let (k32, data) = case_record::<f32>(
+        args.0,
+        args.1,
+        args.2,
+        0.0,
+        &plant,
+        910,
+        1_912_530_314_475_897_714,
+        1e-2,
+    );
+    let (k64, _) = case_record::<f64>(
+        args.0,
+        args.1,
+        args.2,
+        0.0,
+        &plant,
+        910,
+        1_912_530_314_475_897_714,
+        1e-2,
+    );
+    let m64 = case_solve::<f64>(k64, 4, 3, Method::Cva, 1, 0.0, &data).unwrap();
+    if let Ok(m32) = case_solve::<f32>(k32, 4, 3, Method::Cva, 1, 0.0, &data) {
+        for k in 0..10 {
+            let (a, b) = (f64::from(m32.markov(k)), m64.markov(k));
+            assert!((a - b).abs() < 5e-3 * 2.6, "h_{k}: f32 {a}, f64 {b}");
+        }
+    }
+}
+
+/// `f32` PO-MOESP on exactly noise-free data (the only noise is the rounding of `y` to
+/// `f32`) — ramp basis, f = 3, p = 5, 3 + 3 segments, a second-order plant with poles 0.6
+/// and 0.43 — returns `Ok` with `A` of trace 0.93 and determinant 0.154 (true 1.045 and
+/// 0.258); `f64` is exact. It should be within the model's accuracy or refuse.
+#[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
+fn f32_past_outputs_on_noise_free_data_are_not_silently_wrong() {
+    let plant = {
+        let mut p = Lti::new(2, 0.6, 0.43, false, 0.0, 0.0);
+        p.a = [-1.044_614_202_564_286, 0.257_636_882_516_072_25];
+        p.b = [
+            0.001_885_275_408_560_641_5,
+            0.158_250_342_941_305_1,
+            0.052_887_061_601_920_58,
+        ];
+        p
+    };
+    let mu0 = -0.769_049_842_276_201;
+    let (k32, data) = case_record::<f32>(
+        &[
+            -2.0,
+            -1.071_168_493_186_943_8,
+            0.085_314_882_817_943_53,
+            4.0,
+        ],
+        &[-2.0, 0.174_290_824_080_485_68, 2.136_720_888_351_658_4, 4.0],
+        (
+            &[
+                -0.166_118_813_712_870_52,
+                -0.035_632_765_733_078_47,
+                -0.623_953_183_655_676_5,
+            ],
+            &[
+                -0.008_948_508_057_661_286,
+                0.205_165_972_623_520_52,
+                0.424_020_855_354_940_9,
+            ],
+        ),
+        mu0,
+        &plant,
+        1834,
+        11_799_099_120_192_055_641,
+        0.0,
+    );
+    if let Ok(m) = case_solve::<f32>(k32, 3, 5, Method::PoMoesp, 2, mu0, &data) {
+        let a = |i, j| f64::from(m.a(i, j));
+        let (tr, det) = (a(0, 0) + a(1, 1), a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
+        assert!(
+            (tr - 1.044_614_202_564_286).abs() < 0.02
+                && (det - 0.257_636_882_516_072_25).abs() < 0.02,
+            "trace {tr}, det {det} (true 1.0446, 0.2576)"
+        );
+    }
 }

@@ -262,6 +262,45 @@ pub fn table1<T: Real>(
     .unwrap_or_default()
 }
 
+/// Border values at the knots: μ0 at u_min, then μ0 + the random values, kept apart from μ0
+/// on the first segment so that every channel carries signal.
+pub fn borders(mu0: f64, v: &[f64]) -> Vec<f64> {
+    let mut out = vec![mu0];
+    out.extend(v.iter().map(|x| {
+        mu0 + if x.abs() < 0.2 {
+            0.2f64.copysign(*x)
+        } else {
+            *x
+        }
+    }));
+    out
+}
+
+/// [`table1`] with white noise of standard deviation `noise` added to `y` (a uniform deviate
+/// from an LCG seeded with `seed`, so no extra dependency), the result rounded to `T` and
+/// held as `f64` so that an `f64` identifier can see exactly the same numbers.
+pub fn noisy_record<T: Real>(
+    knots: &Knots<T, M>,
+    hold: usize,
+    n: usize,
+    seed: u64,
+    noise: f64,
+    switch: &mut PwlSwitch,
+    plant: &mut Lti,
+) -> Vec<(f64, f64)> {
+    let mut rng = seed ^ 0x9E37_79B9_7F4A_7C15;
+    table1(knots, hold, n, seed, switch, plant)
+        .into_iter()
+        .map(|(u, y)| {
+            rng = rng
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let e = ((rng >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * noise * 12f64.sqrt();
+            (u.to_f64(), T::of(y.to_f64() + e).to_f64())
+        })
+        .collect()
+}
+
 /// Strategy: strictly increasing knots from `lo` to `hi` with `segments` segments, each at
 /// least `min_frac` of the interval (so every segment is visited by a Table I record).
 pub fn knot_vector(
