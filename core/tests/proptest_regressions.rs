@@ -4,7 +4,7 @@
 //!
 //! These tests fail until the core is fixed; delete the matching `known_bugs` predicate with
 //! the fix so that the properties cover the region again.
-#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 mod proptest_common;
 
