@@ -82,7 +82,11 @@ fn clean_data_raises_at_most_five_percent_false_alarms() {
         }
     });
     let alarms = alarms.into_inner().unwrap();
-    println!("false alarms: {} of {}: {alarms:?}", alarms.len(), scenarios.len());
+    println!(
+        "false alarms: {} of {}: {alarms:?}",
+        alarms.len(),
+        scenarios.len()
+    );
     assert_eq!(scenarios.len(), 40);
     assert!(alarms.len() * 20 <= scenarios.len(), "{alarms:?}");
 }
@@ -100,7 +104,10 @@ fn residual_tests_hold_their_level_on_white_noise() {
         let u: Vec<f64> = g();
         let sim: Vec<f64> = g();
         let delta: Vec<f64> = u.iter().map(|v| if *v > 0.0 { 1.0 } else { 0.0 }).collect();
-        let bins: Vec<usize> = u.iter().map(|v| ((v + 3.0).clamp(0.0, 5.99)) as usize).collect();
+        let bins: Vec<usize> = u
+            .iter()
+            .map(|v| ((v + 3.0).clamp(0.0, 5.99)) as usize)
+            .collect();
         let z = vec![u.iter().map(|v| v.max(0.0)).collect::<Vec<f64>>()];
         let t = run_tests(&ResidualInput {
             residual: &r,
@@ -126,15 +133,29 @@ fn residual_tests_hold_their_level_on_white_noise() {
 /// at the delay's lag, a sinusoid as a spectral line at its frequency.
 #[test]
 fn tests_point_at_the_effect() {
-    let s = Scenario::new(Some(Effect::PeriodicDisturbance), Plant::FirstOrder, Nonlinearity::Switch, 3);
+    let s = Scenario::new(
+        Some(Effect::PeriodicDisturbance),
+        Plant::FirstOrder,
+        Nonlinearity::Switch,
+        3,
+    );
     let data = generate(&s).unwrap();
     let mut opts = data.options.clone();
     opts.max_steps = 0;
     let d = diagnose(&data.record, &data.validation, &opts).unwrap();
     assert!(d.tests_before.fired("spectral_line"));
     let w = 2.0 * std::f64::consts::PI / 23.7;
-    assert!((d.tests_before.line_frequency - w).abs() < 0.01, "{}", d.tests_before.line_frequency);
-    let s = Scenario::new(Some(Effect::InputDelay), Plant::FirstOrder, Nonlinearity::Backlash, 3);
+    assert!(
+        (d.tests_before.line_frequency - w).abs() < 0.01,
+        "{}",
+        d.tests_before.line_frequency
+    );
+    let s = Scenario::new(
+        Some(Effect::InputDelay),
+        Plant::FirstOrder,
+        Nonlinearity::Backlash,
+        3,
+    );
     let data = generate(&s).unwrap();
     let mut opts = data.options.clone();
     opts.max_steps = 0;

@@ -366,7 +366,10 @@ impl Proposal<'_> {
                     tried.push((format!("{label} (mode too slow)"), f64::NAN));
                     continue;
                 }
-                Err(DiagnoseError::Identify(e)) => { eprintln!("DEBUG {label}: {e}"); continue }
+                Err(DiagnoseError::Identify(e)) => {
+                    eprintln!("DEBUG {label}: {e}");
+                    continue;
+                }
                 Err(e) => return Err(e),
             };
             tried.push((label, ev.rmse));
@@ -379,7 +382,8 @@ impl Proposal<'_> {
             .map(|(_, _, e)| e.rmse)
             .fold(f64::INFINITY, f64::min);
         let Some((s, m, ev)) = scored.into_iter().find(|(_, _, e)| e.rmse <= best * 1.005) else {
-            eprintln!("DEBUG {effect:?} none: {tried:?}"); return Ok(None);
+            eprintln!("DEBUG {effect:?} none: {tried:?}");
+            return Ok(None);
         };
         let (gain, p_value) = compare(self.baseline, &ev);
         Ok(Some(Candidate {
@@ -526,7 +530,8 @@ impl Proposal<'_> {
                 Ok(c.filter(|c| {
                     let n = c.evaluation.excluded.len().max(1);
                     let k = c.evaluation.excluded.iter().filter(|&&e| e).count();
-                    k * 100 <= 3 * n && c.inner_model.flagged * 100 <= 3 * self.holdout.fit_part.len()
+                    k * 100 <= 3 * n
+                        && c.inner_model.flagged * 100 <= 3 * self.holdout.fit_part.len()
                 }))
             }
             Effect::ColoredNoise => {

@@ -264,12 +264,7 @@ pub fn text(d: &Diagnosis) -> String {
     }
     let _ = writeln!(s);
     let b = &d.base.hammerstein;
-    let _ = writeln!(
-        s,
-        "base model: order {}, poles {}",
-        b.order,
-        poles(&d.base)
-    );
+    let _ = writeln!(s, "base model: order {}, poles {}", b.order, poles(&d.base));
     if let Some(p) = &d.paper {
         let _ = writeln!(
             s,
@@ -280,7 +275,11 @@ pub fn text(d: &Diagnosis) -> String {
     let _ = writeln!(
         s,
         "validation error before (base model: borders, B, D refit by least squares{}): RMSE {:.5}, NRMSE {:.4}, fit {:.2} %",
-        if d.poles_refined { ", poles by the simulation error" } else { "" },
+        if d.poles_refined {
+            ", poles by the simulation error"
+        } else {
+            ""
+        },
         d.before.rmse,
         d.before.nrmse,
         d.before.fit_percent

@@ -201,7 +201,14 @@ fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
     };
     let filt = |v: &[f64]| -> Vec<f64> {
         (p..v.len())
-            .map(|t| v[t] - ar.a.iter().enumerate().map(|(k, a)| a * v[t - 1 - k]).sum::<f64>())
+            .map(|t| {
+                v[t] - ar
+                    .a
+                    .iter()
+                    .enumerate()
+                    .map(|(k, a)| a * v[t - 1 - k])
+                    .sum::<f64>()
+            })
             .collect()
     };
     (filt(&xc), filt(r))
