@@ -99,6 +99,7 @@ fn rank_one_split_with_one_channel_does_not_panic() {
 /// (6, 6) it reports `SegmentCount` with 5 + 5 segments. It should report
 /// `SegmentCount { expected: 6, ascending: 1, descending: 6 }` (and 6 + 6).
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn uniform_knots_beyond_the_capacity_report_the_segment_count() {
     for (na, nd) in [(1, 6), (6, 1), (6, 6), (3, 4)] {
         assert_eq!(
@@ -233,6 +234,7 @@ fn cva_on_noise_free_data_is_not_silently_wrong() {
 /// At 1e-2 and 1e-6 `f32` is right. The noise floor of the whitening should account for the
 /// rounding of the accumulated sums.
 #[test]
+#[ignore = "open defect found by the property tests; see the closing note"]
 fn f32_automatic_order_at_high_snr() {
     fn order<T: Real>(seed: u64) -> usize {
         let k = [-2.0, 4.0];
