@@ -438,13 +438,11 @@ fn suite<T: Real>(seed: u64, name: &str) {
 }
 
 #[test]
-#[ignore = "does not finish within minutes in release (a hang or a pathological case found by the generator); under investigation"]
 fn checkpoints_f64() {
     suite::<f64>(0x4853_4944_0031, "checkpoints, f64");
 }
 
 #[test]
-#[ignore = "does not finish within minutes in release (a hang or a pathological case found by the generator); under investigation"]
 fn checkpoints_f32() {
     suite::<f32>(0x4853_4944_0033, "checkpoints, f32");
 }
