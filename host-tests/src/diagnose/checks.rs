@@ -165,8 +165,12 @@ pub fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
             out.push(warn(
                 "persistent_excitation",
                 format!(
-                    "the regressor is not persistently exciting of order (f+p)·m = {dim}: its Hankel Gram has numerical rank {rank} and condition {:.1e}; the projection of eq. (11) is ill-conditioned and the model can be poor (shorter horizons or fewer knots help)",
-                    max / min.max(1e-300)
+                    "the regressor is not persistently exciting of order (f+p)·m = {dim}: its Hankel Gram has numerical rank {rank} of {dim} ({}); the projection of eq. (11) is ill-conditioned and the model can be poor (shorter horizons or fewer knots help)",
+                    if min > 1e-15 * max {
+                        format!("condition {:.1e}", max / min)
+                    } else {
+                        "singular".to_string()
+                    }
                 ),
             ));
         }

@@ -94,6 +94,10 @@ pub struct DiagnoseArgs {
     /// Uniform segments per path (ignored when knots are given).
     #[arg(long, default_value_t = 7)]
     pub segments: usize,
+    /// Choose the uniform segments per path in MIN..MAX (inclusive) by the BIC of the
+    /// estimation simulation error instead (e.g. `3..8`).
+    #[arg(long)]
+    pub select_segments: Option<String>,
     /// Knots of both paths (or of the static border), comma separated, u_min first, u_max last.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub knots: Option<Vec<f64>>,
@@ -255,6 +259,16 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         ));
     }
     opts.inner_fraction = a.inner_fraction;
+    if let Some(r) = &a.select_segments {
+        let r = parse_range(r).map_err(|e| e.replace("--holdout", "--select-segments"))?;
+        if r.start == 0 || r.end < r.start {
+            return Err(format!(
+                "--select-segments {}..{}: need 1 <= MIN <= MAX",
+                r.start, r.end
+            ));
+        }
+        opts.select_segments = Some(r.start..=r.end);
+    }
     opts.refine_poles = match a.refine_poles {
         RefineArg::Never => PoleRefinement::Never,
         RefineArg::Final => PoleRefinement::Final,

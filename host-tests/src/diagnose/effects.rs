@@ -212,6 +212,7 @@ impl<'a> Holdout<'a> {
         len: usize,
         bins: &[usize],
         count: usize,
+        estimated_start: bool,
     ) -> std::ops::Range<usize> {
         let n = est.len();
         let len = len.min(n.saturating_sub(hold + 1)).max(1);
@@ -236,7 +237,9 @@ impl<'a> Holdout<'a> {
         let mut valid: Vec<(std::ops::Range<usize>, f64)> = Vec::new();
         let mut end = n;
         while end >= hold + len {
-            if ok(end - len, end) {
+            // A block at the very start would leave a fitting part whose estimated initial
+            // state belongs to a later sample than the simulation's start.
+            if ok(end - len, end) && (end - len > hold || !estimated_start) {
                 valid.push((
                     end - len..end,
                     super::stats::variance(&est.y[end - len..end]),
@@ -367,7 +370,7 @@ impl Proposal<'_> {
                     continue;
                 }
                 Err(DiagnoseError::Identify(e)) => {
-                    eprintln!("DEBUG {label}: {e}");
+                    tried.push((format!("{label} (identification failed: {e})"), f64::NAN));
                     continue;
                 }
                 Err(e) => return Err(e),
@@ -382,7 +385,6 @@ impl Proposal<'_> {
             .map(|(_, _, e)| e.rmse)
             .fold(f64::INFINITY, f64::min);
         let Some((s, m, ev)) = scored.into_iter().find(|(_, _, e)| e.rmse <= best * 1.005) else {
-            eprintln!("DEBUG {effect:?} none: {tried:?}");
             return Ok(None);
         };
         let (gain, p_value) = compare(self.baseline, &ev);
@@ -453,6 +455,7 @@ impl Proposal<'_> {
                 // And around the lags of the strongest input and regressor correlations.
                 for lag in [
                     self.tests.strongest_input_lag,
+                    self.tests.strongest_input_lag_raw,
                     self.tests.strongest_regressor_lag,
                 ] {
                     for d in [lag - 1, lag, lag + 1] {

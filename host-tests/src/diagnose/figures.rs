@@ -176,7 +176,7 @@ pub fn write_figures(
     let rec = &d.validation_record;
     let r = d.validation_range.clone();
     let u: Vec<f64> = rec.u[r.clone()].to_vec();
-    let idx = thin(u.len(), 1500);
+    let idx = thin(u.len(), 800);
     let after_res = d
         .after_prediction
         .as_ref()
@@ -234,15 +234,20 @@ pub fn write_figures(
 
     let t: Vec<f64> = rec.time[r.clone()].to_vec();
     let yv: Vec<f64> = rec.y[r.clone()].to_vec();
-    let idx_t = thin(t.len(), 2000);
+    // Long records: the first 300 validation samples, so that the lines stay readable.
+    let shown = if t.len() > 1200 { 300 } else { t.len() };
+    let idx_t: Vec<usize> = (0..shown).collect();
     let pt = |v: &[f64]| idx_t.iter().map(|&i| v[i]).collect::<Vec<f64>>();
-    let mut fo = Figure::new(format!(
-        "{title}: measured and simulated output (validation)"
-    ))
-    .x_label("sample")
-    .y_label("output")
-    .size(900, 440)
-    .legend(LegendPosition::OutsideRight);
+    let what = if shown < t.len() {
+        format!("first {shown} validation samples")
+    } else {
+        "validation".to_string()
+    };
+    let mut fo = Figure::new(format!("{title}: measured and simulated output ({what})"))
+        .x_label("sample")
+        .y_label("output")
+        .size(900, 440)
+        .legend(LegendPosition::OutsideRight);
     fo.push(
         Series::line(&pt(&t), &pt(&yv))
             .color(MEASURED)

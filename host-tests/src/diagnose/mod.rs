@@ -194,6 +194,9 @@ pub struct DiagnoseOptions {
     /// Where the poles are refined by the simulation error after the subspace step (see
     /// [`model::FitOptions::refine_poles`]).
     pub refine_poles: PoleRefinement,
+    /// Choose the number of uniform segments per path in this range by the BIC of the
+    /// estimation simulation error (the knots given are then replaced).
+    pub select_segments: Option<std::ops::RangeInclusive<usize>>,
 }
 
 /// Where [`model::FitOptions::refine_poles`] is used.
@@ -223,6 +226,7 @@ impl DiagnoseOptions {
             inner_fraction: 0.7,
             outlier_k: 5.0,
             refine_poles: PoleRefinement::Final,
+            select_segments: None,
         }
     }
 }
@@ -316,6 +320,9 @@ pub struct Diagnosis {
     pub tests_before: TestSet,
     /// Tests on the final validation residual (prediction residual with a noise model).
     pub tests_after: TestSet,
+    /// Tests on the estimation residual (simulation) of the last deterministic model: what the
+    /// decisions saw last.
+    pub tests_estimation: TestSet,
     /// The record the validation simulation runs over.
     pub validation_record: Record,
     /// Its scored samples.
@@ -467,6 +474,59 @@ pub fn diagnose(
         });
     }
     let shared = id.static_nonlinearity;
+    // Uniform segment count chosen on the estimation data: the BIC of the in-sample simulation
+    // error, N ln(MSE) + k ln N, k = border values + 2 n + 2.
+    let mut segment_choice = String::new();
+    if let Some(range) = &opts.select_segments {
+        let initial = opts.initial.unwrap_or(if hold > 0 {
+            InitialState::Rest
+        } else {
+            InitialState::Estimated
+        });
+        let ne = est.len();
+        let mut best: Option<(f64, usize)> = None;
+        let mut tried = Vec::new();
+        for segs in range.clone() {
+            let trial = IdentifyOptions::uniform(u_min, u_max, segs, hold);
+            let mut ids = id.clone();
+            ids.knots_desc = trial.knots_asc.clone();
+            ids.knots_asc = trial.knots_asc;
+            let fo = model::FitOptions {
+                identify: ids,
+                initial,
+                time_center: 0.0,
+                time_scale: 1.0,
+                outlier_k: opts.outlier_k,
+                rounds: 1,
+                refit: true,
+                refine_poles: opts.refine_poles != PoleRefinement::Never,
+            };
+            let Ok(m) = model::fit_structure(&Structure::base(), &est, &fo) else {
+                continue;
+            };
+            let e = model::evaluate(&m, &est, hold..ne, Metric::Simulation);
+            let borders = if shared { segs + 1 } else { 2 * segs + 1 };
+            let k = (borders + 2 * m.hammerstein.order + 2) as f64;
+            let nn = (ne - hold) as f64;
+            let bic = nn * (e.rmse * e.rmse).max(1e-300).ln() + k * nn.ln();
+            if bic.is_finite() {
+                tried.push(format!("{segs}: {bic:.1}"));
+                if best.is_none_or(|(b, _)| bic < b) {
+                    best = Some((bic, segs));
+                }
+            }
+        }
+        if let Some((_, segs)) = best {
+            let u = IdentifyOptions::uniform(u_min, u_max, segs, hold);
+            id.knots_desc = u.knots_asc.clone();
+            id.knots_asc = u.knots_asc;
+            segment_choice = format!(
+                "; {segs} uniform segments per path, chosen by the BIC of the estimation simulation error (tried {})",
+                tried.join(", ")
+            );
+        }
+    }
+    let description = format!("{description}{segment_choice}");
     let warnings = checks::check_data(
         &est.u,
         &est.y,
@@ -518,7 +578,14 @@ pub fn diagnose(
     let block_len = ((ne - hold) as f64 * (1.0 - opts.inner_fraction)).round() as usize;
     let (_, _, est_bins, est_bin_count) =
         residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
-    let block = effects::Holdout::choose_block(&est, hold, block_len, &est_bins, est_bin_count);
+    let block = effects::Holdout::choose_block(
+        &est,
+        hold,
+        block_len,
+        &est_bins,
+        est_bin_count,
+        fit_opts.initial == InitialState::Estimated,
+    );
     let holdout = effects::Holdout::new(&est, block.clone(), &fit_opts);
     let description = format!(
         "{description}; every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
@@ -541,6 +608,18 @@ pub fn diagnose(
         let tests = residual_tests(&model, &est, hold..ne, &ev, shared);
         let inner_model = model::fit_structure(&current, &holdout.fit_part, &fit_opts)?;
         let baseline = model::evaluate(&inner_model, &est, block.clone(), Metric::Simulation);
+        // The inner hold-out can only score extensions if the model fitted without the block
+        // predicts the block about as well as the model fits the record: three times the
+        // in-sample error means the fitting part leaves the block's behaviour unseen (a level
+        // or input range visited only there), and every score would be noise.
+        let in_sample = model::evaluate(&model, &est, hold..ne, Metric::Simulation).rmse;
+        if baseline.rmse.is_nan() || baseline.rmse > 3.0 * in_sample {
+            unexplained.push(format!(
+                "the estimation data cannot score extensions: the model fitted without samples {}..{} simulates them with RMSE {:.4}, more than 3 × its in-sample RMSE {:.4} (that block holds behaviour the rest of the record does not show)",
+                block.start, block.end, baseline.rmse, in_sample
+            ));
+            break;
+        }
         let resid = &ev.residual;
         let proposal = effects::Proposal {
             holdout: &holdout,
@@ -635,9 +714,9 @@ pub fn diagnose(
                     .filter(|c| c.effect.evidence_tests().contains(&t.name.as_str()))
                     .map(|c| {
                         format!(
-                            "{} lowers the hold-out MSE by {:.1} % (p = {:.2})",
+                            "{} changes the hold-out MSE by {:+.1} % (p = {:.2})",
                             c.effect.name(),
-                            100.0 * c.gain,
+                            -100.0 * c.gain,
                             c.p_value
                         )
                     })
@@ -725,7 +804,15 @@ pub fn diagnose(
         None => residual_tests(&model, &vrec, vrange.clone(), &after, shared),
     };
     let fired = final_tests.fired_names();
-    let verdict = if steps.is_empty() && fired.is_empty() {
+    let unscorable = unexplained
+        .iter()
+        .any(|u| u.starts_with("the estimation data cannot score"));
+    let verdict = if steps.is_empty() && unscorable {
+        format!(
+            "The estimation data cannot score any extension (the inner hold-out block holds behaviour the rest of the record does not show): nothing is added, and the tests that fire ({}) are reported without a diagnosis.",
+            fired.join(", ")
+        )
+    } else if steps.is_empty() && fired.is_empty() {
         "No test fires on the estimation residual: the residual is consistent with the model, nothing is added.".to_string()
     } else if steps.is_empty() {
         format!(
@@ -734,8 +821,18 @@ pub fn diagnose(
         )
     } else {
         let names: Vec<&str> = steps.iter().map(|s| s.effect.name()).collect();
-        let rest = if fired.is_empty() || !unexplained.is_empty() && fired.is_empty() {
+        let rest = if fired.is_empty() {
             "the final residual is consistent with the extended model".to_string()
+        } else if unscorable {
+            format!(
+                "then the estimation data could not score further extensions; tests still fire ({})",
+                fired.join(", ")
+            )
+        } else if steps.last().is_some_and(|s| !s.effect.deterministic()) {
+            format!(
+                "the noise model is the last step; on the simulation residual tests still fire ({}) that no deterministic catalog effect explained",
+                fired.join(", ")
+            )
         } else if unexplained.is_empty() {
             format!(
                 "the step limit was reached with tests still firing ({})",
@@ -747,8 +844,12 @@ pub fn diagnose(
                 fired.join(", ")
             )
         };
+        let last_metric = match steps.last().map(|s| s.metric) {
+            Some(Metric::Prediction) => " (the last in one-step prediction)",
+            _ => "",
+        };
         format!(
-            "Added {} (in this order); validation error {:.4} → {:.4}; {rest}.",
+            "Added {} (in this order); validation error {:.4} → {:.4}{last_metric}; {rest}.",
             names.join(", "),
             before.rmse,
             steps.last().map_or(after.rmse, |s| s.error_after)
@@ -773,6 +874,7 @@ pub fn diagnose(
         after_prediction,
         tests_before,
         tests_after,
+        tests_estimation: final_tests,
         validation_record: vrec,
         validation_range: vrange,
     })

@@ -154,6 +154,8 @@ pub struct DiagnosisJson {
     pub tests_before: TestSet,
     /// Tests on the final validation residual.
     pub tests_after: TestSet,
+    /// Tests on the estimation residual of the last deterministic model.
+    pub tests_estimation: TestSet,
     /// The paper's model.
     pub model_before: ModelSummary,
     /// The final model.
@@ -220,6 +222,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         verdict: d.verdict.clone(),
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
+        tests_estimation: d.tests_estimation.clone(),
         model_before: ModelSummary::of(&d.base),
         model_after: ModelSummary::of(&d.model),
     }
@@ -304,8 +307,8 @@ pub fn text(d: &Diagnosis) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "  estimation hold-out: MSE −{:.1} % (Diebold–Mariano p = {:.2e}); tried {}",
-            100.0 * st.inner_gain,
+            "  estimation hold-out: MSE {:+.1} % (Diebold–Mariano p = {:.2e}); tried {}",
+            -100.0 * st.inner_gain,
             st.inner_p,
             tried.join(", ")
         );
@@ -313,7 +316,7 @@ pub fn text(d: &Diagnosis) -> String {
             let c: Vec<String> = st
                 .competitors
                 .iter()
-                .map(|(e, g, p)| format!("{} −{:.1} % (p = {:.2})", e.name(), 100.0 * g, p))
+                .map(|(e, g, p)| format!("{} MSE {:+.1} % (p = {:.2})", e.name(), -100.0 * g, p))
                 .collect();
             let _ = writeln!(s, "  other candidates: {}", c.join(", "));
         }
@@ -338,9 +341,9 @@ pub fn text(d: &Diagnosis) -> String {
     for r in &d.rejected {
         let _ = writeln!(
             s,
-            "not added: {} (estimation hold-out MSE −{:.1} %, p = {:.2})",
+            "not added: {} (estimation hold-out MSE {:+.1} %, p = {:.2})",
             r.effect.name(),
-            100.0 * r.inner_gain,
+            -100.0 * r.inner_gain,
             r.inner_p
         );
     }
@@ -366,6 +369,16 @@ pub fn text(d: &Diagnosis) -> String {
         }
     );
     let _ = writeln!(s);
+    let fired_est = d.tests_estimation.fired_names();
+    let _ = writeln!(
+        s,
+        "tests that fire on the estimation residual of the last deterministic model: {}",
+        if fired_est.is_empty() {
+            "none".to_string()
+        } else {
+            fired_est.join(", ")
+        }
+    );
     let _ = writeln!(s, "residual tests on the validation data:");
     test_table(&mut s, &d.tests_before, &d.tests_after);
     let _ = writeln!(

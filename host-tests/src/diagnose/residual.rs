@@ -11,7 +11,7 @@
 //! | `structure_output` | binned means of ε in deciles of the simulated output | χ²(9) |
 //! | `trend` | slope and mean of ε over time, Newey–West standard errors | normal, two tests |
 //! | `spectral_line` | largest Hann periodogram ordinate / local median spectrum | exponential, max of M |
-//! | `heavy_tails` | count of |ε − running median| beyond 5 robust σ | Poisson(N · 5.7e-7) |
+//! | `heavy_tails` | count of |ε − median| beyond 5 robust σ (1.4826 MAD) | Poisson(N · 5.7e-7) |
 //!
 //! The cross-correlations are computed after prewhitening (an AR model of the input filters
 //! both signals), and `σ_k² = (1 + 2 Σ_j ρ_ε(j) ρ_x(j)) / N` (Bartlett) corrects their bounds
@@ -87,6 +87,8 @@ pub struct TestSet {
     pub strongest_input_lag_significant: bool,
     /// Lag of the strongest regressor–residual correlation (lags `0…K`).
     pub strongest_regressor_lag: i64,
+    /// Lag of the strongest input–residual correlation without prewhitening (lags `0…K`).
+    pub strongest_input_lag_raw: i64,
     /// Frequency (rad/sample) of the strongest residual spectral line.
     pub line_frequency: f64,
     /// Figure data.
@@ -298,7 +300,7 @@ fn max_normal_p(stat: f64, m: usize) -> f64 {
 /// Local-median spectral line test on the periodogram: `(ratio, index, median curve)`.
 fn line_scan(power: &[f64], exclude: &[bool]) -> (f64, usize, Vec<f64>) {
     let m = power.len();
-    let w = (m / 40).clamp(8, 64);
+    let w = (m / 20).clamp(16, 128);
     let med: Vec<f64> = running_median(power, 2 * w + 1);
     let mut best = (0.0, 0usize);
     for i in 0..m {
@@ -370,6 +372,13 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
             "strongest input–residual correlation at lag {lag_u} ({s_u:.2} σ; positive lag: the residual follows the input)"
         ),
     ));
+    let raw = ccf(inp.u, r, k);
+    set.strongest_input_lag_raw = raw
+        .iter()
+        .enumerate()
+        .skip(k)
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .map_or(0, |(i, _)| i as i64 - k as i64);
     set.curves.ccf_input = c_u;
     set.curves.ccf_input_bound = b_u;
     let (s_d, lag_d, c_d, b_d) = xcorr_test(inp.delta, r, &rho, k, false);
@@ -500,10 +509,9 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
             }
         }
         let (q, idx, med) = line_scan(&power, &exclude);
-        let tested = exclude.iter().filter(|&&e| !e).count().max(1);
-        // Bins of the zero-padded, Hann-windowed periodogram: about one independent ordinate
-        // per 4 of them.
-        let indep = (tested / 4).max(1) as f64;
+        // Every tested bin counts as one ordinate (conservative: neighbouring bins of the
+        // zero-padded, Hann-windowed periodogram are correlated).
+        let indep = exclude.iter().filter(|&&e| !e).count().max(1) as f64;
         let p = 1.0 - (1.0 - (-q).exp()).powf(indep);
         let thr = -(1.0 - (1.0 - LEVEL).powf(1.0 / indep)).ln();
         let total: f64 = power.iter().sum();
@@ -529,12 +537,12 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         set.curves.power_median = med;
     }
 
-    // Heavy tails.
-    let med = running_median(r, 7);
-    let s: Vec<f64> = r.iter().zip(&med).map(|(a, b)| a - b).collect();
+    // Heavy tails: samples beyond 5 robust standard deviations of the median (for Gaussian
+    // residuals, P(|Z| > 5) = 5.73e-7 per sample).
+    let med = super::stats::median(r);
+    let s: Vec<f64> = r.iter().map(|a| a - med).collect();
     let sigma = mad_sigma(&s).max(1e-300);
     let beyond = s.iter().filter(|v| v.abs() > 5.0 * sigma).count();
-    // P(|Z| > 5) = 5.73e-7; the running-median difference of Gaussian noise is close to Gaussian.
     let lambda = n as f64 * 5.733e-7;
     let p = poisson_sf(beyond, lambda);
     set.tests.push(result(
@@ -543,7 +551,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         (0..).find(|&c| poisson_sf(c, lambda) < LEVEL).unwrap_or(1) as f64,
         p,
         format!(
-            "{beyond} samples beyond 5 robust σ (1.4826 MAD) of the residual minus its running median, {lambda:.2e} expected; excess kurtosis {:.2}",
+            "{beyond} samples beyond 5 robust σ (1.4826 MAD) from the median, {lambda:.2e} expected; excess kurtosis {:.2}",
             excess_kurtosis(r)
         ),
     ));

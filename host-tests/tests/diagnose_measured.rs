@@ -1,0 +1,108 @@
+//! `hsid diagnose` on measured data (issue 5, part 3), read from `../shared/data/` (never
+//! copied into the project): the cascaded tanks benchmark and the DC motor with a dead zone.
+//! The numbers checked are those of docs/closing-the-loop.md.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use hsid_host::diagnose::model::Record;
+use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Validation, diagnose};
+use hsid_host::identify::IdentifyOptions;
+use hsid_host::io::read_columns;
+
+const TANKS: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/cascaded-tanks/dataBenchmark.csv"
+);
+const MOTOR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/dc-motor-deadzone/run_minimal.csv"
+);
+
+#[test]
+fn cascaded_tanks_beats_the_best_linear_approximation_and_adds_nothing_it_cannot_score() {
+    let c = read_columns(TANKS, &["uEst", "yEst", "uVal", "yVal"]).unwrap();
+    let (lo, hi) = c[0]
+        .iter()
+        .chain(&c[2])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    let mut id = IdentifyOptions::uniform(lo, hi, 7, 0);
+    id.order = Some(2);
+    let mut opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    opts.select_segments = Some(3..=8);
+    let d = diagnose(
+        &Record::new(c[0].clone(), c[1].clone()),
+        &Validation::Separate {
+            record: Record::new(c[2].clone(), c[3].clone()),
+            skip: 0,
+        },
+        &opts,
+    )
+    .unwrap();
+    println!("{}", hsid_host::diagnose::report::text(&d));
+    // Better than the best linear approximation of the benchmark (0.75 V).
+    assert!(d.before.rmse < 0.70, "base {}", d.before.rmse);
+    // The overflow is seen by the data checks, and the missing hold.
+    for check in ["output_saturation", "hold"] {
+        assert!(d.warnings.iter().any(|w| w.check == check), "{check}");
+    }
+    // The estimation record is too short to score extensions: nothing is added, so the
+    // validation error is unchanged (never made worse by an unscored effect).
+    assert!(
+        d.steps.is_empty(),
+        "{:?}",
+        d.steps.iter().map(|s| s.effect).collect::<Vec<_>>()
+    );
+    assert!(d.verdict.contains("cannot score"), "{}", d.verdict);
+    assert_eq!(d.after.rmse, d.before.rmse);
+}
+
+#[test]
+fn dc_motor_dead_zone_gains_and_time_constant() {
+    let c = read_columns(MOTOR, &["voltage", "rpm"]).unwrap();
+    let top = c[0].iter().fold(0.0f64, |a, &v| a.max(v));
+    let knots = vec![-top, -8.0, -6.0, -4.0, -2.0, 0.0, 2.0, 4.0, top];
+    let mut id = IdentifyOptions::uniform(-top, top, 8, 0);
+    id.knots_asc = knots.clone();
+    id.knots_desc = knots.clone();
+    id.order = Some(1);
+    let opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    let d = diagnose(
+        &Record::new(c[0].clone(), c[1].clone()),
+        &Validation::Holdout(3900..4500),
+        &opts,
+    )
+    .unwrap();
+    println!("{}", hsid_host::diagnose::report::text(&d));
+    let m = &d.base.hammerstein;
+    let h = |u: f64| m.border_asc_at(u);
+    // Dead zone: no speed for |u| <= 2 V.
+    for u in [-2.0, -1.0, 0.0, 1.0, 2.0] {
+        assert!(h(u).abs() < 3.0, "H({u}) = {}", h(u));
+    }
+    // Steady speeds (G(1) = 1, so the border is the steady speed) against the known values.
+    for (u, known, tol) in [
+        (4.0, 74.5, 0.06),
+        (top, 228.6, 0.06),
+        (-4.0, -88.7, 0.10),
+        (-top, -239.9, 0.03),
+    ] {
+        assert!(
+            (h(u) - known).abs() <= tol * known.abs(),
+            "H({u}) = {} against {known}",
+            h(u)
+        );
+    }
+    // Polarity asymmetry: the negative side is faster at the same voltage.
+    assert!(-h(-4.0) > h(4.0) && -h(-top) > h(top));
+    // First-order time constant 0.28–0.30 s at 0.01 s sampling.
+    let pole = m.poles()[0].0;
+    let tau = -0.01 / pole.ln();
+    assert!((0.26..=0.32).contains(&tau), "tau {tau}");
+    // The held-out 6 V and 8 V levels (interpolated between the 4 V and 8.81 V knots).
+    assert!(d.before.rmse < 10.0, "validation RMSE {}", d.before.rmse);
+    // Quantisation and the staircase input are reported by the data checks.
+    for check in ["output_quantisation", "input_levels"] {
+        assert!(d.warnings.iter().any(|w| w.check == check), "{check}");
+    }
+}
