@@ -37,12 +37,7 @@ pub struct Lagged<T, const M: usize> {
 
 impl<T: Real, const M: usize> Default for Lagged<T, M> {
     fn default() -> Self {
-        Self {
-            zz: [[T::zero(); M]; M],
-            zy: [T::zero(); M],
-            yz: [T::zero(); M],
-            yy: T::zero(),
-        }
+        Self::ZERO
     }
 }
 
@@ -192,13 +187,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
 
     /// Sets the forgetting factor λ (`0 < λ <= 1`; 1 = none) for the samples to come.
     pub fn set_forgetting(&mut self, lambda: T) -> Result<(), Error> {
-        let valid = lambda > T::zero() && lambda <= T::one() && lambda.finite();
-        if !valid {
-            return Err(Error::InvalidForgetting {
-                lambda: lambda.to_f64(),
-            });
-        }
-        self.lambda = lambda;
+        self.lambda = checked_forgetting(lambda)?;
         Ok(())
     }
 
@@ -451,6 +440,18 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
                 }
             }
         }
+    }
+}
+
+/// A forgetting factor if it lies in `(0, 1]`.
+pub(crate) fn checked_forgetting<T: Real>(lambda: T) -> Result<T, Error> {
+    let valid = lambda > T::zero() && lambda <= T::one() && lambda.finite();
+    if valid {
+        Ok(lambda)
+    } else {
+        Err(Error::InvalidForgetting {
+            lambda: lambda.to_f64(),
+        })
     }
 }
 

@@ -2,7 +2,7 @@
 //! the final solve.
 
 use crate::MAX_HORIZON;
-use crate::accumulation::Accumulator;
+use crate::accumulation::{Accumulator, checked_forgetting};
 use crate::error::{Error, Signal};
 use crate::estimation::{Mu0, estimate};
 use crate::hold::{HoldMean, MuZero};
@@ -134,16 +134,11 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             });
         }
         settings.mu0.validate()?;
-        let lambda = match settings.forgetting {
+        // Validated before anything is reset, so an error leaves the identifier unchanged.
+        let lambda = checked_forgetting(match settings.forgetting {
             Forgetting::None => T::one(),
             Forgetting::Exponential { lambda } => lambda,
-        };
-        let valid = lambda > T::zero() && lambda <= T::one() && lambda.finite();
-        if !valid {
-            return Err(Error::InvalidForgetting {
-                lambda: lambda.to_f64(),
-            });
-        }
+        })?;
         self.acc.reset(k)?;
         self.acc.set_forgetting(lambda)?;
         self.mu0 = match settings.mu0 {
