@@ -14,6 +14,25 @@ pub enum Signal {
     Output,
 }
 
+/// An end of the knot vectors: the first knot (`u_min`) or the last (`u_max`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum KnotEnd {
+    /// The first knot, `u_min`.
+    First,
+    /// The last knot, `u_max`.
+    Last,
+}
+
+impl fmt::Display for KnotEnd {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            KnotEnd::First => "first (u_min)",
+            KnotEnd::Last => "last (u_max)",
+        })
+    }
+}
+
 /// The step of the solve an error comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -59,14 +78,15 @@ pub enum Error {
         /// Index of the first knot that is not larger than its predecessor (or not finite).
         index: usize,
     },
-    /// The first and last knots must be `u_min` and `u_max`.
+    /// Both paths must start at `u_min` and end at `u_max`: their first knots, or their last
+    /// knots, differ.
     KnotEndpoints {
-        /// The path concerned.
-        path: Direction,
-        /// First knot given.
-        first: f64,
-        /// Last knot given.
-        last: f64,
+        /// Which end differs: the first knots (`u_min`) or the last knots (`u_max`).
+        end: KnotEnd,
+        /// The ascending path's knot at that end.
+        ascending: f64,
+        /// The descending path's knot at that end.
+        descending: f64,
     },
     /// The segment counts of the two paths must add up to at most the type's capacity `M`.
     SegmentCount {
@@ -103,6 +123,11 @@ pub enum Error {
         /// Index of the sample (0 = first sample pushed).
         index: u64,
         /// The input value found.
+        value: f64,
+    },
+    /// The known μ0 ([`MuZero::Known`](crate::MuZero::Known)) is NaN or infinite.
+    InvalidMu0 {
+        /// The value given.
         value: f64,
     },
     /// A sample was NaN or infinite.
@@ -183,9 +208,13 @@ impl fmt::Display for Error {
                 "{path} knots must be finite and strictly increasing: knot {index} is not above knot {}",
                 index.saturating_sub(1)
             ),
-            Error::KnotEndpoints { path, first, last } => write!(
+            Error::KnotEndpoints {
+                end,
+                ascending,
+                descending,
+            } => write!(
                 f,
-                "{path} knots run from {first} to {last}: the first must be u_min and the last u_max"
+                "the {end} knots differ: ascending {ascending}, descending {descending}; both paths must start at u_min and end at u_max"
             ),
             Error::SegmentCount {
                 expected,
@@ -215,6 +244,10 @@ impl fmt::Display for Error {
                 f,
                 "sample {index} belongs to the hold but u = {value} is not u_min: check the hold length"
             ),
+            Error::InvalidMu0 { value } => write!(
+                f,
+                "the known mu0 (border value at u_min) is {value}: give a finite value, or let the hold measure it"
+            ),
             Error::NonFinite { index, signal } => {
                 write!(f, "sample {index}: {signal} is NaN or infinite")
             }
@@ -228,7 +261,7 @@ impl fmt::Display for Error {
             ),
             Error::NoExcitation { path, knot } => write!(
                 f,
-                "{path} path: the basis function of knot {knot} was never excited: the input must sweep the whole path (Table I excitation)"
+                "{path} path: the basis function of knot {knot} was never excited: the input never visited the segments next to that knot; excite that range (for a backlash or switch, the Table I excitation sweeps both paths) or remove the knot"
             ),
             Error::RankDeficient { stage } => write!(
                 f,

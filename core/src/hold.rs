@@ -32,10 +32,7 @@ impl<T: Real> MuZero<T> {
             MuZero::Hold { len, settle } if settle >= len => {
                 Err(Error::HoldTooShort { len, settle })
             }
-            MuZero::Known(v) if !v.finite() => Err(Error::NonFinite {
-                index: 0,
-                signal: crate::error::Signal::Output,
-            }),
+            MuZero::Known(v) if !v.finite() => Err(Error::InvalidMu0 { value: v.to_f64() }),
             _ => Ok(()),
         }
     }

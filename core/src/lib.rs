@@ -18,7 +18,7 @@ pub mod subspace;
 
 pub use accumulation::{Accumulator, Entry, Lagged, RowSums};
 pub use checkpoint::{CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, crc32};
-pub use error::{Error, Signal, Stage};
+pub use error::{Error, KnotEnd, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
 pub use identifier::{Forgetting, Identifier, Settings};

@@ -23,7 +23,7 @@ use core::fmt;
 
 use heapless::Vec;
 
-use crate::error::Error;
+use crate::error::{Error, KnotEnd};
 use crate::scalar::Real;
 
 /// Which path the nonlinearity is on: δ(t) = 1 (ascending) or δ(t) = 0 (descending).
@@ -80,6 +80,17 @@ pub enum Basis {
     Ramp,
 }
 
+/// `TooFewKnots` if a path has fewer than two knots.
+fn too_few<T>(path: Direction, knots: &[T]) -> Result<(), Error> {
+    if knots.len() < 2 {
+        return Err(Error::TooFewKnots {
+            path,
+            count: knots.len(),
+        });
+    }
+    Ok(())
+}
+
 /// The knots of both paths, with the input interval. `M` is the capacity in segments
 /// (regressor channels): `m = n_a + n_d <= M`.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,8 +113,11 @@ impl<T: Real, const M: usize> Knots<T, M> {
     /// last = `u_max`). The segment counts `asc.len() - 1` and `desc.len() - 1` may differ
     /// (Remark 3) and must add up to at most `M`; knots need not be uniform.
     pub fn new(asc: &[T], desc: &[T]) -> Result<Self, Error> {
-        let ascending = asc.len().saturating_sub(1);
-        let descending = desc.len().saturating_sub(1);
+        // A short path is named before the count: its segment count is meaningless.
+        too_few(Direction::Ascending, asc)?;
+        too_few(Direction::Descending, desc)?;
+        let ascending = asc.len() - 1;
+        let descending = desc.len() - 1;
         if ascending + descending > M {
             return Err(Error::SegmentCount {
                 expected: M,
@@ -158,12 +172,7 @@ impl<T: Real, const M: usize> Knots<T, M> {
             (Direction::Ascending, &self.asc[..]),
             (Direction::Descending, &self.desc[..]),
         ] {
-            if k.len() < 2 {
-                return Err(Error::TooFewKnots {
-                    path,
-                    count: k.len(),
-                });
-            }
+            too_few(path, k)?;
             for (i, w) in k.windows(2).enumerate() {
                 if let [a, b] = w
                     && (!a.finite() || !b.finite() || b <= a)
@@ -172,12 +181,18 @@ impl<T: Real, const M: usize> Knots<T, M> {
                 }
             }
         }
-        if self.asc.first() != self.desc.first() || self.asc.last() != self.desc.last() {
-            return Err(Error::KnotEndpoints {
-                path: Direction::Descending,
-                first: self.desc.first().map_or(f64::NAN, |v| v.to_f64()),
-                last: self.desc.last().map_or(f64::NAN, |v| v.to_f64()),
-            });
+        for (end, a, d) in [
+            (KnotEnd::First, self.asc.first(), self.desc.first()),
+            (KnotEnd::Last, self.asc.last(), self.desc.last()),
+        ] {
+            if a != d {
+                let value = |v: Option<&T>| v.map_or(f64::NAN, |v| v.to_f64());
+                return Err(Error::KnotEndpoints {
+                    end,
+                    ascending: value(a),
+                    descending: value(d),
+                });
+            }
         }
         Ok(())
     }
@@ -193,6 +208,13 @@ impl<T: Real, const M: usize> Knots<T, M> {
             return Err(Error::InvalidInterval {
                 u_min: u_min.to_f64(),
                 u_max: u_max.to_f64(),
+            });
+        }
+        if n_asc + n_desc > M {
+            return Err(Error::SegmentCount {
+                expected: M,
+                ascending: n_asc,
+                descending: n_desc,
             });
         }
         let make = |n: usize| -> Vec<T, M> {

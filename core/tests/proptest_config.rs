@@ -16,7 +16,9 @@
 
 mod proptest_common;
 
-use hsid::{Basis, Direction, Error, Forgetting, Knots, Method, MuZero, Order, Real, Settings};
+use hsid::{
+    Basis, Direction, Error, Forgetting, KnotEnd, Knots, Method, MuZero, Order, Real, Settings,
+};
 use proptest::prelude::*;
 use proptest_common::{
     Id, K, Lti, M, Tally, check_model, check_solve_error, known_bugs, outcome_bits, plant,
@@ -196,9 +198,6 @@ fn knots_claim_holds<T: Real>(spec: &KnotSpec, e: &Error) -> Result<(), TestCase
                 u_max.to_bits() == h.to_f64().to_bits() || (u_max.is_nan() && h.to_f64().is_nan())
             );
         }
-        // Known bug (proptest_regressions.rs): wrong counts in the error.
-        (Error::SegmentCount { .. }, KnotSpec::New(..))
-            if known_bugs::segment_count_with_a_short_path(a.len(), d.len(), M) => {}
         (
             Error::SegmentCount {
                 expected,
@@ -228,9 +227,6 @@ fn knots_claim_holds<T: Real>(spec: &KnotSpec, e: &Error) -> Result<(), TestCase
             prop_assert_eq!((ascending, descending), (k.len().saturating_sub(1), 0));
             prop_assert!(ascending >= M);
         }
-        // Known bug (proptest_regressions.rs): a misleading error.
-        (_, KnotSpec::Uniform(_, _, na, nd))
-            if known_bugs::uniform_too_many_segments(*na, *nd, M) => {}
         (
             Error::SegmentCount {
                 expected,
@@ -250,11 +246,30 @@ fn knots_claim_holds<T: Real>(spec: &KnotSpec, e: &Error) -> Result<(), TestCase
         (Error::KnotsNotIncreasing { path, index }, _) => {
             prop_assert_eq!(first_bad(path_of(path)), Some(index), "{}", e);
         }
-        (Error::KnotEndpoints { path, first, last }, KnotSpec::New(..)) => {
-            prop_assert_eq!(path, Direction::Descending);
-            prop_assert!(a[0] != d[0] || a[a.len() - 1] != d[d.len() - 1]);
-            prop_assert_eq!(first, d[0].to_f64());
-            prop_assert_eq!(last, d[d.len() - 1].to_f64());
+        (
+            Error::KnotEndpoints {
+                end,
+                ascending,
+                descending,
+            },
+            KnotSpec::New(..),
+        ) => {
+            // The first differing end is named, with both paths' knots there.
+            let (ea, ed) = if a[0] != d[0] {
+                prop_assert_eq!(end, KnotEnd::First);
+                (a[0], d[0])
+            } else {
+                prop_assert_eq!(end, KnotEnd::Last);
+                (a[a.len() - 1], d[d.len() - 1])
+            };
+            prop_assert!(ea != ed);
+            prop_assert_eq!(ascending, ea.to_f64());
+            prop_assert_eq!(descending, ed.to_f64());
+            prop_assert!(
+                e.to_string().contains(&format!("ascending {ascending}")),
+                "{}",
+                e
+            );
         }
         (other, _) => prop_assert!(false, "unexpected error {other:?} ({other}) for {spec:?}"),
     }
@@ -377,9 +392,15 @@ fn settings_claim_holds<T: Real>(s: &Settings<T, M>, e: &Error) -> Result<(), Te
             );
             prop_assert!(!(l > T::zero() && l <= T::one() && l.finite()));
         }
-        // A non-finite known μ0 (reported as a non-finite output at sample 0).
-        Error::NonFinite { index: 0, .. } => {
-            prop_assert!(matches!(s.mu0, MuZero::Known(v) if !v.finite()));
+        // A non-finite known μ0, named with its value.
+        Error::InvalidMu0 { value } => {
+            let MuZero::Known(v) = s.mu0 else {
+                return Err(TestCaseError::fail(format!("InvalidMu0 for {:?}", s.mu0)));
+            };
+            prop_assert!(!v.finite());
+            prop_assert!(
+                value.to_bits() == v.to_f64().to_bits() || (value.is_nan() && v.to_f64().is_nan())
+            );
         }
         other => prop_assert!(false, "unexpected error {other:?} ({other}) for {s:?}"),
     }

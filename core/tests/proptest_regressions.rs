@@ -93,13 +93,10 @@ fn rank_one_split_with_one_channel_does_not_panic() {
     let _ = solve(&id);
 }
 
-/// `Knots::uniform(-3, 3, 1, 6)` with capacity 6 truncates the ascending... descending knots
-/// to the capacity and reports `KnotEndpoints { path: Descending, first: -3, last: 2 }`
-/// ("descending knots run from -3 to 2: the first must be u_min and the last u_max"); with
-/// (6, 6) it reports `SegmentCount` with 5 + 5 segments. It should report
-/// `SegmentCount { expected: 6, ascending: 1, descending: 6 }` (and 6 + 6).
+/// Regression: `Knots::uniform(-3, 3, 1, 6)` with capacity 6 used to truncate the descending
+/// knots to the capacity and report mismatched end points (and (6, 6) `SegmentCount` with
+/// 5 + 5 segments). It reports the segment counts asked for.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn uniform_knots_beyond_the_capacity_report_the_segment_count() {
     for (na, nd) in [(1, 6), (6, 1), (6, 6), (3, 4)] {
         assert_eq!(
@@ -114,12 +111,10 @@ fn uniform_knots_beyond_the_capacity_report_the_segment_count() {
     }
 }
 
-/// `Knots::new` with a path of fewer than two knots and the other path longer than the
-/// capacity reports `SegmentCount { ascending: 0, descending: 0 }` ("0 ascending + 0
-/// descending segments, exceed the capacity of 6 channels") or 6 + 0. It should report the
-/// short path: `TooFewKnots`.
+/// Regression: `Knots::new` with a path of fewer than two knots and the other path longer
+/// than the capacity used to report `SegmentCount` with wrong counts ("0 ascending + 0
+/// descending segments exceed the capacity"). The short path is named: `TooFewKnots`.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn a_short_path_is_reported_as_too_few_knots() {
     let long = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
     assert_eq!(
@@ -138,15 +133,21 @@ fn a_short_path_is_reported_as_too_few_knots() {
     );
 }
 
-/// Ascending knots `[-3, 0, 2.5]` with descending `[-3, 0, 3]` give `KnotEndpoints { path:
-/// Descending, first: -3, last: 3 }`: "descending knots run from -3 to 3: the first must be
-/// u_min and the last u_max" — the descending path is fine, and the 2.5 that is wrong is
-/// not mentioned. The message should name the mismatching end (2.5 against 3).
+/// Regression: ascending knots `[-3, 0, 2.5]` with descending `[-3, 0, 3]` used to be
+/// reported as "descending knots run from -3 to 3", not naming the 2.5. The error names the
+/// end that differs and both paths' knots there.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn mismatched_ends_name_the_mismatching_knot() {
     let e = Knots::<f64, 6>::new(&[-3.0, 0.0, 2.5], &[-3.0, 0.0, 3.0]).unwrap_err();
     assert!(matches!(e, Error::KnotEndpoints { .. }), "{e:?}");
+    assert_eq!(
+        e,
+        Error::KnotEndpoints {
+            end: hsid::KnotEnd::Last,
+            ascending: 2.5,
+            descending: 3.0
+        }
+    );
     let msg = e.to_string();
     assert!(
         msg.contains("2.5"),
@@ -318,15 +319,17 @@ fn checkpoints_with_impossible_counters_are_refused() {
     }
 }
 
-/// `MuZero::Known(NaN)` is refused with `NonFinite { index: 0, signal: Output }`: "sample 0:
-/// output y is NaN or infinite" — no sample has been pushed; the known μ0 is what is wrong.
-/// The message should name μ0.
+/// Regression: `MuZero::Known(NaN)` used to be refused as "sample 0: output y is NaN or
+/// infinite" although no sample had been pushed. The error names μ0.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn a_non_finite_known_mu0_is_named() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
     let e = Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Known(f64::NAN)))
         .unwrap_err();
+    assert!(
+        matches!(e, Error::InvalidMu0 { value } if value.is_nan()),
+        "{e:?}"
+    );
     let msg = e.to_string();
     assert!(msg.contains("mu0") || msg.contains("μ0"), "{e:?}: {msg}");
 }

@@ -16,8 +16,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::OnceLock;
 
 use hsid::{
-    Basis, Direction, Error, Excitation, Identifier, Knots, Model, MuZero, Order, Settings, Signal,
-    Stage,
+    Basis, Direction, Error, Excitation, Identifier, KnotEnd, Knots, Model, MuZero, Order,
+    Settings, Signal, Stage,
 };
 use hsid_host::identify::{IdentifyError, IdentifyOptions, identify};
 use hsid_host::paper::{Case, Experiment, PaperConfig, experiment};
@@ -236,8 +236,8 @@ fn unsorted_or_duplicated_knots() {
     );
 }
 
-/// Knots outside the interval: an inner knot beyond `u_max` is out of order; a path whose ends
-/// differ from the other's is `KnotEndpoints` ("the first must be u_min and the last u_max").
+/// Knots outside the interval: an inner knot beyond `u_max` is out of order; paths whose ends
+/// differ are `KnotEndpoints`, naming the end and both paths' knots there.
 #[test]
 fn knots_outside_the_interval() {
     let ok = [-3.0, 0.0, 3.0];
@@ -249,21 +249,24 @@ fn knots_outside_the_interval() {
             index: 2
         }
     );
-    for desc in [[-3.0, 0.0, 3.5], [-3.5, 0.0, 3.0]] {
+    for (desc, end, a, d) in [
+        ([-3.0, 0.0, 3.5], KnotEnd::Last, 3.0, 3.5),
+        ([-3.5, 0.0, 3.0], KnotEnd::First, -3.0, -3.5),
+    ] {
         let err = Knots::<f64, 14>::new(&ok, &desc).unwrap_err();
         assert_eq!(
             err,
             Error::KnotEndpoints {
-                path: Direction::Descending,
-                first: desc[0],
-                last: desc[2]
+                end,
+                ascending: a,
+                descending: d
             }
         );
         says(
             &err,
             &[
-                &format!("descending knots run from {} to {}", desc[0], desc[2]),
-                "the first must be u_min and the last u_max",
+                &format!("ascending {a}, descending {d}"),
+                "both paths must start at u_min and end at u_max",
             ],
         );
     }
@@ -428,7 +431,7 @@ fn constant_input() {
             "ascending path",
             "knot 1",
             "never excited",
-            "sweep the whole path",
+            "never visited the segments next to that knot",
         ],
     );
 }
@@ -462,7 +465,7 @@ fn input_never_reaching_u_max_or_u_min() {
             &[
                 "ascending path",
                 &format!("knot {knot}"),
-                "sweep the whole path",
+                "never visited the segments next to that knot",
             ],
         );
 

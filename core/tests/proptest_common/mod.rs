@@ -551,20 +551,6 @@ pub mod known_bugs {
         !noisy
     }
 
-    /// `Knots::uniform(lo, hi, n_asc, n_desc)` with `n_asc + n_desc > M` truncates the knot
-    /// vectors to the capacity and reports `KnotEndpoints` (or `SegmentCount` with the
-    /// truncated counts) instead of `SegmentCount { ascending: n_asc, descending: n_desc }`.
-    pub fn uniform_too_many_segments(n_asc: usize, n_desc: usize, m: usize) -> bool {
-        n_asc + n_desc > m
-    }
-
-    /// `Knots::new` with one path of fewer than two knots and the other longer than the
-    /// capacity reports `SegmentCount` with wrong counts ("0 ascending + 0 descending
-    /// segments exceed the capacity") instead of the short path's `TooFewKnots`.
-    pub fn segment_count_with_a_short_path(asc: usize, desc: usize, m: usize) -> bool {
-        (asc < 2 || desc < 2) && asc.max(desc) > m
-    }
-
     /// `restore` accepts a checkpoint (checksums valid) whose sample counters are impossible:
     /// `count = u64::MAX` makes `Accumulator::columns` overflow (`count + 1`: a panic with
     /// overflow checks, an endless loop in `row_sums`/`solve` without), `index = u64::MAX`
