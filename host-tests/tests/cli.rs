@@ -6,130 +6,15 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hsid_host::io::write_columns;
 use hsid_host::paper::{Case, Experiment, PaperConfig, experiment};
 use serde_json::Value;
 
-// ---------------------------------------------------------------------------------------------
-// Helpers
-// ---------------------------------------------------------------------------------------------
+mod common;
 
-/// A fresh scratch folder under the system temp dir, unique per test, removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(test: &str) -> Self {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let dir = std::env::temp_dir().join(format!(
-            "hsid-cli-test-{}-{}-{test}",
-            std::process::id(),
-            NEXT.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-
-    fn join(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    /// Writes `text` to `name` in the folder and returns its path.
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let path = self.join(name);
-        std::fs::write(&path, text).unwrap();
-        path
-    }
-
-    /// Writes `u,y` columns to `name` in the folder and returns its path.
-    fn write_uy(&self, name: &str, u: &[f64], y: &[f64]) -> PathBuf {
-        let path = self.join(name);
-        write_columns(&path, &["u", "y"], &[u, y]).unwrap();
-        path
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// What a run of the binary produced.
-struct Run {
-    ok: bool,
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-    args: String,
-}
-
-impl Run {
-    /// Asserts a zero exit status and returns `self`.
-    fn success(self) -> Self {
-        assert!(
-            self.ok,
-            "hsid {} failed with {:?}\nstdout:\n{}\nstderr:\n{}",
-            self.args, self.code, self.stdout, self.stderr
-        );
-        self
-    }
-
-    /// Asserts the run failed cleanly: non-zero exit, a single stderr line starting with
-    /// `hsid:` that contains every string of `needles`, and no panic or backtrace.
-    /// Returns the stderr line.
-    fn clean_error(&self, needles: &[&str]) -> String {
-        let ctx = format!(
-            "hsid {}\nexit {:?}\nstdout:\n{}\nstderr:\n{}",
-            self.args, self.code, self.stdout, self.stderr
-        );
-        assert!(!self.ok, "expected a failure: {ctx}");
-        assert_eq!(self.code, Some(1), "expected exit code 1: {ctx}");
-        let lower = self.stderr.to_lowercase();
-        assert!(!lower.contains("panicked"), "panic: {ctx}");
-        assert!(!lower.contains("backtrace"), "backtrace: {ctx}");
-        let lines: Vec<&str> = self.stderr.lines().collect();
-        assert_eq!(lines.len(), 1, "expected one stderr line: {ctx}");
-        let line = lines[0];
-        assert!(
-            line.starts_with("hsid: "),
-            "stderr must start with `hsid: `: {ctx}"
-        );
-        for n in needles {
-            assert!(line.contains(n), "stderr should mention {n:?}: {ctx}");
-        }
-        line.to_string()
-    }
-}
-
-/// Runs the `hsid` binary with `args`.
-fn hsid<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_hsid"))
-        .args(args)
-        .env_remove("RUST_BACKTRACE")
-        .env_remove("RUST_LIB_BACKTRACE")
-        .output()
-        .expect("cannot run the hsid binary");
-    Run {
-        ok: out.status.success(),
-        code: out.status.code(),
-        stdout: String::from_utf8(out.stdout).expect("stdout is not UTF-8"),
-        stderr: String::from_utf8(out.stderr).expect("stderr is not UTF-8"),
-        args: args
-            .iter()
-            .map(|a| a.as_ref().to_string_lossy().into_owned())
-            .collect::<Vec<_>>()
-            .join(" "),
-    }
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().unwrap()
-}
+use common::{Run, Scratch, hsid, p};
 
 /// Run 0 of the paper's backlash case at 10 dB SNR (j = 4000, hold 300), simulated once.
 fn noisy() -> &'static Experiment {

@@ -3,67 +3,15 @@
 //! `hsid validate`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::PathBuf;
 
 use hsid_host::io::write_columns;
 use hsid_host::paper::{Case, PaperConfig, experiment};
 use serde_json::Value;
 
-struct Scratch(PathBuf);
+mod common;
 
-impl Scratch {
-    fn new(test: &str) -> Self {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let dir = std::env::temp_dir().join(format!(
-            "hsid-refine-cli-{}-{}-{test}",
-            std::process::id(),
-            NEXT.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Scratch(dir)
-    }
-
-    fn join(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-struct Run {
-    ok: bool,
-    stdout: String,
-    stderr: String,
-}
-
-fn hsid(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_hsid"))
-        .args(args)
-        .output()
-        .expect("cannot run hsid");
-    let r = Run {
-        ok: out.status.success(),
-        stdout: String::from_utf8(out.stdout).unwrap(),
-        stderr: String::from_utf8(out.stderr).unwrap(),
-    };
-    assert!(
-        !r.stderr.contains("panicked"),
-        "hsid {args:?}: {}",
-        r.stderr
-    );
-    r
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().unwrap()
-}
+use common::{Scratch, hsid, p};
 
 /// The `fit … %` of the line starting with `prefix`.
 fn fit_of(stdout: &str, prefix: &str) -> f64 {
