@@ -289,39 +289,60 @@ pub fn best_pwl(knots: &[f64], grid: &[f64], g: &[f64]) -> Vec<f64> {
     (a * sol).iter().copied().collect()
 }
 
+/// Runs `run(r)` for `r` in `0..runs` on up to 8 threads and returns the results in run
+/// order; `tick` is called after every run (for a progress bar). A thread that panics turns
+/// each run it held into an error that says so: no run is dropped.
+pub fn monte_carlo<R: Send>(
+    runs: usize,
+    run: impl Fn(usize) -> Result<R, String> + Sync,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<Result<R, String>> {
+    let all: Vec<usize> = (0..runs).collect();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(8);
+    let chunk = all.len().div_ceil(threads).max(1);
+    let run = &run;
+    std::thread::scope(|s| {
+        let handles: Vec<_> = all
+            .chunks(chunk)
+            .map(|rs| {
+                let handle = s.spawn(move || {
+                    rs.iter()
+                        .map(|&r| {
+                            let out = run(r);
+                            tick();
+                            out
+                        })
+                        .collect::<Vec<_>>()
+                });
+                (rs, handle)
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|(rs, h)| {
+                h.join().unwrap_or_else(|_| {
+                    rs.iter()
+                        .map(|r| Err(format!("run {r}: the identification panicked")))
+                        .collect()
+                })
+            })
+            .collect()
+    })
+}
+
 /// Runs one case; `tick` is called after every run (for a progress bar).
 pub fn run_case(case: Case, cfg: &PaperConfig, tick: &(dyn Fn() + Sync)) -> CaseResult {
     let opts = options(cfg);
-    let results: Vec<Result<HostModel, String>> = {
-        let runs: Vec<usize> = (0..cfg.runs).collect();
-        let threads = std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(8);
-        let chunk = runs.len().div_ceil(threads.max(1)).max(1);
-        std::thread::scope(|s| {
-            let handles: Vec<_> = runs
-                .chunks(chunk)
-                .map(|rs| {
-                    let opts = &opts;
-                    s.spawn(move || {
-                        rs.iter()
-                            .map(|&r| {
-                                let out = experiment(case, cfg, r).and_then(|e| {
-                                    identify(&e.u, &e.y, opts).map_err(|e| e.to_string())
-                                });
-                                tick();
-                                out
-                            })
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .flat_map(|h| h.join().unwrap_or_default())
-                .collect()
-        })
-    };
+    let results = monte_carlo(
+        cfg.runs,
+        |r| {
+            experiment(case, cfg, r)
+                .and_then(|e| identify(&e.u, &e.y, &opts).map_err(|e| e.to_string()))
+        },
+        tick,
+    );
     let mut models = Vec::new();
     let mut failures = Vec::new();
     for (r, res) in results.into_iter().enumerate() {

@@ -27,7 +27,9 @@ use super::crb::{Crb, paper_crb};
 use super::pem::{PemFit, PemOptions, refine};
 use super::uncertainty::{bode_db_std, border_std, border_std_on_grid, upper_pole};
 use crate::identify::{HostModel, IdentifyOptions, identify};
-use crate::paper::{Case, CaseResult, CaseSummary, PaperConfig, experiment, options, summarize};
+use crate::paper::{
+    Case, CaseResult, CaseSummary, PaperConfig, experiment, monte_carlo, options, summarize,
+};
 use crate::plot::{Dash, Figure, LegendPosition, Marker, PALETTE, Series, pole_figure};
 
 /// An identification method of the table.
@@ -300,34 +302,14 @@ pub fn run_method(
     tick: &(dyn Fn() + Sync),
 ) -> MethodResult {
     let opts = options(cfg);
-    let runs: Vec<usize> = (0..cfg.runs).collect();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(8);
-    let chunk = runs.len().div_ceil(threads.max(1)).max(1);
-    let results: Vec<Result<MethodRun, String>> = std::thread::scope(|s| {
-        let handles: Vec<_> = runs
-            .chunks(chunk)
-            .map(|rs| {
-                let opts = &opts;
-                s.spawn(move || {
-                    rs.iter()
-                        .map(|&r| {
-                            let out = experiment(case, cfg, r).and_then(|e| {
-                                identify_method(method, &e.u, &e.y, opts).map_err(|e| e.to_string())
-                            });
-                            tick();
-                            out
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
-    });
+    let results = monte_carlo(
+        cfg.runs,
+        |r| {
+            experiment(case, cfg, r)
+                .and_then(|e| identify_method(method, &e.u, &e.y, &opts).map_err(|e| e.to_string()))
+        },
+        tick,
+    );
     let mut models = Vec::new();
     let mut failures = Vec::new();
     let mut fits = Vec::new();
