@@ -224,7 +224,7 @@ struct Stop {
 /// `n` samples after the hold.
 fn run(n: usize) -> Vec<Stop> {
     let data = record(n, 0);
-    let mut single = Identifier::<f32, 14, 20>::new(settings()).unwrap();
+    let mut single = Identifier::<f32, 14, 20, hsid::Compensated>::new(settings()).unwrap();
     let mut double = Identifier::<f64, 14, 20>::new(settings()).unwrap();
     let mut ws32 = vec![0.0f32; single.workspace_len()];
     let mut ws64 = vec![0.0f64; double.workspace_len()];
