@@ -72,10 +72,9 @@ impl<T: Real, const M: usize> Settings<T, M> {
 /// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
 /// [`fault`](Self::fault) reports it at once and [`solve`](Self::solve) returns it.
 ///
-/// `S` chooses how the sums are formed: [`Plain`](crate::Plain) (the default) or
-/// [`Compensated`](crate::Compensated), which keeps `f32` sums accurate over records of 10^6
-/// samples and more at the cost of as much memory again for the sums and about four times
-/// the additions per sample (see [`Summation`]).
+/// `S` chooses how the sums are formed: [`Plain`] (the default) or
+/// [`Compensated`](crate::Compensated), which keeps `f32` models accurate over records of 10^6
+/// samples for a carry per output sum and more work per sample (see [`Summation`]).
 #[derive(Clone, Debug)]
 pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M, K> = Plain> {
     pub(crate) settings: Settings<T, M>,

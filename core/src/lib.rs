@@ -19,7 +19,10 @@ pub mod subspace;
 pub use accumulation::{
     Accumulator, Carries, Compensated, Entry, Lagged, OutputCarry, Plain, RowSums, Summation,
 };
-pub use checkpoint::{CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, crc32};
+pub use checkpoint::{
+    CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, compensated_checkpoint_capacity,
+    crc32,
+};
 pub use error::{Error, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
