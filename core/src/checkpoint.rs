@@ -24,7 +24,7 @@
 //! # Ok::<(), hsid::Error>(())
 //! ```
 
-use crate::accumulation::{Entry, Lagged};
+use crate::accumulation::{Entry, Lagged, Summation};
 use crate::error::{Error, Signal};
 use crate::hold::{HoldMean, MuZero};
 use crate::identifier::{Forgetting, Identifier, Settings};
@@ -32,8 +32,9 @@ use crate::regressor::{Basis, Direction, Knots, Located};
 use crate::scalar::Real;
 use crate::subspace::{Method, Order};
 
-/// Format version written into every checkpoint.
-pub const CHECKPOINT_VERSION: u16 = 2;
+/// Format version written into every checkpoint (3: the summation kind in the settings flags
+/// and the carries of compensated sums in the state).
+pub const CHECKPOINT_VERSION: u16 = 3;
 const MAGIC: [u8; 4] = *b"HSID";
 
 /// What is wrong with a checkpoint.
@@ -56,6 +57,9 @@ pub enum CheckpointError {
     Capacity,
     /// A field holds an impossible value.
     Invalid,
+    /// Written with the other summation (plain vs compensated sums): restore it into an
+    /// identifier of the same [`Summation`] type.
+    Summation,
 }
 
 /// CRC-32 (IEEE 802.3, reflected), bitwise: no table in flash.
@@ -179,9 +183,10 @@ fn dir_of(c: u8) -> Result<Direction, CheckpointError> {
 }
 
 /// Bytes of the settings section (after magic, version and scalar size).
-fn write_settings<T: Real, const M: usize>(w: &mut Writer<'_>, s: &Settings<T, M>) {
+/// `summation` is the [`Summation::CODE`] (0 or 1), in bit 2 of the flags.
+fn write_settings<T: Real, const M: usize>(w: &mut Writer<'_>, s: &Settings<T, M>, summation: u8) {
     let shared = s.knots.is_shared();
-    w.u8(u8::from(shared) | (u8::from(s.basis == Basis::Ramp) << 1));
+    w.u8(u8::from(shared) | (u8::from(s.basis == Basis::Ramp) << 1) | (summation << 2));
     w.u16(s.f as u16);
     w.u16(s.p as u16);
     for dir in [Direction::Ascending, Direction::Descending] {
@@ -227,10 +232,16 @@ fn write_settings<T: Real, const M: usize>(w: &mut Writer<'_>, s: &Settings<T, M
     });
 }
 
+/// The settings and the summation code.
+type ReadSettings<T, const M: usize> = (Result<Settings<T, M>, Error>, u8);
+
 fn read_settings<T: Real, const M: usize>(
     r: &mut Reader<'_>,
-) -> Result<Result<Settings<T, M>, Error>, CheckpointError> {
+) -> Result<ReadSettings<T, M>, CheckpointError> {
     let flags = r.u8()?;
+    if flags >> 3 != 0 {
+        return Err(CheckpointError::Invalid);
+    }
     let f = r.u16()? as usize;
     let p = r.u16()? as usize;
     let mut knots: [[T; M]; 2] = [[T::zero(); M]; 2];
@@ -277,7 +288,7 @@ fn read_settings<T: Real, const M: usize>(
     } else {
         Knots::new(asc, desc)
     };
-    Ok(knots.map(|knots| Settings {
+    let settings = knots.map(|knots| Settings {
         knots,
         basis: if flags & 2 != 0 {
             Basis::Ramp
@@ -290,7 +301,8 @@ fn read_settings<T: Real, const M: usize>(
         order,
         method,
         forgetting,
-    }))
+    });
+    Ok((settings, (flags >> 2) & 1))
 }
 
 fn fault_code(e: Option<Error>) -> (u8, u64, f64, u8) {
@@ -327,7 +339,15 @@ fn fault_of(
     })
 }
 
-impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
+    /// Largest checkpoint of this identifier type (capacities `M`, `K`, scalar `T`,
+    /// summation `S`): size a static buffer with it.
+    pub const CHECKPOINT_CAPACITY: usize = if S::CODE == 0 {
+        checkpoint_capacity(M, K, T::BYTES)
+    } else {
+        compensated_checkpoint_capacity(M, K, T::BYTES)
+    };
+
     /// Bytes [`save`](Self::save) writes for this identifier's settings.
     pub fn checkpoint_len(&self) -> usize {
         let mut w = Writer::new(None);
@@ -338,7 +358,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
     /// Fingerprint (CRC-32) of the settings, as stored in a checkpoint.
     pub fn fingerprint(&self) -> u32 {
         let mut w = Writer::new(None);
-        write_settings(&mut w, &self.settings);
+        write_settings(&mut w, &self.settings, S::CODE);
         w.crc()
     }
 
@@ -362,7 +382,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         w.u16(CHECKPOINT_VERSION);
         w.u8(T::BYTES as u8);
         w.u32(self.fingerprint());
-        write_settings(w, &self.settings);
+        write_settings(w, &self.settings, S::CODE);
         let acc = &self.acc;
         let (m, k) = (self.settings.knots.channels(), acc.k);
         w.u64(acc.count);
@@ -385,18 +405,16 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         w.real(acc.sum_y);
         w.real(acc.scale);
         for lag in acc.lags.iter().take(k) {
-            for row in lag.zz.iter().take(m) {
-                for &v in row.iter().take(m) {
+            write_lagged(w, lag, m);
+        }
+        if let Some(c) = S::carries(&self.carry) {
+            for lag in c.lags.iter().take(k) {
+                for &v in lag.zy.iter().take(m).chain(lag.yz.iter().take(m)) {
                     w.real(v);
                 }
+                w.real(lag.yy);
             }
-            for &v in lag.zy.iter().take(m) {
-                w.real(v);
-            }
-            for &v in lag.yz.iter().take(m) {
-                w.real(v);
-            }
-            w.real(lag.yy);
+            w.real(c.sum_y);
         }
         let entry = |w: &mut Writer<'_>, e: &Entry<T>| {
             w.u8(dir_code(e.at.dir));
@@ -447,7 +465,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         }
         let fp = r.u32().map_err(ck)?;
         let s0 = r.pos;
-        let settings = read_settings::<T, M>(&mut r).map_err(ck)?;
+        let (settings, summation) = read_settings::<T, M>(&mut r).map_err(ck)?;
         let fp_calc = crc32(bytes.get(s0..r.pos).unwrap_or(&[]));
         let settings = match settings {
             Ok(s) => s,
@@ -458,6 +476,9 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         };
         if fp != fp_calc {
             return Err(ck(CheckpointError::Checksum));
+        }
+        if summation != S::CODE {
+            return Err(ck(CheckpointError::Summation));
         }
         if let Some(e) = expect
             && e != fp
@@ -504,19 +525,16 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             id.acc.sum_y = r.real()?;
             id.acc.scale = r.real()?;
             for lag in id.acc.lags.iter_mut().take(k) {
-                let l: &mut Lagged<T, M> = lag;
-                for row in l.zz.iter_mut().take(m) {
-                    for v in row.iter_mut().take(m) {
+                read_lagged(&mut r, lag, m)?;
+            }
+            if let Some(c) = S::carries_mut(&mut id.carry) {
+                for lag in c.lags.iter_mut().take(k) {
+                    for v in lag.zy.iter_mut().take(m).chain(lag.yz.iter_mut().take(m)) {
                         *v = r.real()?;
                     }
+                    lag.yy = r.real()?;
                 }
-                for v in l.zy.iter_mut().take(m) {
-                    *v = r.real()?;
-                }
-                for v in l.yz.iter_mut().take(m) {
-                    *v = r.real()?;
-                }
-                l.yy = r.real()?;
+                c.sum_y = r.real()?;
             }
             let entry = |r: &mut Reader<'_>| -> Result<Entry<T>, CheckpointError> {
                 let dir = dir_of(r.u8()?)?;
@@ -543,12 +561,91 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             Ok(())
         })();
         state.map_err(ck)?;
+        if !id.consistent() {
+            return Err(ck(CheckpointError::Invalid));
+        }
         Ok(id)
+    }
+
+    /// Whether a restored state is one that pushing samples into a fresh identifier with its
+    /// settings can produce (the checksums only show that it was written as it is read): the
+    /// counters agree with each other, the fault and the hold, μ0 is there exactly when it
+    /// should be, the last input lies in the interval, the forgetting scale lies in the range
+    /// the accumulation keeps it in, and every stored sample is on a segment of its path.
+    /// Such a state cannot make `push` or `solve` overflow a counter or loop for long.
+    fn consistent(&self) -> bool {
+        let s = &self.settings;
+        let acc = &self.acc;
+        let knots = &s.knots;
+        // A saturated sample counter does not count any more (and 2^64 − 1 samples were never
+        // pushed).
+        if self.index == u64::MAX {
+            return false;
+        }
+        // Samples accepted: up to the fault, which is one of the pushed samples.
+        let accepted = match self.fault {
+            None => self.index,
+            Some(Error::NonFinite { index, .. }) => index,
+            Some(
+                Error::InputOutOfRange { index, value } | Error::HoldNotAtMin { index, value },
+            ) => {
+                if !value.is_finite() {
+                    return false;
+                }
+                index
+            }
+            Some(_) => return false,
+        };
+        if accepted >= self.index && self.fault.is_some() {
+            return false;
+        }
+        let hold = s.mu0.hold_len() as u64;
+        if let Some(Error::HoldNotAtMin { index, .. }) = self.fault
+            && index >= hold
+        {
+            return false;
+        }
+        // Every accepted sample after the hold is accumulated, the hold's are not.
+        if acc.count != accepted.saturating_sub(hold) {
+            return false;
+        }
+        let hold_ok = match s.mu0 {
+            MuZero::Hold { len, settle } => {
+                let averaged = accepted.min(len as u64).saturating_sub(settle as u64);
+                u64::from(self.hold.count) == averaged.min(u64::from(u32::MAX))
+            }
+            MuZero::Known(_) | MuZero::Estimate => self.hold == HoldMean::ZERO,
+        };
+        let mu0_ok = match s.mu0 {
+            MuZero::Known(v) => {
+                self.mu0.map(T::to_f64).map(f64::to_bits) == Some(v.to_f64().to_bits())
+            }
+            MuZero::Hold { .. } | MuZero::Estimate => self.mu0.is_some() == (acc.count > 0),
+        };
+        let u_ok = self.u_prev >= knots.u_min() && self.u_prev <= knots.u_max();
+        let dir_ok = acc.count > 0 || self.dir == Direction::Descending;
+        // The scale starts at 1, grows by 1/λ per sample and is folded back to 1 once above
+        // RENORM; without forgetting it stays 1.
+        let scale_ok = if acc.lambda == T::one() {
+            acc.scale == T::one()
+        } else {
+            acc.scale >= T::one() && acc.scale <= T::of(crate::accumulation::RENORM)
+        };
+        let located = |e: &Entry<T>| {
+            usize::from(e.at.segment) < knots.segments(e.at.dir)
+                && e.at.theta >= T::zero()
+                && e.at.theta <= T::one()
+        };
+        let k = acc.k;
+        let entries_ok =
+            acc.head.iter().take(k).all(located) && acc.ring.iter().take(k).all(located);
+        hold_ok && mu0_ok && u_ok && dir_ok && scale_ok && entries_ok
     }
 }
 
-/// Largest checkpoint of an identifier with capacities `m` channels and `k` block rows in a
-/// scalar of `bytes` bytes (4 or 8): size a static buffer with it.
+/// Largest checkpoint of an identifier with plain sums ([`Plain`](crate::Plain)), capacities
+/// `m` channels and `k` block rows in a scalar of `bytes` bytes (4 or 8): size a static buffer
+/// with it (or with [`Identifier::CHECKPOINT_CAPACITY`]).
 pub const fn checkpoint_capacity(m: usize, k: usize, bytes: usize) -> usize {
     let knots = m + 2;
     let settings = 1 + 2 + 2 + 2 + 2 + knots * bytes + 1 + 4 + 4 + bytes + 2 + 1 + bytes;
@@ -561,4 +658,47 @@ pub const fn checkpoint_capacity(m: usize, k: usize, bytes: usize) -> usize {
         + k * (m * m + 2 * m + 1) * bytes
         + 2 * k * (1 + 2 + 2 * bytes)
         + 4
+}
+
+/// Largest checkpoint of an identifier with compensated sums
+/// ([`Compensated`](crate::Compensated)): [`checkpoint_capacity`] plus the carries of the
+/// output sums.
+pub const fn compensated_checkpoint_capacity(m: usize, k: usize, bytes: usize) -> usize {
+    checkpoint_capacity(m, k, bytes) + k * (2 * m + 1) * bytes + bytes
+}
+
+/// The `m`-channel part of a lagged sum (or of its carries).
+fn write_lagged<T: Real, const M: usize>(w: &mut Writer<'_>, lag: &Lagged<T, M>, m: usize) {
+    for row in lag.zz.iter().take(m) {
+        for &v in row.iter().take(m) {
+            w.real(v);
+        }
+    }
+    for &v in lag.zy.iter().take(m) {
+        w.real(v);
+    }
+    for &v in lag.yz.iter().take(m) {
+        w.real(v);
+    }
+    w.real(lag.yy);
+}
+
+fn read_lagged<T: Real, const M: usize>(
+    r: &mut Reader<'_>,
+    lag: &mut Lagged<T, M>,
+    m: usize,
+) -> Result<(), CheckpointError> {
+    for row in lag.zz.iter_mut().take(m) {
+        for v in row.iter_mut().take(m) {
+            *v = r.real()?;
+        }
+    }
+    for v in lag.zy.iter_mut().take(m) {
+        *v = r.real()?;
+    }
+    for v in lag.yz.iter_mut().take(m) {
+        *v = r.real()?;
+    }
+    lag.yy = r.real()?;
+    Ok(())
 }

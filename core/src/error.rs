@@ -337,6 +337,9 @@ impl fmt::Display for crate::checkpoint::CheckpointError {
             C::SettingsMismatch => "written with other settings than this identifier's",
             C::Capacity => "needs more channels or block rows than this identifier's capacity",
             C::Invalid => "a field holds an impossible value",
+            C::Summation => {
+                "written with the other summation (plain vs compensated sums): restore it with the same Summation type"
+            }
         })
     }
 }

@@ -2,7 +2,7 @@
 //! the final solve.
 
 use crate::MAX_HORIZON;
-use crate::accumulation::{Accumulator, checked_forgetting};
+use crate::accumulation::{Accumulator, Plain, Summation, checked_forgetting};
 use crate::error::{Error, Signal};
 use crate::estimation::{Mu0, estimate};
 use crate::hold::{HoldMean, MuZero};
@@ -71,10 +71,16 @@ impl<T: Real, const M: usize> Settings<T, M> {
 /// [`push`](Self::push) never fails: a bad sample (NaN, outside the interval, a hold sample
 /// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
 /// [`fault`](Self::fault) reports it at once and [`solve`](Self::solve) returns it.
+///
+/// `S` chooses how the sums are formed: [`Plain`] (the default) or
+/// [`Compensated`](crate::Compensated), which keeps `f32` models accurate over records of 10^6
+/// samples for a carry per output sum and more work per sample (see [`Summation`]).
 #[derive(Clone, Debug)]
-pub struct Identifier<T, const M: usize, const K: usize> {
+pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M, K> = Plain> {
     pub(crate) settings: Settings<T, M>,
     pub(crate) acc: Accumulator<T, M, K>,
+    /// The carries of the sums (nothing for plain sums).
+    pub(crate) carry: S::Carry,
     pub(crate) hold: HoldMean<T>,
     pub(crate) mu0: Option<T>,
     pub(crate) u_prev: T,
@@ -83,7 +89,7 @@ pub struct Identifier<T, const M: usize, const K: usize> {
     pub(crate) fault: Option<Error>,
 }
 
-impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
     /// An unconfigured identifier, usable in constant expressions so that firmware can place
     /// it in a `static` (no copy through the stack); configure it with
     /// [`reset`](Self::reset). It refuses samples until then (every `push` records a fault).
@@ -99,6 +105,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
             forgetting: Forgetting::None,
         },
         acc: Accumulator::EMPTY,
+        carry: S::ZERO,
         hold: HoldMean::ZERO,
         mu0: None,
         u_prev: T::ZERO,
@@ -141,6 +148,7 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         })?;
         self.acc.reset(k)?;
         self.acc.set_forgetting(lambda)?;
+        self.carry = S::ZERO;
         self.mu0 = match settings.mu0 {
             MuZero::Known(v) => Some(v),
             MuZero::Hold { .. } | MuZero::Estimate => None,
@@ -162,7 +170,9 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
     /// Adds one sample `(u(t), y(t))`. Infallible; see the type's docs for bad samples.
     pub fn push(&mut self, u: T, y: T) {
         let index = self.index;
-        self.index += 1;
+        // Saturating: 2^64 samples are out of reach, but a restored state must not be able
+        // to make the per-sample path overflow.
+        self.index = self.index.saturating_add(1);
         if self.fault.is_some() {
             return;
         }
@@ -219,8 +229,11 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
         self.dir = self.dir.next(self.u_prev, u);
         self.u_prev = u;
         let at = knots.locate(self.dir, u);
-        self.acc
-            .push(&self.settings.knots, self.settings.basis, at, y - mu0);
+        let (knots, basis) = (&self.settings.knots, self.settings.basis);
+        match S::carries_mut(&mut self.carry) {
+            Some(c) => self.acc.push_compensated(c, knots, basis, at, y - mu0),
+            None => self.acc.push(knots, basis, at, y - mu0),
+        }
     }
 
     /// The first bad sample seen, if any.

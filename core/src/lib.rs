@@ -16,8 +16,13 @@ pub mod regressor;
 pub mod scalar;
 pub mod subspace;
 
-pub use accumulation::{Accumulator, Entry, Lagged, RowSums};
-pub use checkpoint::{CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, crc32};
+pub use accumulation::{
+    Accumulator, Carries, Compensated, Entry, Lagged, OutputCarry, Plain, RowSums, Summation,
+};
+pub use checkpoint::{
+    CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, compensated_checkpoint_capacity,
+    crc32,
+};
 pub use error::{Error, KnotEnd, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};

@@ -3,7 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
 use hsid::{
-    CheckpointError, Error, Excitation, Identifier, Knots, MuZero, Settings, checkpoint_capacity,
+    CheckpointError, Compensated, Error, Excitation, Identifier, Knots, MuZero, Plain, Settings,
+    Summation, checkpoint_capacity, compensated_checkpoint_capacity,
 };
 use rand_core::{RngCore, SeedableRng};
 use rand_pcg::Pcg32;
@@ -41,14 +42,14 @@ fn bits<T: hsid::Real, const M: usize>(m: &hsid::Model<T, M>) -> Vec<u64> {
 }
 
 fn resume_is_bit_identical<T: hsid::Real>(mu0: MuZero<T>) {
-    resume_is_bit_identical_with(
+    resume_is_bit_identical_with::<T, Plain>(
         settings(mu0),
         300 + 4019,
         &[0, 1, 137, 300, 301, 305, 319, 320, 2000, 4318],
     );
 }
 
-fn resume_is_bit_identical_with<T: hsid::Real>(
+fn resume_is_bit_identical_with<T: hsid::Real, S: Summation<T, 14, 20>>(
     settings: Settings<T, 14>,
     len: usize,
     cuts: &[usize],
@@ -56,7 +57,7 @@ fn resume_is_bit_identical_with<T: hsid::Real>(
     let settings = |_: MuZero<T>| settings.clone();
     let mu0 = MuZero::Estimate;
     let d = data::<T>(len);
-    let mut full = Identifier::<T, 14, 20>::new(settings(mu0)).unwrap();
+    let mut full = Identifier::<T, 14, 20, S>::new(settings(mu0)).unwrap();
     for &(u, y) in &d {
         full.push(u, y);
     }
@@ -64,15 +65,16 @@ fn resume_is_bit_identical_with<T: hsid::Real>(
     let reference = bits(&full.solve(&mut ws).unwrap());
     // Interrupt during the hold, right after it, inside the first k samples and late.
     for &cut in cuts {
-        let mut a = Identifier::<T, 14, 20>::new(settings(mu0)).unwrap();
+        let mut a = Identifier::<T, 14, 20, S>::new(settings(mu0)).unwrap();
         for &(u, y) in &d[..cut] {
             a.push(u, y);
         }
         let mut flash = vec![0u8; a.checkpoint_len()];
-        assert!(flash.len() <= checkpoint_capacity(14, 20, T::BYTES));
+        // The settings use the capacities exactly: the capacity is the length.
+        assert_eq!(flash.len(), Identifier::<T, 14, 20, S>::CHECKPOINT_CAPACITY);
         a.save(&mut flash).unwrap();
         drop(a);
-        let mut b = Identifier::<T, 14, 20>::restore_with(&settings(mu0), &flash).unwrap();
+        let mut b = Identifier::<T, 14, 20, S>::restore_with(&settings(mu0), &flash).unwrap();
         for &(u, y) in &d[cut..] {
             b.push(u, y);
         }
@@ -109,7 +111,81 @@ fn resume_is_bit_identical_f64_estimated_mu0() {
 fn resume_is_bit_identical_f32_with_forgetting() {
     let mut s = settings::<f32>(MuZero::Estimate);
     s.forgetting = hsid::Forgetting::Exponential { lambda: 0.999 };
-    resume_is_bit_identical_with(s, 14_000, &[5000, 11_084, 11_086, 13_000]);
+    resume_is_bit_identical_with::<f32, Plain>(s, 14_000, &[5000, 11_084, 11_086, 13_000]);
+}
+
+/// Compensated sums: the carries are part of the state, so a resumed run is bit for bit the
+/// uninterrupted one (hold, and forgetting across a renormalisation, which scales the carries).
+#[test]
+fn resume_is_bit_identical_f32_compensated() {
+    resume_is_bit_identical_with::<f32, Compensated>(
+        settings(MuZero::Hold {
+            len: 300,
+            settle: 150,
+        }),
+        300 + 4019,
+        &[0, 300, 301, 319, 320, 2000, 4318],
+    );
+    let mut s = settings::<f32>(MuZero::Estimate);
+    s.forgetting = hsid::Forgetting::Exponential { lambda: 0.999 };
+    resume_is_bit_identical_with::<f32, Compensated>(s, 14_000, &[5000, 11_084, 11_086, 13_000]);
+}
+
+/// The capacities of both kinds, from the sizes of the sums: the compensated checkpoint holds
+/// `k·(2m + 1) + 1` more scalars (the carries of the output sums).
+#[test]
+fn checkpoint_capacities() {
+    for (m, k, b) in [(14, 20, 4), (14, 20, 8), (2, 2, 4)] {
+        assert_eq!(
+            compensated_checkpoint_capacity(m, k, b) - checkpoint_capacity(m, k, b),
+            (k * (2 * m + 1) + 1) * b
+        );
+    }
+    assert_eq!(
+        Identifier::<f32, 14, 20>::CHECKPOINT_CAPACITY,
+        checkpoint_capacity(14, 20, 4)
+    );
+    assert_eq!(
+        Identifier::<f64, 14, 20, Compensated>::CHECKPOINT_CAPACITY,
+        compensated_checkpoint_capacity(14, 20, 8)
+    );
+}
+
+/// A checkpoint of plain sums restored into a compensated identifier (or the other way) is
+/// refused with `CheckpointError::Summation`, by `restore` and by `restore_with`.
+#[test]
+fn a_checkpoint_of_the_other_summation_is_refused() {
+    let mu0 = MuZero::Known(0.0f32);
+    let d = data::<f32>(500);
+    let mut plain = Identifier::<f32, 14, 20>::new(settings(mu0)).unwrap();
+    let mut comp = Identifier::<f32, 14, 20, Compensated>::new(settings(mu0)).unwrap();
+    for &(u, y) in &d {
+        plain.push(u, y);
+        comp.push(u, y);
+    }
+    let mut p = vec![0u8; plain.checkpoint_len()];
+    plain.save(&mut p).unwrap();
+    let mut c = vec![0u8; comp.checkpoint_len()];
+    comp.save(&mut c).unwrap();
+    let want = Some(Error::Checkpoint(CheckpointError::Summation));
+    assert_eq!(
+        Identifier::<f32, 14, 20, Compensated>::restore(&p).err(),
+        want
+    );
+    assert_eq!(Identifier::<f32, 14, 20>::restore(&c).err(), want);
+    assert_eq!(
+        Identifier::<f32, 14, 20, Compensated>::restore_with(&settings(mu0), &p).err(),
+        want
+    );
+    assert_eq!(
+        Identifier::<f32, 14, 20>::restore_with(&settings(mu0), &c).err(),
+        want
+    );
+    // Each restores into its own kind, and the two states differ in their sums.
+    assert!(Identifier::<f32, 14, 20>::restore(&p).is_ok());
+    assert!(Identifier::<f32, 14, 20, Compensated>::restore(&c).is_ok());
+    let msg = Error::Checkpoint(CheckpointError::Summation).to_string();
+    assert!(msg.contains("compensated"), "{msg}");
 }
 
 #[test]

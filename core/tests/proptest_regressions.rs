@@ -284,13 +284,12 @@ fn f32_automatic_order_at_high_snr() {
     );
 }
 
-/// A checkpoint whose checksums are valid but whose sample counters are impossible is
-/// restored as is: `count = u64::MAX` then overflows `count + 1` in `Accumulator::columns`
-/// (a panic with overflow checks; without them `j` wraps to 0 and `solve` loops over 2^64
-/// samples in `row_sums`), and `count > index` (more samples accumulated than pushed) is
-/// accepted. `restore` should refuse both (`CheckpointError::Invalid`).
+/// A checkpoint whose checksums are valid but whose sample counters are impossible was
+/// restored as is: `count = u64::MAX` then overflowed `count + 1` in `Accumulator::columns`
+/// (a panic with overflow checks; without them `j` wrapped to 0 and `solve` looped over 2^64
+/// samples in `row_sums`), and `count > index` (more samples accumulated than pushed) was
+/// accepted. `restore` refuses them (`CheckpointError::Invalid`).
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn checkpoints_with_impossible_counters_are_refused() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
     let mut id =

@@ -551,15 +551,6 @@ pub mod known_bugs {
         !noisy
     }
 
-    /// `restore` accepts a checkpoint (checksums valid) whose sample counters are impossible:
-    /// `count = u64::MAX` makes `Accumulator::columns` overflow (`count + 1`: a panic with
-    /// overflow checks, an endless loop in `row_sums`/`solve` without), `index = u64::MAX`
-    /// overflows in `push`, and `count > index` (more samples accumulated than pushed) is
-    /// taken as is.
-    pub fn unchecked_counters(count: u64, samples: u64) -> bool {
-        count == u64::MAX || samples == u64::MAX || count > samples
-    }
-
     /// In `f32`, CVA at 30–40 dB SNR sometimes returns a wrong model (Markov parameters off by
     /// 34, borders by 0.9, where `f64` on the same data is right) or refuses the data
     /// (`RankDeficient`) that `f64` identifies.

@@ -54,6 +54,16 @@ const EXCITATION_LEN: usize = J + K - 1;
 /// Seed of the excitation's [`Pcg32`] (`Pcg32::seed_from_u64`).
 const EXCITATION_SEED: u64 = 1;
 
+/// How the identifier sums: plain `f32` sums (the default), or with the `compensated` feature
+/// compensated output sums, which keep `f32` accurate over records of 10^6 samples and more
+/// (`hsid::Compensated`; more RAM and instructions per sample, see `docs/reliability.md`).
+#[cfg(not(feature = "compensated"))]
+type Summation = hsid::Plain;
+#[cfg(feature = "compensated")]
+type Summation = hsid::Compensated;
+/// The identifier type: `f32`, exact capacities, the chosen summation.
+type Id = Identifier<f32, M, K, Summation>;
+
 /// Scalars of the solve workspace.
 const WORKSPACE_LEN: usize = workspace_len(M, F, P);
 /// The solve workspace, in `.bss` (zero-initialised at compile time, handed out once).
@@ -61,7 +71,7 @@ static WORKSPACE: ConstStaticCell<[f32; WORKSPACE_LEN]> =
     ConstStaticCell::new([0.0; WORKSPACE_LEN]);
 
 /// Bytes of the largest checkpoint of the identifier ([`Identifier::save`]).
-const CHECKPOINT_CAPACITY: usize = hsid::checkpoint_capacity(M, K, 4);
+const CHECKPOINT_CAPACITY: usize = Id::CHECKPOINT_CAPACITY;
 /// The checkpoint is written into the solve workspace when it fits: the workspace is idle
 /// until the solve, which overwrites it, so the export costs no RAM. Otherwise it gets a
 /// static buffer of its own ([`CHECKPOINT_BUFFER`]).
@@ -82,11 +92,11 @@ const STATE_FILE: &[u8] = b"hsid-state.bin\0";
 /// The identifier (the accumulated statistics), in `.bss`.
 /// The identifier lives in a static from the start (`Identifier::EMPTY` is a constant), so
 /// nothing as large as its ~18 KB state is ever built on the stack.
-static IDENTIFIER: ConstStaticCell<Identifier<f32, M, K>> = ConstStaticCell::new(Identifier::EMPTY);
+static IDENTIFIER: ConstStaticCell<Id> = ConstStaticCell::new(Identifier::EMPTY);
 
 /// Configures the identifier in place.
 #[inline(never)]
-fn identifier() -> &'static mut Identifier<f32, M, K> {
+fn identifier() -> &'static mut Id {
     let knots =
         Knots::uniform(U_MIN, U_MAX, SEGMENTS, SEGMENTS).unwrap_or_else(|e| fail_with("knots", &e));
     let mu0 = MuZero::Hold {
@@ -106,7 +116,7 @@ fn identifier() -> &'static mut Identifier<f32, M, K> {
 /// refuses the file is reported (`file=none` and an `HSID warn` line) but does not stop the
 /// solve.
 #[inline(never)]
-fn export_state(id: &Identifier<f32, M, K>, ws: &mut [f32]) {
+fn export_state(id: &Id, ws: &mut [f32]) {
     let buf: &mut [u8] = if CHECKPOINT_IN_WORKSPACE {
         bytemuck::cast_slice_mut(ws)
     } else {
@@ -145,7 +155,7 @@ fn stored_crc(bytes: &[u8]) -> u32 {
 /// The final solve, measured. Not inlined, like [`identifier`]: the solve's temporaries live
 /// in this frame only while it runs, not in `main`'s during the whole experiment.
 #[inline(never)]
-fn solve(id: &Identifier<f32, M, K>, ws: &mut [f32]) -> (Result<Model<f32, M>, hsid::Error>, u64) {
+fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M>, hsid::Error>, u64) {
     cost::measure_with(|| id.solve(ws))
 }
 
