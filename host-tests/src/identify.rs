@@ -447,6 +447,8 @@ pub struct CheckpointHeader {
     pub f: usize,
     /// Past horizon `p`.
     pub p: usize,
+    /// The accumulation's summation: `true` for [`hsid::Compensated`] output sums.
+    pub compensated: bool,
 }
 
 impl CheckpointHeader {
@@ -500,7 +502,9 @@ pub fn checkpoint_header(bytes: &[u8]) -> Result<CheckpointHeader, IdentifyError
     // After the settings fingerprint (u32 at 7): flags u8, f u16, p u16, then per path a u16
     // knot count and the knots.
     let settings_at = 11;
-    let shared = field(settings_at, 1)?[0] & 1 != 0;
+    let flags = field(settings_at, 1)?[0];
+    let shared = flags & 1 != 0;
+    let compensated = flags & 4 != 0;
     let f = u16_at(settings_at + 1)?;
     let p = u16_at(settings_at + 3)?;
     let len_asc = u16_at(settings_at + 5)?;
@@ -518,6 +522,7 @@ pub fn checkpoint_header(bytes: &[u8]) -> Result<CheckpointHeader, IdentifyError
         channel_capacity,
         f,
         p,
+        compensated,
     })
 }
 
@@ -532,13 +537,9 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
         channels: header.channels,
         block_rows: k,
     };
-    let f32s = header.scalar_bytes == 4;
+    let kind = (header.scalar_bytes == 4, header.compensated);
     let solved = if m <= 16 && k <= 24 {
-        if f32s {
-            restore_and_solve::<f32, 16, 24>(bytes)
-        } else {
-            restore_and_solve::<f64, 16, 24>(bytes)
-        }
+        restore_and_solve_kind::<16, 24>(kind, bytes)
     } else if m > MAX_CHANNELS || k > MAX_BLOCK_ROWS {
         Err(too_large.clone())
     } else {
@@ -546,11 +547,12 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
         std::thread::scope(|s| {
             let handle = std::thread::Builder::new()
                 .stack_size(256 << 20)
-                .spawn_scoped(s, || match (m <= 32, f32s) {
-                    (true, true) => restore_and_solve::<f32, 32, 48>(bytes),
-                    (true, false) => restore_and_solve::<f64, 32, 48>(bytes),
-                    (false, true) => restore_and_solve::<f32, 64, 48>(bytes),
-                    (false, false) => restore_and_solve::<f64, 64, 48>(bytes),
+                .spawn_scoped(s, || {
+                    if m <= 32 {
+                        restore_and_solve_kind::<32, 48>(kind, bytes)
+                    } else {
+                        restore_and_solve_kind::<64, 48>(kind, bytes)
+                    }
                 });
             match handle {
                 Ok(h) => h.join().unwrap_or(Err(too_large.clone())),
@@ -566,10 +568,27 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
     })
 }
 
-fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize>(
+/// [`restore_and_solve`] in the checkpoint's scalar type (`f32` if the first flag is set) and
+/// summation (compensated if the second is).
+fn restore_and_solve_kind<const M: usize, const K: usize>(
+    (f32s, compensated): (bool, bool),
     bytes: &[u8],
 ) -> Result<(HostModel, bool), IdentifyError> {
-    let id = Box::new(Identifier::<T, M, K>::restore(bytes)?);
+    match (f32s, compensated) {
+        (true, false) => restore_and_solve::<f32, M, K, hsid::Plain>(bytes),
+        (false, false) => restore_and_solve::<f64, M, K, hsid::Plain>(bytes),
+        (true, true) => restore_and_solve::<f32, M, K, hsid::Compensated>(bytes),
+        (false, true) => restore_and_solve::<f64, M, K, hsid::Compensated>(bytes),
+    }
+}
+
+fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize, S>(
+    bytes: &[u8],
+) -> Result<(HostModel, bool), IdentifyError>
+where
+    S: hsid::Summation<T, M, K>,
+{
+    let id = Box::new(Identifier::<T, M, K, S>::restore(bytes)?);
     let mut ws = vec![T::zero(); id.workspace_len()];
     let m = id.solve(&mut ws)?;
     let wide = |v: &[T]| v.iter().map(|x| x.to_f64()).collect::<Vec<f64>>();

@@ -605,6 +605,54 @@ fn f64_checkpoint_solves_to_the_direct_identification() {
     assert_eq!(solved.model, direct);
 }
 
+/// An `f32` checkpoint with compensated output sums (format flag bit 2) is restored into a
+/// compensated identifier and solves bit for bit to the direct solve of the same state;
+/// the plain state of the same samples solves differently (its sums round otherwise).
+#[test]
+fn compensated_f32_checkpoint_solves_to_the_direct_solve() {
+    let (u, y) = backlash_record(4319, 300, 4);
+    let settings = || {
+        Settings::new(
+            Knots::<f32, 14>::uniform(-3.0, 3.0, 7, 7).unwrap(),
+            10,
+            10,
+            MuZero::Hold {
+                len: 300,
+                settle: 150,
+            },
+        )
+    };
+    let mut comp = Box::new(Identifier::<f32, 14, 20, hsid::Compensated>::new(settings()).unwrap());
+    let mut plain = Box::new(Identifier::<f32, 14, 20>::new(settings()).unwrap());
+    for (&u, &y) in u.iter().zip(&y) {
+        comp.push(u as f32, y as f32);
+        plain.push(u as f32, y as f32);
+    }
+    let mut ws = vec![0.0f32; comp.workspace_len()];
+    let direct = comp.solve(&mut ws).unwrap();
+    let mut bytes = vec![0u8; hsid::compensated_checkpoint_capacity(14, 20, 4)];
+    let len = comp.save(&mut bytes).unwrap();
+    bytes.truncate(len);
+    let solved = solve_checkpoint(&bytes).unwrap();
+    assert!(solved.header.compensated);
+    assert_eq!(solved.header.scalar_name(), "f32");
+    let wide = |v: &[f32]| v.iter().map(|&x| f64::from(x)).collect::<Vec<_>>();
+    assert_eq!(solved.model.singular_values, wide(direct.singular_values()));
+    assert_eq!(
+        solved.model.border_asc,
+        wide(direct.border_values(Direction::Ascending))
+    );
+    let mut plain_bytes = vec![0u8; hsid::checkpoint_capacity(14, 20, 4)];
+    let len = plain.save(&mut plain_bytes).unwrap();
+    plain_bytes.truncate(len);
+    let plain_solved = solve_checkpoint(&plain_bytes).unwrap();
+    assert!(!plain_solved.header.compensated);
+    assert_ne!(
+        plain_solved.model.singular_values,
+        solved.model.singular_values
+    );
+}
+
 /// A checkpoint larger than the small capacity (12 segments per path, 24 channels, `f32`)
 /// goes to the `<32, 48>` identifier on a big-stack thread and gives the direct solve, also
 /// with padding after it (a flash sector dump).
