@@ -167,3 +167,29 @@ fn tests_point_at_the_effect() {
         d.tests_before.strongest_input_lag
     );
 }
+
+#[test]
+fn static_knot_never_visited_gets_advice_for_static_data() {
+    use hsid_host::diagnose::model::Record;
+    use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Validation};
+    use hsid_host::identify::IdentifyOptions;
+    // The input stays in [0, 3]; knot 4 (u = 4) lives on [3, 10] and is never excited.
+    let u: Vec<f64> = (0..600)
+        .map(|t| 1.5 + 1.5 * (t as f64 / 20.0).sin())
+        .collect();
+    let y: Vec<f64> = u.iter().map(|v| 0.5 * v).collect();
+    let mut id = IdentifyOptions::uniform(0.0, 10.0, 5, 0);
+    id.knots_asc = vec![0.0, 1.0, 2.0, 3.0, 4.0, 10.0];
+    id.knots_desc = id.knots_asc.clone();
+    id.order = Some(1);
+    let opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    let e = diagnose(&Record::new(u, y), &Validation::Split(0.7), &opts).unwrap_err();
+    assert!(
+        matches!(e, DiagnoseError::KnotNotVisited { knot: 4, .. }),
+        "{e:?}"
+    );
+    let msg = e.to_string();
+    assert!(msg.contains("never visits [3, 10]"), "{msg}");
+    assert!(msg.contains("move or remove that knot"), "{msg}");
+    assert!(!msg.contains("Table I"), "{msg}");
+}

@@ -5,6 +5,7 @@ use nalgebra::DMatrix;
 use serde::Serialize;
 
 use super::Nonlinearity;
+use super::model::Saturation;
 use super::residual::regressor;
 use super::stats::{mean, newey_west_var_of_mean, normal_sf};
 
@@ -16,6 +17,26 @@ pub struct Warning {
     pub check: String,
     /// What was found and its consequence, one sentence.
     pub message: String,
+}
+
+/// The levels at which the output saturates: an extreme (maximum or minimum) at which more
+/// than 2 % of the samples sit (within 0.1 % of the output's span).
+pub fn saturation(y: &[f64]) -> Saturation {
+    let (ymin, ymax) = y
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let tolerance = 1e-3 * (ymax - ymin).max(1e-300);
+    let level = |ext: f64| {
+        let at = y.iter().filter(|&&v| (v - ext).abs() <= tolerance).count();
+        (ext.is_finite() && at * 50 > y.len()).then_some(ext)
+    };
+    Saturation {
+        ceiling: level(ymax),
+        floor: level(ymin),
+        tolerance,
+    }
 }
 
 fn warn(check: &str, message: String) -> Warning {
@@ -203,19 +224,13 @@ pub fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
     }
 
     // Output saturation and quantisation.
-    let (ymin, ymax) = y
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
-    let span = (ymax - ymin).max(1e-300);
-    for (label, ext) in [("maximum", ymax), ("minimum", ymin)] {
-        let at = y
-            .iter()
-            .filter(|&&v| (v - ext).abs() <= 1e-3 * span)
-            .count();
-        // More than 2 % of the samples within 0.1 % of the extreme, in runs.
-        if at * 50 > n {
+    let sat = saturation(y);
+    for (label, level) in [("maximum", sat.ceiling), ("minimum", sat.floor)] {
+        if let Some(ext) = level {
+            let at = y
+                .iter()
+                .filter(|&&v| (v - ext).abs() <= sat.tolerance)
+                .count();
             out.push(warn(
                 "output_saturation",
                 format!(

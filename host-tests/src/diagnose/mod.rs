@@ -32,6 +32,7 @@ use crate::identify::{IdentifyError, IdentifyOptions};
 pub mod bench;
 pub mod checks;
 pub mod cli;
+pub mod delay;
 pub mod effects;
 pub mod figures;
 pub mod model;
@@ -111,6 +112,16 @@ pub enum DiagnoseError {
         /// Record length.
         len: usize,
     },
+    /// With a static nonlinearity, the input never visits the segments next to a knot (the
+    /// core's `NoExcitation`, whose Table I advice does not apply to static data).
+    KnotNotVisited {
+        /// Knot index (1-based, as in the core's error).
+        knot: usize,
+        /// The knot's value, when known.
+        value: Option<f64>,
+        /// Its neighbours (the segments the input never visits), when known.
+        segment: Option<(f64, f64)>,
+    },
     /// A figure or report could not be written.
     Output(String),
 }
@@ -145,6 +156,25 @@ impl fmt::Display for DiagnoseError {
                 f,
                 "held-out range {start}..{end} must be non-empty, after the hold and within the {len} samples"
             ),
+            DiagnoseError::KnotNotVisited {
+                knot,
+                value,
+                segment,
+            } => {
+                write!(f, "static nonlinearity: the basis function of knot {knot}")?;
+                if let Some(v) = value {
+                    write!(f, " (u = {v})")?;
+                }
+                write!(f, " is never excited: the input never visits ")?;
+                match segment {
+                    Some((a, b)) => write!(f, "[{a}, {b}]")?,
+                    None => write!(f, "the segments next to it")?,
+                }
+                write!(
+                    f,
+                    "; move or remove that knot (--knots, --segments, --select-segments), or record data whose input covers that range"
+                )
+            }
             DiagnoseError::Output(e) => write!(f, "{e}"),
         }
     }
@@ -327,6 +357,8 @@ pub struct Diagnosis {
     pub validation_record: Record,
     /// Its scored samples.
     pub validation_range: Range<usize>,
+    /// The dead time of the estimation data (ARX test), against the base model's.
+    pub dead_time: delay::DeadTime,
 }
 
 fn check_record(
@@ -383,7 +415,37 @@ pub fn residual_tests(
 
 /// Runs the whole loop. `record` is the estimation record (or the whole record, for
 /// [`Validation::Split`] and [`Validation::Holdout`]).
+///
+/// With a static nonlinearity, an unexcited knot is reported as
+/// [`DiagnoseError::KnotNotVisited`] (advice for static data, not the Table I excitation).
 pub fn diagnose(
+    record: &Record,
+    validation: &Validation,
+    opts: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
+    diagnose_inner(record, validation, opts).map_err(|e| match e {
+        DiagnoseError::Identify(IdentifyError::Core(hsid::Error::NoExcitation {
+            knot, ..
+        })) if opts.nonlinearity == Nonlinearity::Static => {
+            // The knots are the given ones unless the segment count is selected.
+            let k = &opts.identify.knots_asc;
+            let known = opts.select_segments.is_none();
+            let at = |i: usize| known.then(|| k.get(i).copied()).flatten();
+            // Channel `knot` is the hat function of knots[knot] (knots[0] = u_min has none):
+            // it lives on [knots[knot − 1], knots[knot + 1]].
+            let value = at(knot);
+            let segment = knot.checked_sub(1).and_then(at).zip(at(knot + 1).or(value));
+            DiagnoseError::KnotNotVisited {
+                knot,
+                value,
+                segment,
+            }
+        }
+        e => e,
+    })
+}
+
+fn diagnose_inner(
     record: &Record,
     validation: &Validation,
     opts: &DiagnoseOptions,
@@ -500,6 +562,7 @@ pub fn diagnose(
                 rounds: 1,
                 refit: true,
                 refine_poles: opts.refine_poles != PoleRefinement::Never,
+                saturation: model::Saturation::default(),
             };
             let Ok(m) = model::fit_structure(&Structure::base(), &est, &fo) else {
                 continue;
@@ -560,6 +623,7 @@ pub fn diagnose(
         rounds: 3,
         refit: true,
         refine_poles: opts.refine_poles == PoleRefinement::Always,
+        saturation: checks::saturation(&est.y),
     };
     let final_opts = model::FitOptions {
         refine_poles: opts.refine_poles != PoleRefinement::Never,
@@ -586,11 +650,6 @@ pub fn diagnose(
         est_bin_count,
         fit_opts.initial == InitialState::Estimated,
     );
-    let holdout = effects::Holdout::new(&est, block.clone(), &fit_opts);
-    let description = format!(
-        "{description}; every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
-        block.start, block.end
-    );
 
     let mut current = Structure::base();
     let mut model = model::fit_structure(&current, &est, &final_opts)?;
@@ -598,6 +657,65 @@ pub fn diagnose(
     let before = model::evaluate(&base, &vrec, vrange.clone(), Metric::Simulation);
     let tests_before = residual_tests(&base, &vrec, vrange.clone(), &before, shared);
 
+    // The inner validation: the block above if the base model fitted without it simulates it
+    // about as well as the model fits the record (at most 3 × the in-sample RMSE); otherwise
+    // leave-block-out cross-validation over tenths of the record (10-fold) that are scorable in
+    // that sense (at least two), their scores pooled.
+    let in_sample0 = model::evaluate(&model, &est, hold..ne, Metric::Simulation).rmse;
+    let scorable = |r: &Range<usize>| -> bool {
+        let fit_part = est.parts(&[0..r.start, r.end..ne]);
+        model::fit_structure(&current, &fit_part, &fit_opts).is_ok_and(|m| {
+            let e = model::evaluate(&m, &est, r.clone(), Metric::Simulation).rmse;
+            e.is_finite() && e <= 3.0 * in_sample0
+        })
+    };
+    let folds: Vec<Range<usize>> = if scorable(&block) {
+        vec![block.clone()]
+    } else {
+        let good: Vec<Range<usize>> = effects::Holdout::fold_blocks(
+            &est,
+            hold,
+            10,
+            &est_bins,
+            est_bin_count,
+            fit_opts.initial == InitialState::Estimated,
+        )
+        .into_iter()
+        .filter(|r| scorable(r))
+        .collect();
+        if good.len() >= 2 {
+            good
+        } else {
+            vec![block.clone()]
+        }
+    };
+    let holdout = effects::Holdout::with_folds(&est, folds.clone(), &fit_opts);
+    let description = if folds.len() == 1 {
+        format!(
+            "{description}; every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
+            block.start, block.end
+        )
+    } else {
+        let list: Vec<String> = folds
+            .iter()
+            .map(|r| format!("{}..{}", r.start, r.end))
+            .collect();
+        format!(
+            "{description}; every setting and every effect is chosen on the estimation data by leave-block-out cross-validation (10 blocks; blocks that leave a knot segment unexcited, the first with an estimated initial state, and blocks the base model fitted without them simulates with more than 3 × its in-sample error are not used): fitted without each of the blocks {} (of {ne}) in turn, scored on it, the scores pooled (the last 30 % of the record, {}..{}, cannot be scored: the model fitted without it simulates it with more than 3 × its in-sample error)",
+            list.join(", "),
+            block.start,
+            block.end
+        )
+    };
+
+    let (_, est_z, _, _) = residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
+    let dead = delay::dead_time(
+        &est_z,
+        &est.y,
+        &est.time,
+        opts.max_delay + 1,
+        delay::model_dead_time(&base.hammerstein, opts.max_delay + 1),
+    );
     let mut steps: Vec<Step> = Vec::new();
     let mut rejected = Vec::new();
     let mut unexplained = Vec::new();
@@ -606,8 +724,11 @@ pub fn diagnose(
     for _ in 0..opts.max_steps {
         let ev = model::evaluate(&model, &est, hold..ne, Metric::Simulation);
         let tests = residual_tests(&model, &est, hold..ne, &ev, shared);
-        let inner_model = model::fit_structure(&current, &holdout.fit_part, &fit_opts)?;
-        let baseline = model::evaluate(&inner_model, &est, block.clone(), Metric::Simulation);
+        let Some((inner_model, baseline)) =
+            holdout.evaluate_folds(&current, Metric::Simulation, false)?
+        else {
+            break;
+        };
         // The inner hold-out can only score extensions if the model fitted without the block
         // predicts the block about as well as the model fits the record: three times the
         // in-sample error means the fitting part leaves the block's behaviour unseen (a level
@@ -647,6 +768,31 @@ pub fn diagnose(
             }
         }
         let mut chosen = effects::choose(&cands, opts.min_gain, opts.tie);
+        // The dead time of the data (ARX test, independent of the simulation error) beyond the
+        // model's: a delay found by a test at 1 %, added unless it makes the inner score
+        // significantly worse (the simulation error of measured data is dominated by what else
+        // the model lacks, and cannot be asked to confirm a delay of a few samples).
+        if chosen.is_none() && current.delay == 0 && dead.extra() > 0 {
+            let mut s = current.clone();
+            s.delay = dead.extra();
+            if let Some((m, ev)) = holdout.score(&s, Metric::Simulation)? {
+                let (gain, p_value) = effects::compare(&baseline, &ev);
+                let (_, worse_p) = effects::compare(&ev, &baseline);
+                if worse_p >= residual::LEVEL {
+                    cands.push(effects::Candidate {
+                        effect: Effect::InputDelay,
+                        structure: s,
+                        inner_model: m,
+                        tried: vec![(format!("d = {} (dead-time test)", dead.extra()), ev.rmse)],
+                        evaluation: ev,
+                        gain,
+                        p_value,
+                        complexity: 1.0,
+                    });
+                    chosen = Some(cands.len() - 1);
+                }
+            }
+        }
         if chosen.is_none()
             && effects::has_evidence(Effect::ColoredNoise, &tests)
             && let Some(c) = proposal.propose(Effect::ColoredNoise)?
@@ -665,6 +811,9 @@ pub fn diagnose(
                 .filter(|t| t.fired)
                 .map(|t| format!("{}: {} (p = {:.2e})", t.name, t.detail, t.p_value))
                 .collect();
+            if e == Effect::InputDelay && dead.extra() > 0 {
+                v.push(dead_time_text(&dead));
+            }
             if e == Effect::OutputNonlinearity {
                 v.extend(
                     warnings
@@ -803,6 +952,17 @@ pub fn diagnose(
         Some(p) => residual_tests(&model, &vrec, vrange.clone(), p, shared),
         None => residual_tests(&model, &vrec, vrange.clone(), &after, shared),
     };
+    // Effects the tests or the data checks find that the catalog has no extension for.
+    if shared && final_tests.fired("direction_correlation") {
+        unexplained.push(
+            "found, not in the catalog: the residual depends on the direction of the input (direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed".into(),
+        );
+    }
+    if warnings.iter().any(|w| w.check == "output_quantisation") {
+        unexplained.push(
+            "found, not in the catalog: the output is quantised (data check output_quantisation); quantisation is measurement noise bounded by half a step and is left in the residual".into(),
+        );
+    }
     let fired = final_tests.fired_names();
     let unscorable = unexplained
         .iter()
@@ -877,5 +1037,25 @@ pub fn diagnose(
         tests_estimation: final_tests,
         validation_record: vrec,
         validation_range: vrange,
+        dead_time: dead,
     })
+}
+
+/// The dead-time test's finding, in words.
+pub fn dead_time_text(d: &delay::DeadTime) -> String {
+    match d.lag {
+        Some(l) => format!(
+            "dead_time: the output first responds to the input at lag {l} (ARX({}) likelihood-ratio tests of no response at lags 0…j: p = {} for j = 0…{l}), the model at lag {}: {} extra samples",
+            d.ar_order,
+            d.p_values
+                .iter()
+                .take(l + 1)
+                .map(|p| format!("{p:.2e}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            d.model_lag,
+            d.extra()
+        ),
+        None => "dead_time: no lag tested is significant".into(),
+    }
 }

@@ -119,8 +119,35 @@ pub struct FitOptions {
     pub refit: bool,
     /// Refine the poles too: the characteristic polynomial of `A` by Levenberg–Marquardt on the
     /// simulation error, the rest (`B`, `D`, borders, μ0, initial level) by least squares for
-    /// every candidate (variable projection). Structures with an output map keep the poles.
+    /// every candidate (variable projection). With an output map, the poles are refined by a
+    /// bounded simplex search with the borders, `B`, `D` and the map refit for every candidate.
     pub refine_poles: bool,
+    /// Saturation levels of the output (from the data checks): the output map is clipped there.
+    pub saturation: Saturation,
+}
+
+/// Levels at which the measured output saturates (found by the data checks).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Saturation {
+    /// Upper level.
+    pub ceiling: Option<f64>,
+    /// Lower level.
+    pub floor: Option<f64>,
+    /// Samples within this of a level are at it.
+    pub tolerance: f64,
+}
+
+impl Saturation {
+    /// Whether `y` sits at a saturation level.
+    pub fn at_limit(&self, y: f64) -> bool {
+        self.ceiling.is_some_and(|c| y >= c - self.tolerance)
+            || self.floor.is_some_and(|f| y <= f + self.tolerance)
+    }
+
+    /// Whether any level is known.
+    pub fn any(&self) -> bool {
+        self.ceiling.is_some() || self.floor.is_some()
+    }
 }
 
 /// Which extensions a model has, with their settings.
@@ -179,11 +206,29 @@ pub struct OutputMap {
     pub x: Vec<f64>,
     /// Values at the knots (outputs).
     pub v: Vec<f64>,
+    /// Level the output cannot exceed (a saturation found by the data checks): `g` is
+    /// clipped there.
+    pub ceiling: Option<f64>,
+    /// Level the output cannot go below.
+    pub floor: Option<f64>,
 }
 
 impl OutputMap {
-    /// `g(x)`.
+    /// `g(x)`: the piecewise-linear map, clipped to `[floor, ceiling]`.
     pub fn eval(&self, x: f64) -> f64 {
+        let v = self.eval_linear(x);
+        let v = self.ceiling.map_or(v, |c| v.min(c));
+        self.floor.map_or(v, |f| v.max(f))
+    }
+
+    /// Whether the output is clipped at `x`.
+    fn clipped(&self, x: f64) -> bool {
+        let v = self.eval_linear(x);
+        self.ceiling.is_some_and(|c| v > c) || self.floor.is_some_and(|f| v < f)
+    }
+
+    /// The piecewise-linear map without the clipping.
+    fn eval_linear(&self, x: f64) -> f64 {
         let n = self.x.len();
         if n < 2 {
             return x;
@@ -199,6 +244,9 @@ impl OutputMap {
     /// `g⁻¹(y)` where `g` is invertible with a slope of at least `min_slope`, else `None`.
     pub fn invert(&self, y: f64, min_slope: f64) -> Option<f64> {
         let min_slope = min_slope.max(1e-12);
+        if self.ceiling.is_some_and(|c| y >= c) || self.floor.is_some_and(|f| y <= f) {
+            return None;
+        }
         let n = self.x.len();
         if n < 2 {
             return Some(y);
@@ -222,6 +270,9 @@ impl OutputMap {
     /// Slope of `g` at `x` (end slopes outside the knots).
     pub fn slope_at(&self, x: f64) -> f64 {
         let n = self.x.len();
+        if self.clipped(x) {
+            return 0.0;
+        }
         if n < 2 {
             return 1.0;
         }
@@ -495,28 +546,7 @@ impl BorderBasis {
             return None;
         }
         let borders = 1 + na + if shared { 0 } else { nd };
-        let mut phi = vec![vec![0.0; n]; borders];
-        let mut up = false;
-        let mut prev = m.u_min();
-        for (t, &ui) in u.iter().enumerate() {
-            if ui > prev {
-                up = true;
-            } else if ui < prev {
-                up = false;
-            }
-            prev = ui;
-            let (k, off) = if up || shared {
-                (&m.knots_asc, 0)
-            } else {
-                (&m.knots_desc, na)
-            };
-            let segs = k.len() - 1;
-            let s = k.iter().rposition(|&x| x <= ui).unwrap_or(0).min(segs - 1);
-            let th = ((ui - k[s]) / (k[s + 1] - k[s])).clamp(0.0, 1.0);
-            let col = |j: usize| if j == 0 { 0 } else { off + j };
-            phi[col(s)][t] += 1.0 - th;
-            phi[col(s + 1)][t] += th;
-        }
+        let phi = border_channels(m, u, shared)?;
         let order = m.order;
         let zero = vec![0.0; order];
         let mut cols: Vec<Vec<f64>> = phi.iter().map(|p| linear_response(m, p, &zero)).collect();
@@ -747,11 +777,12 @@ fn refine_linear(
     y: &[f64],
     skip: &[bool],
     map_segments: Option<usize>,
+    sat: &Saturation,
     initial: InitialState,
     shared: bool,
 ) -> (HostModel, Vec<f64>, Option<OutputMap>) {
     let lin_of = |m: &HostModel, x0: &[f64]| linear_response(m, &nonlinearity_output(m, u), x0);
-    let fit_map = |lin: &[f64]| map_segments.and_then(|k| fit_output_map(lin, y, skip, k));
+    let fit_map = |lin: &[f64]| map_segments.and_then(|k| fit_output_map(lin, y, skip, k, sat));
     let sse = |lin: &[f64], g: &Option<OutputMap>| -> f64 {
         lin.iter()
             .zip(y)
@@ -1103,8 +1134,113 @@ fn refine_poles(
             steady_state(&mm).iter().map(|v| v * c).collect()
         }
     };
-    let (m2, x2, _) = refine_linear(&mm, &x0, u, y, skip, None, initial, shared);
+    let (m2, x2, _) = refine_linear(
+        &mm,
+        &x0,
+        u,
+        y,
+        skip,
+        None,
+        &Saturation::default(),
+        initial,
+        shared,
+    );
     Some((m2, x2))
+}
+
+/// The poles of a model with an output map refined on the simulation error: a bounded
+/// Nelder–Mead search over the characteristic polynomial of `A` (stable, time constants below
+/// twice the record), with the borders, `B`, `D`, the initial level and the map refit by
+/// [`refine_linear`] for every candidate. Returns `None` when nothing improves.
+#[allow(clippy::too_many_arguments)]
+fn refine_poles_mapped(
+    m: &HostModel,
+    x0: &[f64],
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    map_segments: Option<usize>,
+    sat: &Saturation,
+    initial: InitialState,
+    shared: bool,
+) -> Option<(HostModel, Vec<f64>, Option<OutputMap>)> {
+    let (a0, obs) = to_observer(m)?;
+    let n = a0.len();
+    let limit = 1.0 - 0.5 / u.len().max(4) as f64;
+    let level = level_of(m, x0);
+    let eval = |a: &[f64]| -> Option<(f64, HostModel, Vec<f64>, Option<OutputMap>)> {
+        if root_radius(a) >= limit {
+            return None;
+        }
+        let mut mm = obs.clone();
+        mm.a = observer_a(a);
+        let xs = match initial {
+            InitialState::Rest => rest_state(&mm),
+            InitialState::Estimated => steady_state(&mm).iter().map(|v| v * level).collect(),
+        };
+        let (m2, x2, g) = refine_linear(&mm, &xs, u, y, skip, map_segments, sat, initial, shared);
+        let lin = linear_response(&m2, &nonlinearity_output(&m2, u), &x2);
+        let sse: f64 = lin
+            .iter()
+            .zip(y)
+            .zip(skip)
+            .filter(|(_, s)| !**s)
+            .map(|((l, y), _)| (y - g.as_ref().map_or(*l, |g| g.eval(*l))).powi(2))
+            .sum();
+        sse.is_finite().then_some((sse, m2, x2, g))
+    };
+    let start = eval(&a0)?;
+    let mut simplex: Vec<(Vec<f64>, f64)> = vec![(a0.clone(), start.0)];
+    for k in 0..n {
+        let mut v = a0.clone();
+        v[k] += 2e-3 * a0[k].abs().max(0.1);
+        let f = eval(&v).map_or(f64::INFINITY, |e| e.0);
+        simplex.push((v, f));
+    }
+    for _ in 0..40 * n {
+        simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let (best, worst) = (simplex[0].1, simplex[n].1);
+        if worst.is_finite() && worst - best <= 1e-7 * best.max(1e-300) {
+            break;
+        }
+        let centroid: Vec<f64> = (0..n)
+            .map(|k| simplex[..n].iter().map(|v| v.0[k]).sum::<f64>() / n as f64)
+            .collect();
+        let along = |t: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| centroid[k] + t * (simplex[n].0[k] - centroid[k]))
+                .collect()
+        };
+        let score = |v: &[f64]| eval(v).map_or(f64::INFINITY, |e| e.0);
+        let r = along(-1.0);
+        let fr = score(&r);
+        if fr < simplex[0].1 {
+            let e = along(-2.0);
+            let fe = score(&e);
+            simplex[n] = if fe < fr { (e, fe) } else { (r, fr) };
+        } else if fr < simplex[n - 1].1 {
+            simplex[n] = (r, fr);
+        } else {
+            let c = along(0.5);
+            let fc = score(&c);
+            if fc < simplex[n].1 {
+                simplex[n] = (c, fc);
+            } else {
+                let b = simplex[0].0.clone();
+                for v in simplex.iter_mut().skip(1) {
+                    let s: Vec<f64> = v.0.iter().zip(&b).map(|(x, b)| b + 0.5 * (x - b)).collect();
+                    let f = score(&s);
+                    *v = (s, f);
+                }
+            }
+        }
+    }
+    simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+    if simplex[0].1.partial_cmp(&start.0) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let (_, m2, x2, g) = eval(&simplex[0].0)?;
+    Some((m2, x2, g))
 }
 
 /// Spectral radius of the model's `A`.
@@ -1146,9 +1282,19 @@ pub fn detect_outliers(r: &[f64], k: f64) -> Vec<bool> {
     flags
 }
 
-/// Fits the monotone output map with `segments` segments from `x` to `y`.
-fn fit_output_map(x: &[f64], y: &[f64], skip: &[bool], segments: usize) -> Option<OutputMap> {
-    let idx: Vec<usize> = (0..x.len()).filter(|&i| !skip[i]).collect();
+/// Fits the monotone output map with `segments` segments from `x` to `y`, clipped at the
+/// saturation levels; samples at a saturation level do not take part in the fit of the
+/// piecewise-linear part (their value says only that the unclipped output is beyond it).
+fn fit_output_map(
+    x: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    segments: usize,
+    sat: &Saturation,
+) -> Option<OutputMap> {
+    let idx: Vec<usize> = (0..x.len())
+        .filter(|&i| !skip[i] && !sat.at_limit(y[i]))
+        .collect();
     if idx.len() < 4 * (segments + 1) {
         return None;
     }
@@ -1185,7 +1331,12 @@ fn fit_output_map(x: &[f64], y: &[f64], skip: &[bool], segments: usize) -> Optio
         acc += beta[1 + c];
         v.push(acc);
     }
-    Some(OutputMap { x: knots, v })
+    Some(OutputMap {
+        x: knots,
+        v,
+        ceiling: sat.ceiling,
+        floor: sat.floor,
+    })
 }
 
 impl ExtendedModel {
@@ -1264,6 +1415,7 @@ pub fn fit_structure(
     let mut lin_prev: Option<Vec<f64>> = None;
     let rounds = s.rounds().min(opts.rounds.max(1));
     let mut last: Option<(HostModel, Vec<f64>)> = None;
+    let mut best_round: Option<(f64, HostModel, Vec<f64>, Option<OutputMap>)> = None;
     for _ in 0..rounds {
         let add: Vec<f64> = rec.time.iter().map(|&t| additive.eval(t)).collect();
         let mut target: Vec<f64> = rec.y.iter().zip(&add).map(|(y, a)| y - a).collect();
@@ -1323,6 +1475,7 @@ pub fn fit_structure(
                 &minus_add,
                 &flags,
                 s.output_map_segments,
+                &opts.saturation,
                 opts.initial,
                 idopts.static_nonlinearity,
             );
@@ -1344,6 +1497,26 @@ pub fn fit_structure(
                 idopts.static_nonlinearity,
             )
             .unwrap_or((m, x0))
+        } else if opts.refine_poles && opts.refit {
+            match refine_poles_mapped(
+                &m,
+                &x0,
+                &ud,
+                &minus_add,
+                &flags,
+                s.output_map_segments,
+                &opts.saturation,
+                opts.initial,
+                idopts.static_nonlinearity,
+            ) {
+                Some((m2, x2, g)) => {
+                    if g.is_some() {
+                        map = g;
+                    }
+                    (m2, x2)
+                }
+                None => (m, x0),
+            }
         } else {
             (m, x0)
         };
@@ -1354,6 +1527,25 @@ pub fn fit_structure(
             .map(|&l| map.as_ref().map_or(l, |g| g.eval(l)))
             .collect();
         let r: Vec<f64> = rec.y.iter().zip(&out).map(|(y, o)| y - o).collect();
+        // With an output map, a later round (identified on the inverted output) is kept only if
+        // it fits better: the inversion can mislead the subspace step.
+        if s.output_map_segments.is_some() && !s.robust {
+            let sse: f64 = r
+                .iter()
+                .zip(&rec.time)
+                .map(|(v, &t)| (v - additive.eval(t)).powi(2))
+                .sum();
+            if let Some((best_sse, bm, bx, bg)) = &best_round
+                && sse.partial_cmp(best_sse) != Some(std::cmp::Ordering::Less)
+            {
+                let h = nonlinearity_output(bm, &ud);
+                lin_prev = Some(linear_response(bm, &h, bx));
+                last = Some((bm.clone(), bx.clone()));
+                map = bg.clone();
+                continue;
+            }
+            best_round = Some((sse, m.clone(), x0.clone(), map.clone()));
+        }
         additive.fit(&r, &rec.time, &flags);
         if s.robust {
             let res: Vec<f64> = r

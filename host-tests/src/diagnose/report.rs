@@ -156,6 +156,8 @@ pub struct DiagnosisJson {
     pub tests_after: TestSet,
     /// Tests on the estimation residual of the last deterministic model.
     pub tests_estimation: TestSet,
+    /// The dead time of the estimation data (ARX test) against the base model's.
+    pub dead_time: super::delay::DeadTime,
     /// The paper's model.
     pub model_before: ModelSummary,
     /// The final model.
@@ -223,6 +225,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
         tests_estimation: d.tests_estimation.clone(),
+        dead_time: d.dead_time.clone(),
         model_before: ModelSummary::of(&d.base),
         model_after: ModelSummary::of(&d.model),
     }
@@ -350,6 +353,7 @@ pub fn text(d: &Diagnosis) -> String {
     for u in &d.unexplained {
         let _ = writeln!(s, "not identified: {u}");
     }
+    let _ = writeln!(s, "{}", super::dead_time_text(&d.dead_time));
     let _ = writeln!(s);
     let _ = writeln!(
         s,

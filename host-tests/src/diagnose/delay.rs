@@ -1,0 +1,143 @@
+//! Dead time of the data, independent of the model's fit: an ARX model of the output on the
+//! hat-basis regressor channels with lags `0…L`, and a sequence of likelihood-ratio tests of
+//! "no response at lags `0…j`" for `j = 0, 1, …`. The dead time is the first `j` whose lag
+//! is needed (the joint test rejects at the 1 % level).
+//!
+//! The test does not depend on the simulation error, which on measured data is dominated by
+//! whatever else the model lacks: a delay shows in the few samples after every input step,
+//! and the ARX regression sees exactly those samples. Autocorrelated ARX errors make the tests
+//! reject too often, which shortens the dead time found: the test errs towards *no* extra
+//! delay.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+use super::residual::LEVEL;
+use super::stats::{chi2_sf, lstsq};
+use crate::identify::HostModel;
+
+/// The dead time found in the data.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DeadTime {
+    /// First lag (samples) at which the output responds to the input, or `None` when no lag up
+    /// to the largest tested is significant.
+    pub lag: Option<usize>,
+    /// p-values of "no response at lags `0…j`", `j = 0…L`.
+    pub p_values: Vec<f64>,
+    /// Output lags of the ARX model (by BIC).
+    pub ar_order: usize,
+    /// First lag of the model's own impulse response (`D ≠ 0`: 0).
+    pub model_lag: usize,
+}
+
+impl DeadTime {
+    /// The extra delay the data show beyond the model's own dead time.
+    pub fn extra(&self) -> usize {
+        self.lag.map_or(0, |l| l.saturating_sub(self.model_lag))
+    }
+}
+
+/// Residual sum of squares of `y` on the columns `cols` over the rows `rows`.
+fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
+    let n = rows.len();
+    let k = cols.len();
+    if n <= k + 10 {
+        return None;
+    }
+    let x = DMatrix::from_fn(n, k, |r, c| cols[c][rows[r]]);
+    let yy = DVector::from_iterator(n, rows.iter().map(|&t| y[t]));
+    let beta = lstsq(&x, &yy)?;
+    let e = &yy - &x * beta;
+    Some(e.norm_squared())
+}
+
+fn lagged(x: &[f64], lag: usize) -> Vec<f64> {
+    (0..x.len())
+        .map(|t| if t >= lag { x[t - lag] } else { 0.0 })
+        .collect()
+}
+
+/// The first lag of the model's impulse response above 1 % of its largest (`D`, `CB`, `CAB`,
+/// …).
+pub fn model_dead_time(m: &HostModel, max_lag: usize) -> usize {
+    let n = m.order;
+    let mut h = vec![m.d];
+    let mut x = DVector::from_column_slice(&m.b);
+    for _ in 0..max_lag.max(1) + 20 {
+        h.push(m.c.iter().zip(x.iter()).map(|(c, v)| c * v).sum());
+        if n > 0 {
+            x = &m.a * x;
+        }
+    }
+    let top = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    h.iter().position(|v| v.abs() >= 0.01 * top).unwrap_or(0)
+}
+
+/// The dead time of `y` after the regressor channels `z` (hat basis of the input), lags
+/// `0…max_lag` tested. `time` is the time of each sample: rows whose lags reach across a gap
+/// (a record joined from parts) are left out. `model_lag` is recorded for [`DeadTime::extra`].
+pub fn dead_time(
+    z: &[Vec<f64>],
+    y: &[f64],
+    time: &[f64],
+    max_lag: usize,
+    model_lag: usize,
+) -> DeadTime {
+    let span = max_lag + 1;
+    let ones = vec![1.0; y.len()];
+    let zl: Vec<Vec<Vec<f64>>> = (0..=span)
+        .map(|j| z.iter().map(|c| lagged(c, j)).collect())
+        .collect();
+    let yl: Vec<Vec<f64>> = (1..=6).map(|i| lagged(y, i)).collect();
+    let start = span.max(6);
+    let rows: Vec<usize> = (start..y.len())
+        .filter(|&t| (time[t] - time[t - start] - start as f64).abs() < 0.5)
+        .collect();
+    let n = rows.len() as f64;
+    let cols_for = |na: usize, first: usize| -> Vec<&[f64]> {
+        let mut c: Vec<&[f64]> = vec![&ones];
+        c.extend(yl[..na].iter().map(Vec::as_slice));
+        for lag in zl.iter().skip(first) {
+            c.extend(lag.iter().map(Vec::as_slice));
+        }
+        c
+    };
+    // ARX output order by BIC (1…6), with every input lag.
+    let mut best: Option<(f64, usize, f64)> = None;
+    for na in 1..=6 {
+        let cols = cols_for(na, 0);
+        if let Some(r) = rss(&cols, y, &rows) {
+            let bic = n * (r / n).max(1e-300).ln() + cols.len() as f64 * n.ln();
+            if best.is_none_or(|(b, _, _)| bic < b) {
+                best = Some((bic, na, r));
+            }
+        }
+    }
+    let Some((_, na, full)) = best else {
+        return DeadTime {
+            lag: None,
+            p_values: Vec::new(),
+            ar_order: 0,
+            model_lag,
+        };
+    };
+    let mut p_values = Vec::new();
+    let mut lag = None;
+    for j in 0..=max_lag {
+        let q = ((j + 1) * z.len()) as f64;
+        let p = match rss(&cols_for(na, j + 1), y, &rows) {
+            Some(r) if full > 0.0 => chi2_sf(n * (r / full).max(1.0).ln(), q),
+            _ => 1.0,
+        };
+        p_values.push(p);
+        if lag.is_none() && p < LEVEL {
+            lag = Some(j);
+        }
+    }
+    DeadTime {
+        lag,
+        p_values,
+        ar_order: na,
+        model_lag,
+    }
+}
