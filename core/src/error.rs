@@ -84,6 +84,19 @@ pub enum Error {
         /// Block rows `f + p` requested.
         k: usize,
     },
+    /// The instruments (`p·m` rows of past inputs, plus `p` rows of past outputs for the
+    /// weightings that use them) must have at least `f` rows: the SVD that gives `Γ_f` is of
+    /// an `f × rows` matrix.
+    TooFewInstruments {
+        /// Future horizon `f`.
+        f: usize,
+        /// Past horizon `p`.
+        p: usize,
+        /// Regressor channels `m` (segments of both paths).
+        channels: usize,
+        /// Whether past outputs are among the instruments (every weighting but PI-MOESP).
+        past_outputs: bool,
+    },
     /// The requested model order must satisfy `1 <= n < f`.
     InvalidOrder {
         /// Order requested.
@@ -200,6 +213,25 @@ impl fmt::Display for Error {
                 "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
                 crate::MAX_HORIZON
             ),
+            Error::TooFewInstruments {
+                f: fh,
+                p,
+                channels,
+                past_outputs,
+            } => {
+                let per = channels + usize::from(past_outputs);
+                let rows = p * per;
+                let what = if past_outputs { "p·(m + 1)" } else { "p·m" };
+                write!(
+                    f,
+                    "the instruments have {what} = {rows} rows (p = {p}, m = {channels} channels), fewer than the future horizon f = {fh}: raise p to at least {}, or use more knots",
+                    fh.div_ceil(per.max(1)),
+                )?;
+                if rows >= 2 {
+                    write!(f, ", or lower f to at most {rows}")?;
+                }
+                Ok(())
+            }
             Error::InvalidOrder { order: 0, .. } => {
                 write!(f, "order 0 requested: the model order must be at least 1")
             }

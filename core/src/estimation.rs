@@ -67,15 +67,16 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
     let mut u2 = Small::<T>::zeros();
     {
-        let (g, rest) = scratch.split_at_mut(f * n);
-        let (tau, e) = rest.split_at_mut(n);
+        let (lg, lt, le) = lay.u2_parts(n);
+        let (g, rest) = scratch.split_at_mut(lg);
+        let (tau, e) = rest.split_at_mut(lt);
+        let e = &mut e[..le];
         for c in 0..n {
             for r in 0..f {
                 g[r + c * f] = gamma[(r, c)];
             }
         }
         householder_qr(g, f, n, tau);
-        let e = &mut e[..f];
         for r in 0..f - n {
             e.fill(T::zero());
             e[n + r] = T::one();
@@ -88,15 +89,17 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     let mut a = Small::<T>::zeros();
     {
         let rows = f - 1;
-        let (ga, rest) = scratch.split_at_mut(rows * n);
-        let (gb, tau) = rest.split_at_mut(rows * n);
+        let (la, lb, lt) = lay.shift_parts(n);
+        let (ga, rest) = scratch.split_at_mut(la);
+        let (gb, tau) = rest.split_at_mut(lb);
+        let tau = &mut tau[..lt];
         for c in 0..n {
             for r in 0..rows {
                 ga[r + c * rows] = gamma[(r, c)];
                 gb[r + c * rows] = gamma[(r + 1, c)];
             }
         }
-        least_squares(ga, rows, n, gb, n, &mut tau[..n], rank_tol(rows)).map_err(|()| {
+        least_squares(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
             Error::RankDeficient {
                 stage: Stage::ShiftInvariance,
             }
@@ -135,8 +138,11 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             row = next;
         }
     }
-    let (kmat, rest) = scratch.split_at_mut(rows * cols);
-    let (rhs, tau) = rest.split_at_mut(rows * m);
+    let (lk, lr, lt) = lay.bd_parts(n);
+    let (kmat, rest) = scratch.split_at_mut(lk);
+    let (rhs, rest) = rest.split_at_mut(lr);
+    let (tau, split) = rest.split_at_mut(lt);
+    let split = &mut split[..lay.split_len(n)];
     for jj in 0..f {
         for r in 0..nr {
             let row = jj * nr + r;
@@ -157,7 +163,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             }
         }
     }
-    least_squares(kmat, rows, cols, rhs, m, &mut tau[..cols], rank_tol(rows)).map_err(|()| {
+    least_squares(kmat, rows, cols, rhs, m, tau, rank_tol(rows)).map_err(|()| {
         Error::RankDeficient {
             stage: Stage::InputMatrices,
         }
@@ -165,7 +171,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
 
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
-    let (s1, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, bf)?;
+    let (s1, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split)?;
 
     // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
     let mut ia = Small::<T>::zeros();
@@ -176,16 +182,17 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     }
     let mut xb = [T::zero(); MAX_HORIZON];
     {
-        let (ma, rest) = scratch.split_at_mut(n * n);
-        let (mb, tau) = rest.split_at_mut(n);
+        let (la, lb, lt) = lay.gain_parts(n);
+        let (ma, rest) = scratch.split_at_mut(la);
+        let (mb, tau) = rest.split_at_mut(lb);
+        let tau = &mut tau[..lt];
         for r in 0..n {
             mb[r] = uvec[1 + r];
             for c in 0..n {
                 ma[r + c * n] = ia[(r, c)];
             }
         }
-        least_squares(ma, n, n, mb, 1, &mut tau[..n], rank_tol(n))
-            .map_err(|()| Error::IntegratingModel)?;
+        least_squares(ma, n, n, mb, 1, tau, rank_tol(n)).map_err(|()| Error::IntegratingModel)?;
         xb[..n].copy_from_slice(&mb[..n]);
     }
     let ud = uvec[0];

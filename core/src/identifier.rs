@@ -133,6 +133,16 @@ impl<T: Real, const M: usize, const K: usize> Identifier<T, M, K> {
                 count: 0,
             });
         }
+        let channels = settings.knots.channels();
+        let past_outputs = settings.method.past_outputs();
+        if p * (channels + usize::from(past_outputs)) < f {
+            return Err(Error::TooFewInstruments {
+                f,
+                p,
+                channels,
+                past_outputs,
+            });
+        }
         settings.mu0.validate()?;
         // Validated before anything is reset, so an error leaves the identifier unchanged.
         let lambda = checked_forgetting(match settings.forgetting {

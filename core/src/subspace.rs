@@ -159,14 +159,71 @@ impl Layout {
     pub const fn cache(&self) -> usize {
         2 * self.block() * self.fm()
     }
-    /// Scratch for the QR/least-squares steps.
+    /// Scratch of the projection's QR of `L₃₂ᵀ` (`w × f`): the matrix, then `f` reflector
+    /// scalars.
+    pub const fn qr_parts(&self) -> (usize, usize) {
+        (self.w() * self.f, self.f)
+    }
+    /// Scratch of `U₂` for order `n`: `Γ_f` (`f × n`), `n` reflector scalars, a vector of `f`.
+    pub const fn u2_parts(&self, n: usize) -> (usize, usize, usize) {
+        (self.f * n, n, self.f)
+    }
+    /// Scratch of the shift invariance for order `n`: `Γ_under`, `Γ_over` (`(f−1) × n` each),
+    /// `n` reflector scalars.
+    pub const fn shift_parts(&self, n: usize) -> (usize, usize, usize) {
+        let g = (self.f - 1) * n;
+        (g, g, n)
+    }
+    /// Scratch of the `[D; B]` least squares for order `n`: the `f(f−n) × (n+1)` matrix, the
+    /// `f(f−n) × m` right-hand sides (then the solution), `n + 1` reflector scalars.
+    pub const fn bd_parts(&self, n: usize) -> (usize, usize, usize) {
+        let rows = self.f * (self.f - n);
+        (rows * (n + 1), rows * self.m, n + 1)
+    }
+    /// Scratch of the rank-1 split of the `(n+1) × m` solution, placed after the
+    /// [`bd_parts`](Self::bd_parts) (whose solution it reads): a copy of the matrix (or its
+    /// transpose), `min(n+1, m)` reflector scalars and a vector of `max(n+1, m)`.
+    pub const fn split_len(&self, n: usize) -> usize {
+        let r = n + 1;
+        let (lo, hi) = if r < self.m { (r, self.m) } else { (self.m, r) };
+        r * self.m + lo + hi
+    }
+    /// Scratch of γ for order `n`: `I − A` (`n × n`), the right-hand side and `n` reflector
+    /// scalars.
+    pub const fn gain_parts(&self, n: usize) -> (usize, usize, usize) {
+        (n * n, n, n)
+    }
+    /// Scratch for the QR/least-squares steps: the largest of the step sizes above over every
+    /// order `1 <= n < f` (the slicing in the solve uses the same functions).
     pub const fn scratch(&self) -> usize {
-        let (f, m) = (self.f, self.m);
-        let a = self.w() * f + f;
-        let b = f * f * (f + m + 1) + f;
-        let c = m * f + m + f;
-        let ab = if a > b { a } else { b };
-        if ab > c { ab } else { c }
+        let (x, tau) = self.qr_parts();
+        let mut need = x + tau;
+        let mut n = 1;
+        while n < self.f {
+            let (a, b, c) = self.u2_parts(n);
+            let u2 = a + b + c;
+            let (a, b, c) = self.shift_parts(n);
+            let shift = a + b + c;
+            let (a, b, c) = self.bd_parts(n);
+            let bd = a + b + c + self.split_len(n);
+            let (a, b, c) = self.gain_parts(n);
+            let gain = a + b + c;
+            let mut step = u2;
+            if shift > step {
+                step = shift;
+            }
+            if bd > step {
+                step = bd;
+            }
+            if gain > step {
+                step = gain;
+            }
+            if step > need {
+                need = step;
+            }
+            n += 1;
+        }
+        need
     }
     /// Whole workspace.
     pub const fn total(&self) -> usize {
@@ -333,6 +390,15 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
 ) -> Result<Projection<T>, Error> {
     let (f, m) = (lay.f, lay.m);
     let (fm, q, pm, d, w) = (lay.fm(), lay.q(), lay.p * m, lay.d(), lay.w());
+    if w < f {
+        // Refused by `Identifier::new`; kept here so that no layout can index past the QR.
+        return Err(Error::TooFewInstruments {
+            f,
+            p: lay.p,
+            channels: m,
+            past_outputs: lay.method.past_outputs(),
+        });
+    }
     let (lff, rest) = ws.split_at_mut(lay.lff());
     let (schur, rest) = rest.split_at_mut(lay.schur());
     let (wgram, rest) = rest.split_at_mut(lay.wgram());
@@ -413,7 +479,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
-    let (x, tau) = scratch.split_at_mut(w * f);
+    let (x, tau) = scratch.split_at_mut(lay.qr_parts().0);
+    let tau = &mut tau[..lay.qr_parts().1];
     let load_l32 = |x: &mut [T]| {
         for i in 0..f {
             let row = packed(w + i, 0);

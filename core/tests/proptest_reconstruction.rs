@@ -16,8 +16,8 @@ mod proptest_common;
 use hsid::{Basis, Direction, Forgetting, Knots, Method, MuZero, Order, Real, Settings};
 use proptest::prelude::*;
 use proptest_common::{
-    Id, K, Lti, M, PwlSwitch, Tally, borders, check_model, knot_vector, known_bugs, noisy_record,
-    plant, run_cases,
+    Id, K, Lti, M, PwlSwitch, Tally, borders, check_model, enough_instruments, knot_vector,
+    known_bugs, noisy_record, plant, run_cases,
 };
 
 /// Cases per scalar type.
@@ -191,8 +191,14 @@ fn property<T: Real>(c: Case, tally: &Tally) -> Result<(), TestCaseError> {
     let ka: Vec<f64> = c.asc.iter().map(|&v| T::of(v).to_f64()).collect();
     let kd: Vec<f64> = c.desc.iter().map(|&v| T::of(v).to_f64()).collect();
     let s = settings::<T>(&c, &ka, &kd);
-    if known_bugs::solve_panics(&s) {
-        tally.count("skipped: known panic");
+    if !enough_instruments(&s) {
+        // Refused by `new` (`TooFewInstruments`; the oracle of `proptest_config.rs`).
+        let refused = matches!(
+            Id::<T>::new(s.clone()),
+            Err(hsid::Error::TooFewInstruments { .. })
+        );
+        prop_assert!(refused, "not refused with TooFewInstruments");
+        tally.count("settings refused: too few instruments");
         return Ok(());
     }
     if known_bugs::f32_exact_past_outputs(&s, c.noisy) {

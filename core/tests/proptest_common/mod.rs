@@ -3,7 +3,9 @@
 //! of `solve` must pass.
 #![allow(dead_code, clippy::panic)]
 
-use hsid::{Basis, Direction, Error, Excitation, Identifier, Knots, Model, MuZero, Real};
+use hsid::{
+    Basis, Direction, Error, Excitation, Identifier, Knots, Method, Model, MuZero, Real, Settings,
+};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed};
 use rand_core::SeedableRng;
@@ -522,26 +524,20 @@ pub fn fix_checksums(bytes: &mut [u8], scalar: usize) {
     }
 }
 
+/// The documented rule of `Error::TooFewInstruments`: the instruments have `p·m` rows, plus `p`
+/// rows of past outputs for every weighting but PI-MOESP, and need at least `f`.
+pub fn enough_instruments<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
+    let m = s.knots.channels();
+    let rows = s.p * m + if s.method == Method::PiMoesp { 0 } else { s.p };
+    rows >= s.f
+}
+
 /// Regions of the input space where the core currently breaks its contract. Each has a
 /// deterministic, failing test in `proptest_regressions.rs`; the properties skip these regions
 /// (and count the skips) so that they keep guarding everything else. Delete a predicate when
 /// its bug is fixed.
 pub mod known_bugs {
     use hsid::{Method, Real, Settings};
-
-    /// Rows of the instruments `W_p`: `p·m`, plus `p` with past outputs.
-    fn instrument_rows<T: Real, const MM: usize>(s: &Settings<T, MM>) -> usize {
-        let m = s.knots.channels();
-        s.p * m + if s.method == Method::PiMoesp { 0 } else { s.p }
-    }
-
-    /// `solve` panics (index out of bounds) when the instruments have fewer rows than `f`
-    /// (`subspace.rs`, reading `Rᵀ` of the QR of the `w × f` matrix `L₃₂ᵀ`), and in the
-    /// rank-1 split when `m = 1` and `f = 2` (`estimation.rs`, `dominant_triple`'s scratch is
-    /// `B_f`, `f²·m` = 4 scalars for the 5 it needs).
-    pub fn solve_panics<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
-        instrument_rows(s) < s.f || (s.knots.channels() == 1 && s.f == 2)
-    }
 
     /// On exactly noise-free data `B` and `D` (so the Markov parameters and the borders)
     /// depend on rounding: errors up to 1e-2 in `f64` and 0.1 in `f32` while `A` is exact
