@@ -16,8 +16,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::OnceLock;
 
 use hsid::{
-    Basis, Direction, Error, Excitation, Identifier, Knots, Model, MuZero, Order, Settings, Signal,
-    Stage,
+    Basis, Direction, Error, Excitation, Identifier, Knots, Method, Model, MuZero, Order, Settings,
+    Signal, Stage,
 };
 use hsid_host::identify::{IdentifyError, IdentifyOptions, identify};
 use hsid_host::paper::{Case, Experiment, PaperConfig, experiment};
@@ -338,13 +338,11 @@ fn horizons_and_order() {
 }
 
 /// `p` too small for the order: with `p·m < f` the instruments `Z_p` have fewer rows than
-/// `Ȳ_f`, so at most `p·m` states can be found. This should be a typed error (in `new` or in
-/// `solve`); it currently panics in `solve` (index out of bounds in `subspace.rs`; see
-/// `core/tests/proptest_regressions.rs`).
+/// `Ȳ_f`, so the SVD that gives `Γ_f` is not of an `f`-row matrix (this used to panic in
+/// `solve`). `new` refuses it with `TooFewInstruments`, naming f, p and m and what to change;
+/// with past outputs among the instruments they have `p·(m + 1)` rows and the same `p` passes.
 #[test]
-#[ignore = "open defect: solve panics when p·m < f (see docs/reliability.md)"]
 fn p_too_small_for_the_order() {
-    let e = paper();
     // One segment per path (m = 2), f = 5, p = 2: p·m = 4 < f.
     let knots = Knots::<f64, 14>::uniform(-3.0, 3.0, 1, 1).unwrap();
     let s = Settings::new(
@@ -356,9 +354,32 @@ fn p_too_small_for_the_order() {
             settle: 150,
         },
     );
-    let (_, r) = run(s, &e.u, &e.y);
-    let err = r.unwrap_err();
-    assert!(!err.to_string().is_empty());
+    let err = Id::new(s.clone()).unwrap_err();
+    assert_eq!(
+        err,
+        Error::TooFewInstruments {
+            f: 5,
+            p: 2,
+            channels: 2,
+            past_outputs: false
+        }
+    );
+    says(
+        &err,
+        &[
+            "p·m = 4 rows",
+            "f = 5",
+            "raise p to at least 3",
+            "use more knots",
+            "lower f to at most 4",
+        ],
+    );
+    // PO-MOESP: p·(m + 1) = 6 >= 5 instrument rows: accepted, and the paper's record solves.
+    let mut po = s;
+    po.method = Method::PoMoesp;
+    let e = paper();
+    let (_, r) = run(po, &e.u, &e.y);
+    assert!(r.is_ok(), "{r:?}");
 }
 
 /// A hold too short to leave samples for μ0: `HoldTooShort`, "lengthen the hold".
