@@ -18,6 +18,8 @@ pub enum Signal {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Stage {
+    /// The accumulated sums: the Gram of `[Z_f; Z_p; Ȳ_p; Ȳ_f]` and its Schur complement.
+    Sums,
     /// Cholesky factor of the Gram of the input Hankel matrices `[Z_f; Z_p]`.
     InputHankel,
     /// SVD of the projection `O_f` (eq. 11).
@@ -151,6 +153,12 @@ pub enum Error {
         /// Where.
         stage: Stage,
     },
+    /// A sum or product overflowed the scalar type (e.g. `y²` above `f32::MAX` for outputs
+    /// near 1e20): the accumulated statistics are not finite.
+    Overflow {
+        /// Where it was detected.
+        stage: Stage,
+    },
     /// An iterative step (SVD) did not converge within its iteration bound.
     NoConvergence {
         /// Where.
@@ -266,6 +274,10 @@ impl fmt::Display for Error {
                 f,
                 "rank deficient data at {stage}: the input is not persistently exciting enough (use the Table I excitation, more samples or fewer knots)"
             ),
+            Error::Overflow { stage } => write!(
+                f,
+                "overflow in {stage}: the values are too large for the scalar type (a square of y, or of the knot spacing in the ramp basis, exceeds its largest finite number): scale y (and u) towards 1, or use f64"
+            ),
             Error::NoConvergence { stage } => {
                 write!(f, "no convergence within the iteration bound at {stage}")
             }
@@ -310,6 +322,7 @@ impl fmt::Display for Signal {
 impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
+            Stage::Sums => "the accumulated sums (the Gram of [Z_f; Z_p; Y_f])",
             Stage::InputHankel => "the input Hankel Gram [Z_f; Z_p]",
             Stage::Projection => "the projection O_f (eq. 11)",
             Stage::ShiftInvariance => "the shift-invariance step for A",

@@ -287,9 +287,6 @@ fn dominant_triple<T: Real, const M: usize>(
     m: usize,
     buf: &mut [T],
 ) -> Result<(T, [T; MAX_HORIZON], [T; M]), Error> {
-    let fail = Error::NoConvergence {
-        stage: Stage::RankOneSplit,
-    };
     let mut u = [T::zero(); MAX_HORIZON];
     let mut v = [T::zero(); M];
     if m >= rows {
@@ -308,7 +305,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 rt[(i, k)] = xt[k + i * m];
             }
         }
-        let (uu, s, w) = svd_small(rt).ok_or(fail)?;
+        let (uu, s, w) = svd_small(rt, Stage::RankOneSplit)?;
         let y = &mut y[..m];
         y.fill(T::zero());
         for i in 0..rows {
@@ -334,7 +331,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 r[(k, c)] = xc[k + c * rows];
             }
         }
-        let (uu, s, w) = svd_small(r).ok_or(fail)?;
+        let (uu, s, w) = svd_small(r, Stage::RankOneSplit)?;
         let y = &mut y[..rows];
         y.fill(T::zero());
         for i in 0..m {

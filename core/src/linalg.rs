@@ -8,6 +8,7 @@
 use nalgebra::SMatrix;
 
 use crate::MAX_HORIZON;
+use crate::error::{Error, Stage};
 use crate::scalar::Real;
 
 /// Offset of `(row, col)`, `col <= row`, in a packed lower triangle.
@@ -157,7 +158,10 @@ pub(crate) fn apply_q<T: Real>(a: &[T], rows: usize, cols: usize, tau: &[T], x: 
 
 /// Least squares `min ‖A X − B‖` for column-major `A` (`rows × cols`, `rows >= cols`) and
 /// `B` (`rows × nrhs`), both overwritten; the solution is left in the first `cols` rows of
-/// each column of `b`. Fails if `R` has a diagonal entry below `rel_tol · max|R_ii|`.
+/// each column of `b`. The columns of `A` are scaled to unit norm first (and the solution
+/// back), so that the rank test does not depend on their units: it fails if the scaled `R`
+/// has a diagonal entry below `rel_tol · max|R_ii|`, or `A` has a zero column or more than
+/// `MAX_HORIZON + 1` columns.
 pub(crate) fn least_squares<T: Real>(
     a: &mut [T],
     rows: usize,
@@ -167,8 +171,25 @@ pub(crate) fn least_squares<T: Real>(
     tau: &mut [T],
     rel_tol: T,
 ) -> Result<(), ()> {
-    if rows < cols {
+    if rows < cols || cols > MAX_HORIZON + 1 {
         return Err(());
+    }
+    let mut scale = [T::one(); MAX_HORIZON + 1];
+    for (k, sc) in scale.iter_mut().enumerate().take(cols) {
+        let col = &mut a[k * rows..(k + 1) * rows];
+        // By the largest entry first, so that the squares cannot overflow.
+        let big = col.iter().fold(T::zero(), |m, v| m.max(v.abs()));
+        if !(big > T::zero() && big.finite()) {
+            return Err(());
+        }
+        for v in col.iter_mut() {
+            *v /= big;
+        }
+        let norm = dot(col, col).sqrt();
+        for v in col.iter_mut() {
+            *v /= norm;
+        }
+        *sc = big * norm;
     }
     householder_qr(a, rows, cols, tau);
     let mut rmax = T::zero();
@@ -192,6 +213,9 @@ pub(crate) fn least_squares<T: Real>(
             }
             x[i] = s / a[i * rows + i];
         }
+        for (v, &sc) in x.iter_mut().zip(&scale) {
+            *v /= sc;
+        }
     }
     Ok(())
 }
@@ -199,15 +223,29 @@ pub(crate) fn least_squares<T: Real>(
 /// A square matrix of at most [`MAX_HORIZON`] rows, padded with zeros.
 pub(crate) type Small<T> = SMatrix<T, MAX_HORIZON, MAX_HORIZON>;
 
+/// `true` if every entry of `m` is finite.
+pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
+    m.iter().all(|v| v.finite())
+}
+
 /// Singular values (descending) and left/right singular vectors of the leading `n × n` block
-/// of `m` (the rest must be zero). Iterations are bounded; `None` if they did not suffice.
-pub(crate) fn svd_small<T: Real>(m: Small<T>) -> Option<(Small<T>, [T; MAX_HORIZON], Small<T>)> {
-    let svd = nalgebra::SVD::try_new(m, true, true, T::EPS, 200 * MAX_HORIZON)?;
-    let u = svd.u?;
-    let v_t = svd.v_t?;
+/// of `m` (the rest must be zero). Iterations are bounded. A matrix with a non-finite entry is
+/// [`Error::Overflow`] at `stage` (the sums it comes from overflowed), iterations that did not
+/// suffice [`Error::NoConvergence`].
+pub(crate) fn svd_small<T: Real>(
+    m: Small<T>,
+    stage: Stage,
+) -> Result<(Small<T>, [T; MAX_HORIZON], Small<T>), Error> {
+    if !all_finite(m.as_slice()) {
+        return Err(Error::Overflow { stage });
+    }
+    let fail = Error::NoConvergence { stage };
+    let svd = nalgebra::SVD::try_new(m, true, true, T::EPS, 200 * MAX_HORIZON).ok_or(fail)?;
+    let u = svd.u.ok_or(fail)?;
+    let v_t = svd.v_t.ok_or(fail)?;
     let mut s = [T::zero(); MAX_HORIZON];
     for (dst, src) in s.iter_mut().zip(svd.singular_values.iter()) {
         *dst = *src;
     }
-    Some((u, s, v_t.transpose()))
+    Ok((u, s, v_t.transpose()))
 }

@@ -16,7 +16,9 @@
 use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, RowSums};
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, cholesky_packed, dot, householder_qr, packed, packed_len, svd_small};
+use crate::linalg::{
+    Small, all_finite, cholesky_packed, dot, householder_qr, packed, packed_len, svd_small,
+};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 
@@ -407,7 +409,10 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
-    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass.
+    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass; every entry (the cross block
+    // G_{Z_f Q} too, regenerated below) must be finite: an overflow of the sums (y² above the
+    // scalar's range) is reported as such, before any factorisation.
+    let mut finite = true;
     for_each_entry(
         acc,
         knots,
@@ -416,6 +421,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         sums,
         |_, _| true,
         |r, c, v| {
+            finite &= v.finite();
             if r < fm {
                 lff[packed(r, c)] = v;
             } else if c >= fm {
@@ -426,6 +432,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             }
         },
     );
+    if !finite {
+        return Err(Error::Overflow { stage: Stage::Sums });
+    }
     let tol = T::EPS * T::of_usize(8 * (d + q));
     cholesky_packed(lff, fm, fm, tol).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
@@ -470,6 +479,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         }
     }
 
+    if !all_finite(schur) || !all_finite(bf) {
+        return Err(Error::Overflow { stage: Stage::Sums });
+    }
     // 4. Cholesky of S: Z_p rows must be positive definite; Ȳ_p and Ȳ_f rows may be singular
     // (noise-free data).
     cholesky_packed(schur, q, pm, tol).map_err(|_| Error::RankDeficient {
@@ -518,9 +530,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 stage: Stage::Projection,
             })?;
             let wtd = lower_solve(&lyy, &rt, f);
-            let (u, s, _) = svd_small(wtd).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(wtd, Stage::Projection)?;
             let t = lyy * u;
             (scale_columns(t, &s, f, T::one()), s)
         }
@@ -549,9 +559,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 }
             }
             let ot = r_transposed(x, tau);
-            let (u, s, _) = svd_small(ot).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(ot, Stage::Projection)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -559,9 +567,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             (scale_columns(u, &s, f, T::one()), sv)
         }
         Method::PiMoesp | Method::PoMoesp => {
-            let (u, s, _) = svd_small(rt).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(rt, Stage::Projection)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -581,9 +587,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let wh = lower_solve(&l33f, &rt, f);
     let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
     let scale = T::of(libm::sqrt(dof / w as f64));
-    let (_, sw, _) = svd_small(wh).ok_or(Error::NoConvergence {
-        stage: Stage::Projection,
-    })?;
+    let (_, sw, _) = svd_small(wh, Stage::Projection)?;
     let mut sv_white = [T::zero(); MAX_HORIZON];
     for i in 0..f {
         sv_white[i] = sw[i] * scale;

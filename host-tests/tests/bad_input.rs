@@ -643,9 +643,9 @@ fn integrating_plant() {
 /// SVD non-convergence. The SVDs are of at most 16 × 16 matrices with a bound of 3,200
 /// iterations; with finite sums no input found here makes them run out (the property tests
 /// push ~30,000 random and adversarial records through them). The only way `NoConvergence`
-/// was provoked is non-finite sums: in `f32`, outputs of 1e20 overflow `y²`, and the error
-/// then says "no convergence ... at the projection" instead of naming the overflow (reported;
-/// see `core/tests/proptest_regressions.rs`). Here: that case stays a typed error, no panic.
+/// was provoked was non-finite sums: in `f32`, outputs of 1e20 overflow `y²`. The solve now
+/// checks the sums (and every matrix it hands to an SVD) for overflow first: `Overflow`,
+/// whose message names it and says to scale `y` or use `f64`; never a panic.
 #[test]
 fn svd_non_convergence_is_a_typed_error() {
     let e = paper();
@@ -667,7 +667,8 @@ fn svd_non_convergence_is_a_typed_error() {
     let mut ws = vec![0.0f32; id.workspace_len()];
     let r = catch_unwind(AssertUnwindSafe(|| id.solve(&mut ws))).expect("solve panicked");
     let err = r.unwrap_err();
-    assert!(!err.to_string().is_empty(), "{err:?}");
+    assert_eq!(err, Error::Overflow { stage: Stage::Sums });
+    says(&err, &["overflow", "scale y", "use f64"]);
 }
 
 // ---------------------------------------------------------------------------------------------

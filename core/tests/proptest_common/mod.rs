@@ -402,6 +402,25 @@ pub fn check_solve_error<T: Real>(
             let peak = excitation_of(samples, s.mu0.hold_len(), &s.knots, s.basis, path, knot);
             prop_assert!(peak < 1e-3, "{e}: but the channel reached {peak}");
         }
+        Error::Overflow { .. } => {
+            // Only sums of squares beyond the scalar's range overflow: some |y − μ0| (or the
+            // interval, in the ramp basis) must be at least √(MAX / (64·j)).
+            let s = id.settings();
+            let mu0 = id.mu0().map_or(0.0, |v| v.to_f64());
+            let big = samples
+                .iter()
+                .skip(s.mu0.hold_len())
+                .map(|&(_, y)| (y.to_f64() - mu0).abs().max(y.to_f64().abs()))
+                .fold((s.knots.u_max() - s.knots.u_min()).to_f64(), f64::max);
+            let j = id.accumulator().count().max(1) as f64;
+            let max = if T::BYTES == 4 {
+                f64::from(f32::MAX)
+            } else {
+                f64::MAX
+            };
+            let floor = (max / (64.0 * j)).sqrt();
+            prop_assert!(big >= floor, "{e}: but the largest value is {big:e}");
+        }
         Error::RankDeficient { .. }
         | Error::NoConvergence { .. }
         | Error::NoDynamics
