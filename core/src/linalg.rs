@@ -223,6 +223,9 @@ pub(crate) fn least_squares<T: Real>(
 /// A square matrix of at most [`MAX_HORIZON`] rows, padded with zeros.
 pub(crate) type Small<T> = SMatrix<T, MAX_HORIZON, MAX_HORIZON>;
 
+/// Left singular vectors, singular values (descending) and right singular vectors.
+pub(crate) type Svd<T> = (Small<T>, [T; MAX_HORIZON], Small<T>);
+
 /// `true` if every entry of `m` is finite.
 pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
     m.iter().all(|v| v.finite())
@@ -235,7 +238,7 @@ pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
 pub(crate) fn svd_small<T: Real>(
     m: Small<T>,
     stage: Stage,
-) -> Result<(Small<T>, [T; MAX_HORIZON], Small<T>), Error> {
+) -> Result<Svd<T>, Error> {
     if !all_finite(m.as_slice()) {
         return Err(Error::Overflow { stage });
     }
