@@ -24,6 +24,8 @@ pub enum Stage {
     InputHankel,
     /// SVD of the projection `O_f` (eq. 11).
     Projection,
+    /// The CVA weighting `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}`.
+    CvaWeighting,
     /// Shift invariance for `A`.
     ShiftInvariance,
     /// Least squares for `[D; B]`.
@@ -270,6 +272,12 @@ impl fmt::Display for Error {
                 f,
                 "{path} path: the basis function of knot {knot} was never excited: the input must sweep the whole path (Table I excitation)"
             ),
+            Error::RankDeficient {
+                stage: Stage::CvaWeighting,
+            } => write!(
+                f,
+                "the CVA weighting (Y_f P Y_f')^(-1/2) is singular to rounding: the outputs carry (almost) no noise beyond what the inputs explain (noise-free data), so the canonical correlations are undefined: use PI-MOESP (the default) or PO-MOESP"
+            ),
             Error::RankDeficient { stage } => write!(
                 f,
                 "rank deficient data at {stage}: the input is not persistently exciting enough (use the Table I excitation, more samples or fewer knots)"
@@ -325,6 +333,7 @@ impl fmt::Display for Stage {
             Stage::Sums => "the accumulated sums (the Gram of [Z_f; Z_p; Y_f])",
             Stage::InputHankel => "the input Hankel Gram [Z_f; Z_p]",
             Stage::Projection => "the projection O_f (eq. 11)",
+            Stage::CvaWeighting => "the CVA weighting (Y_f P Y_f')^(-1/2)",
             Stage::ShiftInvariance => "the shift-invariance step for A",
             Stage::InputMatrices => "the least squares for B and D",
             Stage::RankOneSplit => "the rank-1 split of [D; B] (eq. 14)",

@@ -305,7 +305,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 rt[(i, k)] = xt[k + i * m];
             }
         }
-        let (uu, s, w) = svd_small(rt, Stage::RankOneSplit)?;
+        let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit)?;
         let y = &mut y[..m];
         y.fill(T::zero());
         for i in 0..rows {
@@ -331,7 +331,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 r[(k, c)] = xc[k + c * rows];
             }
         }
-        let (uu, s, w) = svd_small(r, Stage::RankOneSplit)?;
+        let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit)?;
         let y = &mut y[..rows];
         y.fill(T::zero());
         for i in 0..m {

@@ -43,13 +43,16 @@ pub(crate) enum Pivot {
 ///
 /// Rows `0..strict` must be positive definite (a pivot below `rel_tol` times the original
 /// diagonal is reported as rank deficiency at that row). Rows from `strict` on may be
-/// semi-definite: a non-positive pivot there is set to zero together with the entries that
-/// would divide by it, which is the exact factor of a singular residual block.
+/// semi-definite: a pivot there at or below `floor[i − strict]` (zero where `floor` is
+/// shorter: the rounding level of that row, below which the pivot is noise) is set to zero
+/// together with the entries that would divide by it, which is the exact factor of a
+/// singular residual block.
 pub(crate) fn cholesky_packed<T: Real>(
     g: &mut [T],
     n: usize,
     strict: usize,
     rel_tol: T,
+    floor: &[T],
 ) -> Result<(), Pivot> {
     for i in 0..n {
         let ri = packed(i, 0);
@@ -70,7 +73,9 @@ pub(crate) fn cholesky_packed<T: Real>(
                     }
                     row_i[j] = s.sqrt();
                 } else {
-                    row_i[j] = if s > T::zero() { s.sqrt() } else { T::zero() };
+                    let fl = floor.get(i - strict).copied().unwrap_or_default();
+                    let keep = s > fl.max(T::zero());
+                    row_i[j] = if keep { s.sqrt() } else { T::zero() };
                 }
             } else {
                 let d = head[rj + j];
@@ -231,24 +236,105 @@ pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
     m.iter().all(|v| v.finite())
 }
 
+/// Sweeps of the one-sided Jacobi SVD before [`Error::NoConvergence`]: it converges
+/// quadratically, in 5–10 sweeps for the matrices of the solve.
+pub(crate) const JACOBI_SWEEPS: usize = 64;
+
 /// Singular values (descending) and left/right singular vectors of the leading `n × n` block
-/// of `m` (the rest must be zero). Iterations are bounded. A matrix with a non-finite entry is
-/// [`Error::Overflow`] at `stage` (the sums it comes from overflowed), iterations that did not
-/// suffice [`Error::NoConvergence`].
-pub(crate) fn svd_small<T: Real>(
-    m: Small<T>,
-    stage: Stage,
-) -> Result<Svd<T>, Error> {
-    if !all_finite(m.as_slice()) {
+/// of `m` (the rest is ignored), by one-sided Jacobi rotations (Hestenes): the columns of
+/// `m V` are made orthogonal, their norms are the singular values and their directions the
+/// left singular vectors. Every singular value is computed to high relative accuracy, the
+/// small ones included, which the rank decisions of the solve rely on. (nalgebra's
+/// bidiagonal SVD was used before; it can lose all accuracy on matrices with small non-zero
+/// singular values, e.g. a 2 × 2 rank-one split with σ₂/σ₁ = 1e-14 gave a first left singular
+/// vector off by 2e-2: nalgebra issue #1172.)
+///
+/// Sweeps are bounded by [`JACOBI_SWEEPS`]. A matrix with a non-finite entry is
+/// [`Error::Overflow`] at `stage` (the sums it comes from overflowed), sweeps that did not
+/// suffice [`Error::NoConvergence`]. Left singular vectors of zero singular values are zero.
+pub(crate) fn svd_small<T: Real>(mut a: Small<T>, n: usize, stage: Stage) -> Result<Svd<T>, Error> {
+    if !all_finite(a.as_slice()) {
         return Err(Error::Overflow { stage });
     }
-    let fail = Error::NoConvergence { stage };
-    let svd = nalgebra::SVD::try_new(m, true, true, T::EPS, 200 * MAX_HORIZON).ok_or(fail)?;
-    let u = svd.u.ok_or(fail)?;
-    let v_t = svd.v_t.ok_or(fail)?;
-    let mut s = [T::zero(); MAX_HORIZON];
-    for (dst, src) in s.iter_mut().zip(svd.singular_values.iter()) {
-        *dst = *src;
+    let n = n.min(MAX_HORIZON);
+    let mut v = Small::<T>::identity();
+    let tol = T::EPS * T::of_usize(n.max(1));
+    let big = T::one() / T::EPS.sqrt();
+    let mut converged = false;
+    for _ in 0..JACOBI_SWEEPS {
+        let mut rotated = false;
+        for p in 0..n {
+            for q in (p + 1)..n {
+                let (mut alpha, mut beta, mut gamma) = (T::zero(), T::zero(), T::zero());
+                for i in 0..n {
+                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
+                    alpha += ap * ap;
+                    beta += aq * aq;
+                    gamma += ap * aq;
+                }
+                if gamma == T::zero() || gamma.abs() <= tol * alpha.sqrt() * beta.sqrt() {
+                    continue;
+                }
+                rotated = true;
+                let zeta = (beta - alpha) / (gamma + gamma);
+                let t = if zeta.abs() > big {
+                    T::one() / (zeta + zeta)
+                } else {
+                    let r = T::one() / (zeta.abs() + (T::one() + zeta * zeta).sqrt());
+                    if zeta >= T::zero() { r } else { -r }
+                };
+                let c = T::one() / (T::one() + t * t).sqrt();
+                let s = c * t;
+                for i in 0..n {
+                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
+                    a[(i, p)] = c * ap - s * aq;
+                    a[(i, q)] = s * ap + c * aq;
+                    let (vp, vq) = (v[(i, p)], v[(i, q)]);
+                    v[(i, p)] = c * vp - s * vq;
+                    v[(i, q)] = s * vp + c * vq;
+                }
+            }
+        }
+        if !rotated {
+            converged = true;
+            break;
+        }
     }
-    Ok((u, s, v_t.transpose()))
+    if !converged {
+        return Err(Error::NoConvergence { stage });
+    }
+    let mut s = [T::zero(); MAX_HORIZON];
+    for (c, sc) in s.iter_mut().enumerate().take(n) {
+        let mut norm = T::zero();
+        for r in 0..n {
+            norm += a[(r, c)] * a[(r, c)];
+        }
+        *sc = norm.sqrt();
+    }
+    if !all_finite(&s) {
+        return Err(Error::Overflow { stage });
+    }
+    // Descending order (selection sort, moving the columns of a and v along).
+    for i in 0..n {
+        let mut k = i;
+        for j in (i + 1)..n {
+            if s[j] > s[k] {
+                k = j;
+            }
+        }
+        if k != i {
+            s.swap(i, k);
+            a.swap_columns(i, k);
+            v.swap_columns(i, k);
+        }
+    }
+    let mut u = Small::<T>::zeros();
+    for (c, &sc) in s.iter().enumerate().take(n) {
+        if sc > T::zero() {
+            for r in 0..n {
+                u[(r, c)] = a[(r, c)] / sc;
+            }
+        }
+    }
+    Ok((u, s, v))
 }

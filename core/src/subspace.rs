@@ -435,8 +435,29 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     if !finite {
         return Err(Error::Overflow { stage: Stage::Sums });
     }
+    // Rounding floors of the rows that may be singular (Ȳ_p, Ȳ_f): their raw Gram diagonals
+    // times the relative rounding level of the sums and of the factorisations.
+    let j_eff = acc.effective_columns().to_f64();
+    let level = rounding_level::<T>(j_eff, d + q);
+    let mut raw = [T::zero(); 2 * MAX_HORIZON];
+    let mut floor = [T::zero(); 2 * MAX_HORIZON];
+    for (i, (g, fl)) in raw
+        .iter_mut()
+        .zip(floor.iter_mut())
+        .enumerate()
+        .take(q - pm)
+    {
+        let r = pm + i;
+        *g = schur[packed(r, r)].abs();
+        *fl = level * *g;
+    }
+    let floor = &floor[..q - pm];
+    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
+    for (r, g) in scratch.iter_mut().enumerate().take(q) {
+        *g = schur[packed(r, r)].abs();
+    }
     let tol = T::EPS * T::of_usize(8 * (d + q));
-    cholesky_packed(lff, fm, fm, tol).map_err(|_| Error::RankDeficient {
+    cholesky_packed(lff, fm, fm, tol, &[]).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
 
@@ -484,10 +505,45 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     }
     // 4. Cholesky of S: Z_p rows must be positive definite; Ȳ_p and Ȳ_f rows may be singular
     // (noise-free data).
-    cholesky_packed(schur, q, pm, tol).map_err(|_| Error::RankDeficient {
+    cholesky_packed(schur, q, pm, tol, floor).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
     let j = acc.columns();
+    // Rounding level of the residual L₃₃L₃₃ᵀ = S₃₃ − L₃₂L₃₂ᵀ, row by row: the row's own
+    // (level · raw diagonal), plus what L₃₂ inherits from the pivots d_i of the instruments:
+    // d_i² carries an error of level · g_i (g_i its raw diagonal), so column i of L₃₂ a
+    // relative error of level · g_i / d_i², and the row's residual 2 Σ_i L₃₂[r,i]² times that.
+    // Past outputs that the inputs nearly explain (high SNR) have small pivots and make this
+    // large where the row leans on them. Besides, each entry L₃₂[r,i] carries an absolute
+    // rounding error of about level · √(g_r g_i) / d_i, which looks like noise to the
+    // whitening: its floor for L₃₃'s row is also the residual that noise of that size would
+    // leave (dof/w times the mean squared error of the row). Below `res_floor` a residual is
+    // rounding (the CVA weighting is then singular), below `white_floor` the whitening
+    // cannot tell noise from rounding.
+    let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
+    let per_col = T::of(dof / w as f64);
+    let mut res_floor = [T::zero(); MAX_HORIZON];
+    let mut white_floor = [T::zero(); MAX_HORIZON];
+    for (r, (v, wf)) in res_floor
+        .iter_mut()
+        .zip(white_floor.iter_mut())
+        .enumerate()
+        .take(f)
+    {
+        let row = packed(w + r, 0);
+        let gr = scratch[w + r];
+        let (mut e, mut noise) = (gr, T::zero());
+        for i in 0..w {
+            let d = schur[packed(i, i)];
+            if d > T::zero() {
+                let l = schur[row + i] / d;
+                e += (l + l) * l * scratch[i];
+                noise += gr * scratch[i] / (d * d);
+            }
+        }
+        *v = level * e;
+        *wf = v.max(level * level * noise * per_col);
+    }
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
@@ -520,23 +576,24 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         }
     }
     // With forgetting, the weighted Gram has the weight of j_eff = Σλ^i columns.
-    let j_eff = acc.effective_columns().to_f64();
     let sqrt_j = T::of(libm::sqrt(j_eff));
     let (gamma, sv) = match lay.method {
         Method::Cva => {
-            // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ.
+            // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ. The weighting is
+            // its inverse square root: a pivot at the rounding level of its row (noise-free
+            // data: Ȳ_f Π⊥ has rank n) would turn rounding into canonical correlations.
             let gram = rt * rt.transpose() + l33 * l33.transpose();
-            let lyy = small_cholesky(&gram, f).ok_or(Error::RankDeficient {
-                stage: Stage::Projection,
+            let lyy = small_cholesky(&gram, f, &res_floor).ok_or(Error::RankDeficient {
+                stage: Stage::CvaWeighting,
             })?;
             let wtd = lower_solve(&lyy, &rt, f);
-            let (u, s, _) = svd_small(wtd, Stage::Projection)?;
+            let (u, s, _) = svd_small(wtd, f, Stage::Projection)?;
             let t = lyy * u;
             (scale_columns(t, &s, f, T::one()), s)
         }
         Method::N4sid => {
             // O = L₃₂ L₂₂⁻¹ L_W, L_W the Cholesky factor of the instruments' Gram W_p W_pᵀ.
-            cholesky_packed(wgram, w, pm, tol).map_err(|_| Error::RankDeficient {
+            cholesky_packed(wgram, w, pm, tol, floor).map_err(|_| Error::RankDeficient {
                 stage: Stage::InputHankel,
             })?;
             load_l32(x);
@@ -559,7 +616,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 }
             }
             let ot = r_transposed(x, tau);
-            let (u, s, _) = svd_small(ot, Stage::Projection)?;
+            let (u, s, _) = svd_small(ot, f, Stage::Projection)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -567,7 +624,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             (scale_columns(u, &s, f, T::one()), sv)
         }
         Method::PiMoesp | Method::PoMoesp => {
-            let (u, s, _) = svd_small(rt, Stage::Projection)?;
+            let (u, s, _) = svd_small(rt, f, Stage::Projection)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -577,17 +634,15 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     };
 
     // 6. Whitened singular values of L₃₂: √((j − d)/w) · L₃₃⁻¹ Rᵀ, with L₃₃'s diagonal
-    // floored at √ε·‖L₃₂‖ so that noise-free data do not divide by zero.
-    let norm = rt.iter().fold(T::zero(), |a, &v| a.max(v.abs()));
-    let floor = T::EPS.sqrt() * norm;
+    // floored at the rounding level of its row (a residual below it is rounding, not noise;
+    // noise-free data then do not divide by zero, and rounding does not pass for a state).
     let mut l33f = l33;
-    for i in 0..f {
-        l33f[(i, i)] = l33f[(i, i)].max(floor);
+    for (i, &fl) in white_floor.iter().enumerate().take(f) {
+        l33f[(i, i)] = l33f[(i, i)].max(fl.sqrt());
     }
     let wh = lower_solve(&l33f, &rt, f);
-    let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
     let scale = T::of(libm::sqrt(dof / w as f64));
-    let (_, sw, _) = svd_small(wh, Stage::Projection)?;
+    let (_, sw, _) = svd_small(wh, f, Stage::Projection)?;
     let mut sv_white = [T::zero(); MAX_HORIZON];
     for i in 0..f {
         sv_white[i] = sw[i] * scale;
@@ -602,6 +657,15 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     })
 }
 
+/// Relative rounding level of the Gram entries and of what is computed from them, for sums
+/// over `j` (effective) columns and factorisations of dimension `dim`: recursive summation
+/// leaves a relative error of about `ε·√j` in each sum, the Schur complement and the
+/// Cholesky factorisation about `ε·dim` more. A residual variance below this level times
+/// its row's Gram diagonal cannot be told from rounding.
+fn rounding_level<T: Real>(j: f64, dim: usize) -> T {
+    T::EPS * T::of(libm::sqrt(j.max(1.0)) + libm::sqrt(dim as f64))
+}
+
 /// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
 fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale: T) -> Small<T> {
     for (c, &sc) in s.iter().enumerate().take(f) {
@@ -613,8 +677,9 @@ fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale
     t
 }
 
-/// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix.
-fn small_cholesky<T: Real>(a: &Small<T>, n: usize) -> Option<Small<T>> {
+/// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix;
+/// `None` if a pivot is not above `floor[i]` (zero where `floor` is shorter).
+fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<T>> {
     let mut l = Small::<T>::zeros();
     for i in 0..n {
         for j in 0..=i {
@@ -623,7 +688,8 @@ fn small_cholesky<T: Real>(a: &Small<T>, n: usize) -> Option<Small<T>> {
                 s -= l[(i, k)] * l[(j, k)];
             }
             if i == j {
-                let ok = s > T::zero() && s.finite();
+                let fl = floor.get(i).copied().unwrap_or_default();
+                let ok = s > fl.max(T::zero()) && s.finite();
                 if !ok {
                     return None;
                 }

@@ -556,16 +556,6 @@ pub fn enough_instruments<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool
 /// (and count the skips) so that they keep guarding everything else. Delete a predicate when
 /// its bug is fixed.
 pub mod known_bugs {
-    use hsid::{Method, Real, Settings};
-
-    /// On exactly noise-free data `B` and `D` (so the Markov parameters and the borders)
-    /// depend on rounding: errors up to 1e-2 in `f64` and 0.1 in `f32` while `A` is exact
-    /// (the host reference shows the same, so it is the method's formulation, not the
-    /// streaming). With 1e-6 noise they are accurate to 1e-7.
-    pub fn exact_data_bd(noisy: bool) -> bool {
-        !noisy
-    }
-
     /// `Knots::uniform(lo, hi, n_asc, n_desc)` with `n_asc + n_desc > M` truncates the knot
     /// vectors to the capacity and reports `KnotEndpoints` (or `SegmentCount` with the
     /// truncated counts) instead of `SegmentCount { ascending: n_asc, descending: n_desc }`.
@@ -587,28 +577,5 @@ pub mod known_bugs {
     /// taken as is.
     pub fn unchecked_counters(count: u64, samples: u64) -> bool {
         count == u64::MAX || samples == u64::MAX || count > samples
-    }
-
-    /// In `f32`, CVA at 30–40 dB SNR sometimes returns a wrong model (Markov parameters off by
-    /// 34, borders by 0.9, where `f64` on the same data is right) or refuses the data
-    /// (`RankDeficient`) that `f64` identifies.
-    pub fn f32_cva<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
-        T::BYTES == 4 && s.method == Method::Cva
-    }
-
-    /// In `f32`, with past outputs among the instruments (PO-MOESP, N4SID, CVA), exactly
-    /// noise-free data (SNR limited by the rounding of `y` to `f32`) can give `Ok` with wrong
-    /// poles (trace of `A` 0.93 for 1.045); at 60–80 dB the automatic order over-counts (see
-    /// `f32_automatic_order_at_high_snr`).
-    pub fn f32_exact_past_outputs<T: Real, const MM: usize>(
-        s: &Settings<T, MM>,
-        noisy: bool,
-    ) -> bool {
-        T::BYTES == 4 && s.method != Method::PiMoesp && !noisy
-    }
-
-    /// CVA on exactly noise-free data can return `Ok` with a wrong, unstable model.
-    pub fn cva_exact<T: Real, const MM: usize>(s: &Settings<T, MM>, noisy: bool) -> bool {
-        s.method == Method::Cva && !noisy
     }
 }
