@@ -170,6 +170,12 @@ pub enum Error {
     NoDynamics,
     /// The static gain of the normalised linear part is (near) zero, so γ is undefined.
     ZeroStaticGain,
+    /// The identified `A` has a pole on or outside the unit circle: the method assumes a stable
+    /// `G`, normalised by `G(1) = 1`, which an unstable or integrating `G` does not have.
+    UnstableModel {
+        /// The spectral radius of `A` (largest pole modulus).
+        spectral_radius: f64,
+    },
     /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
@@ -295,7 +301,11 @@ impl fmt::Display for Error {
             ),
             Error::ZeroStaticGain => write!(
                 f,
-                "the linear part has (near) zero static gain, so it cannot be normalised to G(1) = 1"
+                "the linear part has (near) zero static gain (|G(1)| within the estimate's own error), so it cannot be normalised to G(1) = 1: a plant with a zero at z = 1 (differentiating) is outside the model class"
+            ),
+            Error::UnstableModel { spectral_radius } => write!(
+                f,
+                "the identified linear part has a pole of modulus {spectral_radius:.6} >= 1 (integrating or unstable): the method assumes a stable G normalised by G(1) = 1; check for an integrating plant or a drifting output (identify the differenced output instead)"
             ),
             Error::IntegratingModel => write!(
                 f,

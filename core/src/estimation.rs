@@ -11,7 +11,7 @@ use heapless::Vec;
 
 use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, apply_q, householder_qr, least_squares, svd_small};
+use crate::linalg::{Small, apply_q, householder_qr, least_squares, spectral_radius, svd_small};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
 use crate::scalar::Real;
@@ -110,6 +110,14 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             }
         }
     }
+    // The paper's G is stable: a pole on or outside the unit circle (an integrating plant, a
+    // drift) leaves G(1) undefined or meaningless, and γ would rescale the model by it.
+    let rho = spectral_radius(&a, n);
+    if rho >= 1.0 || rho.is_nan() {
+        return Err(Error::UnstableModel {
+            spectral_radius: rho,
+        });
+    }
     let mut cvec = [T::zero(); MAX_HORIZON];
     for (c, v) in cvec.iter_mut().enumerate().take(n) {
         *v = gamma[(0, c)];
@@ -171,7 +179,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
 
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
-    let (s1, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split)?;
+    let (s1, s2, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split)?;
 
     // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
     let mut ia = Small::<T>::zeros();
@@ -202,7 +210,13 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         g0 += cvec[q] * xb[q];
         scale += (cvec[q] * xb[q]).abs();
     }
-    let usable = g0.abs() > T::EPS.sqrt() * scale && g0.finite();
+    // g0 is a sum of terms of total size `scale`; the rank-1 split's relative residual
+    // s₂/s₁ (zero for data of the exact model class, the estimate's noise and misfit
+    // otherwise) bounds the relative error of its direction u, so of each term: a g0 within
+    // that error (or within √ε of rounding, for one channel where s₂ does not exist) is not
+    // told from zero, and dividing by it would rescale the model by noise.
+    let noise = if s1 > T::zero() { s2 / s1 } else { T::one() };
+    let usable = g0.abs() > T::EPS.sqrt().max(noise) * scale && g0.finite();
     if !usable {
         return Err(Error::ZeroStaticGain);
     }
@@ -278,7 +292,8 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 }
 
 /// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading
-/// dimension `ld` in `x`. Returns `(s, u (n+1), v (m))`; `buf` is scratch of at least
+/// dimension `ld` in `x`. Returns `(s₁, s₂, u (n+1), v (m))` (`s₂` the second singular value,
+/// 0 for a single row or column); `buf` is scratch of at least
 /// `m·(n+1) + m + n + 1` scalars.
 fn dominant_triple<T: Real, const M: usize>(
     x: &[T],
@@ -286,7 +301,7 @@ fn dominant_triple<T: Real, const M: usize>(
     rows: usize,
     m: usize,
     buf: &mut [T],
-) -> Result<(T, [T; MAX_HORIZON], [T; M]), Error> {
+) -> Result<(T, T, [T; MAX_HORIZON], [T; M]), Error> {
     let mut u = [T::zero(); MAX_HORIZON];
     let mut v = [T::zero(); M];
     if m >= rows {
@@ -314,7 +329,7 @@ fn dominant_triple<T: Real, const M: usize>(
         }
         apply_q(xt, m, rows, tau, y);
         v[..m].copy_from_slice(y);
-        Ok((s[0], u, v))
+        Ok((s[0], s[1], u, v))
     } else {
         // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.
         let (xc, rest) = buf.split_at_mut(rows * m);
@@ -340,6 +355,6 @@ fn dominant_triple<T: Real, const M: usize>(
         }
         apply_q(xc, rows, m, tau, y);
         u[..rows].copy_from_slice(y);
-        Ok((s[0], u, v))
+        Ok((s[0], s[1], u, v))
     }
 }

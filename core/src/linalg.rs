@@ -338,3 +338,85 @@ pub(crate) fn svd_small<T: Real>(mut a: Small<T>, n: usize, stage: Stage) -> Res
     }
     Ok((u, s, v))
 }
+
+/// Squarings of [`spectral_radius`]: `‖A^N‖^{1/N}` with `N = 2^24`.
+pub(crate) const SPECTRAL_SQUARINGS: usize = 24;
+
+/// Spectral radius of the leading `n × n` block of `a` by Gelfand's formula
+/// `ρ(A) = lim ‖A^N‖^{1/N}`, with `N = 2^`[`SPECTRAL_SQUARINGS`] reached by repeated squaring,
+/// the matrix rescaled to a largest entry of 1 before each squaring (no overflow) and the
+/// logarithms of the scales accumulated in `f64`. A bounded computation without iterations
+/// to converge: the estimate is `ρ · c^{1/N}` with `c` the conditioning of `A`'s eigenvector
+/// basis, so within a relative 1e-5 of ρ for any `c` below 1e30. A nilpotent matrix gives 0.
+pub(crate) fn spectral_radius<T: Real>(a: &Small<T>, n: usize) -> f64 {
+    let n = n.min(MAX_HORIZON);
+    let mut b = Small::<T>::zeros();
+    for c in 0..n {
+        for r in 0..n {
+            b[(r, c)] = a[(r, c)];
+        }
+    }
+    let mut log_rho = 0.0f64;
+    let mut weight = 1.0f64;
+    for _ in 0..SPECTRAL_SQUARINGS {
+        let big = b.iter().fold(T::zero(), |m, v| m.max(v.abs()));
+        if !(big > T::zero() && big.finite()) {
+            return if big == T::zero() { 0.0 } else { f64::INFINITY };
+        }
+        log_rho += weight * libm::log(big.to_f64());
+        b /= big;
+        b = b * b;
+        weight *= 0.5;
+    }
+    let big = b.iter().fold(T::zero(), |m, v| m.max(v.abs()));
+    if big > T::zero() {
+        log_rho += weight * libm::log(big.to_f64());
+        libm::exp(log_rho)
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small(n: usize, entries: &[f64]) -> Small<f64> {
+        let mut m = Small::<f64>::zeros();
+        for r in 0..n {
+            for c in 0..n {
+                m[(r, c)] = entries[r * n + c];
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn spectral_radius_of_known_matrices() {
+        // (matrix, n, ρ): a complex pair 0.9 e^{±0.5j} (rotation), a real pair with the
+        // larger pole negative, a non-normal matrix (ρ 0.5, a large off-diagonal), a Jordan
+        // block at 1 (integrator), an unstable pole, a nilpotent matrix.
+        let (c, s) = (0.9 * 0.5f64.cos(), 0.9 * 0.5f64.sin());
+        let cases: [(&[f64], usize, f64); 6] = [
+            (&[c, -s, s, c], 2, 0.9),
+            (&[0.5, 0.0, 0.0, -0.95], 2, 0.95),
+            (&[0.5, 1e4, 0.0, 0.5], 2, 0.5),
+            (&[1.0, 1.0, 0.0, 1.0], 2, 1.0),
+            (
+                &[1.2, 0.3, 0.1, 0.4, 0.2, 0.0, 0.0, 0.0, -0.3],
+                3,
+                1.308_276_253,
+            ),
+            (&[0.0, 1.0, 0.0, 0.0], 2, 0.0),
+        ];
+        for (entries, n, rho) in cases {
+            let got = spectral_radius(&small(n, entries), n);
+            assert!(
+                (got - rho).abs() <= 1e-4 * rho.max(1e-300),
+                "{entries:?}: {got}, want {rho}"
+            );
+        }
+        // The integrator is not below 1 (the solve refuses ρ >= 1).
+        assert!(spectral_radius(&small(2, &[1.0, 1.0, 0.0, 1.0]), 2) >= 1.0);
+    }
+}

@@ -421,6 +421,10 @@ pub fn check_solve_error<T: Real>(
             let floor = (max / (64.0 * j)).sqrt();
             prop_assert!(big >= floor, "{e}: but the largest value is {big:e}");
         }
+        Error::UnstableModel { spectral_radius } => {
+            prop_assert!(id.accumulator().count() >= id.min_samples());
+            prop_assert!(spectral_radius >= 1.0, "{e}");
+        }
         Error::RankDeficient { .. }
         | Error::NoConvergence { .. }
         | Error::NoDynamics
