@@ -320,7 +320,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 rt[(i, k)] = xt[k + i * m];
             }
         }
-        let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit)?;
+        let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit, true)?;
         let y = &mut y[..m];
         y.fill(T::zero());
         for i in 0..rows {
@@ -346,7 +346,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 r[(k, c)] = xc[k + c * rows];
             }
         }
-        let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit)?;
+        let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit, true)?;
         let y = &mut y[..rows];
         y.fill(T::zero());
         for i in 0..m {

@@ -251,8 +251,14 @@ pub(crate) const JACOBI_SWEEPS: usize = 64;
 ///
 /// Sweeps are bounded by [`JACOBI_SWEEPS`]. A matrix with a non-finite entry is
 /// [`Error::Overflow`] at `stage` (the sums it comes from overflowed), sweeps that did not
-/// suffice [`Error::NoConvergence`]. Left singular vectors of zero singular values are zero.
-pub(crate) fn svd_small<T: Real>(mut a: Small<T>, n: usize, stage: Stage) -> Result<Svd<T>, Error> {
+/// suffice [`Error::NoConvergence`]. Left singular vectors of zero singular values are zero;
+/// without `want_v` the right singular vectors are not accumulated (the identity is returned).
+pub(crate) fn svd_small<T: Real>(
+    mut a: Small<T>,
+    n: usize,
+    stage: Stage,
+    want_v: bool,
+) -> Result<Svd<T>, Error> {
     if !all_finite(a.as_slice()) {
         return Err(Error::Overflow { stage });
     }
@@ -289,9 +295,13 @@ pub(crate) fn svd_small<T: Real>(mut a: Small<T>, n: usize, stage: Stage) -> Res
                     let (ap, aq) = (a[(i, p)], a[(i, q)]);
                     a[(i, p)] = c * ap - s * aq;
                     a[(i, q)] = s * ap + c * aq;
-                    let (vp, vq) = (v[(i, p)], v[(i, q)]);
-                    v[(i, p)] = c * vp - s * vq;
-                    v[(i, q)] = s * vp + c * vq;
+                }
+                if want_v {
+                    for i in 0..n {
+                        let (vp, vq) = (v[(i, p)], v[(i, q)]);
+                        v[(i, p)] = c * vp - s * vq;
+                        v[(i, q)] = s * vp + c * vq;
+                    }
                 }
             }
         }
@@ -365,7 +375,19 @@ pub(crate) fn spectral_radius<T: Real>(a: &Small<T>, n: usize) -> f64 {
         }
         log_rho += weight * libm::log(big.to_f64());
         b /= big;
-        b = b * b;
+        // b ← b², on the leading n × n block only.
+        let mut sq = Small::<T>::zeros();
+        for c in 0..n {
+            for k in 0..n {
+                let bkc = b[(k, c)];
+                if bkc != T::zero() {
+                    for r in 0..n {
+                        sq[(r, c)] += b[(r, k)] * bkc;
+                    }
+                }
+            }
+        }
+        b = sq;
         weight *= 0.5;
     }
     let big = b.iter().fold(T::zero(), |m, v| m.max(v.abs()));

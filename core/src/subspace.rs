@@ -409,10 +409,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
-    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass; every entry (the cross block
-    // G_{Z_f Q} too, regenerated below) must be finite: an overflow of the sums (y² above the
-    // scalar's range) is reported as such, before any factorisation.
-    let mut finite = true;
+    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass. Both must be finite: an
+    // overflow of the sums (y² above the scalar's range) is reported as such, before any
+    // factorisation (a non-finite cross block G_{Z_f Q} shows in the Schur complement).
     for_each_entry(
         acc,
         knots,
@@ -421,7 +420,6 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         sums,
         |_, _| true,
         |r, c, v| {
-            finite &= v.finite();
             if r < fm {
                 lff[packed(r, c)] = v;
             } else if c >= fm {
@@ -432,7 +430,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             }
         },
     );
-    if !finite {
+    if !all_finite(lff) || !all_finite(schur) {
         return Err(Error::Overflow { stage: Stage::Sums });
     }
     // Rounding floors of the rows that may be singular (Ȳ_p, Ȳ_f): their raw Gram diagonals
@@ -587,7 +585,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 stage: Stage::CvaWeighting,
             })?;
             let wtd = lower_solve(&lyy, &rt, f);
-            let (u, s, _) = svd_small(wtd, f, Stage::Projection)?;
+            let (u, s, _) = svd_small(wtd, f, Stage::Projection, false)?;
             let t = lyy * u;
             (scale_columns(t, &s, f, T::one()), s)
         }
@@ -616,7 +614,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 }
             }
             let ot = r_transposed(x, tau);
-            let (u, s, _) = svd_small(ot, f, Stage::Projection)?;
+            let (u, s, _) = svd_small(ot, f, Stage::Projection, false)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -624,7 +622,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             (scale_columns(u, &s, f, T::one()), sv)
         }
         Method::PiMoesp | Method::PoMoesp => {
-            let (u, s, _) = svd_small(rt, f, Stage::Projection)?;
+            let (u, s, _) = svd_small(rt, f, Stage::Projection, false)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -642,7 +640,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     }
     let wh = lower_solve(&l33f, &rt, f);
     let scale = T::of(libm::sqrt(dof / w as f64));
-    let (_, sw, _) = svd_small(wh, f, Stage::Projection)?;
+    let (_, sw, _) = svd_small(wh, f, Stage::Projection, false)?;
     let mut sv_white = [T::zero(); MAX_HORIZON];
     for i in 0..f {
         sv_white[i] = sw[i] * scale;
