@@ -437,19 +437,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     // times the relative rounding level of the sums and of the factorisations.
     let j_eff = acc.effective_columns().to_f64();
     let level = rounding_level::<T>(j_eff, d + q);
-    let mut raw = [T::zero(); 2 * MAX_HORIZON];
-    let mut floor = [T::zero(); 2 * MAX_HORIZON];
-    for (i, (g, fl)) in raw
-        .iter_mut()
-        .zip(floor.iter_mut())
-        .enumerate()
-        .take(q - pm)
-    {
+    // `q − pm = py + f <= p + f <= K` rows.
+    let mut floor = [T::zero(); K];
+    for (i, fl) in floor.iter_mut().enumerate().take(q - pm) {
         let r = pm + i;
-        *g = schur[packed(r, r)].abs();
-        *fl = level * *g;
+        *fl = level * schur[packed(r, r)].abs();
     }
-    let floor = &floor[..q - pm];
+    let floor = &floor[..(q - pm).min(K)];
     // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
     for (r, g) in scratch.iter_mut().enumerate().take(q) {
         *g = schur[packed(r, r)].abs();

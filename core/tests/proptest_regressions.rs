@@ -677,3 +677,29 @@ fn f32_past_outputs_on_noise_free_data_are_not_silently_wrong() {
         "trace {tr}, det {det} (true 1.0446, 0.2576)"
     );
 }
+
+/// The rounding floors of the rows that may be singular (past and future outputs, `p + f`
+/// of them with past outputs) are held in an array of the block-row capacity `K`: a past
+/// horizon with `p + f` beyond `2·MAX_HORIZON` (here p = 24, f = 12, K = 36) solves without
+/// indexing past it, for every weighting.
+#[test]
+fn long_past_horizons_with_past_outputs_do_not_panic() {
+    let knots = Knots::<f64, 2>::uniform(-3.0, 3.0, 1, 1).unwrap();
+    let data = record(3000, 5);
+    for method in [Method::PiMoesp, Method::PoMoesp, Method::N4sid, Method::Cva] {
+        let mut s = Settings::new(knots.clone(), 12, 24, MuZero::Known(0.0));
+        s.method = method;
+        s.order = Order::Fixed(1);
+        let mut id = Box::new(Identifier::<f64, 2, 36>::new(s).unwrap());
+        for &(u, y) in &data {
+            id.push(u, y);
+        }
+        let r = solve(&id);
+        assert!(
+            matches!(&r, Ok(m) if (m.a(0, 0) - 0.5).abs() < 0.2)
+                || matches!(r, Err(Error::RankDeficient { .. })),
+            "{method:?}: {:?}",
+            r.map(|m| m.a(0, 0))
+        );
+    }
+}
