@@ -241,10 +241,22 @@ pub trait Summation<T: Real, const M: usize, const K: usize>:
     const ZERO: Self::Carry;
     /// Code of the summation in checkpoints (0 plain, 1 compensated).
     const CODE: u8;
+    /// How the sums of products with the output round, which sets the rounding level the
+    /// solve assumes for them.
+    const OUTPUT_ROUNDING: OutputRounding;
     /// The carries, if this summation keeps any.
     fn carries(carry: &Self::Carry) -> Option<&Carries<T, M, K>>;
     /// The carries, mutable, if this summation keeps any.
     fn carries_mut(carry: &mut Self::Carry) -> Option<&mut Carries<T, M, K>>;
+}
+
+/// How the accumulated sums of products with the output (`zy`, `yz`, `yy`) round.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputRounding {
+    /// Recursive summation: a relative error of about `ε·√j` over `j` columns.
+    Recursive,
+    /// Kahan-compensated summation: about `2ε`, whatever `j` (up to `O(j·ε²)`).
+    Compensated,
 }
 
 /// Plain floating-point sums: no memory beyond the sums themselves.
@@ -259,6 +271,7 @@ impl<T: Real, const M: usize, const K: usize> Summation<T, M, K> for Plain {
     type Carry = ();
     const ZERO: () = ();
     const CODE: u8 = 0;
+    const OUTPUT_ROUNDING: OutputRounding = OutputRounding::Recursive;
     #[inline(always)]
     fn carries(_: &()) -> Option<&Carries<T, M, K>> {
         None
@@ -273,6 +286,7 @@ impl<T: Real, const M: usize, const K: usize> Summation<T, M, K> for Compensated
     type Carry = Carries<T, M, K>;
     const ZERO: Carries<T, M, K> = Carries::ZERO;
     const CODE: u8 = 1;
+    const OUTPUT_ROUNDING: OutputRounding = OutputRounding::Compensated;
     #[inline(always)]
     fn carries(carry: &Carries<T, M, K>) -> Option<&Carries<T, M, K>> {
         Some(carry)

@@ -37,10 +37,14 @@ impl fmt::Display for KnotEnd {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Stage {
+    /// The accumulated sums: the Gram of `[Z_f; Z_p; Ȳ_p; Ȳ_f]` and its Schur complement.
+    Sums,
     /// Cholesky factor of the Gram of the input Hankel matrices `[Z_f; Z_p]`.
     InputHankel,
     /// SVD of the projection `O_f` (eq. 11).
     Projection,
+    /// The CVA weighting `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}`.
+    CvaWeighting,
     /// Shift invariance for `A`.
     ShiftInvariance,
     /// Least squares for `[D; B]`.
@@ -104,6 +108,19 @@ pub enum Error {
         /// Block rows `f + p` requested.
         k: usize,
     },
+    /// The instruments (`p·m` rows of past inputs, plus `p` rows of past outputs for the
+    /// weightings that use them) must have at least `f` rows: the SVD that gives `Γ_f` is of
+    /// an `f × rows` matrix.
+    TooFewInstruments {
+        /// Future horizon `f`.
+        f: usize,
+        /// Past horizon `p`.
+        p: usize,
+        /// Regressor channels `m` (segments of both paths).
+        channels: usize,
+        /// Whether past outputs are among the instruments (every weighting but PI-MOESP).
+        past_outputs: bool,
+    },
     /// The requested model order must satisfy `1 <= n < f`.
     InvalidOrder {
         /// Order requested.
@@ -163,6 +180,12 @@ pub enum Error {
         /// Where.
         stage: Stage,
     },
+    /// A sum or product overflowed the scalar type (e.g. `y²` above `f32::MAX` for outputs
+    /// near 1e20): the accumulated statistics are not finite.
+    Overflow {
+        /// Where it was detected.
+        stage: Stage,
+    },
     /// An iterative step (SVD) did not converge within its iteration bound.
     NoConvergence {
         /// Where.
@@ -172,6 +195,12 @@ pub enum Error {
     NoDynamics,
     /// The static gain of the normalised linear part is (near) zero, so γ is undefined.
     ZeroStaticGain,
+    /// The identified `A` has a pole on or outside the unit circle: the method assumes a stable
+    /// `G`, normalised by `G(1) = 1`, which an unstable or integrating `G` does not have.
+    UnstableModel {
+        /// The spectral radius of `A` (largest pole modulus).
+        spectral_radius: f64,
+    },
     /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
@@ -229,6 +258,25 @@ impl fmt::Display for Error {
                 "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
                 crate::MAX_HORIZON
             ),
+            Error::TooFewInstruments {
+                f: fh,
+                p,
+                channels,
+                past_outputs,
+            } => {
+                let per = channels + usize::from(past_outputs);
+                let rows = p * per;
+                let what = if past_outputs { "p·(m + 1)" } else { "p·m" };
+                write!(
+                    f,
+                    "the instruments have {what} = {rows} rows (p = {p}, m = {channels} channels), fewer than the future horizon f = {fh}: raise p to at least {}, or use more knots",
+                    fh.div_ceil(per.max(1)),
+                )?;
+                if rows >= 2 {
+                    write!(f, ", or lower f to at most {rows}")?;
+                }
+                Ok(())
+            }
             Error::InvalidOrder { order: 0, .. } => {
                 write!(f, "order 0 requested: the model order must be at least 1")
             }
@@ -263,9 +311,19 @@ impl fmt::Display for Error {
                 f,
                 "{path} path: the basis function of knot {knot} was never excited: the input never visited the segments next to that knot; excite that range (for a backlash or switch, the Table I excitation sweeps both paths) or remove the knot"
             ),
+            Error::RankDeficient {
+                stage: Stage::CvaWeighting,
+            } => write!(
+                f,
+                "the CVA weighting (Y_f P Y_f')^(-1/2) is singular to rounding: the outputs carry (almost) no noise beyond what the inputs explain (noise-free data), so the canonical correlations are undefined: use PI-MOESP (the default) or PO-MOESP"
+            ),
             Error::RankDeficient { stage } => write!(
                 f,
                 "rank deficient data at {stage}: the input is not persistently exciting enough (use the Table I excitation, more samples or fewer knots)"
+            ),
+            Error::Overflow { stage } => write!(
+                f,
+                "overflow in {stage}: the values are too large for the scalar type (a square of y, or of the knot spacing in the ramp basis, exceeds its largest finite number): scale y (and u) towards 1, or use f64"
             ),
             Error::NoConvergence { stage } => {
                 write!(f, "no convergence within the iteration bound at {stage}")
@@ -276,7 +334,11 @@ impl fmt::Display for Error {
             ),
             Error::ZeroStaticGain => write!(
                 f,
-                "the linear part has (near) zero static gain, so it cannot be normalised to G(1) = 1"
+                "the linear part has (near) zero static gain (|G(1)| within the estimate's own error), so it cannot be normalised to G(1) = 1: a plant with a zero at z = 1 (differentiating) is outside the model class"
+            ),
+            Error::UnstableModel { spectral_radius } => write!(
+                f,
+                "the identified linear part has a pole of modulus {spectral_radius:.6} >= 1 (integrating or unstable): the method assumes a stable G normalised by G(1) = 1; check for an integrating plant or a drifting output (identify the differenced output instead)"
             ),
             Error::IntegratingModel => write!(
                 f,
@@ -311,8 +373,10 @@ impl fmt::Display for Signal {
 impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
+            Stage::Sums => "the accumulated sums (the Gram of [Z_f; Z_p; Y_f])",
             Stage::InputHankel => "the input Hankel Gram [Z_f; Z_p]",
             Stage::Projection => "the projection O_f (eq. 11)",
+            Stage::CvaWeighting => "the CVA weighting (Y_f P Y_f')^(-1/2)",
             Stage::ShiftInvariance => "the shift-invariance step for A",
             Stage::InputMatrices => "the least squares for B and D",
             Stage::RankOneSplit => "the rank-1 split of [D; B] (eq. 14)",

@@ -11,7 +11,7 @@ use heapless::Vec;
 
 use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, apply_q, householder_qr, least_squares, svd_small};
+use crate::linalg::{Small, apply_q, householder_qr, least_squares, spectral_radius, svd_small};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
 use crate::scalar::Real;
@@ -67,15 +67,16 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
     let mut u2 = Small::<T>::zeros();
     {
-        let (g, rest) = scratch.split_at_mut(f * n);
-        let (tau, e) = rest.split_at_mut(n);
+        let (lg, lt, le) = lay.u2_parts(n);
+        let (g, rest) = scratch.split_at_mut(lg);
+        let (tau, e) = rest.split_at_mut(lt);
+        let e = &mut e[..le];
         for c in 0..n {
             for r in 0..f {
                 g[r + c * f] = gamma[(r, c)];
             }
         }
         householder_qr(g, f, n, tau);
-        let e = &mut e[..f];
         for r in 0..f - n {
             e.fill(T::zero());
             e[n + r] = T::one();
@@ -88,15 +89,17 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     let mut a = Small::<T>::zeros();
     {
         let rows = f - 1;
-        let (ga, rest) = scratch.split_at_mut(rows * n);
-        let (gb, tau) = rest.split_at_mut(rows * n);
+        let (la, lb, lt) = lay.shift_parts(n);
+        let (ga, rest) = scratch.split_at_mut(la);
+        let (gb, tau) = rest.split_at_mut(lb);
+        let tau = &mut tau[..lt];
         for c in 0..n {
             for r in 0..rows {
                 ga[r + c * rows] = gamma[(r, c)];
                 gb[r + c * rows] = gamma[(r + 1, c)];
             }
         }
-        least_squares(ga, rows, n, gb, n, &mut tau[..n], rank_tol(rows)).map_err(|()| {
+        least_squares(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
             Error::RankDeficient {
                 stage: Stage::ShiftInvariance,
             }
@@ -106,6 +109,14 @@ pub(crate) fn estimate<T: Real, const M: usize>(
                 a[(r, c)] = gb[r + c * rows];
             }
         }
+    }
+    // The paper's G is stable: a pole on or outside the unit circle (an integrating plant, a
+    // drift) leaves G(1) undefined or meaningless, and γ would rescale the model by it.
+    let rho = spectral_radius(&a, n);
+    if rho >= 1.0 || rho.is_nan() {
+        return Err(Error::UnstableModel {
+            spectral_radius: rho,
+        });
     }
     let mut cvec = [T::zero(); MAX_HORIZON];
     for (c, v) in cvec.iter_mut().enumerate().take(n) {
@@ -135,8 +146,11 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             row = next;
         }
     }
-    let (kmat, rest) = scratch.split_at_mut(rows * cols);
-    let (rhs, tau) = rest.split_at_mut(rows * m);
+    let (lk, lr, lt) = lay.bd_parts(n);
+    let (kmat, rest) = scratch.split_at_mut(lk);
+    let (rhs, rest) = rest.split_at_mut(lr);
+    let (tau, split) = rest.split_at_mut(lt);
+    let split = &mut split[..lay.split_len(n)];
     for jj in 0..f {
         for r in 0..nr {
             let row = jj * nr + r;
@@ -157,7 +171,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             }
         }
     }
-    least_squares(kmat, rows, cols, rhs, m, &mut tau[..cols], rank_tol(rows)).map_err(|()| {
+    least_squares(kmat, rows, cols, rhs, m, tau, rank_tol(rows)).map_err(|()| {
         Error::RankDeficient {
             stage: Stage::InputMatrices,
         }
@@ -165,7 +179,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
 
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
-    let (s1, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, bf)?;
+    let (s1, s2, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split)?;
 
     // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
     let mut ia = Small::<T>::zeros();
@@ -176,16 +190,17 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     }
     let mut xb = [T::zero(); MAX_HORIZON];
     {
-        let (ma, rest) = scratch.split_at_mut(n * n);
-        let (mb, tau) = rest.split_at_mut(n);
+        let (la, lb, lt) = lay.gain_parts(n);
+        let (ma, rest) = scratch.split_at_mut(la);
+        let (mb, tau) = rest.split_at_mut(lb);
+        let tau = &mut tau[..lt];
         for r in 0..n {
             mb[r] = uvec[1 + r];
             for c in 0..n {
                 ma[r + c * n] = ia[(r, c)];
             }
         }
-        least_squares(ma, n, n, mb, 1, &mut tau[..n], rank_tol(n))
-            .map_err(|()| Error::IntegratingModel)?;
+        least_squares(ma, n, n, mb, 1, tau, rank_tol(n)).map_err(|()| Error::IntegratingModel)?;
         xb[..n].copy_from_slice(&mb[..n]);
     }
     let ud = uvec[0];
@@ -195,7 +210,13 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         g0 += cvec[q] * xb[q];
         scale += (cvec[q] * xb[q]).abs();
     }
-    let usable = g0.abs() > T::EPS.sqrt() * scale && g0.finite();
+    // g0 is a sum of terms of total size `scale`; the rank-1 split's relative residual
+    // s₂/s₁ (zero for data of the exact model class, the estimate's noise and misfit
+    // otherwise) bounds the relative error of its direction u, so of each term: a g0 within
+    // that error (or within √ε of rounding, for one channel where s₂ does not exist) is not
+    // told from zero, and dividing by it would rescale the model by noise.
+    let noise = if s1 > T::zero() { s2 / s1 } else { T::one() };
+    let usable = g0.abs() > T::EPS.sqrt().max(noise) * scale && g0.finite();
     if !usable {
         return Err(Error::ZeroStaticGain);
     }
@@ -271,7 +292,8 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 }
 
 /// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading
-/// dimension `ld` in `x`. Returns `(s, u (n+1), v (m))`; `buf` is scratch of at least
+/// dimension `ld` in `x`. Returns `(s₁, s₂, u (n+1), v (m))` (`s₂` the second singular value,
+/// 0 for a single row or column); `buf` is scratch of at least
 /// `m·(n+1) + m + n + 1` scalars.
 fn dominant_triple<T: Real, const M: usize>(
     x: &[T],
@@ -279,10 +301,7 @@ fn dominant_triple<T: Real, const M: usize>(
     rows: usize,
     m: usize,
     buf: &mut [T],
-) -> Result<(T, [T; MAX_HORIZON], [T; M]), Error> {
-    let fail = Error::NoConvergence {
-        stage: Stage::RankOneSplit,
-    };
+) -> Result<(T, T, [T; MAX_HORIZON], [T; M]), Error> {
     let mut u = [T::zero(); MAX_HORIZON];
     let mut v = [T::zero(); M];
     if m >= rows {
@@ -301,7 +320,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 rt[(i, k)] = xt[k + i * m];
             }
         }
-        let (uu, s, w) = svd_small(rt).ok_or(fail)?;
+        let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit, true)?;
         let y = &mut y[..m];
         y.fill(T::zero());
         for i in 0..rows {
@@ -310,7 +329,7 @@ fn dominant_triple<T: Real, const M: usize>(
         }
         apply_q(xt, m, rows, tau, y);
         v[..m].copy_from_slice(y);
-        Ok((s[0], u, v))
+        Ok((s[0], s[1], u, v))
     } else {
         // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.
         let (xc, rest) = buf.split_at_mut(rows * m);
@@ -327,7 +346,7 @@ fn dominant_triple<T: Real, const M: usize>(
                 r[(k, c)] = xc[k + c * rows];
             }
         }
-        let (uu, s, w) = svd_small(r).ok_or(fail)?;
+        let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit, true)?;
         let y = &mut y[..rows];
         y.fill(T::zero());
         for i in 0..m {
@@ -336,6 +355,6 @@ fn dominant_triple<T: Real, const M: usize>(
         }
         apply_q(xc, rows, m, tau, y);
         u[..rows].copy_from_slice(y);
-        Ok((s[0], u, v))
+        Ok((s[0], s[1], u, v))
     }
 }

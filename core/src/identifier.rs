@@ -140,6 +140,16 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
                 count: 0,
             });
         }
+        let channels = settings.knots.channels();
+        let past_outputs = settings.method.past_outputs();
+        if p * (channels + usize::from(past_outputs)) < f {
+            return Err(Error::TooFewInstruments {
+                f,
+                p,
+                channels,
+                past_outputs,
+            });
+        }
         settings.mu0.validate()?;
         // Validated before anything is reset, so an error leaves the identifier unchanged.
         let lambda = checked_forgetting(match settings.forgetting {
@@ -339,7 +349,15 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         }
         let offset = self.mu0.unwrap_or_default();
         let centred = matches!(self.settings.mu0, MuZero::Estimate);
-        let proj = pi_moesp(&self.acc, knots, basis, lay, centred, ws)?;
+        let proj = pi_moesp(
+            &self.acc,
+            knots,
+            basis,
+            lay,
+            centred,
+            S::OUTPUT_ROUNDING,
+            ws,
+        )?;
         let n = select_order(self.settings.order, &proj, lay)?;
         let mu0 = if centred {
             let (mean_z, mean_y) = self.acc.weighted_means();

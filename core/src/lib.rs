@@ -17,7 +17,8 @@ pub mod scalar;
 pub mod subspace;
 
 pub use accumulation::{
-    Accumulator, Carries, Compensated, Entry, Lagged, OutputCarry, Plain, RowSums, Summation,
+    Accumulator, Carries, Compensated, Entry, Lagged, OutputCarry, OutputRounding, Plain, RowSums,
+    Summation,
 };
 pub use checkpoint::{
     CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, compensated_checkpoint_capacity,

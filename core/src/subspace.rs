@@ -14,9 +14,11 @@
 //! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
 
 use crate::MAX_HORIZON;
-use crate::accumulation::{Accumulator, RowSums};
+use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, cholesky_packed, dot, householder_qr, packed, packed_len, svd_small};
+use crate::linalg::{
+    Small, all_finite, cholesky_packed, dot, householder_qr, packed, packed_len, svd_small,
+};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 
@@ -159,14 +161,71 @@ impl Layout {
     pub const fn cache(&self) -> usize {
         2 * self.block() * self.fm()
     }
-    /// Scratch for the QR/least-squares steps.
+    /// Scratch of the projection's QR of `L₃₂ᵀ` (`w × f`): the matrix, then `f` reflector
+    /// scalars.
+    pub const fn qr_parts(&self) -> (usize, usize) {
+        (self.w() * self.f, self.f)
+    }
+    /// Scratch of `U₂` for order `n`: `Γ_f` (`f × n`), `n` reflector scalars, a vector of `f`.
+    pub const fn u2_parts(&self, n: usize) -> (usize, usize, usize) {
+        (self.f * n, n, self.f)
+    }
+    /// Scratch of the shift invariance for order `n`: `Γ_under`, `Γ_over` (`(f−1) × n` each),
+    /// `n` reflector scalars.
+    pub const fn shift_parts(&self, n: usize) -> (usize, usize, usize) {
+        let g = (self.f - 1) * n;
+        (g, g, n)
+    }
+    /// Scratch of the `[D; B]` least squares for order `n`: the `f(f−n) × (n+1)` matrix, the
+    /// `f(f−n) × m` right-hand sides (then the solution), `n + 1` reflector scalars.
+    pub const fn bd_parts(&self, n: usize) -> (usize, usize, usize) {
+        let rows = self.f * (self.f - n);
+        (rows * (n + 1), rows * self.m, n + 1)
+    }
+    /// Scratch of the rank-1 split of the `(n+1) × m` solution, placed after the
+    /// [`bd_parts`](Self::bd_parts) (whose solution it reads): a copy of the matrix (or its
+    /// transpose), `min(n+1, m)` reflector scalars and a vector of `max(n+1, m)`.
+    pub const fn split_len(&self, n: usize) -> usize {
+        let r = n + 1;
+        let (lo, hi) = if r < self.m { (r, self.m) } else { (self.m, r) };
+        r * self.m + lo + hi
+    }
+    /// Scratch of γ for order `n`: `I − A` (`n × n`), the right-hand side and `n` reflector
+    /// scalars.
+    pub const fn gain_parts(&self, n: usize) -> (usize, usize, usize) {
+        (n * n, n, n)
+    }
+    /// Scratch for the QR/least-squares steps: the largest of the step sizes above over every
+    /// order `1 <= n < f` (the slicing in the solve uses the same functions).
     pub const fn scratch(&self) -> usize {
-        let (f, m) = (self.f, self.m);
-        let a = self.w() * f + f;
-        let b = f * f * (f + m + 1) + f;
-        let c = m * f + m + f;
-        let ab = if a > b { a } else { b };
-        if ab > c { ab } else { c }
+        let (x, tau) = self.qr_parts();
+        let mut need = x + tau;
+        let mut n = 1;
+        while n < self.f {
+            let (a, b, c) = self.u2_parts(n);
+            let u2 = a + b + c;
+            let (a, b, c) = self.shift_parts(n);
+            let shift = a + b + c;
+            let (a, b, c) = self.bd_parts(n);
+            let bd = a + b + c + self.split_len(n);
+            let (a, b, c) = self.gain_parts(n);
+            let gain = a + b + c;
+            let mut step = u2;
+            if shift > step {
+                step = shift;
+            }
+            if bd > step {
+                step = bd;
+            }
+            if gain > step {
+                step = gain;
+            }
+            if step > need {
+                need = step;
+            }
+            n += 1;
+        }
+        need
     }
     /// Whole workspace.
     pub const fn total(&self) -> usize {
@@ -329,10 +388,20 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     basis: Basis,
     lay: Layout,
     centred: bool,
+    output_rounding: OutputRounding,
     ws: &mut [T],
 ) -> Result<Projection<T>, Error> {
     let (f, m) = (lay.f, lay.m);
     let (fm, q, pm, d, w) = (lay.fm(), lay.q(), lay.p * m, lay.d(), lay.w());
+    if w < f {
+        // Refused by `Identifier::new`; kept here so that no layout can index past the QR.
+        return Err(Error::TooFewInstruments {
+            f,
+            p: lay.p,
+            channels: m,
+            past_outputs: lay.method.past_outputs(),
+        });
+    }
     let (lff, rest) = ws.split_at_mut(lay.lff());
     let (schur, rest) = rest.split_at_mut(lay.schur());
     let (wgram, rest) = rest.split_at_mut(lay.wgram());
@@ -341,7 +410,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
-    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass.
+    // 1. G_{Z_f Z_f} and G_{QQ} (Q = [Z_p; Ȳ_f]) in one pass. Both must be finite: an
+    // overflow of the sums (y² above the scalar's range) is reported as such, before any
+    // factorisation (a non-finite cross block G_{Z_f Q} shows in the Schur complement).
     for_each_entry(
         acc,
         knots,
@@ -360,8 +431,32 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             }
         },
     );
+    if !all_finite(lff) || !all_finite(schur) {
+        return Err(Error::Overflow { stage: Stage::Sums });
+    }
+    // Rounding floors of the rows that may be singular (Ȳ_p, Ȳ_f): their raw Gram diagonals
+    // times the relative rounding level of the sums and of the factorisations.
+    let j_eff = acc.effective_columns().to_f64();
+    // `level` for the input sums (always recursive) and anything that mixes them in,
+    // `level_y` for what only the sums of products with the output carry.
+    let level = rounding_level::<T>(j_eff, d + q);
+    let level_y = match output_rounding {
+        OutputRounding::Recursive => level,
+        OutputRounding::Compensated => rounding_level::<T>(4.0, d + q),
+    };
+    // `q − pm = py + f <= p + f <= K` rows.
+    let mut floor = [T::zero(); K];
+    for (i, fl) in floor.iter_mut().enumerate().take(q - pm) {
+        let r = pm + i;
+        *fl = level * schur[packed(r, r)].abs();
+    }
+    let floor = &floor[..(q - pm).min(K)];
+    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
+    for (r, g) in scratch.iter_mut().enumerate().take(q) {
+        *g = schur[packed(r, r)].abs();
+    }
     let tol = T::EPS * T::of_usize(8 * (d + q));
-    cholesky_packed(lff, fm, fm, tol).map_err(|_| Error::RankDeficient {
+    cholesky_packed(lff, fm, fm, tol, &[]).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
 
@@ -404,16 +499,57 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         }
     }
 
+    if !all_finite(schur) || !all_finite(bf) {
+        return Err(Error::Overflow { stage: Stage::Sums });
+    }
     // 4. Cholesky of S: Z_p rows must be positive definite; Ȳ_p and Ȳ_f rows may be singular
     // (noise-free data).
-    cholesky_packed(schur, q, pm, tol).map_err(|_| Error::RankDeficient {
+    cholesky_packed(schur, q, pm, tol, floor).map_err(|_| Error::RankDeficient {
         stage: Stage::InputHankel,
     })?;
     let j = acc.columns();
+    // Rounding level of the residual L₃₃L₃₃ᵀ = S₃₃ − L₃₂L₃₂ᵀ, row by row: the row's own
+    // (level · raw diagonal), plus what L₃₂ inherits from the pivots d_i of the instruments:
+    // d_i² carries an error of level · g_i (g_i its raw diagonal), so column i of L₃₂ a
+    // relative error of level · g_i / d_i², and the row's residual 2 Σ_i L₃₂[r,i]² times that.
+    // Past outputs that the inputs nearly explain (high SNR) have small pivots and make this
+    // large where the row leans on them. Besides, each entry L₃₂[r,i] carries an absolute
+    // rounding error of about level · √(g_r g_i) / d_i, which looks like noise to the
+    // whitening: its floor for L₃₃'s row is also the residual that noise of that size would
+    // leave (dof/w times the mean squared error of the row). Below `res_floor` a residual is
+    // rounding (the CVA weighting is then singular), below `white_floor` the whitening
+    // cannot tell noise from rounding.
+    let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
+    let per_col = T::of(dof / w as f64);
+    let mut res_floor = [T::zero(); MAX_HORIZON];
+    let mut white_floor = [T::zero(); MAX_HORIZON];
+    for (r, (v, wf)) in res_floor
+        .iter_mut()
+        .zip(white_floor.iter_mut())
+        .enumerate()
+        .take(f)
+    {
+        let row = packed(w + r, 0);
+        let gr = scratch[w + r];
+        let (mut e, mut noise) = (T::zero(), T::zero());
+        for i in 0..w {
+            let d = schur[packed(i, i)];
+            if d > T::zero() {
+                let l = schur[row + i] / d;
+                e += (l + l) * l * scratch[i];
+                noise += gr * scratch[i] / (d * d);
+            }
+        }
+        // The row's own diagonal and the cross products are output sums; the pivots d_i
+        // come from the input sums.
+        *v = level_y * gr + level * e;
+        *wf = v.max(level_y * level_y * noise * per_col);
+    }
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
-    let (x, tau) = scratch.split_at_mut(w * f);
+    let (x, tau) = scratch.split_at_mut(lay.qr_parts().0);
+    let tau = &mut tau[..lay.qr_parts().1];
     let load_l32 = |x: &mut [T]| {
         for i in 0..f {
             let row = packed(w + i, 0);
@@ -441,25 +577,24 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         }
     }
     // With forgetting, the weighted Gram has the weight of j_eff = Σλ^i columns.
-    let j_eff = acc.effective_columns().to_f64();
     let sqrt_j = T::of(libm::sqrt(j_eff));
     let (gamma, sv) = match lay.method {
         Method::Cva => {
-            // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ.
+            // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ. The weighting is
+            // its inverse square root: a pivot at the rounding level of its row (noise-free
+            // data: Ȳ_f Π⊥ has rank n) would turn rounding into canonical correlations.
             let gram = rt * rt.transpose() + l33 * l33.transpose();
-            let lyy = small_cholesky(&gram, f).ok_or(Error::RankDeficient {
-                stage: Stage::Projection,
+            let lyy = small_cholesky(&gram, f, &res_floor).ok_or(Error::RankDeficient {
+                stage: Stage::CvaWeighting,
             })?;
             let wtd = lower_solve(&lyy, &rt, f);
-            let (u, s, _) = svd_small(wtd).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(wtd, f, Stage::Projection, false)?;
             let t = lyy * u;
             (scale_columns(t, &s, f, T::one()), s)
         }
         Method::N4sid => {
             // O = L₃₂ L₂₂⁻¹ L_W, L_W the Cholesky factor of the instruments' Gram W_p W_pᵀ.
-            cholesky_packed(wgram, w, pm, tol).map_err(|_| Error::RankDeficient {
+            cholesky_packed(wgram, w, pm, tol, floor).map_err(|_| Error::RankDeficient {
                 stage: Stage::InputHankel,
             })?;
             load_l32(x);
@@ -482,9 +617,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 }
             }
             let ot = r_transposed(x, tau);
-            let (u, s, _) = svd_small(ot).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(ot, f, Stage::Projection, false)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -492,9 +625,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             (scale_columns(u, &s, f, T::one()), sv)
         }
         Method::PiMoesp | Method::PoMoesp => {
-            let (u, s, _) = svd_small(rt).ok_or(Error::NoConvergence {
-                stage: Stage::Projection,
-            })?;
+            let (u, s, _) = svd_small(rt, f, Stage::Projection, false)?;
             let mut sv = s;
             for v in sv.iter_mut() {
                 *v /= sqrt_j;
@@ -504,19 +635,15 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     };
 
     // 6. Whitened singular values of L₃₂: √((j − d)/w) · L₃₃⁻¹ Rᵀ, with L₃₃'s diagonal
-    // floored at √ε·‖L₃₂‖ so that noise-free data do not divide by zero.
-    let norm = rt.iter().fold(T::zero(), |a, &v| a.max(v.abs()));
-    let floor = T::EPS.sqrt() * norm;
+    // floored at the rounding level of its row (a residual below it is rounding, not noise;
+    // noise-free data then do not divide by zero, and rounding does not pass for a state).
     let mut l33f = l33;
-    for i in 0..f {
-        l33f[(i, i)] = l33f[(i, i)].max(floor);
+    for (i, &fl) in white_floor.iter().enumerate().take(f) {
+        l33f[(i, i)] = l33f[(i, i)].max(fl.sqrt());
     }
     let wh = lower_solve(&l33f, &rt, f);
-    let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
     let scale = T::of(libm::sqrt(dof / w as f64));
-    let (_, sw, _) = svd_small(wh).ok_or(Error::NoConvergence {
-        stage: Stage::Projection,
-    })?;
+    let (_, sw, _) = svd_small(wh, f, Stage::Projection, false)?;
     let mut sv_white = [T::zero(); MAX_HORIZON];
     for i in 0..f {
         sv_white[i] = sw[i] * scale;
@@ -531,6 +658,15 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     })
 }
 
+/// Relative rounding level of the Gram entries and of what is computed from them, for sums
+/// over `j` (effective) columns and factorisations of dimension `dim`: recursive summation
+/// leaves a relative error of about `ε·√j` in each sum, the Schur complement and the
+/// Cholesky factorisation about `ε·dim` more. A residual variance below this level times
+/// its row's Gram diagonal cannot be told from rounding.
+fn rounding_level<T: Real>(j: f64, dim: usize) -> T {
+    T::EPS * T::of(libm::sqrt(j.max(1.0)) + libm::sqrt(dim as f64))
+}
+
 /// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
 fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale: T) -> Small<T> {
     for (c, &sc) in s.iter().enumerate().take(f) {
@@ -542,8 +678,9 @@ fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale
     t
 }
 
-/// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix.
-fn small_cholesky<T: Real>(a: &Small<T>, n: usize) -> Option<Small<T>> {
+/// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix;
+/// `None` if a pivot is not above `floor[i]` (zero where `floor` is shorter).
+fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<T>> {
     let mut l = Small::<T>::zeros();
     for i in 0..n {
         for j in 0..=i {
@@ -552,7 +689,8 @@ fn small_cholesky<T: Real>(a: &Small<T>, n: usize) -> Option<Small<T>> {
                 s -= l[(i, k)] * l[(j, k)];
             }
             if i == j {
-                let ok = s > T::zero() && s.finite();
+                let fl = floor.get(i).copied().unwrap_or_default();
+                let ok = s > fl.max(T::zero()) && s.finite();
                 if !ok {
                     return None;
                 }

@@ -25,8 +25,8 @@ use hsid::{
 };
 use proptest::prelude::*;
 use proptest_common::{
-    Id, K, M, PwlSwitch, Tally, all_finite, check_model, fix_checksums, knot_vector, known_bugs,
-    outcome_bits, plant, run_cases, settings_end, table1,
+    Id, K, M, PwlSwitch, Tally, all_finite, check_model, enough_instruments, fix_checksums,
+    knot_vector, outcome_bits, plant, run_cases, settings_end, table1,
 };
 
 /// Cases per property and scalar type.
@@ -176,8 +176,14 @@ fn solve_bits<T: Real, const MM: usize, const KK: usize>(
 
 fn round_trip<T: Real>(st: State, tally: &Tally) -> Result<(), TestCaseError> {
     let s = st.settings::<T>();
-    if known_bugs::solve_panics(&s) {
-        tally.count("skipped: known panic in solve");
+    if !enough_instruments(&s) {
+        // Refused by `new` (`TooFewInstruments`; the oracle of `proptest_config.rs`).
+        let refused = matches!(
+            Identifier::<T, M, K>::new(s.clone()),
+            Err(Error::TooFewInstruments { .. })
+        );
+        prop_assert!(refused, "not refused with TooFewInstruments");
+        tally.count("settings refused: too few instruments");
         return Ok(());
     }
     let data = st.record(&s);
@@ -229,10 +235,6 @@ fn exercise<T: Real, const MM: usize, const KK: usize>(
     tally: &Tally,
 ) -> Result<(), TestCaseError> {
     let s = id.settings().clone();
-    if known_bugs::solve_panics(&s) {
-        tally.count("restored: known panic in solve, not solved");
-        return Ok(());
-    }
     let mut ws = vec![T::zero(); id.workspace_len().min(1 << 20)];
     match id.solve(&mut ws) {
         Ok(m) => {

@@ -21,7 +21,7 @@ use hsid::{
 };
 use proptest::prelude::*;
 use proptest_common::{
-    Id, K, Lti, M, Tally, check_model, check_solve_error, known_bugs, outcome_bits, plant,
+    Id, K, Lti, M, Tally, check_model, check_solve_error, enough_instruments, outcome_bits, plant,
     run_cases,
 };
 
@@ -379,6 +379,20 @@ fn settings_claim_holds<T: Real>(s: &Settings<T, M>, e: &Error) -> Result<(), Te
             prop_assert_eq!(ef, f);
             prop_assert!(order == 0 || order >= f);
         }
+        Error::TooFewInstruments {
+            f: ef,
+            p: ep,
+            channels,
+            past_outputs,
+        } => {
+            prop_assert_eq!((ef, ep), (f, p));
+            prop_assert_eq!(channels, s.knots.channels());
+            prop_assert_eq!(past_outputs, s.method != Method::PiMoesp);
+            prop_assert!(!enough_instruments(s));
+            let msg = e.to_string();
+            let says = msg.contains(&format!("f = {f}")) && msg.contains("raise p");
+            prop_assert!(says, "{}", msg);
+        }
         Error::HoldTooShort { len, settle } => {
             prop_assert_eq!(s.mu0, MuZero::Hold { len, settle });
             prop_assert!(settle >= len);
@@ -425,7 +439,7 @@ fn settings_valid<T: Real>(s: &Settings<T, M>) -> bool {
             lambda > T::zero() && lambda <= T::one() && lambda.finite()
         }
     };
-    horizon && order && mu0 && forgetting
+    horizon && order && enough_instruments(s) && mu0 && forgetting
 }
 
 fn property<T: Real>(spec: KnotSpec, r: Rest, tally: &Tally) -> Result<(), TestCaseError> {
@@ -505,10 +519,6 @@ fn property<T: Real>(spec: KnotSpec, r: Rest, tally: &Tally) -> Result<(), TestC
     prop_assert_eq!(id.fault(), None);
     prop_assert_eq!(id.samples(), data.len() as u64);
 
-    if known_bugs::solve_panics(&s) {
-        tally.count("skipped: known panic in solve");
-        return Ok(());
-    }
     // 4. Solve with the recommended workspace; then with another size.
     let mut ws = vec![T::zero(); id.workspace_len()];
     let out = id.solve(&mut ws);

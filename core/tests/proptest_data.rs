@@ -17,8 +17,8 @@ mod proptest_common;
 use hsid::{Basis, Error, Forgetting, Knots, Method, MuZero, Order, Real, Settings, Signal};
 use proptest::prelude::*;
 use proptest_common::{
-    Id, K, Lti, M, PwlSwitch, Tally, check_model, check_solve_error, knot_vector, known_bugs,
-    outcome_bits, plant, run_cases,
+    Id, K, Lti, M, PwlSwitch, Tally, check_model, check_solve_error, enough_instruments,
+    knot_vector, outcome_bits, plant, run_cases,
 };
 
 /// Cases per scalar type.
@@ -387,9 +387,18 @@ fn property<T: Real>(
         tally.count("knots collapse in this precision");
         return Ok(());
     };
+    if !enough_instruments(&s) {
+        // Refused by `new` (`TooFewInstruments`; the oracle of `proptest_config.rs`).
+        let refused = matches!(
+            Id::<T>::new(s.clone()),
+            Err(Error::TooFewInstruments { .. })
+        );
+        prop_assert!(refused, "not refused with TooFewInstruments");
+        tally.count("settings refused: too few instruments");
+        return Ok(());
+    }
     let mut id = Id::<T>::new(s.clone())
         .map_err(|e| TestCaseError::fail(format!("valid settings refused: {e}")))?;
-    let panics = known_bugs::solve_panics(&s);
     let data = record(&c, &s, c.hold() + n, seed, &ops);
     // The fault appears at the first bad sample and never changes.
     let mut seen: Option<Error> = None;
@@ -408,10 +417,6 @@ fn property<T: Real>(
     }
     prop_assert_eq!(id.fault(), expected_fault(&s, &data));
     prop_assert_eq!(id.samples(), data.len() as u64);
-    if panics && id.fault().is_none() {
-        tally.count("skipped: known panic in solve");
-        return Ok(());
-    }
     let mut ws = vec![T::zero(); id.workspace_len()];
     let out = id.solve(&mut ws);
     match (&out, id.fault()) {

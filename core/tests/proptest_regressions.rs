@@ -1,9 +1,7 @@
-//! Minimal, deterministic cases of the contract violations the property tests found (see
-//! `proptest_common::known_bugs`, whose predicates keep the properties away from them until
-//! they are fixed). Each test states the input, what happens and what should.
-//!
-//! These tests fail until the core is fixed; delete the matching `known_bugs` predicate with
-//! the fix so that the properties cover the region again.
+//! Minimal, deterministic cases of the contract violations the property tests found, one test
+//! per defect, each stating the input, what used to happen and what happens now. They were
+//! fixed; the properties cover their regions again (no region is skipped), and these tests keep
+//! the fixes from regressing. `docs/reliability.md` lists them with the fixes.
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 mod proptest_common;
@@ -62,35 +60,80 @@ fn solve<const MM: usize, const KK: usize>(
     no_panic("solve", || id.solve(&mut ws))
 }
 
-/// `solve` indexes past the QR scratch when the instruments have fewer rows than `f`
-/// (`p·m < f`; here m = 2, f = 3, p = 1): "index out of bounds" in `subspace.rs`. It should
-/// return a typed error (or refuse the settings in `new`: `p·m >= f` is needed for `n` up to
-/// `f − 1`).
+/// `solve` indexed past the QR scratch when the instruments had fewer rows than `f`
+/// (`p·m < f`; here m = 2, f = 3, p = 1): "index out of bounds" in `subspace.rs`. The settings
+/// are now refused by `new` with `TooFewInstruments`, which names f, p and m and what to
+/// change; with past outputs (every weighting but PI-MOESP) the instruments have `p·(m + 1)`
+/// rows. Where the rule allows the settings, the same record solves without panicking.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn solve_with_fewer_instrument_rows_than_f_does_not_panic() {
     let knots = Knots::<f64, 6>::uniform(-3.0, 3.0, 1, 1).unwrap();
-    let mut id =
-        Identifier::<f64, 6, 8>::new(Settings::new(knots, 3, 1, MuZero::Known(0.0))).unwrap();
-    for (u, y) in record(300, 1) {
-        id.push(u, y);
+    let data = record(300, 1);
+    for method in [Method::PiMoesp, Method::PoMoesp, Method::N4sid, Method::Cva] {
+        for (f, p) in [(3, 1), (2, 1), (4, 1), (5, 2), (4, 2), (6, 2), (7, 1)] {
+            let mut s = Settings::new(knots.clone(), f, p, MuZero::Known(0.0));
+            s.method = method;
+            let per = 2 + usize::from(method != Method::PiMoesp);
+            match Identifier::<f64, 6, 8>::new(s) {
+                Err(e) => {
+                    assert!(p * per < f, "{method:?} f = {f}, p = {p}: refused: {e}");
+                    assert_eq!(
+                        e,
+                        Error::TooFewInstruments {
+                            f,
+                            p,
+                            channels: 2,
+                            past_outputs: method != Method::PiMoesp
+                        }
+                    );
+                    let msg = e.to_string();
+                    let want = format!("raise p to at least {}", f.div_ceil(per));
+                    assert!(
+                        msg.contains(&format!("f = {f}")) && msg.contains(&want),
+                        "{msg}"
+                    );
+                }
+                Ok(mut id) => {
+                    assert!(p * per >= f, "{method:?} f = {f}, p = {p} accepted");
+                    for &(u, y) in &data {
+                        id.push(u, y);
+                    }
+                    let _ = solve(&id);
+                }
+            }
+        }
     }
-    let _ = solve(&id);
 }
 
 /// With one channel (`Knots::shared(&[-3.0, 3.0])`) and `f = 2`, the rank-1 split's scratch
-/// (`B_f`, `f²·m` = 4 scalars) is shorter than the `(n+1)·m + m + n + 1` = 5 it needs:
-/// "range end index 2 out of range for slice of length 1" in `estimation.rs`.
+/// was `B_f` (`f²·m` = 4 scalars), shorter than the `(n+1)·m + m + n + 1` = 5 it needs:
+/// "range end index 2 out of range for slice of length 1" in `estimation.rs`. The split now
+/// has its own part of the scratch, sized by the formula the slicing uses. Here: it solves
+/// (one channel, `f = 2` and other small sizes), and on noise-free data of the exact model
+/// class (a linear static map, a first-order plant with pole 0.5) the pole is right.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn rank_one_split_with_one_channel_does_not_panic() {
-    let knots = Knots::<f64, 6>::shared(&[-3.0, 3.0]).unwrap();
-    let mut id =
-        Identifier::<f64, 6, 8>::new(Settings::new(knots, 2, 2, MuZero::Estimate)).unwrap();
-    for (u, y) in record(300, 2) {
-        id.push(u, y);
+    let k = [-3.0, 3.0];
+    let knots = Knots::<f64, M>::shared(&k).unwrap();
+    for (f, p) in [(2, 2), (2, 3), (3, 3), (2, 6)] {
+        let mut s = Settings::new(knots.clone(), f, p, MuZero::Estimate);
+        s.order = Order::Fixed(1);
+        let mut id = Id::<f64>::new(s).unwrap();
+        let mut sw = PwlSwitch::new(k.to_vec(), vec![0.3, 1.5], k.to_vec(), vec![0.3, 1.5]);
+        let mut plant = Lti::new(1, 0.5, 0.0, false, 0.0, 0.0);
+        for _ in 0..400 {
+            plant.step(0.3);
+        }
+        for (u, y) in table1(&knots, 0, 600, 7, &mut sw, &mut plant) {
+            id.push(u, y);
+        }
+        let m = solve(&id).unwrap_or_else(|e| panic!("f = {f}, p = {p}: {e}"));
+        assert!(
+            (m.a(0, 0) - 0.5).abs() < 1e-8,
+            "f = {f}, p = {p}: A = {}",
+            m.a(0, 0)
+        );
     }
-    let _ = solve(&id);
 }
 
 /// Regression: `Knots::uniform(-3, 3, 1, 6)` with capacity 6 used to truncate the descending
@@ -156,25 +199,55 @@ fn mismatched_ends_name_the_mismatching_knot() {
 }
 
 /// In `f32`, outputs of magnitude 1e20 (finite, accepted by `push`) overflow the lagged sums
-/// (`y² > f32::MAX`), and `solve` reports `NoConvergence { stage: Projection }` ("no
-/// convergence within the iteration bound at the projection O_f") — the cause is the
-/// overflow. It should say so (e.g. a fault at the sample whose product overflowed, or an
-/// error naming the overflow and suggesting to scale `y` or use `f64`).
+/// (`y² > f32::MAX`); `solve` reported `NoConvergence { stage: Projection }` ("no convergence
+/// within the iteration bound at the projection O_f"). It now checks the sums before any
+/// factorisation and returns `Overflow { stage: Sums }`, whose message names the overflow and
+/// says to scale `y` or use `f64`. The same data scaled to 1e15 (squares within range) solve,
+/// and in `f64` the 1e20 record solves too, to the same pole as the unscaled one.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn overflowing_sums_are_reported_as_such() {
     let knots = Knots::<f32, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
-    let mut id =
-        Identifier::<f32, 6, 8>::new(Settings::new(knots, 3, 3, MuZero::Known(0.0))).unwrap();
-    for (u, y) in record(400, 3) {
-        id.push(u as f32, (y * 1e20) as f32);
-    }
-    let e = solve_f32(&id).unwrap_err();
+    let run = |scale: f64| {
+        let mut s = Settings::new(knots.clone(), 3, 3, MuZero::Known(0.0));
+        s.order = Order::Fixed(1);
+        let mut id = Identifier::<f32, 6, 8>::new(s).unwrap();
+        for (u, y) in record(400, 3) {
+            id.push(u as f32, (y * scale) as f32);
+        }
+        solve_f32(&id)
+    };
+    let e = run(1e20).unwrap_err();
+    assert_eq!(
+        e,
+        Error::Overflow {
+            stage: hsid::Stage::Sums
+        }
+    );
     let msg = e.to_string();
     assert!(
-        !matches!(e, Error::NoConvergence { .. })
-            && (msg.contains("overflow") || msg.contains("large")),
-        "{e:?}: {msg}"
+        msg.contains("overflow") && msg.contains("scale y") && msg.contains("f64"),
+        "{msg}"
+    );
+    let small = run(1e15).unwrap();
+    let knots64 = Knots::<f64, 6>::uniform(-3.0, 3.0, 2, 2).unwrap();
+    let pole = |scale: f64| {
+        let mut s = Settings::new(knots64.clone(), 3, 3, MuZero::Known(0.0));
+        s.order = Order::Fixed(1);
+        let mut id = Identifier::<f64, 6, 8>::new(s).unwrap();
+        for (u, y) in record(400, 3) {
+            id.push(u, y * scale);
+        }
+        solve(&id).unwrap().a(0, 0)
+    };
+    let (p1, p20) = (pole(1.0), pole(1e20));
+    assert!(
+        (p20 - p1).abs() < 1e-9,
+        "f64: pole {p20} at 1e20, {p1} at 1"
+    );
+    assert!(
+        (f64::from(small.a(0, 0)) - p1).abs() < 1e-3,
+        "f32 at 1e15: pole {} (f64 {p1})",
+        small.a(0, 0)
     );
 }
 
@@ -184,12 +257,13 @@ fn solve_f32(id: &Identifier<f32, 6, 8>) -> Result<hsid::Model<f32, 6>, Error> {
 }
 
 /// CVA on exactly noise-free data (ramp basis, f = p = 3, one segment per path, a
-/// first-order plant with a small feed-through) returns `Ok` with `A = 1.187` (the true pole is
-/// 0.1) and `P_a(4) = -2.87` (true 1.163): a silently wrong model. CVA's weighting
-/// `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` is undefined without noise; it should return a typed error there
-/// (as it does for the hat basis: the canonical correlations are all ≈ 1).
+/// first-order plant with a small feed-through) returned `Ok` with `A = 1.187` (the true pole
+/// is 0.1) and `P_a(4) = -2.87` (true 1.163): a silently wrong model. CVA's weighting
+/// `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` is undefined without noise (the residual of Ȳ_f has rank n): the
+/// solve now compares the pivots of `Ȳ_f Π⊥ Ȳ_fᵀ` with the rounding level of the residual
+/// and returns `RankDeficient { stage: CvaWeighting }`, whose message says to use PI-MOESP;
+/// PI-MOESP on the same data gives the true model.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn cva_on_noise_free_data_is_not_silently_wrong() {
     let mu0 = 0.559_244_191_709_063_6;
     let truth = [mu0, mu0 + 0.603_576_311_149_058_3];
@@ -216,28 +290,60 @@ fn cva_on_noise_free_data_is_not_silently_wrong() {
     ) {
         id.push(u, y);
     }
-    if let Ok(m) = solve(&id) {
-        let got = m.border_values(Direction::Ascending)[1];
-        assert!(
-            (got - truth[1]).abs() < 0.05 && (m.a(0, 0) - 0.1).abs() < 0.05,
-            "CVA returned a wrong model: A = {}, P_a(4) = {got} (true 0.1, {})",
-            m.a(0, 0),
-            truth[1]
-        );
+    let e = solve(&id).unwrap_err();
+    assert_eq!(
+        e,
+        Error::RankDeficient {
+            stage: hsid::Stage::CvaWeighting
+        }
+    );
+    let msg = e.to_string();
+    assert!(
+        msg.contains("noise-free") && msg.contains("PI-MOESP"),
+        "{msg}"
+    );
+    let mut s = id.settings().clone();
+    s.method = Method::PiMoesp;
+    let mut pi = Id::<f64>::new(s).unwrap();
+    let mut sw = PwlSwitch::new(k.to_vec(), truth.to_vec(), k.to_vec(), vec![mu0, mu0 - 0.2]);
+    let mut plant = Lti::new(1, 0.1, 0.0, false, 0.0, 0.0);
+    plant.b = [-0.002_854_993_264_283_388, 0.902_854_993_264_283_4, 0.0];
+    for _ in 0..400 {
+        plant.step(mu0);
     }
+    for (u, y) in table1(
+        &knots,
+        0,
+        1081,
+        15_029_245_326_058_622_124,
+        &mut sw,
+        &mut plant,
+    ) {
+        pi.push(u, y);
+    }
+    let m = solve(&pi).unwrap();
+    let got = m.border_values(Direction::Ascending)[1];
+    assert!(
+        (got - truth[1]).abs() < 1e-8 && (m.a(0, 0) - 0.1).abs() < 1e-8,
+        "PI-MOESP: A = {}, P_a(4) = {got} (true 0.1, {})",
+        m.a(0, 0),
+        truth[1]
+    );
 }
 
-/// In `f32` the automatic order over-counts at high SNR: a first-order plant, PI-MOESP, one
+/// In `f32` the automatic order over-counted at high SNR: a first-order plant, PI-MOESP, one
 /// segment per path, f = p = 4, 1,543 samples after a hold, white noise of standard deviation
-/// 1e-4 on outputs of order 0.3 (about 70 dB): `f64` finds n = 1 in 50 runs of 50, `f32` in
-/// about 30 (the whitened noise-floor values are inflated by rounding of the Gram; with
-/// past outputs among the instruments — PO-MOESP, N4SID, CVA — it happens at 1e-3 too).
-/// At 1e-2 and 1e-6 `f32` is right. The noise floor of the whitening should account for the
-/// rounding of the accumulated sums.
+/// 1e-4 on outputs of order 0.3 (about 70 dB): `f64` found n = 1 in 50 runs of 50, `f32` in
+/// 27 (rounding in the Schur complement made residual pivots of L₃₃ tiny, and the whitening
+/// divided by them; with past outputs among the instruments it happened at 1e-3 too). The
+/// whitening now floors each row of L₃₃ at the rounding level of its residual (the sums'
+/// relative error ε(√j + √dim) times the row's raw Gram diagonal, plus what L₃₂ inherits
+/// from small pivots of the instruments), and the semi-definite rows of the Cholesky drop
+/// pivots below the same level. Here: 50 of 50 in `f32` for PI-MOESP at 1e-4 and every
+/// weighting at 1e-3 and 1e-6 (CVA may refuse, never over-count).
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn f32_automatic_order_at_high_snr() {
-    fn order<T: Real>(seed: u64) -> usize {
+    fn order<T: Real>(seed: u64, method: Method, noise: f64) -> Result<usize, Error> {
         let k = [-2.0, 4.0];
         let kt = [T::of(-2.0), T::of(4.0)];
         let knots = Knots::<T, M>::new(&kt, &kt).unwrap();
@@ -251,6 +357,7 @@ fn f32_automatic_order_at_high_snr() {
             },
         );
         s.basis = Basis::Ramp;
+        s.method = method;
         let mut id = Id::<T>::new(s).unwrap();
         let mut sw = PwlSwitch::new(k.to_vec(), vec![0.0, 0.63], k.to_vec(), vec![0.0, 0.2]);
         let mut plant = Lti::new(1, -0.05, 0.0, false, 0.0, 0.0);
@@ -266,22 +373,51 @@ fn f32_automatic_order_at_high_snr() {
             r = r
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
-            let e = ((r >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1e-4 * 12f64.sqrt();
+            let e = ((r >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * noise * 12f64.sqrt();
             id.push(u, y + T::of(e));
         }
         let mut ws = vec![T::zero(); id.workspace_len()];
-        id.solve(&mut ws).map(|m| m.order()).unwrap_or(0)
+        id.solve(&mut ws).map(|m| m.order())
     }
-    let (mut right32, mut right64) = (0, 0);
-    for seed in 0..50 {
-        right64 += usize::from(order::<f64>(seed) == 1);
-        right32 += usize::from(order::<f32>(seed) == 1);
+    let cases = [
+        (Method::PiMoesp, 1e-4),
+        (Method::PiMoesp, 1e-6),
+        (Method::PoMoesp, 1e-3),
+        (Method::N4sid, 1e-3),
+        (Method::Cva, 1e-3),
+        (Method::PoMoesp, 1e-6),
+        (Method::N4sid, 1e-6),
+        (Method::Cva, 1e-6),
+    ];
+    for (method, noise) in cases {
+        let (mut right32, mut right64, mut refused32) = (0, 0, 0);
+        for seed in 0..50 {
+            right64 += usize::from(order::<f64>(seed, method, noise) == Ok(1));
+            match order::<f32>(seed, method, noise) {
+                Ok(n) => {
+                    assert_eq!(n, 1, "{method:?} at {noise}, seed {seed}: f32 order {n}");
+                    right32 += 1;
+                }
+                Err(e) => {
+                    // CVA may find its weighting singular to rounding in f32; nothing else
+                    // may refuse these data.
+                    assert!(
+                        method == Method::Cva
+                            && e == Error::RankDeficient {
+                                stage: hsid::Stage::CvaWeighting
+                            },
+                        "{method:?} at {noise}, seed {seed}: {e}"
+                    );
+                    refused32 += 1;
+                }
+            }
+        }
+        println!("{method:?} at {noise}: f32 {right32} right, {refused32} refused; f64 {right64}");
+        assert_eq!(right64, 50, "{method:?} at {noise}");
+        if method != Method::Cva {
+            assert_eq!(right32, 50, "{method:?} at {noise}");
+        }
     }
-    assert_eq!(right64, 50);
-    assert!(
-        right32 >= 48,
-        "f32 found the true order in {right32} runs of 50 (f64: {right64})"
-    );
 }
 
 /// A checkpoint whose checksums are valid but whose sample counters are impossible was
@@ -333,15 +469,13 @@ fn a_non_finite_known_mu0_is_named() {
     assert!(msg.contains("mu0") || msg.contains("μ0"), "{e:?}: {msg}");
 }
 
-/// Exactly noise-free data from the exact model class: `A` comes out exact (1e-16) but `D`
-/// (and with it `B` and the borders) is off by 1.2e-2 for f = 3, p = 2 and 1,372 samples (and
-/// exact for f = 2, p = 1 or 5,000 samples); with output noise of 1e-12 the error is still
-/// 5e-4, with 1e-9 it is 5e-7. The host reference implementation shows the same on other
-/// cases, so it is the formulation's sensitivity on data without a noise floor, not the
-/// streaming. A robustness observation rather than a broken guarantee (the model is finite
-/// and `G(1) = 1`): ignored by default.
+/// Exactly noise-free data from the exact model class: `A` came out exact (1e-16) but `D`
+/// (and with it `B` and the borders) was off by 1.2e-2 for f = 3, p = 2 and 1,372 samples.
+/// The least squares for `[D; B]` was right; the error came from the rank-1 split, whose
+/// 2 × 2 SVD (nalgebra's bidiagonal SVD, σ₂/σ₁ ≈ 1e-14) returned a first left singular
+/// vector off by 2e-2 (nalgebra issue #1172). The small SVDs are now one-sided Jacobi, which
+/// computes small singular values and their vectors to high relative accuracy: `D` is 4e-15.
 #[test]
-#[ignore = "numerical sensitivity of B, D on exactly noise-free data (see the doc comment)"]
 fn noise_free_b_and_d_do_not_depend_on_rounding() {
     let mu0 = -0.929_702_026_786_703_9;
     let k = [-2.0, 4.0];
@@ -371,7 +505,12 @@ fn noise_free_b_and_d_do_not_depend_on_rounding() {
     }
     let m = solve(&id).unwrap();
     assert!((m.a(0, 0) + 0.05).abs() < 1e-12);
-    assert!(m.d().abs() < 1e-8, "D = {} (true 0)", m.d());
+    assert!(m.d().abs() < 1e-12, "D = {} (true 0)", m.d());
+    let want = [mu0, mu0 + 0.455_710_346_569_417_4];
+    let got = m.border_values(Direction::Descending);
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() < 1e-10, "P_d {got:?} (true {want:?})");
+    }
 }
 
 /// The record of a reconstruction-property case: knots rounded to `T`, the switch with
@@ -423,12 +562,15 @@ fn case_solve<T: Real>(
 }
 
 /// `f32` CVA at about 30 dB (noise 1e-2) — ramp basis, f = 4, p = 3, 3 + 1 segments, a
-/// first-order plant with feed-through — returns `Ok` with Markov parameters off by 34 and
-/// borders by 0.9 from the `f64` model on the same data, which is right. (Elsewhere it refuses
-/// with `RankDeficient` data that `f64` identifies.) It should agree with `f64` to the
-/// README's `f32` tolerance (5e-3 in the ramp basis), or refuse.
+/// first-order plant with feed-through — returned `Ok` with Markov parameters off by 34 and
+/// borders by 0.9 from the `f64` model on the same data, which is right. Cause: the past
+/// outputs are nearly explained by the inputs (small pivots of `L₂₂`), so `L₃₂` inherits the
+/// rounding of the `f32` sums amplified by `g_i / d_i²`, and `L₃₃² = S₃₃ − L₃₂L₃₂ᵀ` loses
+/// the residual: two canonical correlations came out ≥ 1 (1.0002, 1.0000001; `f64`: 0.9999,
+/// 0.139). The solve now estimates that rounding level row by row and refuses the CVA
+/// weighting below it (`RankDeficient { CvaWeighting }`); PI-MOESP, PO-MOESP and N4SID on the
+/// same `f32` data agree with `f64`.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn f32_cva_is_not_silently_wrong() {
     let mut plant = Lti::new(1, -0.403_720_715_923_295_4, 0.0, false, 0.0, 0.0);
     plant.b = [-1.147_893_918_945_150_2, 2.551_614_634_868_445_6, 0.0];
@@ -460,21 +602,35 @@ fn f32_cva_is_not_silently_wrong() {
         1_912_530_314_475_897_714,
         1e-2,
     );
-    let m64 = case_solve::<f64>(k64, 4, 3, Method::Cva, 1, 0.0, &data).unwrap();
-    if let Ok(m32) = case_solve::<f32>(k32, 4, 3, Method::Cva, 1, 0.0, &data) {
+    let m64 = case_solve::<f64>(k64.clone(), 4, 3, Method::Cva, 1, 0.0, &data).unwrap();
+    if let Ok(m32) = case_solve::<f32>(k32.clone(), 4, 3, Method::Cva, 1, 0.0, &data) {
         for k in 0..10 {
             let (a, b) = (f64::from(m32.markov(k)), m64.markov(k));
             assert!((a - b).abs() < 5e-3 * 2.6, "h_{k}: f32 {a}, f64 {b}");
+        }
+    }
+    for method in [Method::PiMoesp, Method::PoMoesp, Method::N4sid] {
+        let m32 = case_solve::<f32>(k32.clone(), 4, 3, method, 1, 0.0, &data).unwrap();
+        let m64 = case_solve::<f64>(k64.clone(), 4, 3, method, 1, 0.0, &data).unwrap();
+        for k in 0..10 {
+            let (a, b) = (f64::from(m32.markov(k)), m64.markov(k));
+            assert!(
+                (a - b).abs() < 5e-3 * 3.1,
+                "{method:?} h_{k}: f32 {a}, f64 {b}"
+            );
         }
     }
 }
 
 /// `f32` PO-MOESP on exactly noise-free data (the only noise is the rounding of `y` to
 /// `f32`) — ramp basis, f = 3, p = 5, 3 + 3 segments, a second-order plant with poles 0.6
-/// and 0.43 — returns `Ok` with `A` of trace 0.93 and determinant 0.154 (true 1.045 and
-/// 0.258); `f64` is exact. It should be within the model's accuracy or refuse.
+/// and 0.43 — returned `Ok` with `A` of trace 0.93 and determinant 0.154 (true 1.045 and
+/// 0.258). Cause: the past outputs given the inputs have rank n = 2 without noise, and the
+/// Cholesky kept pivots of rounding size (> 0) for the dependent rows, whose columns of
+/// `L₃₂` were rounding divided by rounding. Pivots of the rows that may be singular are now
+/// dropped below the rounding level of their row (ε(√j + √dim) times the raw Gram diagonal);
+/// the model is within 1e-4 of the truth.
 #[test]
-#[ignore = "open defect found by the property tests; see the closing note"]
 fn f32_past_outputs_on_noise_free_data_are_not_silently_wrong() {
     let plant = {
         let mut p = Lti::new(2, 0.6, 0.43, false, 0.0, 0.0);
@@ -513,13 +669,37 @@ fn f32_past_outputs_on_noise_free_data_are_not_silently_wrong() {
         11_799_099_120_192_055_641,
         0.0,
     );
-    if let Ok(m) = case_solve::<f32>(k32, 3, 5, Method::PoMoesp, 2, mu0, &data) {
-        let a = |i, j| f64::from(m.a(i, j));
-        let (tr, det) = (a(0, 0) + a(1, 1), a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
+    let m = case_solve::<f32>(k32, 3, 5, Method::PoMoesp, 2, mu0, &data).unwrap();
+    let a = |i, j| f64::from(m.a(i, j));
+    let (tr, det) = (a(0, 0) + a(1, 1), a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0));
+    assert!(
+        (tr - 1.044_614_202_564_286).abs() < 1e-4 && (det - 0.257_636_882_516_072_25).abs() < 1e-4,
+        "trace {tr}, det {det} (true 1.0446, 0.2576)"
+    );
+}
+
+/// The rounding floors of the rows that may be singular (past and future outputs, `p + f`
+/// of them with past outputs) are held in an array of the block-row capacity `K`: a past
+/// horizon with `p + f` beyond `2·MAX_HORIZON` (here p = 24, f = 12, K = 36) solves without
+/// indexing past it, for every weighting.
+#[test]
+fn long_past_horizons_with_past_outputs_do_not_panic() {
+    let knots = Knots::<f64, 2>::uniform(-3.0, 3.0, 1, 1).unwrap();
+    let data = record(3000, 5);
+    for method in [Method::PiMoesp, Method::PoMoesp, Method::N4sid, Method::Cva] {
+        let mut s = Settings::new(knots.clone(), 12, 24, MuZero::Known(0.0));
+        s.method = method;
+        s.order = Order::Fixed(1);
+        let mut id = Box::new(Identifier::<f64, 2, 36>::new(s).unwrap());
+        for &(u, y) in &data {
+            id.push(u, y);
+        }
+        let r = solve(&id);
         assert!(
-            (tr - 1.044_614_202_564_286).abs() < 0.02
-                && (det - 0.257_636_882_516_072_25).abs() < 0.02,
-            "trace {tr}, det {det} (true 1.0446, 0.2576)"
+            matches!(&r, Ok(m) if (m.a(0, 0) - 0.5).abs() < 0.2)
+                || matches!(r, Err(Error::RankDeficient { .. })),
+            "{method:?}: {:?}",
+            r.map(|m| m.a(0, 0))
         );
     }
 }

@@ -3,7 +3,9 @@
 //! of `solve` must pass.
 #![allow(dead_code, clippy::panic)]
 
-use hsid::{Basis, Direction, Error, Excitation, Identifier, Knots, Model, MuZero, Real};
+use hsid::{
+    Basis, Direction, Error, Excitation, Identifier, Knots, Method, Model, MuZero, Real, Settings,
+};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed};
 use rand_core::SeedableRng;
@@ -400,6 +402,29 @@ pub fn check_solve_error<T: Real>(
             let peak = excitation_of(samples, s.mu0.hold_len(), &s.knots, s.basis, path, knot);
             prop_assert!(peak < 1e-3, "{e}: but the channel reached {peak}");
         }
+        Error::Overflow { .. } => {
+            // Only sums of squares beyond the scalar's range overflow: some |y − μ0| (or the
+            // interval, in the ramp basis) must be at least √(MAX / (64·j)).
+            let s = id.settings();
+            let mu0 = id.mu0().map_or(0.0, |v| v.to_f64());
+            let big = samples
+                .iter()
+                .skip(s.mu0.hold_len())
+                .map(|&(_, y)| (y.to_f64() - mu0).abs().max(y.to_f64().abs()))
+                .fold((s.knots.u_max() - s.knots.u_min()).to_f64(), f64::max);
+            let j = id.accumulator().count().max(1) as f64;
+            let max = if T::BYTES == 4 {
+                f64::from(f32::MAX)
+            } else {
+                f64::MAX
+            };
+            let floor = (max / (64.0 * j)).sqrt();
+            prop_assert!(big >= floor, "{e}: but the largest value is {big:e}");
+        }
+        Error::UnstableModel { spectral_radius } => {
+            prop_assert!(id.accumulator().count() >= id.min_samples());
+            prop_assert!(spectral_radius >= 1.0, "{e}");
+        }
         Error::RankDeficient { .. }
         | Error::NoConvergence { .. }
         | Error::NoDynamics
@@ -522,55 +547,10 @@ pub fn fix_checksums(bytes: &mut [u8], scalar: usize) {
     }
 }
 
-/// Regions of the input space where the core currently breaks its contract. Each has a
-/// deterministic, failing test in `proptest_regressions.rs`; the properties skip these regions
-/// (and count the skips) so that they keep guarding everything else. Delete a predicate when
-/// its bug is fixed.
-pub mod known_bugs {
-    use hsid::{Method, Real, Settings};
-
-    /// Rows of the instruments `W_p`: `p·m`, plus `p` with past outputs.
-    fn instrument_rows<T: Real, const MM: usize>(s: &Settings<T, MM>) -> usize {
-        let m = s.knots.channels();
-        s.p * m + if s.method == Method::PiMoesp { 0 } else { s.p }
-    }
-
-    /// `solve` panics (index out of bounds) when the instruments have fewer rows than `f`
-    /// (`subspace.rs`, reading `Rᵀ` of the QR of the `w × f` matrix `L₃₂ᵀ`), and in the
-    /// rank-1 split when `m = 1` and `f = 2` (`estimation.rs`, `dominant_triple`'s scratch is
-    /// `B_f`, `f²·m` = 4 scalars for the 5 it needs).
-    pub fn solve_panics<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
-        instrument_rows(s) < s.f || (s.knots.channels() == 1 && s.f == 2)
-    }
-
-    /// On exactly noise-free data `B` and `D` (so the Markov parameters and the borders)
-    /// depend on rounding: errors up to 1e-2 in `f64` and 0.1 in `f32` while `A` is exact
-    /// (the host reference shows the same, so it is the method's formulation, not the
-    /// streaming). With 1e-6 noise they are accurate to 1e-7.
-    pub fn exact_data_bd(noisy: bool) -> bool {
-        !noisy
-    }
-
-    /// In `f32`, CVA at 30–40 dB SNR sometimes returns a wrong model (Markov parameters off by
-    /// 34, borders by 0.9, where `f64` on the same data is right) or refuses the data
-    /// (`RankDeficient`) that `f64` identifies.
-    pub fn f32_cva<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
-        T::BYTES == 4 && s.method == Method::Cva
-    }
-
-    /// In `f32`, with past outputs among the instruments (PO-MOESP, N4SID, CVA), exactly
-    /// noise-free data (SNR limited by the rounding of `y` to `f32`) can give `Ok` with wrong
-    /// poles (trace of `A` 0.93 for 1.045); at 60–80 dB the automatic order over-counts (see
-    /// `f32_automatic_order_at_high_snr`).
-    pub fn f32_exact_past_outputs<T: Real, const MM: usize>(
-        s: &Settings<T, MM>,
-        noisy: bool,
-    ) -> bool {
-        T::BYTES == 4 && s.method != Method::PiMoesp && !noisy
-    }
-
-    /// CVA on exactly noise-free data can return `Ok` with a wrong, unstable model.
-    pub fn cva_exact<T: Real, const MM: usize>(s: &Settings<T, MM>, noisy: bool) -> bool {
-        s.method == Method::Cva && !noisy
-    }
+/// The documented rule of `Error::TooFewInstruments`: the instruments have `p·m` rows, plus `p`
+/// rows of past outputs for every weighting but PI-MOESP, and need at least `f`.
+pub fn enough_instruments<T: Real, const MM: usize>(s: &Settings<T, MM>) -> bool {
+    let m = s.knots.channels();
+    let rows = s.p * m + if s.method == Method::PiMoesp { 0 } else { s.p };
+    rows >= s.f
 }
