@@ -130,6 +130,25 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         .expect("input delay added");
     assert_eq!(delay.model.structure.delay, d.dead_time.extra());
     assert!(delay.error_after < delay.error_before);
+    // One input_delay candidate: the dead-time test's delay replaces the screen's, whose
+    // settings stay listed as tried.
+    assert!(
+        delay
+            .competitors
+            .iter()
+            .all(|(e, _, _)| *e != Effect::InputDelay),
+        "{:?}",
+        delay.competitors
+    );
+    assert!(
+        delay
+            .tried
+            .iter()
+            .any(|(l, _)| l.contains("dead-time test"))
+            && delay.tried.len() >= 2,
+        "{:?}",
+        delay.tried
+    );
     // The coast-down (direction dependence) and the quantisation are reported as found but
     // not in the catalog.
     let found: Vec<&String> = d
@@ -139,6 +158,14 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         .collect();
     assert!(found.iter().any(|u| u.contains("direction")), "{found:?}");
     assert!(found.iter().any(|u| u.contains("quantised")), "{found:?}");
+    // The verdict names them as found outside the catalog, not as tests no effect explains.
+    assert!(
+        d.verdict
+            .contains("found, not in the catalog: the residual depends on the direction")
+            && d.verdict.contains("the output is quantised"),
+        "{}",
+        d.verdict
+    );
     // Quantisation and the staircase input are reported by the data checks.
     for check in ["output_quantisation", "input_levels"] {
         assert!(d.warnings.iter().any(|w| w.check == check), "{check}");

@@ -721,6 +721,8 @@ fn diagnose_inner(
     let mut unexplained = Vec::new();
     let mut previous_validation = before.clone();
     let mut final_tests: Option<TestSet> = None;
+    // Whether the loop ended because no extension passed the inner validation.
+    let mut no_candidate = false;
     for _ in 0..opts.max_steps {
         let ev = model::evaluate(&model, &est, hold..ne, Metric::Simulation);
         let tests = residual_tests(&model, &est, hold..ne, &ev, shared);
@@ -779,11 +781,18 @@ fn diagnose_inner(
                 let (gain, p_value) = effects::compare(&baseline, &ev);
                 let (_, worse_p) = effects::compare(&ev, &baseline);
                 if worse_p >= residual::LEVEL {
+                    // One input_delay candidate: the dead-time test's delay replaces the one
+                    // the screen proposed (whose settings stay listed as tried).
+                    let mut tried = Vec::new();
+                    if let Some(i) = cands.iter().position(|c| c.effect == Effect::InputDelay) {
+                        tried = cands.remove(i).tried;
+                    }
+                    tried.push((format!("d = {} (dead-time test)", dead.extra()), ev.rmse));
                     cands.push(effects::Candidate {
                         effect: Effect::InputDelay,
                         structure: s,
                         inner_model: m,
-                        tried: vec![(format!("d = {} (dead-time test)", dead.extra()), ev.rmse)],
+                        tried,
                         evaluation: ev,
                         gain,
                         p_value,
@@ -881,6 +890,7 @@ fn diagnose_inner(
                 ));
             }
             final_tests = Some(tests);
+            no_candidate = true;
             break;
         };
         let c = cands[ci].clone();
@@ -993,16 +1003,27 @@ fn diagnose_inner(
                 "the noise model is the last step; on the simulation residual tests still fire ({}) that no deterministic catalog effect explained",
                 fired.join(", ")
             )
-        } else if unexplained.is_empty() {
-            format!(
-                "the step limit was reached with tests still firing ({})",
-                fired.join(", ")
-            )
-        } else {
+        } else if no_candidate {
             format!(
                 "tests still fire ({}) and no further catalog effect explains them",
                 fired.join(", ")
             )
+        } else {
+            format!(
+                "the step limit was reached with tests still firing ({})",
+                fired.join(", ")
+            )
+        };
+        // Effects found outside the catalog are named, not counted as unexplained tests.
+        let outside: Vec<&str> = unexplained
+            .iter()
+            .filter_map(|u| u.strip_prefix("found, not in the catalog: "))
+            .filter_map(|u| u.split(" (").next())
+            .collect();
+        let rest = if outside.is_empty() {
+            rest
+        } else {
+            format!("{rest}; found, not in the catalog: {}", outside.join("; "))
         };
         let last_metric = match steps.last().map(|s| s.metric) {
             Some(Metric::Prediction) => " (the last in one-step prediction)",
