@@ -11,6 +11,7 @@ use heapless::Vec;
 
 use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
+use crate::identifier::Poles;
 use crate::linalg::{Small, apply_q, householder_qr, least_squares, spectral_radius, svd_small};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
@@ -49,6 +50,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     knots: &Knots<T, M>,
     basis: Basis,
     mu0: Mu0<T, M>,
+    poles: Poles,
 ) -> Result<Model<T, M>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
@@ -113,7 +115,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // The paper's G is stable: a pole on or outside the unit circle (an integrating plant, a
     // drift) leaves G(1) undefined or meaningless, and γ would rescale the model by it.
     let rho = spectral_radius(&a, n);
-    if rho >= 1.0 || rho.is_nan() {
+    if rho.is_nan() || (poles == Poles::Stable && rho >= 1.0) {
         return Err(Error::UnstableModel {
             spectral_radius: rho,
         });

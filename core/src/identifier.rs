@@ -33,6 +33,18 @@ pub struct Settings<T, const M: usize> {
     pub forgetting: Forgetting<T>,
 }
 
+/// What the solve accepts as the identified linear part ([`Identifier::solve_with`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Poles {
+    /// Only a stable `A` (spectral radius below 1); anything else is
+    /// [`Error::UnstableModel`]. What [`Identifier::solve`] does.
+    #[default]
+    Stable,
+    /// Any `A` with `I − A` invertible, for a caller that refines the poles afterwards.
+    Any,
+}
+
 /// How the accumulation weighs old samples.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -305,8 +317,19 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     /// The final solve: PI-MOESP, order, `A`/`C`, `B`/`D`, rank-1 split and γ. The
     /// accumulated statistics are left untouched, so more samples can follow and the solve
     /// can be repeated. `ws` is caller-owned scratch of at least
-    /// [`workspace_len`](Self::workspace_len) scalars.
+    /// [`workspace_len`](Self::workspace_len) scalars. An identified `A` with a pole on or
+    /// outside the unit circle is [`Error::UnstableModel`] (the paper's `G` is stable); see
+    /// [`solve_with`](Self::solve_with) for a caller that refines the poles afterwards.
     pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M>, Error> {
+        self.solve_with(ws, Poles::Stable)
+    }
+
+    /// [`solve`](Self::solve) with a choice of what to do with an unstable `A`: on short or
+    /// noisy records of a slow plant the subspace estimate of a pole near 1 can land just
+    /// outside the unit circle; a caller that refines the model afterwards (on the
+    /// simulation error, say) takes it with [`Poles::Any`] and checks stability itself.
+    /// `G(1) = 1` still needs `I − A` invertible: a pole at 1 is [`Error::IntegratingModel`].
+    pub fn solve_with(&self, ws: &mut [T], poles: Poles) -> Result<Model<T, M>, Error> {
         if let Some(e) = self.fault {
             return Err(e);
         }
@@ -369,6 +392,6 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         } else {
             Mu0::Known(offset)
         };
-        estimate(&proj, n, lay, ws, knots, basis, mu0)
+        estimate(&proj, n, lay, ws, knots, basis, mu0, poles)
     }
 }

@@ -27,7 +27,7 @@ pub use checkpoint::{
 pub use error::{Error, KnotEnd, Signal, Stage};
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
-pub use identifier::{Forgetting, Identifier, Settings};
+pub use identifier::{Forgetting, Identifier, Poles, Settings};
 pub use model::{Model, ModelState};
 pub use regressor::{Basis, Direction, Knots, Located};
 pub use scalar::Real;

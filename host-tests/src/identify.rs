@@ -39,6 +39,9 @@ pub struct IdentifyOptions {
     pub static_nonlinearity: bool,
     /// Subspace weighting.
     pub method: hsid::Method,
+    /// What the solve accepts as the linear part: a stable `A` only (the default), or any
+    /// (for a caller that refines the poles afterwards; see [`hsid::Identifier::solve_with`]).
+    pub poles: hsid::Poles,
 }
 
 impl IdentifyOptions {
@@ -66,6 +69,7 @@ impl IdentifyOptions {
             basis: Basis::Hat,
             static_nonlinearity: false,
             method: hsid::Method::PiMoesp,
+            poles: hsid::Poles::Stable,
         }
     }
 
@@ -244,7 +248,7 @@ fn run<const M: usize, const K: usize>(
         id.push(ui, yi);
     }
     let mut ws = vec![0.0; id.workspace_len()];
-    let m = id.solve(&mut ws)?;
+    let m = id.solve_with(&mut ws, opts.poles)?;
     let n = m.order();
     Ok(HostModel {
         order: n,

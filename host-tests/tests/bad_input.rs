@@ -17,7 +17,7 @@ use std::sync::OnceLock;
 
 use hsid::{
     Basis, Direction, Error, Excitation, Identifier, KnotEnd, Knots, Method, Model, MuZero, Order,
-    Settings, Signal, Stage,
+    Poles, Settings, Signal, Stage,
 };
 use hsid_host::identify::{IdentifyError, IdentifyOptions, identify};
 use hsid_host::paper::{Case, Experiment, PaperConfig, experiment};
@@ -626,7 +626,22 @@ fn integrating_plant() {
     let (u, y) = through(plant, 0.0);
     let mut s = settings();
     s.order = Order::Fixed(2);
-    let (_, r) = run(s.clone(), &u, &y);
+    let (id, r) = run(s.clone(), &u, &y);
+    // `solve_with(Poles::Any)` returns the unstable estimate for a caller that refines it:
+    // the same spectral radius that `solve` refuses.
+    let mut ws = vec![0.0; id.workspace_len()];
+    let any = id.solve_with(&mut ws, Poles::Any).unwrap();
+    let (tr, det) = (
+        any.a(0, 0) + any.a(1, 1),
+        any.a(0, 0) * any.a(1, 1) - any.a(0, 1) * any.a(1, 0),
+    );
+    let disc = tr * tr / 4.0 - det;
+    let rho_any = if disc >= 0.0 {
+        (tr / 2.0).abs() + disc.sqrt()
+    } else {
+        det.sqrt()
+    };
+    assert!(rho_any >= 1.0, "spectral radius {rho_any} with Poles::Any");
     let err = match r {
         Ok(m) => {
             let (tr, det) = (
@@ -650,6 +665,10 @@ fn integrating_plant() {
     assert!(
         (spectral_radius - 1.0).abs() < 0.05,
         "spectral radius {spectral_radius}"
+    );
+    assert!(
+        (spectral_radius - rho_any).abs() < 1e-9,
+        "{spectral_radius} vs {rho_any}"
     );
     says(&err, &["pole of modulus", ">= 1", "stable G"]);
     // A stable neighbour: (1 − 0.95 q⁻¹)(1 − 0.5 q⁻¹), scaled to G(1) = 1.

@@ -1396,6 +1396,10 @@ pub fn fit_structure(
     let n = rec.len();
     let ud = delay_input(&rec.u, s.delay);
     let mut idopts = opts.identify.clone();
+    // The subspace estimate is only the start: the poles are refined on the simulation error
+    // below and a model too slow for the record is refused there, so a slow plant's pole that
+    // the subspace step puts just outside the unit circle is taken here.
+    idopts.poles = hsid::Poles::Any;
     if s.order.is_some() {
         idopts.order = s.order;
     }
