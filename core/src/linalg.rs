@@ -22,6 +22,51 @@ pub(crate) const fn packed_len(n: usize) -> usize {
     n * (n + 1) / 2
 }
 
+/// `s[i]`, or zero where `i` is out of range.
+///
+/// The solve's sizes are validated by `Identifier::new` and its workspace is carved by
+/// `Layout`, so none of these fallbacks (`at`, [`set`], [`sub`], [`sub_mut`], [`el`],
+/// [`set_el`]) ever applies; they keep every path of the solve free of bounds panics, which
+/// `examples/panic-proof` proves at link time.
+#[inline(always)]
+pub(crate) fn at<T: Copy + Default>(s: &[T], i: usize) -> T {
+    s.get(i).copied().unwrap_or_default()
+}
+
+/// `s[i] = v`, ignored where `i` is out of range (see [`at`]).
+#[inline(always)]
+pub(crate) fn set<T>(s: &mut [T], i: usize, v: T) {
+    if let Some(x) = s.get_mut(i) {
+        *x = v;
+    }
+}
+
+/// `&s[from..to]`, or an empty slice where the range is not in `s` (see [`at`]).
+#[inline(always)]
+pub(crate) fn sub<T>(s: &[T], from: usize, to: usize) -> &[T] {
+    s.get(from..to).unwrap_or(&[])
+}
+
+/// `&mut s[from..to]`, or an empty slice where the range is not in `s` (see [`at`]).
+#[inline(always)]
+pub(crate) fn sub_mut<T>(s: &mut [T], from: usize, to: usize) -> &mut [T] {
+    s.get_mut(from..to).unwrap_or(&mut [])
+}
+
+/// `m[(r, c)]`, or zero outside the matrix (see [`at`]).
+#[inline(always)]
+pub(crate) fn el<T: Real>(m: &Small<T>, r: usize, c: usize) -> T {
+    m.get((r, c)).copied().unwrap_or_default()
+}
+
+/// `m[(r, c)] = v`, ignored outside the matrix (see [`at`]).
+#[inline(always)]
+pub(crate) fn set_el<T: Real>(m: &mut Small<T>, r: usize, c: usize, v: T) {
+    if let Some(x) = m.get_mut((r, c)) {
+        *x = v;
+    }
+}
+
 /// Dot product of two equal-length slices.
 #[inline]
 pub(crate) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
@@ -58,65 +103,81 @@ pub(crate) fn cholesky_packed<T: Real>(
         let ri = packed(i, 0);
         for j in 0..=i {
             let rj = packed(j, 0);
-            let (head, row_i) = g.split_at_mut(ri);
+            let (head, row_i) = g.split_at_mut_checked(ri).unwrap_or((&mut [], &mut []));
             let s = {
-                let li = &row_i[..j];
-                let lj: &[T] = if j == i { li } else { &head[rj..rj + j] };
-                row_i[j] - dot(li, lj)
+                let li = sub(row_i, 0, j);
+                let lj: &[T] = if j == i { li } else { sub(head, rj, rj + j) };
+                at(row_i, j) - dot(li, lj)
             };
             if j == i {
-                let orig = row_i[j];
+                let orig = at(row_i, j);
                 if i < strict {
                     let positive = s > rel_tol * orig && s.finite();
                     if !positive {
                         return Err(Pivot::Deficient(i));
                     }
-                    row_i[j] = s.sqrt();
+                    set(row_i, j, s.sqrt());
                 } else {
                     let fl = floor.get(i - strict).copied().unwrap_or_default();
                     let keep = s > fl.max(T::zero());
-                    row_i[j] = if keep { s.sqrt() } else { T::zero() };
+                    set(row_i, j, if keep { s.sqrt() } else { T::zero() });
                 }
             } else {
-                let d = head[rj + j];
-                row_i[j] = if d > T::zero() { s / d } else { T::zero() };
+                let d = at(head, rj + j);
+                set(row_i, j, if d > T::zero() { s / d } else { T::zero() });
             }
         }
     }
     Ok(())
 }
 
+/// Applies the reflector `I − t v vᵀ` (`v = [1; v[1..]]`, `v[0]` not read) to `y`.
+#[inline]
+fn reflect<T: Real>(v: &[T], t: T, y: &mut [T]) {
+    let (Some((_, vt)), Some((y0, yt))) = (v.split_first(), y.split_first_mut()) else {
+        return;
+    };
+    let s = (*y0 + dot(vt, yt)) * t;
+    *y0 -= s;
+    for (yi, &vi) in yt.iter_mut().zip(vt) {
+        *yi -= s * vi;
+    }
+}
+
 /// Householder QR of the column-major `rows × cols` matrix `a` (`rows >= cols`), in place:
 /// `R` in the upper triangle, reflectors below it with scalars in `tau` (length `cols`).
 pub(crate) fn householder_qr<T: Real>(a: &mut [T], rows: usize, cols: usize, tau: &mut [T]) {
     for k in 0..cols.min(rows) {
-        let col = &mut a[k * rows..(k + 1) * rows];
-        let x = &mut col[k..];
-        let alpha = x[0];
-        let norm_tail = dot(&x[1..], &x[1..]);
+        let x = sub_mut(a, k * rows + k, (k + 1) * rows);
+        let Some((x0, tail)) = x.split_first_mut() else {
+            set(tau, k, T::zero());
+            continue;
+        };
+        let alpha = *x0;
+        let norm_tail = dot(tail, tail);
         if norm_tail == T::zero() {
-            tau[k] = T::zero();
+            set(tau, k, T::zero());
             continue;
         }
         let norm = (alpha * alpha + norm_tail).sqrt();
         let beta = if alpha >= T::zero() { -norm } else { norm };
         let v0 = alpha - beta;
-        for v in x[1..].iter_mut() {
+        for v in tail.iter_mut() {
             *v /= v0;
         }
-        x[0] = beta;
+        *x0 = beta;
         let t = (beta - alpha) / beta;
-        tau[k] = t;
+        set(tau, k, t);
         // Apply H = I - t v vᵀ (v = [1; x[1..]]) to the remaining columns.
         for c in (k + 1)..cols {
-            let (left, right) = a.split_at_mut(c * rows);
-            let v = &left[k * rows + k..(k + 1) * rows];
-            let y = &mut right[k..rows];
-            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-            y[0] -= s;
-            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-                *yi -= s * vi;
-            }
+            let (left, right) = a
+                .split_at_mut_checked(c * rows)
+                .unwrap_or((&mut [], &mut []));
+            reflect(
+                sub(left, k * rows + k, (k + 1) * rows),
+                t,
+                sub_mut(right, k, rows),
+            );
         }
     }
 }
@@ -131,18 +192,13 @@ pub(crate) fn apply_qt<T: Real>(
     nrhs: usize,
 ) {
     for k in 0..cols.min(rows) {
-        let v = &a[k * rows + k..(k + 1) * rows];
-        let t = tau[k];
+        let v = sub(a, k * rows + k, (k + 1) * rows);
+        let t = at(tau, k);
         if t == T::zero() {
             continue;
         }
         for c in 0..nrhs {
-            let y = &mut b[c * rows + k..(c + 1) * rows];
-            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-            y[0] -= s;
-            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-                *yi -= s * vi;
-            }
+            reflect(v, t, sub_mut(b, c * rows + k, (c + 1) * rows));
         }
     }
 }
@@ -150,14 +206,8 @@ pub(crate) fn apply_qt<T: Real>(
 /// Applies `Q` (from [`householder_qr`]) to the vector `x` of length `rows`.
 pub(crate) fn apply_q<T: Real>(a: &[T], rows: usize, cols: usize, tau: &[T], x: &mut [T]) {
     for k in (0..cols.min(rows)).rev() {
-        let v = &a[k * rows + k..(k + 1) * rows];
-        let t = tau[k];
-        let y = &mut x[k..rows];
-        let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-        y[0] -= s;
-        for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-            *yi -= s * vi;
-        }
+        let v = sub(a, k * rows + k, (k + 1) * rows);
+        reflect(v, at(tau, k), sub_mut(x, k, rows));
     }
 }
 
@@ -181,7 +231,7 @@ pub(crate) fn least_squares<T: Real>(
     }
     let mut scale = [T::one(); MAX_HORIZON + 1];
     for (k, sc) in scale.iter_mut().enumerate().take(cols) {
-        let col = &mut a[k * rows..(k + 1) * rows];
+        let col = sub_mut(a, k * rows, (k + 1) * rows);
         // By the largest entry first, so that the squares cannot overflow.
         let big = col.iter().fold(T::zero(), |m, v| m.max(v.abs()));
         if !(big > T::zero() && big.finite()) {
@@ -199,10 +249,10 @@ pub(crate) fn least_squares<T: Real>(
     householder_qr(a, rows, cols, tau);
     let mut rmax = T::zero();
     for k in 0..cols {
-        rmax = rmax.max(a[k * rows + k].abs());
+        rmax = rmax.max(at(a, k * rows + k).abs());
     }
     for k in 0..cols {
-        let d = a[k * rows + k].abs();
+        let d = at(a, k * rows + k).abs();
         let independent = d > rel_tol * rmax && d.finite();
         if !independent {
             return Err(());
@@ -210,13 +260,13 @@ pub(crate) fn least_squares<T: Real>(
     }
     apply_qt(a, rows, cols, tau, b, nrhs);
     for c in 0..nrhs {
-        let x = &mut b[c * rows..c * rows + cols];
+        let x = sub_mut(b, c * rows, c * rows + cols);
         for i in (0..cols).rev() {
-            let mut s = x[i];
+            let mut s = at(x, i);
             for j in (i + 1)..cols {
-                s -= a[j * rows + i] * x[j];
+                s -= at(a, j * rows + i) * at(x, j);
             }
-            x[i] = s / a[i * rows + i];
+            set(x, i, s / at(a, i * rows + i));
         }
         for (v, &sc) in x.iter_mut().zip(&scale) {
             *v /= sc;
@@ -273,7 +323,7 @@ pub(crate) fn svd_small<T: Real>(
             for q in (p + 1)..n {
                 let (mut alpha, mut beta, mut gamma) = (T::zero(), T::zero(), T::zero());
                 for i in 0..n {
-                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
+                    let (ap, aq) = (el(&a, i, p), el(&a, i, q));
                     alpha += ap * ap;
                     beta += aq * aq;
                     gamma += ap * aq;
@@ -292,15 +342,15 @@ pub(crate) fn svd_small<T: Real>(
                 let c = T::one() / (T::one() + t * t).sqrt();
                 let s = c * t;
                 for i in 0..n {
-                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
-                    a[(i, p)] = c * ap - s * aq;
-                    a[(i, q)] = s * ap + c * aq;
+                    let (ap, aq) = (el(&a, i, p), el(&a, i, q));
+                    set_el(&mut a, i, p, c * ap - s * aq);
+                    set_el(&mut a, i, q, s * ap + c * aq);
                 }
                 if want_v {
                     for i in 0..n {
-                        let (vp, vq) = (v[(i, p)], v[(i, q)]);
-                        v[(i, p)] = c * vp - s * vq;
-                        v[(i, q)] = s * vp + c * vq;
+                        let (vp, vq) = (el(&v, i, p), el(&v, i, q));
+                        set_el(&mut v, i, p, c * vp - s * vq);
+                        set_el(&mut v, i, q, s * vp + c * vq);
                     }
                 }
             }
@@ -328,11 +378,11 @@ pub(crate) fn svd_small<T: Real>(
     for i in 0..n {
         let mut k = i;
         for j in (i + 1)..n {
-            if s[j] > s[k] {
+            if at(&s, j) > at(&s, k) {
                 k = j;
             }
         }
-        if k != i {
+        if k != i && k < n {
             s.swap(i, k);
             a.swap_columns(i, k);
             v.swap_columns(i, k);
