@@ -322,6 +322,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 /// dimension `ld` in `x`. Returns `(s₁, s₂, u (n+1), v (m))` (`s₂` the second singular value,
 /// 0 for a single row or column); `buf` is scratch of at least
 /// `m·(n+1) + m + n + 1` scalars (`err` if it is shorter).
+#[inline(always)]
 fn dominant_triple<T: Real, const M: usize>(
     x: &[T],
     ld: usize,

@@ -286,6 +286,18 @@ pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
     m.iter().all(|v| v.finite())
 }
 
+/// The first `n` rows of columns `p < q` of `m`, both mutable (empty outside the matrix).
+fn columns<T: Real>(m: &mut Small<T>, p: usize, q: usize, n: usize) -> (&mut [T], &mut [T]) {
+    let (left, right) = m
+        .as_mut_slice()
+        .split_at_mut_checked(q * MAX_HORIZON)
+        .unwrap_or((&mut [], &mut []));
+    (
+        sub_mut(left, p * MAX_HORIZON, p * MAX_HORIZON + n),
+        sub_mut(right, 0, n),
+    )
+}
+
 /// Sweeps of the one-sided Jacobi SVD before [`Error::NoConvergence`]: it converges
 /// quadratically, in 5–10 sweeps for the matrices of the solve.
 pub(crate) const JACOBI_SWEEPS: usize = 64;
@@ -322,8 +334,8 @@ pub(crate) fn svd_small<T: Real>(
         for p in 0..n {
             for q in (p + 1)..n {
                 let (mut alpha, mut beta, mut gamma) = (T::zero(), T::zero(), T::zero());
-                for i in 0..n {
-                    let (ap, aq) = (el(&a, i, p), el(&a, i, q));
+                let (cp, cq) = columns(&mut a, p, q, n);
+                for (&ap, &aq) in cp.iter().zip(cq.iter()) {
                     alpha += ap * ap;
                     beta += aq * aq;
                     gamma += ap * aq;
@@ -341,16 +353,13 @@ pub(crate) fn svd_small<T: Real>(
                 };
                 let c = T::one() / (T::one() + t * t).sqrt();
                 let s = c * t;
-                for i in 0..n {
-                    let (ap, aq) = (el(&a, i, p), el(&a, i, q));
-                    set_el(&mut a, i, p, c * ap - s * aq);
-                    set_el(&mut a, i, q, s * ap + c * aq);
+                for (ap, aq) in cp.iter_mut().zip(cq.iter_mut()) {
+                    (*ap, *aq) = (c * *ap - s * *aq, s * *ap + c * *aq);
                 }
                 if want_v {
-                    for i in 0..n {
-                        let (vp, vq) = (el(&v, i, p), el(&v, i, q));
-                        set_el(&mut v, i, p, c * vp - s * vq);
-                        set_el(&mut v, i, q, s * vp + c * vq);
+                    let (vp, vq) = columns(&mut v, p, q, n);
+                    for (vp, vq) in vp.iter_mut().zip(vq.iter_mut()) {
+                        (*vp, *vq) = (c * *vp - s * *vq, s * *vp + c * *vq);
                     }
                 }
             }

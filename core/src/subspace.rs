@@ -397,10 +397,24 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
         }
     });
     for x in out.chunks_exact_mut(fm.max(1)).take(width) {
-        for i in 0..fm {
-            let row = packed(i, 0);
-            let s = at(x, i) - dot(sub(lff, row, row + i), sub(x, 0, i));
-            set(x, i, s / at(lff, row + i));
+        forward_substitution(lff, x);
+    }
+}
+
+/// `x ← L⁻¹ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`.
+fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
+    let mut rows = l;
+    for i in 0..x.len() {
+        // Row i of L: i entries left of the diagonal, then the diagonal.
+        let Some((row, rest)) = rows.split_at_checked(i + 1) else {
+            return;
+        };
+        rows = rest;
+        let (Some((&d, li)), (done, todo)) = (row.split_last(), x.split_at_mut(i)) else {
+            return;
+        };
+        if let Some(xi) = todo.first_mut() {
+            *xi = (*xi - dot(li, done)) / d;
         }
     }
 }
