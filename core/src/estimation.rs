@@ -12,15 +12,24 @@ use heapless::Vec;
 use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
 use crate::identifier::Poles;
-use crate::linalg::{Small, apply_q, householder_qr, least_squares, spectral_radius, svd_small};
+use crate::linalg::{
+    Small, apply_q, at, el, householder_qr, least_squares, set, set_el, spectral_radius, svd_small,
+};
 use crate::model::Model;
 use crate::regressor::{Basis, Direction, Knots};
 use crate::scalar::Real;
-use crate::subspace::{Layout, Projection};
+use crate::subspace::{Layout, Projection, too_small};
 
 /// Relative rank tolerance of the small least-squares problems.
 fn rank_tol<T: Real>(dim: usize) -> T {
     T::EPS * T::of_usize(64 * dim.max(1))
+}
+
+/// The first `len` scalars of `rest`, which keeps the others; `err` if it is shorter.
+fn take<'a, T>(rest: &mut &'a mut [T], len: usize, err: Error) -> Result<&'a mut [T], Error> {
+    let (head, tail) = core::mem::take(rest).split_at_mut_checked(len).ok_or(err)?;
+    *rest = tail;
+    Ok(head)
 }
 
 /// Where μ0 comes from in the final model.
@@ -54,37 +63,45 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 ) -> Result<Model<T, M>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
-    let rest = &mut ws[lay.lff() + lay.schur() + lay.wgram()..];
-    let (bf, rest) = rest.split_at_mut(lay.bf());
-    let scratch = &mut rest[lay.cache()..];
+    // Both refused by `Identifier::new` (and `n` by `select_order`); kept here so that no
+    // order can index past the small matrices.
+    if !(2..=MAX_HORIZON).contains(&f) {
+        return Err(Error::InvalidHorizon { f, k: f + lay.p });
+    }
+    if n == 0 || n >= f {
+        return Err(Error::InvalidOrder { order: n, f });
+    }
+    let err = too_small(lay, ws.len());
+    let [_, _, _, bf, _, scratch] = lay.carve(ws)?;
 
     // 1. Γ_f (first n columns of the weighting's estimate), C = first row, A from
     // Γ_under A = Γ_over.
     let mut gamma = Small::<T>::zeros();
     for c in 0..n {
         for r in 0..f {
-            gamma[(r, c)] = proj.gamma[(r, c)];
+            set_el(&mut gamma, r, c, el(&proj.gamma, r, c));
         }
     }
     // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
     let mut u2 = Small::<T>::zeros();
     {
         let (lg, lt, le) = lay.u2_parts(n);
-        let (g, rest) = scratch.split_at_mut(lg);
-        let (tau, e) = rest.split_at_mut(lt);
-        let e = &mut e[..le];
+        let mut rest: &mut [T] = scratch;
+        let g = take(&mut rest, lg, err)?;
+        let tau = take(&mut rest, lt, err)?;
+        let e = take(&mut rest, le, err)?;
         for c in 0..n {
             for r in 0..f {
-                g[r + c * f] = gamma[(r, c)];
+                set(g, r + c * f, el(&gamma, r, c));
             }
         }
         householder_qr(g, f, n, tau);
         for r in 0..f - n {
             e.fill(T::zero());
-            e[n + r] = T::one();
+            set(e, n + r, T::one());
             apply_q(g, f, n, tau, e);
             for (i, &v) in e.iter().enumerate() {
-                u2[(i, r)] = v;
+                set_el(&mut u2, i, r, v);
             }
         }
     }
@@ -92,13 +109,14 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     {
         let rows = f - 1;
         let (la, lb, lt) = lay.shift_parts(n);
-        let (ga, rest) = scratch.split_at_mut(la);
-        let (gb, tau) = rest.split_at_mut(lb);
-        let tau = &mut tau[..lt];
+        let mut rest: &mut [T] = scratch;
+        let ga = take(&mut rest, la, err)?;
+        let gb = take(&mut rest, lb, err)?;
+        let tau = take(&mut rest, lt, err)?;
         for c in 0..n {
             for r in 0..rows {
-                ga[r + c * rows] = gamma[(r, c)];
-                gb[r + c * rows] = gamma[(r + 1, c)];
+                set(ga, r + c * rows, el(&gamma, r, c));
+                set(gb, r + c * rows, el(&gamma, r + 1, c));
             }
         }
         least_squares(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
@@ -108,7 +126,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         })?;
         for c in 0..n {
             for r in 0..n {
-                a[(r, c)] = gb[r + c * rows];
+                set_el(&mut a, r, c, at(gb, r + c * rows));
             }
         }
     }
@@ -122,7 +140,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     }
     let mut cvec = [T::zero(); MAX_HORIZON];
     for (c, v) in cvec.iter_mut().enumerate().take(n) {
-        *v = gamma[(0, c)];
+        *v = el(&gamma, 0, c);
     }
 
     // 2. B_f = L₃₁ L₁₁⁻¹ (f × f·m) was left in the workspace by the projection step.
@@ -137,39 +155,40 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         let mut row = cvec;
         for k in 0..f.saturating_sub(1) {
             for q in 0..n {
-                ob[(k, q)] = row[q];
+                set_el(&mut ob, k, q, at(&row, q));
             }
             let mut next = [T::zero(); MAX_HORIZON];
             for (q, nq) in next.iter_mut().enumerate().take(n) {
                 for (p, &rp) in row.iter().enumerate().take(n) {
-                    *nq += rp * a[(p, q)];
+                    *nq += rp * el(&a, p, q);
                 }
             }
             row = next;
         }
     }
     let (lk, lr, lt) = lay.bd_parts(n);
-    let (kmat, rest) = scratch.split_at_mut(lk);
-    let (rhs, rest) = rest.split_at_mut(lr);
-    let (tau, split) = rest.split_at_mut(lt);
-    let split = &mut split[..lay.split_len(n)];
+    let mut rest: &mut [T] = scratch;
+    let kmat = take(&mut rest, lk, err)?;
+    let rhs = take(&mut rest, lr, err)?;
+    let tau = take(&mut rest, lt, err)?;
+    let split = take(&mut rest, lay.split_len(n), err)?;
     for jj in 0..f {
         for r in 0..nr {
             let row = jj * nr + r;
-            kmat[row] = u2[(jj, r)];
+            set(kmat, row, el(&u2, jj, r));
             for q in 0..n {
                 let mut s = T::zero();
                 for kk in 0..(f - jj - 1) {
-                    s += u2[(jj + 1 + kk, r)] * ob[(kk, q)];
+                    s += el(&u2, jj + 1 + kk, r) * el(&ob, kk, q);
                 }
-                kmat[row + (1 + q) * rows] = s;
+                set(kmat, row + (1 + q) * rows, s);
             }
             for c in 0..m {
                 let mut s = T::zero();
                 for i in 0..f {
-                    s += u2[(i, r)] * bf[i * fm + jj * m + c];
+                    s += el(&u2, i, r) * at(bf, i * fm + jj * m + c);
                 }
-                rhs[row + c * rows] = s;
+                set(rhs, row + c * rows, s);
             }
         }
     }
@@ -181,36 +200,40 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
 
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
-    let (s1, s2, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split)?;
+    let (s1, s2, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split, err)?;
 
     // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
     let mut ia = Small::<T>::zeros();
     for r in 0..n {
         for c in 0..n {
-            ia[(r, c)] = if r == c { T::one() } else { T::zero() } - a[(r, c)];
+            let eye = if r == c { T::one() } else { T::zero() };
+            set_el(&mut ia, r, c, eye - el(&a, r, c));
         }
     }
     let mut xb = [T::zero(); MAX_HORIZON];
     {
         let (la, lb, lt) = lay.gain_parts(n);
-        let (ma, rest) = scratch.split_at_mut(la);
-        let (mb, tau) = rest.split_at_mut(lb);
-        let tau = &mut tau[..lt];
+        let mut rest: &mut [T] = scratch;
+        let ma = take(&mut rest, la, err)?;
+        let mb = take(&mut rest, lb, err)?;
+        let tau = take(&mut rest, lt, err)?;
         for r in 0..n {
-            mb[r] = uvec[1 + r];
+            set(mb, r, at(&uvec, 1 + r));
             for c in 0..n {
-                ma[r + c * n] = ia[(r, c)];
+                set(ma, r + c * n, el(&ia, r, c));
             }
         }
         least_squares(ma, n, n, mb, 1, tau, rank_tol(n)).map_err(|()| Error::IntegratingModel)?;
-        xb[..n].copy_from_slice(&mb[..n]);
+        for (x, &v) in xb.iter_mut().zip(mb.iter()).take(n) {
+            *x = v;
+        }
     }
     let ud = uvec[0];
     let mut g0 = ud;
     let mut scale = ud.abs();
-    for q in 0..n {
-        g0 += cvec[q] * xb[q];
-        scale += (cvec[q] * xb[q]).abs();
+    for (&c, &x) in cvec.iter().zip(&xb).take(n) {
+        g0 += c * x;
+        scale += (c * x).abs();
     }
     // g0 is a sum of terms of total size `scale`; the rank-1 split's relative residual
     // s₂/s₁ (zero for data of the exact model class, the estimate's noise and misfit
@@ -226,8 +249,8 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     let mut bvec = [T::zero(); MAX_HORIZON];
     let mut dc_state = [T::zero(); MAX_HORIZON];
     for q in 0..n {
-        bvec[q] = uvec[1 + q] / g0;
-        dc_state[q] = xb[q] / g0;
+        set(&mut bvec, q, at(&uvec, 1 + q) / g0);
+        set(&mut dc_state, q, at(&xb, q) / g0);
     }
     let dval = ud / g0;
     let mut coef = [T::zero(); M];
@@ -273,8 +296,12 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 
     let mut sv = [T::zero(); MAX_HORIZON];
     let mut sv_white = [T::zero(); MAX_HORIZON];
-    sv[..f].copy_from_slice(&proj.sv[..f]);
-    sv_white[..f].copy_from_slice(&proj.sv_white[..f]);
+    for (v, &p) in sv.iter_mut().zip(&proj.sv).take(f) {
+        *v = p;
+    }
+    for (v, &p) in sv_white.iter_mut().zip(&proj.sv_white).take(f) {
+        *v = p;
+    }
     Ok(Model {
         n,
         a,
@@ -296,67 +323,75 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 /// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading
 /// dimension `ld` in `x`. Returns `(s₁, s₂, u (n+1), v (m))` (`s₂` the second singular value,
 /// 0 for a single row or column); `buf` is scratch of at least
-/// `m·(n+1) + m + n + 1` scalars.
+/// `m·(n+1) + m + n + 1` scalars (`err` if it is shorter).
+#[inline(always)]
 fn dominant_triple<T: Real, const M: usize>(
     x: &[T],
     ld: usize,
     rows: usize,
     m: usize,
     buf: &mut [T],
+    err: Error,
 ) -> Result<(T, T, [T; MAX_HORIZON], [T; M]), Error> {
     let mut u = [T::zero(); MAX_HORIZON];
     let mut v = [T::zero(); M];
     if m >= rows {
         // Xᵀ = Q R (m × rows), X = Rᵀ Qᵀ, SVD(Rᵀ) = U S Wᵀ: u = U₀, v = Q W₀.
-        let (xt, rest) = buf.split_at_mut(m * rows);
-        let (tau, y) = rest.split_at_mut(rows);
+        let mut rest = buf;
+        let xt = take(&mut rest, m * rows, err)?;
+        let tau = take(&mut rest, rows, err)?;
+        let y = take(&mut rest, m, err)?;
         for q in 0..rows {
             for c in 0..m {
-                xt[c + q * m] = x[q + c * ld];
+                set(xt, c + q * m, at(x, q + c * ld));
             }
         }
         householder_qr(xt, m, rows, tau);
         let mut rt = Small::<T>::zeros();
         for i in 0..rows {
             for k in 0..=i {
-                rt[(i, k)] = xt[k + i * m];
+                set_el(&mut rt, i, k, at(xt, k + i * m));
             }
         }
         let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit, true)?;
-        let y = &mut y[..m];
         y.fill(T::zero());
         for i in 0..rows {
-            u[i] = uu[(i, 0)];
-            y[i] = w[(i, 0)];
+            set(&mut u, i, el(&uu, i, 0));
+            set(y, i, el(&w, i, 0));
         }
         apply_q(xt, m, rows, tau, y);
-        v[..m].copy_from_slice(y);
+        for (vi, &yi) in v.iter_mut().zip(y.iter()) {
+            *vi = yi;
+        }
         Ok((s[0], s[1], u, v))
     } else {
         // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.
-        let (xc, rest) = buf.split_at_mut(rows * m);
-        let (tau, y) = rest.split_at_mut(m);
+        let mut rest = buf;
+        let xc = take(&mut rest, rows * m, err)?;
+        let tau = take(&mut rest, m, err)?;
+        let y = take(&mut rest, rows, err)?;
         for q in 0..rows {
             for c in 0..m {
-                xc[q + c * rows] = x[q + c * ld];
+                set(xc, q + c * rows, at(x, q + c * ld));
             }
         }
         householder_qr(xc, rows, m, tau);
         let mut r = Small::<T>::zeros();
         for c in 0..m {
             for k in 0..=c {
-                r[(k, c)] = xc[k + c * rows];
+                set_el(&mut r, k, c, at(xc, k + c * rows));
             }
         }
         let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit, true)?;
-        let y = &mut y[..rows];
         y.fill(T::zero());
         for i in 0..m {
-            y[i] = uu[(i, 0)];
-            v[i] = w[(i, 0)];
+            set(y, i, el(&uu, i, 0));
+            set(&mut v, i, el(&w, i, 0));
         }
         apply_q(xc, rows, m, tau, y);
-        u[..rows].copy_from_slice(y);
+        for (ui, &yi) in u.iter_mut().zip(y.iter()) {
+            *ui = yi;
+        }
         Ok((s[0], s[1], u, v))
     }
 }

@@ -22,6 +22,51 @@ pub(crate) const fn packed_len(n: usize) -> usize {
     n * (n + 1) / 2
 }
 
+/// `s[i]`, or zero where `i` is out of range.
+///
+/// The solve's sizes are validated by `Identifier::new` and its workspace is carved by
+/// `Layout`, so none of these fallbacks (`at`, [`set`], [`sub`], [`sub_mut`], [`el`],
+/// [`set_el`]) ever applies; they keep every path of the solve free of bounds panics, which
+/// `examples/panic-proof` proves at link time.
+#[inline(always)]
+pub(crate) fn at<T: Copy + Default>(s: &[T], i: usize) -> T {
+    s.get(i).copied().unwrap_or_default()
+}
+
+/// `s[i] = v`, ignored where `i` is out of range (see [`at`]).
+#[inline(always)]
+pub(crate) fn set<T>(s: &mut [T], i: usize, v: T) {
+    if let Some(x) = s.get_mut(i) {
+        *x = v;
+    }
+}
+
+/// `&s[from..to]`, or an empty slice where the range is not in `s` (see [`at`]).
+#[inline(always)]
+pub(crate) fn sub<T>(s: &[T], from: usize, to: usize) -> &[T] {
+    s.get(from..to).unwrap_or(&[])
+}
+
+/// `&mut s[from..to]`, or an empty slice where the range is not in `s` (see [`at`]).
+#[inline(always)]
+pub(crate) fn sub_mut<T>(s: &mut [T], from: usize, to: usize) -> &mut [T] {
+    s.get_mut(from..to).unwrap_or(&mut [])
+}
+
+/// `m[(r, c)]`, or zero outside the matrix (see [`at`]).
+#[inline(always)]
+pub(crate) fn el<T: Real>(m: &Small<T>, r: usize, c: usize) -> T {
+    m.get((r, c)).copied().unwrap_or_default()
+}
+
+/// `m[(r, c)] = v`, ignored outside the matrix (see [`at`]).
+#[inline(always)]
+pub(crate) fn set_el<T: Real>(m: &mut Small<T>, r: usize, c: usize, v: T) {
+    if let Some(x) = m.get_mut((r, c)) {
+        *x = v;
+    }
+}
+
 /// Dot product of two equal-length slices.
 #[inline]
 pub(crate) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
@@ -58,65 +103,81 @@ pub(crate) fn cholesky_packed<T: Real>(
         let ri = packed(i, 0);
         for j in 0..=i {
             let rj = packed(j, 0);
-            let (head, row_i) = g.split_at_mut(ri);
+            let (head, row_i) = g.split_at_mut_checked(ri).unwrap_or((&mut [], &mut []));
             let s = {
-                let li = &row_i[..j];
-                let lj: &[T] = if j == i { li } else { &head[rj..rj + j] };
-                row_i[j] - dot(li, lj)
+                let li = sub(row_i, 0, j);
+                let lj: &[T] = if j == i { li } else { sub(head, rj, rj + j) };
+                at(row_i, j) - dot(li, lj)
             };
             if j == i {
-                let orig = row_i[j];
+                let orig = at(row_i, j);
                 if i < strict {
                     let positive = s > rel_tol * orig && s.finite();
                     if !positive {
                         return Err(Pivot::Deficient(i));
                     }
-                    row_i[j] = s.sqrt();
+                    set(row_i, j, s.sqrt());
                 } else {
                     let fl = floor.get(i - strict).copied().unwrap_or_default();
                     let keep = s > fl.max(T::zero());
-                    row_i[j] = if keep { s.sqrt() } else { T::zero() };
+                    set(row_i, j, if keep { s.sqrt() } else { T::zero() });
                 }
             } else {
-                let d = head[rj + j];
-                row_i[j] = if d > T::zero() { s / d } else { T::zero() };
+                let d = at(head, rj + j);
+                set(row_i, j, if d > T::zero() { s / d } else { T::zero() });
             }
         }
     }
     Ok(())
 }
 
+/// Applies the reflector `I − t v vᵀ` (`v = [1; v[1..]]`, `v[0]` not read) to `y`.
+#[inline]
+fn reflect<T: Real>(v: &[T], t: T, y: &mut [T]) {
+    let (Some((_, vt)), Some((y0, yt))) = (v.split_first(), y.split_first_mut()) else {
+        return;
+    };
+    let s = (*y0 + dot(vt, yt)) * t;
+    *y0 -= s;
+    for (yi, &vi) in yt.iter_mut().zip(vt) {
+        *yi -= s * vi;
+    }
+}
+
 /// Householder QR of the column-major `rows × cols` matrix `a` (`rows >= cols`), in place:
 /// `R` in the upper triangle, reflectors below it with scalars in `tau` (length `cols`).
 pub(crate) fn householder_qr<T: Real>(a: &mut [T], rows: usize, cols: usize, tau: &mut [T]) {
     for k in 0..cols.min(rows) {
-        let col = &mut a[k * rows..(k + 1) * rows];
-        let x = &mut col[k..];
-        let alpha = x[0];
-        let norm_tail = dot(&x[1..], &x[1..]);
+        let x = sub_mut(a, k * rows + k, (k + 1) * rows);
+        let Some((x0, tail)) = x.split_first_mut() else {
+            set(tau, k, T::zero());
+            continue;
+        };
+        let alpha = *x0;
+        let norm_tail = dot(tail, tail);
         if norm_tail == T::zero() {
-            tau[k] = T::zero();
+            set(tau, k, T::zero());
             continue;
         }
         let norm = (alpha * alpha + norm_tail).sqrt();
         let beta = if alpha >= T::zero() { -norm } else { norm };
         let v0 = alpha - beta;
-        for v in x[1..].iter_mut() {
+        for v in tail.iter_mut() {
             *v /= v0;
         }
-        x[0] = beta;
+        *x0 = beta;
         let t = (beta - alpha) / beta;
-        tau[k] = t;
+        set(tau, k, t);
         // Apply H = I - t v vᵀ (v = [1; x[1..]]) to the remaining columns.
         for c in (k + 1)..cols {
-            let (left, right) = a.split_at_mut(c * rows);
-            let v = &left[k * rows + k..(k + 1) * rows];
-            let y = &mut right[k..rows];
-            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-            y[0] -= s;
-            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-                *yi -= s * vi;
-            }
+            let (left, right) = a
+                .split_at_mut_checked(c * rows)
+                .unwrap_or((&mut [], &mut []));
+            reflect(
+                sub(left, k * rows + k, (k + 1) * rows),
+                t,
+                sub_mut(right, k, rows),
+            );
         }
     }
 }
@@ -131,18 +192,13 @@ pub(crate) fn apply_qt<T: Real>(
     nrhs: usize,
 ) {
     for k in 0..cols.min(rows) {
-        let v = &a[k * rows + k..(k + 1) * rows];
-        let t = tau[k];
+        let v = sub(a, k * rows + k, (k + 1) * rows);
+        let t = at(tau, k);
         if t == T::zero() {
             continue;
         }
         for c in 0..nrhs {
-            let y = &mut b[c * rows + k..(c + 1) * rows];
-            let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-            y[0] -= s;
-            for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-                *yi -= s * vi;
-            }
+            reflect(v, t, sub_mut(b, c * rows + k, (c + 1) * rows));
         }
     }
 }
@@ -150,14 +206,8 @@ pub(crate) fn apply_qt<T: Real>(
 /// Applies `Q` (from [`householder_qr`]) to the vector `x` of length `rows`.
 pub(crate) fn apply_q<T: Real>(a: &[T], rows: usize, cols: usize, tau: &[T], x: &mut [T]) {
     for k in (0..cols.min(rows)).rev() {
-        let v = &a[k * rows + k..(k + 1) * rows];
-        let t = tau[k];
-        let y = &mut x[k..rows];
-        let s = (y[0] + dot(&v[1..], &y[1..])) * t;
-        y[0] -= s;
-        for (yi, &vi) in y[1..].iter_mut().zip(&v[1..]) {
-            *yi -= s * vi;
-        }
+        let v = sub(a, k * rows + k, (k + 1) * rows);
+        reflect(v, at(tau, k), sub_mut(x, k, rows));
     }
 }
 
@@ -181,7 +231,7 @@ pub(crate) fn least_squares<T: Real>(
     }
     let mut scale = [T::one(); MAX_HORIZON + 1];
     for (k, sc) in scale.iter_mut().enumerate().take(cols) {
-        let col = &mut a[k * rows..(k + 1) * rows];
+        let col = sub_mut(a, k * rows, (k + 1) * rows);
         // By the largest entry first, so that the squares cannot overflow.
         let big = col.iter().fold(T::zero(), |m, v| m.max(v.abs()));
         if !(big > T::zero() && big.finite()) {
@@ -199,10 +249,10 @@ pub(crate) fn least_squares<T: Real>(
     householder_qr(a, rows, cols, tau);
     let mut rmax = T::zero();
     for k in 0..cols {
-        rmax = rmax.max(a[k * rows + k].abs());
+        rmax = rmax.max(at(a, k * rows + k).abs());
     }
     for k in 0..cols {
-        let d = a[k * rows + k].abs();
+        let d = at(a, k * rows + k).abs();
         let independent = d > rel_tol * rmax && d.finite();
         if !independent {
             return Err(());
@@ -210,13 +260,13 @@ pub(crate) fn least_squares<T: Real>(
     }
     apply_qt(a, rows, cols, tau, b, nrhs);
     for c in 0..nrhs {
-        let x = &mut b[c * rows..c * rows + cols];
+        let x = sub_mut(b, c * rows, c * rows + cols);
         for i in (0..cols).rev() {
-            let mut s = x[i];
+            let mut s = at(x, i);
             for j in (i + 1)..cols {
-                s -= a[j * rows + i] * x[j];
+                s -= at(a, j * rows + i) * at(x, j);
             }
-            x[i] = s / a[i * rows + i];
+            set(x, i, s / at(a, i * rows + i));
         }
         for (v, &sc) in x.iter_mut().zip(&scale) {
             *v /= sc;
@@ -234,6 +284,18 @@ pub(crate) type Svd<T> = (Small<T>, [T; MAX_HORIZON], Small<T>);
 /// `true` if every entry of `m` is finite.
 pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
     m.iter().all(|v| v.finite())
+}
+
+/// The first `n` rows of columns `p < q` of `m`, both mutable (empty outside the matrix).
+fn columns<T: Real>(m: &mut Small<T>, p: usize, q: usize, n: usize) -> (&mut [T], &mut [T]) {
+    let (left, right) = m
+        .as_mut_slice()
+        .split_at_mut_checked(q * MAX_HORIZON)
+        .unwrap_or((&mut [], &mut []));
+    (
+        sub_mut(left, p * MAX_HORIZON, p * MAX_HORIZON + n),
+        sub_mut(right, 0, n),
+    )
 }
 
 /// Sweeps of the one-sided Jacobi SVD before [`Error::NoConvergence`]: it converges
@@ -254,10 +316,21 @@ pub(crate) const JACOBI_SWEEPS: usize = 64;
 /// suffice [`Error::NoConvergence`]. Left singular vectors of zero singular values are zero;
 /// without `want_v` the right singular vectors are not accumulated (the identity is returned).
 pub(crate) fn svd_small<T: Real>(
+    a: Small<T>,
+    n: usize,
+    stage: Stage,
+    want_v: bool,
+) -> Result<Svd<T>, Error> {
+    svd_small_bounded(a, n, stage, want_v, JACOBI_SWEEPS)
+}
+
+/// [`svd_small`] with at most `sweeps` sweeps.
+fn svd_small_bounded<T: Real>(
     mut a: Small<T>,
     n: usize,
     stage: Stage,
     want_v: bool,
+    sweeps: usize,
 ) -> Result<Svd<T>, Error> {
     if !all_finite(a.as_slice()) {
         return Err(Error::Overflow { stage });
@@ -267,13 +340,13 @@ pub(crate) fn svd_small<T: Real>(
     let tol = T::EPS * T::of_usize(n.max(1));
     let big = T::one() / T::EPS.sqrt();
     let mut converged = false;
-    for _ in 0..JACOBI_SWEEPS {
+    for _ in 0..sweeps {
         let mut rotated = false;
         for p in 0..n {
             for q in (p + 1)..n {
                 let (mut alpha, mut beta, mut gamma) = (T::zero(), T::zero(), T::zero());
-                for i in 0..n {
-                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
+                let (cp, cq) = columns(&mut a, p, q, n);
+                for (&ap, &aq) in cp.iter().zip(cq.iter()) {
                     alpha += ap * ap;
                     beta += aq * aq;
                     gamma += ap * aq;
@@ -291,16 +364,13 @@ pub(crate) fn svd_small<T: Real>(
                 };
                 let c = T::one() / (T::one() + t * t).sqrt();
                 let s = c * t;
-                for i in 0..n {
-                    let (ap, aq) = (a[(i, p)], a[(i, q)]);
-                    a[(i, p)] = c * ap - s * aq;
-                    a[(i, q)] = s * ap + c * aq;
+                for (ap, aq) in cp.iter_mut().zip(cq.iter_mut()) {
+                    (*ap, *aq) = (c * *ap - s * *aq, s * *ap + c * *aq);
                 }
                 if want_v {
-                    for i in 0..n {
-                        let (vp, vq) = (v[(i, p)], v[(i, q)]);
-                        v[(i, p)] = c * vp - s * vq;
-                        v[(i, q)] = s * vp + c * vq;
+                    let (vp, vq) = columns(&mut v, p, q, n);
+                    for (vp, vq) in vp.iter_mut().zip(vq.iter_mut()) {
+                        (*vp, *vq) = (c * *vp - s * *vq, s * *vp + c * *vq);
                     }
                 }
             }
@@ -328,11 +398,11 @@ pub(crate) fn svd_small<T: Real>(
     for i in 0..n {
         let mut k = i;
         for j in (i + 1)..n {
-            if s[j] > s[k] {
+            if at(&s, j) > at(&s, k) {
                 k = j;
             }
         }
-        if k != i {
+        if k != i && k < n {
             s.swap(i, k);
             a.swap_columns(i, k);
             v.swap_columns(i, k);
@@ -440,5 +510,43 @@ mod tests {
         }
         // The integrator is not below 1 (the solve refuses ρ >= 1).
         assert!(spectral_radius(&small(2, &[1.0, 1.0, 0.0, 1.0]), 2) >= 1.0);
+    }
+
+    /// A sweep bound that does not suffice is `NoConvergence` at the caller's stage, never a
+    /// panic or a half-converged result; the bound the solve uses converges on the same
+    /// matrix, in a few sweeps, and the result reconstructs it.
+    #[test]
+    #[allow(clippy::unwrap_used)]
+    fn jacobi_svd_out_of_sweeps_is_no_convergence() {
+        let entries = [
+            4.0, 1.0, -2.0, 0.5, //
+            1.0, 3.0, 0.7, -1.0, //
+            -2.0, 0.7, 5.0, 2.0, //
+            0.5, -1.0, 2.0, 1.5,
+        ];
+        let a = small(4, &entries);
+        for sweeps in [0, 1] {
+            assert_eq!(
+                svd_small_bounded(a, 4, Stage::Projection, true, sweeps).err(),
+                Some(Error::NoConvergence {
+                    stage: Stage::Projection
+                }),
+                "{sweeps} sweep(s)"
+            );
+        }
+        let first_ok = (1..=JACOBI_SWEEPS)
+            .find(|&k| svd_small_bounded(a, 4, Stage::Projection, true, k).is_ok())
+            .unwrap_or(usize::MAX);
+        assert!(
+            (2..=10).contains(&first_ok),
+            "converged after {first_ok} sweeps"
+        );
+        let (u, s, v) = svd_small(a, 4, Stage::Projection, true).unwrap();
+        for r in 0..4 {
+            for c in 0..4 {
+                let x: f64 = (0..4).map(|k| u[(r, k)] * s[k] * v[(c, k)]).sum();
+                assert!((x - entries[r * 4 + c]).abs() < 1e-12, "({r}, {c}): {x}");
+            }
+        }
     }
 }

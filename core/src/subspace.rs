@@ -17,7 +17,8 @@ use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{
-    Small, all_finite, cholesky_packed, dot, householder_qr, packed, packed_len, svd_small,
+    Small, all_finite, at, cholesky_packed, dot, householder_qr, packed, packed_len, set, set_el,
+    sub, sub_mut, svd_small,
 };
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
@@ -231,6 +232,21 @@ impl Layout {
     pub const fn total(&self) -> usize {
         self.lff() + self.schur() + self.wgram() + self.bf() + self.cache() + self.scratch()
     }
+    /// The workspace `ws` split into `[L₁₁, S, W_p Gram, B_f, column blocks, scratch]` (the
+    /// scratch is the rest); [`Error::WorkspaceTooSmall`] if `ws` is shorter than
+    /// [`total`](Self::total).
+    pub fn carve<'a, T>(&self, ws: &'a mut [T]) -> Result<[&'a mut [T]; 6], Error> {
+        let err = too_small(*self, ws.len());
+        let (lff, rest) = ws.split_at_mut_checked(self.lff()).ok_or(err)?;
+        let (schur, rest) = rest.split_at_mut_checked(self.schur()).ok_or(err)?;
+        let (wgram, rest) = rest.split_at_mut_checked(self.wgram()).ok_or(err)?;
+        let (bf, rest) = rest.split_at_mut_checked(self.bf()).ok_or(err)?;
+        let (cache, scratch) = rest.split_at_mut_checked(self.cache()).ok_or(err)?;
+        if scratch.len() < self.scratch() {
+            return Err(err);
+        }
+        Ok([lff, schur, wgram, bf, cache, scratch])
+    }
     /// Row of channel `c` of block row `a` of `z` in `[Z_f; Z_p; Ȳ_f]`.
     #[inline]
     pub fn z_row(&self, a: usize, c: usize) -> usize {
@@ -251,6 +267,14 @@ impl Layout {
         } else {
             None
         }
+    }
+}
+
+/// The error for a workspace of `have` scalars that is shorter than `lay` needs.
+pub(crate) fn too_small(lay: Layout, have: usize) -> Error {
+    Error::WorkspaceTooSmall {
+        need: lay.total(),
+        have,
     }
 }
 
@@ -300,7 +324,11 @@ fn for_each_entry<T: Real, const M: usize, const K: usize>(
     acc.for_each_block_where(knots, basis, want, |a, b, blk| {
         let mut blk = *blk;
         if let Some(s) = sums {
-            let (za, zb, ya, yb) = (s.z[a], s.z[b], s.y[a] * inv_j, s.y[b] * inv_j);
+            // Block rows below `K` (the accumulator's lags); the sums of no block otherwise.
+            let z = |i: usize| s.z.get(i).copied().unwrap_or([T::zero(); M]);
+            let (za, zb) = (z(a), z(b));
+            let (ya, yb_raw) = (at(&s.y, a) * inv_j, at(&s.y, b));
+            let yb = yb_raw * inv_j;
             for (row, &zi) in blk.zz.iter_mut().zip(&za) {
                 let zi = zi * inv_j;
                 for (v, &zj) in row.iter_mut().zip(&zb) {
@@ -313,15 +341,15 @@ fn for_each_entry<T: Real, const M: usize, const K: usize>(
             for (v, &zj) in blk.yz.iter_mut().zip(&zb) {
                 *v -= ya * zj;
             }
-            blk.yy -= ya * s.y[b];
+            blk.yy -= ya * yb_raw;
         }
-        for (i, row) in blk.zz.iter().enumerate().take(m) {
+        for (i, (row, &zy)) in blk.zz.iter().zip(&blk.zy).enumerate().take(m) {
             let ra = lay.z_row(a, i);
             for (jj, &v) in row.iter().enumerate().take(m) {
                 put(ra, lay.z_row(b, jj), v);
             }
             if let Some(rb) = lay.y_row(b) {
-                put(ra, rb, blk.zy[i]);
+                put(ra, rb, zy);
             }
         }
         if let Some(ra) = lay.y_row(a) {
@@ -364,15 +392,29 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
         if c < fm && r >= fm {
             let col = r - fm;
             if in_range(col) {
-                out[(col - c0) * fm + c] = v;
+                set(out, (col - c0) * fm + c, v);
             }
         }
     });
-    for x in out.chunks_exact_mut(fm).take(width) {
-        for i in 0..fm {
-            let row = packed(i, 0);
-            let s = x[i] - dot(&lff[row..row + i], &x[..i]);
-            x[i] = s / lff[row + i];
+    for x in out.chunks_exact_mut(fm.max(1)).take(width) {
+        forward_substitution(lff, x);
+    }
+}
+
+/// `x ← L⁻¹ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`.
+fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
+    let mut rows = l;
+    for i in 0..x.len() {
+        // Row i of L: i entries left of the diagonal, then the diagonal.
+        let Some((row, rest)) = rows.split_at_checked(i + 1) else {
+            return;
+        };
+        rows = rest;
+        let (Some((&d, li)), (done, todo)) = (row.split_last(), x.split_at_mut(i)) else {
+            return;
+        };
+        if let Some(xi) = todo.first_mut() {
+            *xi = (*xi - dot(li, done)) / d;
         }
     }
 }
@@ -393,8 +435,12 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
 ) -> Result<Projection<T>, Error> {
     let (f, m) = (lay.f, lay.m);
     let (fm, q, pm, d, w) = (lay.fm(), lay.q(), lay.p * m, lay.d(), lay.w());
+    // Both refused by `Identifier::new`; kept here so that no layout can index past the QR
+    // or the small matrices.
+    if !(2..=MAX_HORIZON).contains(&f) {
+        return Err(Error::InvalidHorizon { f, k: f + lay.p });
+    }
     if w < f {
-        // Refused by `Identifier::new`; kept here so that no layout can index past the QR.
         return Err(Error::TooFewInstruments {
             f,
             p: lay.p,
@@ -402,11 +448,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             past_outputs: lay.method.past_outputs(),
         });
     }
-    let (lff, rest) = ws.split_at_mut(lay.lff());
-    let (schur, rest) = rest.split_at_mut(lay.schur());
-    let (wgram, rest) = rest.split_at_mut(lay.wgram());
-    let (bf, rest) = rest.split_at_mut(lay.bf());
-    let (cache, scratch) = rest.split_at_mut(lay.cache());
+    let ws_len = ws.len();
+    let [lff, schur, wgram, bf, cache, scratch] = lay.carve(ws)?;
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
@@ -422,11 +465,11 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         |_, _| true,
         |r, c, v| {
             if r < fm {
-                lff[packed(r, c)] = v;
+                set(lff, packed(r, c), v);
             } else if c >= fm {
-                schur[packed(r - fm, c - fm)] = v;
-                if r < fm + w && !wgram.is_empty() {
-                    wgram[packed(r - fm, c - fm)] = v;
+                set(schur, packed(r - fm, c - fm), v);
+                if r < fm + w {
+                    set(wgram, packed(r - fm, c - fm), v);
                 }
             }
         },
@@ -448,12 +491,12 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let mut floor = [T::zero(); K];
     for (i, fl) in floor.iter_mut().enumerate().take(q - pm) {
         let r = pm + i;
-        *fl = level * schur[packed(r, r)].abs();
+        *fl = level * at(schur, packed(r, r)).abs();
     }
     let floor = &floor[..(q - pm).min(K)];
     // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
     for (r, g) in scratch.iter_mut().enumerate().take(q) {
-        *g = schur[packed(r, r)].abs();
+        *g = at(schur, packed(r, r)).abs();
     }
     let tol = T::EPS * T::of_usize(8 * (d + q));
     cholesky_packed(lff, fm, fm, tol, &[]).map_err(|_| Error::RankDeficient {
@@ -461,9 +504,11 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     })?;
 
     // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}, by blocks of columns.
-    let bw = lay.block();
+    let bw = lay.block().max(1);
     let nb = q.div_ceil(bw);
-    let (xa, xb) = cache.split_at_mut(bw * fm);
+    let (xa, xb) = cache
+        .split_at_mut_checked(bw * fm)
+        .ok_or(too_small(lay, ws_len))?;
     for jb in 0..nb {
         let (j0, jw) = (jb * bw, bw.min(q - jb * bw));
         cross_block(acc, knots, basis, lay, sums, lff, j0, jw, xa);
@@ -476,12 +521,14 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 xb
             };
             for cj in 0..jw {
-                let colj = &xa[cj * fm..(cj + 1) * fm];
+                let colj = sub(xa, cj * fm, (cj + 1) * fm);
                 let r = j0 + cj;
                 let iend = if ib == jb { cj + 1 } else { iw };
                 for ci in 0..iend {
-                    let coli = &xi[ci * fm..(ci + 1) * fm];
-                    schur[packed(r, i0 + ci)] -= dot(colj, coli);
+                    let coli = sub(xi, ci * fm, (ci + 1) * fm);
+                    if let Some(v) = schur.get_mut(packed(r, i0 + ci)) {
+                        *v -= dot(colj, coli);
+                    }
                 }
             }
         }
@@ -489,13 +536,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
 
     // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X.
     cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
-    for x in bf.chunks_exact_mut(fm).take(f) {
+    for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
         for i in (0..fm).rev() {
-            let mut s = x[i];
+            let mut s = at(x, i);
             for (r, &xr) in x.iter().enumerate().skip(i + 1) {
-                s -= lff[packed(r, i)] * xr;
+                s -= at(lff, packed(r, i)) * xr;
             }
-            x[i] = s / lff[packed(i, i)];
+            set(x, i, s / at(lff, packed(i, i)));
         }
     }
 
@@ -530,14 +577,14 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
         .take(f)
     {
         let row = packed(w + r, 0);
-        let gr = scratch[w + r];
+        let gr = at(scratch, w + r);
         let (mut e, mut noise) = (T::zero(), T::zero());
-        for i in 0..w {
-            let d = schur[packed(i, i)];
+        for (i, &gi) in scratch.iter().enumerate().take(w) {
+            let d = at(schur, packed(i, i));
             if d > T::zero() {
-                let l = schur[row + i] / d;
-                e += (l + l) * l * scratch[i];
-                noise += gr * scratch[i] / (d * d);
+                let l = at(schur, row + i) / d;
+                e += (l + l) * l * gi;
+                noise += gr * gi / (d * d);
             }
         }
         // The row's own diagonal and the cross products are output sums; the pivots d_i
@@ -548,20 +595,27 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
-    let (x, tau) = scratch.split_at_mut(lay.qr_parts().0);
-    let tau = &mut tau[..lay.qr_parts().1];
+    let (x, tau) = scratch
+        .split_at_mut_checked(lay.qr_parts().0)
+        .ok_or(too_small(lay, ws_len))?;
+    let tau = tau
+        .get_mut(..lay.qr_parts().1)
+        .ok_or(too_small(lay, ws_len))?;
     let load_l32 = |x: &mut [T]| {
         for i in 0..f {
             let row = packed(w + i, 0);
-            x[i * w..(i + 1) * w].copy_from_slice(&schur[row..row + w]);
+            let dst = sub_mut(x, i * w, (i + 1) * w);
+            for (d, &v) in dst.iter_mut().zip(sub(schur, row, row + w)) {
+                *d = v;
+            }
         }
     };
     let r_transposed = |x: &mut [T], tau: &mut [T]| {
-        householder_qr(x, w, f, &mut tau[..f]);
+        householder_qr(x, w, f, tau);
         let mut rt = Small::<T>::zeros();
         for i in 0..f {
             for k in 0..=i {
-                rt[(i, k)] = x[k + i * w];
+                set_el(&mut rt, i, k, at(x, k + i * w));
             }
         }
         rt
@@ -573,7 +627,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     for r in 0..f {
         let row = packed(w + r, w);
         for c in 0..=r {
-            l33[(r, c)] = schur[row + c];
+            set_el(&mut l33, r, c, at(schur, row + c));
         }
     }
     // With forgetting, the weighted Gram has the weight of j_eff = Σλ^i columns.
@@ -598,22 +652,22 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
                 stage: Stage::InputHankel,
             })?;
             load_l32(x);
-            for col in x.chunks_exact_mut(w).take(f) {
+            for col in x.chunks_exact_mut(w.max(1)).take(f) {
                 // x L₂₂ = l₃₂ (back substitution), then x L_W.
                 for c in (0..w).rev() {
-                    let mut s = col[c];
+                    let mut s = at(col, c);
                     for (r, &xr) in col.iter().enumerate().skip(c + 1) {
-                        s -= xr * schur[packed(r, c)];
+                        s -= xr * at(schur, packed(r, c));
                     }
-                    let dgn = schur[packed(c, c)];
-                    col[c] = if dgn > T::zero() { s / dgn } else { T::zero() };
+                    let dgn = at(schur, packed(c, c));
+                    set(col, c, if dgn > T::zero() { s / dgn } else { T::zero() });
                 }
                 for c in 0..w {
                     let mut s = T::zero();
                     for (r, &xr) in col.iter().enumerate().skip(c) {
-                        s += xr * wgram[packed(r, c)];
+                        s += xr * at(wgram, packed(r, c));
                     }
-                    col[c] = s;
+                    set(col, c, s);
                 }
             }
             let ot = r_transposed(x, tau);
@@ -645,11 +699,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let scale = T::of(libm::sqrt(dof / w as f64));
     let (_, sw, _) = svd_small(wh, f, Stage::Projection, false)?;
     let mut sv_white = [T::zero(); MAX_HORIZON];
-    for i in 0..f {
-        sv_white[i] = sw[i] * scale;
+    for (v, &s) in sv_white.iter_mut().zip(&sw).take(f) {
+        *v = s * scale;
     }
     let mut svo = [T::zero(); MAX_HORIZON];
-    svo[..f].copy_from_slice(&sv[..f]);
+    for (v, &s) in svo.iter_mut().zip(&sv).take(f) {
+        *v = s;
+    }
     Ok(Projection {
         j,
         sv: svo,
@@ -669,6 +725,7 @@ fn rounding_level<T: Real>(j: f64, dim: usize) -> T {
 
 /// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
 fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale: T) -> Small<T> {
+    let f = f.min(MAX_HORIZON);
     for (c, &sc) in s.iter().enumerate().take(f) {
         let w = (sc * scale).sqrt();
         for r in 0..f {
@@ -681,6 +738,7 @@ fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale
 /// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix;
 /// `None` if a pivot is not above `floor[i]` (zero where `floor` is shorter).
 fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<T>> {
+    let n = n.min(MAX_HORIZON);
     let mut l = Small::<T>::zeros();
     for i in 0..n {
         for j in 0..=i {
@@ -705,6 +763,7 @@ fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<
 
 /// `L⁻¹ B` for lower-triangular `L` (leading `n × n`), zero diagonal entries giving zero rows.
 fn lower_solve<T: Real>(l: &Small<T>, b: &Small<T>, n: usize) -> Small<T> {
+    let n = n.min(MAX_HORIZON);
     let mut x = *b;
     for c in 0..n {
         for r in 0..n {
@@ -730,8 +789,10 @@ pub(crate) fn select_order<T: Real>(
         Order::Auto => {
             let edge = 1.0 + libm::sqrt(lay.f as f64 / lay.w() as f64);
             let thr = T::of(AUTO_ORDER_MARGIN * edge);
-            let n = proj.sv_white[..lay.f]
+            let n = proj
+                .sv_white
                 .iter()
+                .take(lay.f)
                 .take_while(|&&s| s > thr)
                 .count();
             match n {

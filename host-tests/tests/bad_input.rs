@@ -686,12 +686,14 @@ fn integrating_plant() {
     );
 }
 
-/// SVD non-convergence. The SVDs are of at most 16 × 16 matrices with a bound of 3,200
-/// iterations; with finite sums no input found here makes them run out (the property tests
-/// push ~30,000 random and adversarial records through them). The only way `NoConvergence`
-/// was provoked was non-finite sums: in `f32`, outputs of 1e20 overflow `y²`. The solve now
-/// checks the sums (and every matrix it hands to an SVD) for overflow first: `Overflow`,
-/// whose message names it and says to scale `y` or use `f64`; never a panic.
+/// SVD non-convergence. The small SVDs of the solve are the core's one-sided Jacobi with a
+/// bound of 64 sweeps; with finite sums no input found here makes them run out (the property
+/// tests push ~30,000 random and adversarial records through them), and a bound that cannot
+/// suffice is `NoConvergence` in the core's unit test
+/// (`linalg::tests::jacobi_svd_out_of_sweeps_is_no_convergence`). The only way the solve failed
+/// to converge was non-finite sums: in `f32`, outputs of 1e20 overflow `y²`. The solve now checks
+/// the sums (and every matrix it hands to an SVD) for overflow first: `Overflow`, whose message
+/// names it and says to scale `y` or use `f64`; never a panic.
 #[test]
 fn svd_non_convergence_is_a_typed_error() {
     let e = paper();

@@ -1,14 +1,22 @@
-//! Link-time proof of panic-freedom for the per-sample path.
+//! Link-time proof of panic-freedom for the per-sample path and the final solve.
 //!
 //! The panic handler below calls a function that exists nowhere. If any panic is reachable
-//! from the code this binary runs — the Table I generator, δ(t), z(t) and the accumulation of
-//! one sample, with inputs the optimiser cannot see (`black_box`) — the linker keeps the
-//! handler and fails with an undefined reference to
-//! `hsid_per_sample_path_reached_a_panic`. A successful build is the proof; `.ci/run` builds it.
+//! from the code this binary runs, the linker keeps the handler and fails with an undefined
+//! reference to `hsid_per_sample_path_reached_a_panic`. A successful build is the proof;
+//! `.ci/run` builds it twice:
 //!
-//! What is proven is the per-sample path as the firmware uses it, after `Identifier::new`
-//! has validated the settings; the final solve is covered by property tests instead (see the
-//! README's "Reliability" section).
+//! - `cargo build --release`: the per-sample path — the Table I generator, δ(t), the hold,
+//!   z(t) and the accumulation of one sample — as the firmware runs it (`f32`, plain sums),
+//!   with inputs the optimiser cannot see (`black_box`), NaN among them;
+//! - `cargo build --release --features solve`: the same, plus `Identifier::solve` on the
+//!   accumulated statistics, for `f32` with plain and with compensated output sums and for
+//!   `f64`, with every choice of the settings (method, order, basis, μ0, forgetting, `f`, `p`)
+//!   and the workspace length hidden from the optimiser, so that every branch is kept.
+//!
+//! What is proven is the code after `Identifier::new`/`reset` has validated the settings
+//! (those return `Err` for bad settings, which parks the core here). A third build with
+//! `--features control` adds one unchecked index and must fail to link, which shows the proof
+//! is not vacuous.
 #![no_std]
 #![no_main]
 
@@ -16,63 +24,74 @@ use core::hint::black_box;
 use core::panic::PanicInfo;
 
 use cortex_m_rt::entry;
-use hsid::{Excitation, Identifier, Knots, MuZero, Settings};
+#[cfg(feature = "solve")]
+use hsid::Poles;
+use hsid::{
+    Basis, Excitation, Forgetting, Identifier, Knots, Method, MuZero, Order, Plain, Real, Settings,
+    Summation,
+};
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 
-type Id = Identifier<f32, 14, 20>;
+/// Channels (knots of both paths) and lags, as in the firmware.
+const M: usize = 14;
+const K: usize = 20;
+/// Workspace of the solve for `f = p = 10` at the default block width.
+#[cfg(feature = "solve")]
+const WS_LEN: usize = hsid::workspace_len(M, 10, 10);
 
-static mut ID: Id = Id::EMPTY;
+type Id<T, S> = Identifier<T, M, K, S>;
+
+static mut ID: Id<f32, Plain> = Id::EMPTY;
 
 #[cfg(feature = "solve")]
-static mut WS: [f32; hsid::workspace_len(14, 10, 10)] = [0.0; hsid::workspace_len(14, 10, 10)];
+static mut ID_COMPENSATED: Id<f32, hsid::Compensated> = Id::EMPTY;
+#[cfg(feature = "solve")]
+static mut ID_F64: Id<f64, Plain> = Id::EMPTY;
+#[cfg(feature = "solve")]
+static mut WS: [f32; WS_LEN] = [0.0; WS_LEN];
+#[cfg(feature = "solve")]
+static mut WS_F64: [f64; WS_LEN] = [0.0; WS_LEN];
 
 #[entry]
 fn main() -> ! {
     // Configuration (validated, fallible) happens once, outside the per-sample path: a
     // configuration error simply parks the core here.
-    let Ok(knots) = Knots::<f32, 14>::uniform(black_box(-3.0), black_box(3.0), 7, 7) else {
-        park();
-    };
-    let settings = Settings::new(
-        knots,
-        black_box(10),
-        black_box(10),
-        MuZero::Hold {
-            len: 300,
-            settle: 150,
-        },
-    );
-    // SAFETY: single-threaded bare-metal entry point; the only reference to ID.
+    // SAFETY (all `static mut` below): single-threaded bare-metal entry point; these are the
+    // only references.
     #[allow(static_mut_refs)]
     let id = unsafe { &mut ID };
-    if id.reset(settings).is_err() {
-        park();
-    }
-    let Ok(mut excitation) = Excitation::new(
-        black_box(-3.0f32),
-        black_box(3.0),
-        300,
-        Pcg32::seed_from_u64(black_box(1)),
-    ) else {
-        park();
-    };
+    let mut excitation = configure(id);
+    #[cfg(feature = "solve")]
+    #[allow(static_mut_refs)]
+    let (id_c, id_64, ws, ws_64) =
+        unsafe { (&mut ID_COMPENSATED, &mut ID_F64, &mut WS, &mut WS_F64) };
+    #[cfg(feature = "solve")]
+    let (mut ex_c, mut ex_64) = (configure(id_c), configure(id_64));
     loop {
-        // The per-sample path: next excitation level, then push with an arbitrary output.
-        let u = excitation.next().unwrap_or(0.0);
-        id.push(black_box(u), black_box(u * 0.5));
-        // Arbitrary, unseen inputs too (NaN, out of range, anything).
-        id.push(
-            black_box(f32::from_bits(black_box(0x7fc0_0000))),
-            black_box(1.0),
-        );
-        black_box(id.fault());
+        step(id, &mut excitation);
         #[cfg(feature = "solve")]
         {
-            // SAFETY: single-threaded; the only reference to WS.
-            #[allow(static_mut_refs)]
-            let ws = unsafe { &mut WS };
-            black_box(id.solve(ws).is_ok());
+            step(id_c, &mut ex_c);
+            step(id_64, &mut ex_64);
+            // Any workspace length, the too-short ones included.
+            let n = black_box(WS_LEN);
+            // Either pole policy (`solve` is `solve_with(.., Poles::Stable)`).
+            let poles = if black_box(n).is_multiple_of(2) {
+                Poles::Stable
+            } else {
+                Poles::Any
+            };
+            black_box(id.solve(ws.get_mut(..n).unwrap_or(&mut [])).is_ok());
+            black_box(
+                id_c.solve_with(ws.get_mut(..n).unwrap_or(&mut []), poles)
+                    .is_ok(),
+            );
+            black_box(
+                id_64
+                    .solve_with(ws_64.get_mut(..n).unwrap_or(&mut []), poles)
+                    .is_ok(),
+            );
         }
         // Negative control (`--features control`): an index the optimiser cannot check must
         // make the link fail, which shows the proof is not vacuous.
@@ -84,8 +103,55 @@ fn main() -> ! {
     }
 }
 
+/// Validates settings the optimiser cannot see into `id` and returns the excitation
+/// generator; parks the core on a configuration error.
+fn configure<T: Real, S: Summation<T, M, K>>(id: &mut Id<T, S>) -> Excitation<T, Pcg32> {
+    let Ok(knots) = Knots::<T, M>::uniform(black_box(T::of(-3.0)), black_box(T::of(3.0)), 7, 7)
+    else {
+        park();
+    };
+    let mut settings = Settings::new(
+        knots,
+        black_box(10),
+        black_box(10),
+        black_box(MuZero::Hold {
+            len: 300,
+            settle: 150,
+        }),
+    );
+    settings.basis = black_box(Basis::Hat);
+    settings.order = black_box(Order::Auto);
+    settings.method = black_box(Method::PiMoesp);
+    settings.forgetting = black_box(Forgetting::None);
+    if id.reset(settings).is_err() {
+        park();
+    }
+    let Ok(excitation) = Excitation::new(
+        black_box(T::of(-3.0)),
+        black_box(T::of(3.0)),
+        300,
+        Pcg32::seed_from_u64(black_box(1)),
+    ) else {
+        park();
+    };
+    excitation
+}
+
+/// The per-sample path: next excitation level, then push with an arbitrary output, then
+/// arbitrary, unseen inputs too (NaN, out of range, anything).
+fn step<T: Real, S: Summation<T, M, K>>(id: &mut Id<T, S>, excitation: &mut Excitation<T, Pcg32>) {
+    let u = excitation.next().unwrap_or(T::zero());
+    id.push(black_box(u), black_box(u * T::of(0.5)));
+    id.push(
+        black_box(T::of(f64::from_bits(black_box(0x7ff8_0000_0000_0000)))),
+        black_box(T::one()),
+    );
+    black_box(id.fault());
+}
+
 /// With `--features list`, a real panic handler: the binary links and the panic locations
-/// left in it (`strings`) list what keeps a panic reachable.
+/// left in it (`strings`, or the calls to `core::panicking` in the disassembly) list what
+/// keeps a panic reachable.
 #[cfg(feature = "list")]
 #[panic_handler]
 fn panic(info: &PanicInfo) -> ! {
