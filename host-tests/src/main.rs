@@ -133,6 +133,20 @@ fn locate_sample_error(data: &std::path::Path, e: &hsid_host::identify::Identify
             data.display(),
             line(*index)
         ),
+        // The settings, not the data, are wrong: no file position to give.
+        IdentifyError::Core(
+            e @ (Error::InvalidInterval { .. }
+            | Error::TooFewKnots { .. }
+            | Error::KnotsNotIncreasing { .. }
+            | Error::KnotEndpoints { .. }
+            | Error::SegmentCount { .. }
+            | Error::InvalidHorizon { .. }
+            | Error::InvalidOrder { .. }
+            | Error::TooFewInstruments { .. }
+            | Error::HoldTooShort { .. }
+            | Error::InvalidMu0 { .. }
+            | Error::InvalidForgetting { .. }),
+        ) => format!("settings: {e}"),
         other => format!("{}: {other}", data.display()),
     }
 }

@@ -463,6 +463,10 @@ fn identify_rejects_bad_horizons() {
     identify(&data, &["--f", "1"]).clean_error(&["f = 1"]);
     identify(&data, &["--f", "30"]).clean_error(&["f = 30"]);
     identify(&data, &["--p", "0"]).clean_error(&["p >= 1"]);
+    // Too few instrument rows (p·m = 2 < f = 3): the settings are named, not the data file.
+    let line = identify(&data, &["--segments", "1", "--f", "3", "--p", "1"])
+        .clean_error(&["settings:", "instrument"]);
+    assert!(!line.contains("data.csv"), "{line}");
 }
 
 #[test]
