@@ -274,22 +274,26 @@ fn cva_on_noise_free_data_is_not_silently_wrong() {
     s.method = Method::Cva;
     s.basis = Basis::Ramp;
     let mut id = Id::<f64>::new(s).unwrap();
-    let mut sw = PwlSwitch::new(k.to_vec(), truth.to_vec(), k.to_vec(), vec![mu0, mu0 - 0.2]);
-    let mut plant = Lti::new(1, 0.1, 0.0, false, 0.0, 0.0);
-    plant.b = [-0.002_854_993_264_283_388, 0.902_854_993_264_283_4, 0.0];
-    for _ in 0..400 {
-        plant.step(mu0);
-    }
-    for (u, y) in table1(
-        &knots,
-        0,
-        1081,
-        15_029_245_326_058_622_124,
-        &mut sw,
-        &mut plant,
-    ) {
-        id.push(u, y);
-    }
+    // The noise-free record: a first-order plant at rest at μ0, then Table I.
+    let feed = |id: &mut Id<f64>| {
+        let mut sw = PwlSwitch::new(k.to_vec(), truth.to_vec(), k.to_vec(), vec![mu0, mu0 - 0.2]);
+        let mut plant = Lti::new(1, 0.1, 0.0, false, 0.0, 0.0);
+        plant.b = [-0.002_854_993_264_283_388, 0.902_854_993_264_283_4, 0.0];
+        for _ in 0..400 {
+            plant.step(mu0);
+        }
+        for (u, y) in table1(
+            &knots,
+            0,
+            1081,
+            15_029_245_326_058_622_124,
+            &mut sw,
+            &mut plant,
+        ) {
+            id.push(u, y);
+        }
+    };
+    feed(&mut id);
     let e = solve(&id).unwrap_err();
     assert_eq!(
         e,
@@ -305,22 +309,7 @@ fn cva_on_noise_free_data_is_not_silently_wrong() {
     let mut s = id.settings().clone();
     s.method = Method::PiMoesp;
     let mut pi = Id::<f64>::new(s).unwrap();
-    let mut sw = PwlSwitch::new(k.to_vec(), truth.to_vec(), k.to_vec(), vec![mu0, mu0 - 0.2]);
-    let mut plant = Lti::new(1, 0.1, 0.0, false, 0.0, 0.0);
-    plant.b = [-0.002_854_993_264_283_388, 0.902_854_993_264_283_4, 0.0];
-    for _ in 0..400 {
-        plant.step(mu0);
-    }
-    for (u, y) in table1(
-        &knots,
-        0,
-        1081,
-        15_029_245_326_058_622_124,
-        &mut sw,
-        &mut plant,
-    ) {
-        pi.push(u, y);
-    }
+    feed(&mut pi);
     let m = solve(&pi).unwrap();
     let got = m.border_values(Direction::Ascending)[1];
     assert!(
