@@ -14,7 +14,7 @@ use serde_json::Value;
 
 mod common;
 
-use common::{Run, Scratch, hsid, p};
+use common::{Run, Scratch, hsid, identify, p};
 
 /// Run 0 of the paper's backlash case at 10 dB SNR (j = 4000, hold 300), simulated once.
 fn noisy() -> &'static Experiment {
@@ -32,14 +32,6 @@ fn clean() -> &'static Experiment {
         };
         experiment(Case::Backlash, &cfg, 0).unwrap()
     })
-}
-
-/// `hsid identify --data DATA --umin -3 --umax 3` plus `extra` arguments (the defaults are the
-/// paper's settings: 7 segments per path, f = p = 10, a hold of 300 samples).
-fn identify(data: &Path, extra: &[&str]) -> Run {
-    let mut args = vec!["identify", "--data", p(data), "--umin", "-3", "--umax", "3"];
-    args.extend_from_slice(extra);
-    hsid(&args)
 }
 
 /// The `fit … %` figure of a fit report line in `stdout`.

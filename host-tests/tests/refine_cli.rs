@@ -11,7 +11,7 @@ use serde_json::Value;
 
 mod common;
 
-use common::{Scratch, hsid, p};
+use common::{Scratch, hsid, identify, p};
 
 /// The `fit … %` of the line starting with `prefix`.
 fn fit_of(stdout: &str, prefix: &str) -> f64 {
@@ -96,18 +96,7 @@ fn identify_refine_writes_the_noise_model_and_validate_predicts() {
     let est = data(&dir, Case::Backlash, 0);
     let val = data(&dir, Case::Backlash, 1);
     let model = dir.join("m.json");
-    let r = hsid(&[
-        "identify",
-        "--data",
-        p(&est),
-        "--umin",
-        "-3",
-        "--umax",
-        "3",
-        "--refine",
-        "--json",
-        p(&model),
-    ]);
+    let r = identify(&est, &["--refine", "--json", p(&model)]);
     assert!(r.ok, "{}", r.stderr);
     assert!(
         r.stdout.contains("refined by the prediction-error method"),
@@ -186,17 +175,7 @@ fn identify_without_refine_has_the_remark6_noise_model() {
     let dir = Scratch::new("remark6");
     let est = data(&dir, Case::Switch, 2);
     let model = dir.join("m.json");
-    let r = hsid(&[
-        "identify",
-        "--data",
-        p(&est),
-        "--umin",
-        "-3",
-        "--umax",
-        "3",
-        "--json",
-        p(&model),
-    ]);
+    let r = identify(&est, &["--json", p(&model)]);
     assert!(r.ok, "{}", r.stderr);
     assert!(!r.stdout.contains("refined"), "{}", r.stdout);
     let sim = fit_of(&r.stdout, "simulation fit on ");
@@ -210,19 +189,7 @@ fn identify_chooses_the_knot_count_when_asked() {
     let dir = Scratch::new("knots");
     let est = data(&dir, Case::Switch, 0);
     let model = dir.join("m.json");
-    let r = hsid(&[
-        "identify",
-        "--data",
-        p(&est),
-        "--umin",
-        "-3",
-        "--umax",
-        "3",
-        "--segments",
-        "auto",
-        "--json",
-        p(&model),
-    ]);
+    let r = identify(&est, &["--segments", "auto", "--json", p(&model)]);
     assert!(r.ok, "{}", r.stderr);
     let line = r
         .stdout
@@ -238,16 +205,6 @@ fn identify_chooses_the_knot_count_when_asked() {
     assert!((5..=8).contains(&n), "{line}");
     let m: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
     assert_eq!(m["knots_asc"].as_array().unwrap().len(), n + 1);
-    let r = hsid(&[
-        "identify",
-        "--data",
-        p(&est),
-        "--umin",
-        "-3",
-        "--umax",
-        "3",
-        "--segments",
-        "many",
-    ]);
+    let r = identify(&est, &["--segments", "many"]);
     assert!(!r.ok && r.stderr.contains("auto"), "{}", r.stderr);
 }

@@ -127,3 +127,11 @@ pub fn hsid<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
 pub fn p(path: &Path) -> &str {
     path.to_str().unwrap()
 }
+
+/// `hsid identify --data DATA --umin -3 --umax 3` plus `extra` arguments (the defaults are the
+/// paper's settings: 7 segments per path, f = p = 10, a hold of 300 samples).
+pub fn identify(data: &Path, extra: &[&str]) -> Run {
+    let mut args = vec!["identify", "--data", p(data), "--umin", "-3", "--umax", "3"];
+    args.extend_from_slice(extra);
+    hsid(&args)
+}
