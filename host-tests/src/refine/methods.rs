@@ -512,14 +512,17 @@ pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, 
         &[],
         Some((0.925, 0.962, 0.108, 0.142)),
     );
-    if let Some(pi) = c.methods.iter().find(|m| m.method == Method::PiMoesp) {
-        let (x, y): (Vec<f64>, Vec<f64>) = pi
-            .case
+    // The upper poles of a method's Monte Carlo models.
+    let upper_poles = |r: &MethodResult| -> (Vec<f64>, Vec<f64>) {
+        r.case
             .models
             .iter()
             .flat_map(|m| m.poles())
             .filter(|p| p.1 > 0.0)
-            .unzip();
+            .unzip()
+    };
+    if let Some(pi) = c.methods.iter().find(|m| m.method == Method::PiMoesp) {
+        let (x, y) = upper_poles(pi);
         fig.push(
             Series::scatter(&x, &y, Marker::Circle)
                 .color(PALETTE[7])
@@ -527,13 +530,7 @@ pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, 
                 .label("PI-MOESP"),
         );
     }
-    let (x, y): (Vec<f64>, Vec<f64>) = pem
-        .case
-        .models
-        .iter()
-        .flat_map(|m| m.poles())
-        .filter(|p| p.1 > 0.0)
-        .unzip();
+    let (x, y) = upper_poles(pem);
     fig.push(
         Series::scatter(&x, &y, Marker::Star)
             .color(PALETTE[0])
