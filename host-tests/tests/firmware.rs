@@ -575,6 +575,36 @@ fn backlash_record(samples: usize, hold: usize, seed: u64) -> (Vec<f64>, Vec<f64
     (u, y)
 }
 
+/// Settings of the checkpoint tests: uniform knots on [-3, 3] with `segments` per path,
+/// horizons `f`, `p`, and the records' hold of 300 samples (the first 150 settling).
+fn hold_settings<T: hsid::Real, const MM: usize>(
+    segments: usize,
+    f: usize,
+    p: usize,
+) -> Settings<T, MM> {
+    let knots = Knots::uniform(T::of(-3.0), T::of(3.0), segments, segments).unwrap();
+    Settings::new(
+        knots,
+        f,
+        p,
+        MuZero::Hold {
+            len: 300,
+            settle: 150,
+        },
+    )
+}
+
+/// Pushes the record into `id`, rounded to its scalar type.
+fn feed<T: hsid::Real, const MM: usize, const KK: usize, S: hsid::Summation<T, MM, KK>>(
+    id: &mut Identifier<T, MM, KK, S>,
+    u: &[f64],
+    y: &[f64],
+) {
+    for (&u, &y) in u.iter().zip(y) {
+        id.push(T::of(u), T::of(y));
+    }
+}
+
 /// An `f64` checkpoint solved by `solve_checkpoint` is bit for bit the direct identification.
 #[test]
 fn f64_checkpoint_solves_to_the_direct_identification() {
@@ -582,20 +612,8 @@ fn f64_checkpoint_solves_to_the_direct_identification() {
     let opts = IdentifyOptions::uniform(-3.0, 3.0, 7, 300);
     let direct = identify(&u, &y, &opts).unwrap();
 
-    let knots = Knots::<f64, 14>::uniform(-3.0, 3.0, 7, 7).unwrap();
-    let settings = Settings::new(
-        knots,
-        10,
-        10,
-        MuZero::Hold {
-            len: 300,
-            settle: 150,
-        },
-    );
-    let mut id = Box::new(Identifier::<f64, 14, 20>::new(settings).unwrap());
-    for (&u, &y) in u.iter().zip(&y) {
-        id.push(u, y);
-    }
+    let mut id = Box::new(Identifier::<f64, 14, 20>::new(hold_settings(7, 10, 10)).unwrap());
+    feed(&mut id, &u, &y);
     let mut bytes = vec![0u8; hsid::checkpoint_capacity(14, 20, 8)];
     let len = id.save(&mut bytes).unwrap();
     bytes.truncate(len);
@@ -611,23 +629,12 @@ fn f64_checkpoint_solves_to_the_direct_identification() {
 #[test]
 fn compensated_f32_checkpoint_solves_to_the_direct_solve() {
     let (u, y) = backlash_record(4319, 300, 4);
-    let settings = || {
-        Settings::new(
-            Knots::<f32, 14>::uniform(-3.0, 3.0, 7, 7).unwrap(),
-            10,
-            10,
-            MuZero::Hold {
-                len: 300,
-                settle: 150,
-            },
-        )
-    };
-    let mut comp = Box::new(Identifier::<f32, 14, 20, hsid::Compensated>::new(settings()).unwrap());
-    let mut plain = Box::new(Identifier::<f32, 14, 20>::new(settings()).unwrap());
-    for (&u, &y) in u.iter().zip(&y) {
-        comp.push(u as f32, y as f32);
-        plain.push(u as f32, y as f32);
-    }
+    let mut comp = Box::new(
+        Identifier::<f32, 14, 20, hsid::Compensated>::new(hold_settings(7, 10, 10)).unwrap(),
+    );
+    let mut plain = Box::new(Identifier::<f32, 14, 20>::new(hold_settings(7, 10, 10)).unwrap());
+    feed(&mut comp, &u, &y);
+    feed(&mut plain, &u, &y);
     let mut ws = vec![0.0f32; comp.workspace_len()];
     let direct = comp.solve(&mut ws).unwrap();
     let mut bytes = vec![0u8; hsid::compensated_checkpoint_capacity(14, 20, 4)];
@@ -659,20 +666,8 @@ fn compensated_f32_checkpoint_solves_to_the_direct_solve() {
 #[test]
 fn large_f32_checkpoint_restores_into_a_larger_capacity() {
     let (u, y) = backlash_record(300 + 8000, 300, 5);
-    let knots = Knots::<f32, 24>::uniform(-3.0, 3.0, 12, 12).unwrap();
-    let settings = Settings::new(
-        knots,
-        10,
-        12,
-        MuZero::Hold {
-            len: 300,
-            settle: 150,
-        },
-    );
-    let mut id = Box::new(Identifier::<f32, 24, 22>::new(settings).unwrap());
-    for (&u, &y) in u.iter().zip(&y) {
-        id.push(u as f32, y as f32);
-    }
+    let mut id = Box::new(Identifier::<f32, 24, 22>::new(hold_settings(12, 10, 12)).unwrap());
+    feed(&mut id, &u, &y);
     let mut ws = vec![0.0f32; id.workspace_len()];
     let direct = id.solve(&mut ws).unwrap();
     let mut bytes = vec![0u8; hsid::checkpoint_capacity(24, 22, 4)];
@@ -701,20 +696,8 @@ fn large_f32_checkpoint_restores_into_a_larger_capacity() {
 
 fn small_checkpoint() -> Vec<u8> {
     let (u, y) = backlash_record(4319, 300, 7);
-    let knots = Knots::<f32, 14>::uniform(-3.0, 3.0, 7, 7).unwrap();
-    let settings = Settings::new(
-        knots,
-        10,
-        10,
-        MuZero::Hold {
-            len: 300,
-            settle: 150,
-        },
-    );
-    let mut id = Box::new(Identifier::<f32, 14, 20>::new(settings).unwrap());
-    for (&u, &y) in u.iter().zip(&y) {
-        id.push(u as f32, y as f32);
-    }
+    let mut id = Box::new(Identifier::<f32, 14, 20>::new(hold_settings(7, 10, 10)).unwrap());
+    feed(&mut id, &u, &y);
     let mut bytes = vec![0u8; hsid::checkpoint_capacity(14, 20, 4)];
     let len = id.save(&mut bytes).unwrap();
     bytes.truncate(len);
