@@ -221,6 +221,49 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// `true` if the error is about the settings (knots, interval, horizons, order, hold,
+    /// μ0, forgetting): a front end reports it against its configuration, not against a
+    /// sample of the data. Every variant is classified here, so a new one must be too.
+    ///
+    /// ```
+    /// use hsid::{Error, Knots};
+    /// let e = Knots::<f64, 4>::new(&[-3.0, 3.0], &[-3.0, 2.0]).unwrap_err();
+    /// assert!(e.concerns_settings());
+    /// assert!(!Error::NoDynamics.concerns_settings());
+    /// ```
+    pub fn concerns_settings(&self) -> bool {
+        match self {
+            Error::InvalidInterval { .. }
+            | Error::TooFewKnots { .. }
+            | Error::KnotsNotIncreasing { .. }
+            | Error::KnotEndpoints { .. }
+            | Error::SegmentCount { .. }
+            | Error::InvalidHorizon { .. }
+            | Error::TooFewInstruments { .. }
+            | Error::InvalidOrder { .. }
+            | Error::HoldTooShort { .. }
+            | Error::InvalidMu0 { .. }
+            | Error::InvalidForgetting { .. }
+            | Error::Unconfigured => true,
+            Error::HoldNotAtMin { .. }
+            | Error::NonFinite { .. }
+            | Error::InputOutOfRange { .. }
+            | Error::TooFewSamples { .. }
+            | Error::NoExcitation { .. }
+            | Error::RankDeficient { .. }
+            | Error::Overflow { .. }
+            | Error::NoConvergence { .. }
+            | Error::NoDynamics
+            | Error::ZeroStaticGain
+            | Error::UnstableModel { .. }
+            | Error::IntegratingModel
+            | Error::Checkpoint(_)
+            | Error::WorkspaceTooSmall { .. } => false,
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {

@@ -134,19 +134,7 @@ fn locate_sample_error(data: &std::path::Path, e: &hsid_host::identify::Identify
             line(*index)
         ),
         // The settings, not the data, are wrong: no file position to give.
-        IdentifyError::Core(
-            e @ (Error::InvalidInterval { .. }
-            | Error::TooFewKnots { .. }
-            | Error::KnotsNotIncreasing { .. }
-            | Error::KnotEndpoints { .. }
-            | Error::SegmentCount { .. }
-            | Error::InvalidHorizon { .. }
-            | Error::InvalidOrder { .. }
-            | Error::TooFewInstruments { .. }
-            | Error::HoldTooShort { .. }
-            | Error::InvalidMu0 { .. }
-            | Error::InvalidForgetting { .. }),
-        ) => format!("settings: {e}"),
+        IdentifyError::Core(e) if e.concerns_settings() => format!("settings: {e}"),
         other => format!("{}: {other}", data.display()),
     }
 }
