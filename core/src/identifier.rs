@@ -153,13 +153,13 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
             });
         }
         let channels = settings.knots.channels();
-        let past_outputs = settings.method.past_outputs();
-        if p * (channels + usize::from(past_outputs)) < f {
+        // The instruments' rows as the solve lays them out (`p·m`, `+ p` with past outputs).
+        if Layout::for_method(channels, f, p, 1, settings.method).w() < f {
             return Err(Error::TooFewInstruments {
                 f,
                 p,
                 channels,
-                past_outputs,
+                past_outputs: settings.method.past_outputs(),
             });
         }
         settings.mu0.validate()?;
