@@ -91,6 +91,26 @@ fn clean_data_raises_at_most_five_percent_false_alarms() {
     assert!(alarms.len() * 20 <= scenarios.len(), "{alarms:?}");
 }
 
+/// The residual tests for a residual, an input (δ its sign, one ramp channel, six bins over
+/// [−3, 3]) and a simulated output.
+fn tests_on(r: &[f64], u: &[f64], sim: &[f64]) -> hsid_host::diagnose::TestSet {
+    let delta: Vec<f64> = u.iter().map(|v| if *v > 0.0 { 1.0 } else { 0.0 }).collect();
+    let bins: Vec<usize> = u
+        .iter()
+        .map(|v| ((v + 3.0).clamp(0.0, 5.99)) as usize)
+        .collect();
+    let z = vec![u.iter().map(|v| v.max(0.0)).collect::<Vec<f64>>()];
+    run_tests(&ResidualInput {
+        residual: r,
+        u,
+        delta: &delta,
+        regressor: &z,
+        bins: &bins,
+        bin_count: 6,
+        simulated: sim,
+    })
+}
+
 /// The residual tests hold their 1 % level on white noise (independent of everything).
 #[test]
 fn residual_tests_hold_their_level_on_white_noise() {
@@ -103,21 +123,7 @@ fn residual_tests_hold_their_level_on_white_noise() {
         let r = g();
         let u: Vec<f64> = g();
         let sim: Vec<f64> = g();
-        let delta: Vec<f64> = u.iter().map(|v| if *v > 0.0 { 1.0 } else { 0.0 }).collect();
-        let bins: Vec<usize> = u
-            .iter()
-            .map(|v| ((v + 3.0).clamp(0.0, 5.99)) as usize)
-            .collect();
-        let z = vec![u.iter().map(|v| v.max(0.0)).collect::<Vec<f64>>()];
-        let t = run_tests(&ResidualInput {
-            residual: &r,
-            u: &u,
-            delta: &delta,
-            regressor: &z,
-            bins: &bins,
-            bin_count: 6,
-            simulated: &sim,
-        });
+        let t = tests_on(&r, &u, &sim);
         for test in t.tests.iter().filter(|t| t.fired) {
             *fired.entry(test.name.clone()).or_default() += 1;
         }
@@ -127,6 +133,38 @@ fn residual_tests_hold_their_level_on_white_noise() {
     for (name, k) in &fired {
         assert!(*k <= 7, "{name} fired {k} times in {runs} white-noise runs");
     }
+}
+
+/// The state-dependence test fires on a residual driven by the level times the increment of
+/// the simulated output (a speed that changes with the level), and not on the same residual
+/// without that part.
+#[test]
+fn state_dependence_fires_on_level_times_increment() {
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
+    let n = 1500;
+    let mut g = || -> Vec<f64> { (0..n).map(|_| StandardNormal.sample(&mut rng)).collect() };
+    let e = g();
+    // A slow simulated output (AR(1) at 0.95) and an input unrelated to the residual.
+    let mut sim = vec![0.0; n];
+    for t in 1..n {
+        sim[t] = 0.95 * sim[t - 1] + e[t];
+    }
+    let u = g();
+    let noise = g();
+    let mean = sim.iter().sum::<f64>() / n as f64;
+    let w: Vec<f64> = (0..n)
+        .map(|t| (sim[t] - mean) * if t > 0 { sim[t] - sim[t - 1] } else { 0.0 })
+        .collect();
+    let w_rms = (w.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+    let run = |r: &[f64]| tests_on(r, &u, &sim);
+    // The effect at a third of the noise's RMS.
+    let with: Vec<f64> = noise
+        .iter()
+        .zip(&w)
+        .map(|(v, w)| v + 0.3 * w / w_rms)
+        .collect();
+    assert!(run(&with).fired("state_dependence"));
+    assert!(!run(&noise).fired("state_dependence"));
 }
 
 /// Each effect's tests fire where they should: a delay shows in the input cross-correlation

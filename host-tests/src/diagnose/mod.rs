@@ -33,9 +33,11 @@ pub mod bench;
 pub mod checks;
 pub mod cli;
 pub mod delay;
+pub mod dynamics;
 pub mod effects;
 pub mod figures;
 pub mod model;
+pub mod optimise;
 pub mod report;
 pub mod residual;
 pub mod scenario;
@@ -966,6 +968,11 @@ fn diagnose_inner(
     if shared && final_tests.fired("direction_correlation") {
         unexplained.push(
             "found, not in the catalog: the residual depends on the direction of the input (direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed".into(),
+        );
+    }
+    if final_tests.fired("state_dependence") {
+        unexplained.push(
+            "found, not in the catalog: state-dependent dynamics (state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the catalog has no extension for it (`diagnose::dynamics` has model classes beyond the catalog for it, measured by the example `tanks_dynamics`)".into(),
         );
     }
     if warnings.iter().any(|w| w.check == "output_quantisation") {

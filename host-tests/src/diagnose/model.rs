@@ -28,6 +28,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::DiagnoseError;
+use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use super::stats::{lstsq, mad_sigma, nnls, rms, running_median};
 use crate::identify::{HostModel, IdentifyOptions, identify};
 use crate::report::fit;
@@ -431,8 +432,23 @@ pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
 /// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
 /// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
 pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
+    u.iter()
+        .zip(rising(u, m.u_min()))
+        .map(|(&ui, up)| {
+            if up {
+                m.border_asc_at(ui)
+            } else {
+                m.border_desc_at(ui)
+            }
+        })
+        .collect()
+}
+
+/// Whether the input is on the ascending path at every sample: it rose at its last change
+/// (δ starts descending, the previous input at `u_min`).
+pub fn rising(u: &[f64], u_min: f64) -> Vec<bool> {
     let mut up = false;
-    let mut prev = m.u_min();
+    let mut prev = u_min;
     u.iter()
         .map(|&ui| {
             if ui > prev {
@@ -441,11 +457,7 @@ pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
                 up = false;
             }
             prev = ui;
-            if up {
-                m.border_asc_at(ui)
-            } else {
-                m.border_desc_at(ui)
-            }
+            up
         })
         .collect()
 }
@@ -1077,54 +1089,16 @@ fn refine_poles(
         mm.a = observer_a(a);
         overparameterised_residual(&mm, a, &phi, y, skip, initial)
     };
-    let sse = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let mut r = resid(&a)?;
-    let mut best = sse(&r);
-    let mut lambda = 1e-3;
-    for _ in 0..12 {
-        let mut jac = DMatrix::<f64>::zeros(r.len(), n);
-        for k in 0..n {
-            let h = 1e-6 * a[k].abs().max(1e-2);
-            let mut ak = a.clone();
-            ak[k] += h;
-            let rk = resid(&ak)?;
-            for (t, (x, y)) in rk.iter().zip(&r).enumerate() {
-                jac[(t, k)] = (x - y) / h;
-            }
-        }
-        let jtj = jac.tr_mul(&jac);
-        let jtr = jac.tr_mul(&DVector::from_column_slice(&r));
-        let mut stepped = false;
-        for _ in 0..5 {
-            let mut lhs = jtj.clone();
-            for k in 0..n {
-                lhs[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
-            }
-            let Some(delta) = lhs.lu().solve(&(-&jtr)) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial: Vec<f64> = a.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
-            if root_radius(&trial) < limit
-                && let Some(rt) = resid(&trial)
-            {
-                let e = sse(&rt);
-                if e < best {
-                    let rel = (best - e) / best.max(1e-300);
-                    a = trial;
-                    r = rt;
-                    best = e;
-                    lambda = (lambda / 3.0).max(1e-9);
-                    stepped = rel > 1e-5;
-                    break;
-                }
-            }
-            lambda *= 10.0;
-        }
-        if !stepped {
-            break;
-        }
-    }
+    let settings = Settings {
+        iterations: 12,
+        initial_damping: 1e-3,
+        tries: 5,
+        min_gain: 1e-5,
+        jacobian_failure: JacobianFailure::Fail,
+    };
+    let (a, _) = levenberg_marquardt(&a, &vec![1e-2; n], &settings, &resid, &|trial: &[f64]| {
+        root_radius(trial) < limit
+    })?;
     let mut mm = obs;
     mm.a = observer_a(&a);
     let x0 = match initial {

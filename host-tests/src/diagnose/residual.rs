@@ -11,6 +11,7 @@
 //! | `structure_output` | binned means of ε in deciles of the simulated output | χ²(9) |
 //! | `trend` | slope and mean of ε over time, Newey–West standard errors | normal, two tests |
 //! | `spectral_line` | largest Hann periodogram ordinate / local median spectrum | exponential, max of M |
+//! | `state_dependence` | max over lags `0…K` of the correlation of ε with `(ŷ − ȳ)·Δŷ` (ŷ the simulated output, the product's part not explained by `1, ŷ, Δŷ`), prewhitened | normal, Bonferroni over the lags |
 //! | `heavy_tails` | count of |ε − median| beyond 5 robust σ (1.4826 MAD) | Poisson(N · 5.7e-7) |
 //!
 //! The cross-correlations are computed after prewhitening (an AR model of the input filters
@@ -318,6 +319,30 @@ fn line_scan(power: &[f64], exclude: &[bool]) -> (f64, usize, Vec<f64>) {
     (best.0, best.1, med)
 }
 
+/// `(ŷ − ȳ)·Δŷ` with its least-squares fit on `1, ŷ, Δŷ` removed; `None` for a constant
+/// simulated output.
+fn level_times_increment(sim: &[f64]) -> Option<Vec<f64>> {
+    let n = sim.len();
+    if n < 10 {
+        return None;
+    }
+    let m = mean(sim);
+    let d: Vec<f64> = (0..n)
+        .map(|t| if t == 0 { 0.0 } else { sim[t] - sim[t - 1] })
+        .collect();
+    let w: Vec<f64> = (0..n).map(|t| (sim[t] - m) * d[t]).collect();
+    let x = nalgebra::DMatrix::from_fn(n, 3, |t, c| match c {
+        0 => 1.0,
+        1 => sim[t] - m,
+        _ => d[t],
+    });
+    let y = nalgebra::DVector::from_column_slice(&w);
+    let beta = super::stats::lstsq(&x, &y)?;
+    let e = &y - &x * beta;
+    let out: Vec<f64> = e.iter().copied().collect();
+    (super::stats::variance(&out) > 0.0 && out.iter().all(|v| v.is_finite())).then_some(out)
+}
+
 /// Runs every test on a residual.
 pub fn run_tests(inp: &ResidualInput) -> TestSet {
     let r = inp.residual;
@@ -535,6 +560,23 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         set.curves.omega = omega;
         set.curves.power = power;
         set.curves.power_median = med;
+    }
+
+    // State-dependent dynamics: a response whose speed or gain changes with the level leaves
+    // a residual driven by the level times the increment of the output. The product is made
+    // orthogonal to 1, ŷ and Δŷ (a linear error correlates with those).
+    if let Some(w) = level_times_increment(inp.simulated) {
+        let (s_w, lag_w, _, _) = xcorr_test(&w, r, &rho, k, true);
+        let m_w = k + 1;
+        set.tests.push(result(
+            "state_dependence",
+            s_w,
+            normal_quantile(1.0 - LEVEL / (2.0 * m_w as f64)),
+            max_normal_p(s_w, m_w),
+            format!(
+                "strongest correlation of the residual with (ŷ − ȳ)·Δŷ at lag {lag_w} ({s_w:.2} σ)"
+            ),
+        ));
     }
 
     // Heavy tails: samples beyond 5 robust standard deviations of the median (for Gaussian
