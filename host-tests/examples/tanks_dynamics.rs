@@ -120,7 +120,7 @@ fn extend(
             let steady = match dynamics::unique_steady_states(&m, &poly, &h_fit, &x0) {
                 Ok(()) => "one".to_string(),
                 Err(DynamicsError::Multistable { level, outputs }) => format!(
-                    "two at h = {level:.2} ({:.2} V and {:.2} V)",
+                    "more than one: at h = {level:.2} ({:.2} V and {:.2} V)",
                     outputs.0, outputs.1
                 ),
                 Err(e) => e.to_string(),

@@ -3,7 +3,7 @@
 //! when its `state_dependence` residual test fires it names the missing effect as found but
 //! not in the catalog. The example `tanks_dynamics` fits them on the cascaded tanks benchmark
 //! and reports what they do (`docs/closing-the-loop.md`): there the fit the inner
-//! cross-validation ranks first has two steady states for one constant input
+//! cross-validation ranks first has more than one steady state for one constant input
 //! ([`unique_steady_states`]), which the plant does not have, and among the others the inner
 //! scores cannot tell a good fit from a poor one, so the diagnosis does not add them. Two
 //! classes:
@@ -65,7 +65,7 @@ pub enum DynamicsError {
     Multistable {
         /// The constant `h` where the steady states differ.
         level: f64,
-        /// The two steady outputs.
+        /// Two of the steady outputs it settles at.
         outputs: (f64, f64),
     },
     /// The internal-overflow class needs an order-2 model with real poles.
@@ -88,7 +88,7 @@ impl std::fmt::Display for DynamicsError {
             ),
             DynamicsError::Multistable { level, outputs } => write!(
                 f,
-                "the fitted polynomial state term has two steady states at h = {level:.4} (outputs {:.4} and {:.4}, from the lowest and the highest state the record visits): refused",
+                "the fitted polynomial state term has more than one steady state at h = {level:.4} (outputs {:.4} and {:.4}, from the lowest and the highest state the record visits): refused",
                 outputs.0, outputs.1
             ),
             DynamicsError::NotTwoRealPoles { poles } => write!(
