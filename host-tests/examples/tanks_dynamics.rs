@@ -71,16 +71,14 @@ fn extend(
     skip: &[bool],
 ) -> Result<Fitted, String> {
     let hm = base.hammerstein.clone();
-    let h =
-        |u: &[f64]| model::nonlinearity_output(&hm, &model::delay_input(u, base.structure.delay));
     let target: Vec<f64> = rec
         .y
         .iter()
         .zip(&rec.time)
         .map(|(y, &t)| y - base.additive.eval(t))
         .collect();
-    let hr = h(&rec.u);
     let ud = model::delay_input(&rec.u, base.structure.delay);
+    let hr = model::nonlinearity_output(&hm, &ud);
     let refit_borders = matches!(class, Class::Polynomial(_, true));
     let data = DynamicsFit {
         h: &hr,

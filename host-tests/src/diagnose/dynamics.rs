@@ -187,6 +187,34 @@ pub fn simulate(
     h: &[f64],
     x0: &[f64],
 ) -> Option<Vec<f64>> {
+    let mut out = Vec::with_capacity(h.len());
+    let finite = walk(m, poly, h, x0, |x, hi| {
+        let y = m.d * hi + m.c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>();
+        out.push(y);
+        y.is_finite()
+    });
+    finite.then_some(out)
+}
+
+/// The states of the (linear or extended) model along a record, before each sample's update.
+fn states(m: &HostModel, poly: Option<&StatePoly>, h: &[f64], x0: &[f64]) -> Vec<Vec<f64>> {
+    let mut out = Vec::with_capacity(h.len());
+    walk(m, poly, h, x0, |x, _| {
+        out.push(x.to_vec());
+        true
+    });
+    out
+}
+
+/// Steps the model along `h` from `x0` (missing entries 0), calling `visit(x, h)` with every
+/// state before its update; stops early, returning `false`, when `visit` does.
+fn walk(
+    m: &HostModel,
+    poly: Option<&StatePoly>,
+    h: &[f64],
+    x0: &[f64],
+    mut visit: impl FnMut(&[f64], f64) -> bool,
+) -> bool {
     let n = m.order;
     let mut x: Vec<f64> = x0
         .iter()
@@ -198,13 +226,10 @@ pub fn simulate(
     let k = poly.map_or(0, StatePoly::terms);
     let mut psi = vec![0.0; k];
     let mut z = vec![0.0; n + 1];
-    let mut out = Vec::with_capacity(h.len());
     for &hi in h {
-        let y = m.d * hi + m.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
-        if !y.is_finite() {
-            return None;
+        if !visit(&x, hi) {
+            return false;
         }
-        out.push(y);
         if let Some(p) = poly {
             p.psi(&x, hi, &mut z, &mut psi);
         }
@@ -218,7 +243,7 @@ pub fn simulate(
         }
         std::mem::swap(&mut x, &mut next);
     }
-    Some(out)
+    true
 }
 
 /// Checks that a model with a polynomial state term settles at one output for every
@@ -249,17 +274,10 @@ pub fn unique_steady_states(
         .zip(h)
         .map(|(x, &hv)| (output(x, hv), x))
         .collect();
-    let pick = |better: fn(f64, f64) -> bool| -> Vec<f64> {
-        visited
-            .iter()
-            .fold(None::<&(f64, &Vec<f64>)>, |best, v| match best {
-                Some(b) if !better(v.0, b.0) => Some(b),
-                _ => Some(v),
-            })
-            .map_or_else(|| vec![0.0; m.order], |v| v.1.clone())
-    };
-    let low = pick(|a, b| a < b);
-    let high = pick(|a, b| a > b);
+    let state_at =
+        |v: Option<&(f64, &Vec<f64>)>| v.map_or_else(|| vec![0.0; m.order], |v| v.1.clone());
+    let low = state_at(visited.iter().min_by(|a, b| a.0.total_cmp(&b.0)));
+    let high = state_at(visited.iter().max_by(|a, b| a.0.total_cmp(&b.0)));
     let steps = 30_000;
     let mut outputs = Vec::new();
     for j in 0..9 {
@@ -294,38 +312,6 @@ pub fn unique_steady_states(
     Ok(())
 }
 
-/// The states of the (linear or extended) model along a record, for the normalisation.
-fn states(m: &HostModel, poly: Option<&StatePoly>, h: &[f64], x0: &[f64]) -> Vec<Vec<f64>> {
-    let n = m.order;
-    let mut x: Vec<f64> = x0
-        .iter()
-        .copied()
-        .chain(std::iter::repeat(0.0))
-        .take(n)
-        .collect();
-    let k = poly.map_or(0, StatePoly::terms);
-    let mut psi = vec![0.0; k];
-    let mut z = vec![0.0; n + 1];
-    let mut out = Vec::with_capacity(h.len());
-    for &hi in h {
-        out.push(x.clone());
-        if let Some(p) = poly {
-            p.psi(&x, hi, &mut z, &mut psi);
-        }
-        x = (0..n)
-            .map(|i| {
-                let mut v = m.b[i] * hi + (0..n).map(|j| m.a[(i, j)] * x[j]).sum::<f64>();
-                if let Some(p) = poly {
-                    let row = &p.e[i * k..(i + 1) * k];
-                    v += p.scale[i] * row.iter().zip(&psi).map(|(e, s)| e * s).sum::<f64>();
-                }
-                v
-            })
-            .collect();
-    }
-    out
-}
-
 /// What the fit holds fixed and what it fits to.
 pub struct DynamicsFit<'a> {
     /// Output of the input nonlinearity (delay included).
@@ -356,113 +342,19 @@ pub struct Borders<'a> {
     pub shared: bool,
 }
 
-/// `h` as a linear map of the border values: `h(t) = w₀ β[i₀] + w₁ β[i₁]`, `β` the ascending
-/// values then (unless shared) the descending ones.
-struct BorderMap {
-    rows: Vec<[(usize, f64); 2]>,
-    asc: usize,
-    desc: usize,
-    shared: bool,
-}
-
-impl BorderMap {
-    fn new(m: &HostModel, b: &Borders) -> Self {
-        let asc = m.knots_asc.len().min(m.border_asc.len());
-        let desc = m.knots_desc.len().min(m.border_desc.len());
-        let weights = |knots: &[f64], len: usize, offset: usize, u: f64| -> [(usize, f64); 2] {
-            if len == 0 {
-                return [(0, 0.0), (0, 0.0)];
-            }
-            if u <= knots[0] {
-                return [(offset, 1.0), (offset, 0.0)];
-            }
-            for i in 0..len - 1 {
-                if u <= knots[i + 1] {
-                    let w = (u - knots[i]) / (knots[i + 1] - knots[i]);
-                    return [(offset + i, 1.0 - w), (offset + i + 1, w)];
-                }
-            }
-            [(offset + len - 1, 1.0), (offset + len - 1, 0.0)]
-        };
-        let rows =
-            b.u.iter()
-                .zip(super::model::rising(b.u, m.u_min()))
-                .map(|(&u, up)| {
-                    if up || b.shared {
-                        weights(&m.knots_asc, asc, 0, u)
-                    } else {
-                        weights(&m.knots_desc, desc, asc, u)
-                    }
-                })
-                .collect();
-        Self {
-            rows,
-            asc,
-            desc,
-            shared: b.shared,
-        }
-    }
-
-    fn len(&self) -> usize {
-        if self.shared {
-            self.asc
-        } else {
-            self.asc + self.desc
-        }
-    }
-
-    fn values(&self, m: &HostModel) -> Vec<f64> {
-        let mut v = m.border_asc[..self.asc].to_vec();
-        if !self.shared {
-            v.extend_from_slice(&m.border_desc[..self.desc]);
-        }
-        v
-    }
-
-    fn write(&self, beta: &[f64], m: &mut HostModel) {
-        m.border_asc[..self.asc].copy_from_slice(&beta[..self.asc]);
-        if self.shared {
-            m.border_desc = m.border_asc.clone();
-        } else {
-            m.border_desc[..self.desc].copy_from_slice(&beta[self.asc..self.asc + self.desc]);
-        }
-    }
-
-    fn apply(&self, beta: &[f64]) -> Vec<f64> {
-        self.rows
-            .iter()
-            .map(|[(i, a), (j, b)]| a * beta[*i] + b * beta[*j])
-            .collect()
-    }
-}
-
-/// The parameters `θ = [A, B, D, E, x0]` packed, and unpacked into a model.
+/// The parameters `θ = [A, B, D, E, x0, borders]` packed, and unpacked into a model.
 struct Packing {
     n: usize,
-    k: usize,
     fit_x0: bool,
-    /// Border values refitted, appended last.
-    borders: usize,
+    /// Border values refitted (the ascending ones, then unless shared the descending ones),
+    /// appended last.
+    borders: Option<bool>,
 }
 
 impl Packing {
-    fn len(&self) -> usize {
-        self.n * self.n
-            + self.n
-            + 1
-            + self.n * self.k
-            + if self.fit_x0 { self.n } else { 0 }
-            + self.borders
-    }
-
-    /// The border values of `θ`.
-    fn borders<'t>(&self, t: &'t [f64]) -> &'t [f64] {
-        &t[t.len() - self.borders..]
-    }
-
     fn pack(&self, m: &HostModel, p: &StatePoly, x0: &[f64]) -> Vec<f64> {
         let n = self.n;
-        let mut t = Vec::with_capacity(self.len());
+        let mut t = Vec::new();
         for i in 0..n {
             for j in 0..n {
                 t.push(m.a[(i, j)]);
@@ -473,6 +365,12 @@ impl Packing {
         t.extend_from_slice(&p.e);
         if self.fit_x0 {
             t.extend_from_slice(x0);
+        }
+        if let Some(shared) = self.borders {
+            t.extend_from_slice(&m.border_asc);
+            if !shared {
+                t.extend_from_slice(&m.border_desc);
+            }
         }
         t
     }
@@ -485,16 +383,25 @@ impl Packing {
                 m.a[(i, j)] = it.next().unwrap_or(0.0);
             }
         }
-        for b in m.b.iter_mut() {
-            *b = it.next().unwrap_or(0.0);
-        }
-        m.d = it.next().unwrap_or(0.0);
-        for e in p.e.iter_mut() {
-            *e = it.next().unwrap_or(0.0);
+        let fields = m.b.iter_mut().chain([&mut m.d]).chain(p.e.iter_mut());
+        for v in fields {
+            *v = it.next().unwrap_or(0.0);
         }
         if self.fit_x0 {
             for x in x0.iter_mut() {
                 *x = it.next().unwrap_or(0.0);
+            }
+        }
+        if let Some(shared) = self.borders {
+            for v in m.border_asc.iter_mut() {
+                *v = it.next().unwrap_or(0.0);
+            }
+            if shared {
+                m.border_desc.clone_from(&m.border_asc);
+            } else {
+                for v in m.border_desc.iter_mut() {
+                    *v = it.next().unwrap_or(0.0);
+                }
             }
         }
     }
@@ -557,12 +464,10 @@ pub fn fit(
         monomials: mons,
         e: vec![0.0; n * k],
     };
-    let border_map = data.borders.as_ref().map(|b| BorderMap::new(m, b));
     let pack = Packing {
         n,
-        k,
         fit_x0: data.fit_x0,
-        borders: border_map.as_ref().map_or(0, BorderMap::len),
+        borders: data.borders.map(|b| b.shared),
     };
     let mut model = m.clone();
     let mut state = x0.to_vec();
@@ -572,7 +477,10 @@ pub fn fit(
         let mut pp = poly.clone();
         let mut xx = state.clone();
         pack.unpack(t, &mut mm, &mut pp, &mut xx);
-        let refitted = border_map.as_ref().map(|b| b.apply(pack.borders(t)));
+        // Refitted borders give a new `h` (the same input nonlinearity, new values).
+        let refitted = data
+            .borders
+            .map(|b| super::model::nonlinearity_output(&mm, b.u));
         let lin = simulate(&mm, Some(&pp), refitted.as_deref().unwrap_or(data.h), &xx)?;
         let r: Vec<f64> = lin
             .iter()
@@ -589,10 +497,7 @@ pub fn fit(
             ev.iter().map(|(r, i)| r.hypot(*i)).fold(0.0, f64::max)
         })
     };
-    let mut theta0 = pack.pack(&model, &poly, &state);
-    if let Some(b) = &border_map {
-        theta0.extend(b.values(m));
-    }
+    let theta0 = pack.pack(&model, &poly, &state);
     // Typical sizes for the difference steps: A, B, D, x0 relative; E dimensionless.
     let typical: Vec<f64> = theta0
         .iter()
@@ -613,9 +518,6 @@ pub fn fit(
         return Err(DynamicsError::NotSimulating);
     };
     pack.unpack(&theta, &mut model, &mut poly, &mut state);
-    if let Some(b) = &border_map {
-        b.write(pack.borders(&theta), &mut model);
-    }
     Ok((model, poly, state))
 }
 
@@ -683,15 +585,17 @@ impl Overflow {
         Some(out)
     }
 
-    /// The highest level the first store reaches along `h` without overflowing.
-    fn peak(&self, h: &[f64]) -> f64 {
+    /// The lowest and the highest level the first store reaches along `h` without
+    /// overflowing.
+    fn first_store_range(&self, h: &[f64]) -> (f64, f64) {
         let mut x1 = self.x0[0];
-        let mut peak = x1;
+        let (mut low, mut high) = (x1, x1);
         for &hi in h {
             x1 = self.p1 * x1 + hi;
-            peak = peak.max(x1);
+            low = low.min(x1);
+            high = high.max(x1);
         }
-        peak
+        (low, high)
     }
 }
 
@@ -755,16 +659,7 @@ pub fn fit_overflow(
             spill: 1.0,
             x0: [x1, x1 / (1.0 - p2)],
         };
-        let top = start.peak(data.h);
-        let low = {
-            let mut x = start.x0[0];
-            let mut low = x;
-            for &hi in data.h {
-                x = p1 * x + hi;
-                low = low.min(x);
-            }
-            low
-        };
+        let (low, top) = start.first_store_range(data.h);
         for frac in [0.6, 0.75, 0.9] {
             start.level = low + frac * (top - low);
             let theta0 = start.theta();
@@ -837,6 +732,42 @@ mod tests {
         (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt()
     }
 
+    /// The plant of the polynomial class: the test's linear model plus a quadratic term in
+    /// its first state.
+    fn quadratic_plant(h: &[f64]) -> Vec<f64> {
+        let mut x = [0.0f64; 2];
+        h.iter()
+            .map(|&hi| {
+                let y = x[0] + 0.5 * x[1];
+                x = [
+                    0.9 * x[0] + 0.05 * x[1] + 0.1 * hi - 0.15 * x[0] * x[0],
+                    0.8 * x[1] + 0.2 * hi,
+                ];
+                y
+            })
+            .collect()
+    }
+
+    /// Noise-free data, every sample fitted, the initial state held at zero.
+    fn exact<'a>(
+        h: &'a [f64],
+        y: &'a [f64],
+        skip: &'a [bool],
+        iterations: usize,
+        borders: Option<Borders<'a>>,
+    ) -> DynamicsFit<'a> {
+        DynamicsFit {
+            h,
+            y,
+            skip,
+            map: None,
+            fit_x0: false,
+            radius_limit: 0.999,
+            iterations,
+            borders,
+        }
+    }
+
     type Outcome = Result<(), Box<dyn std::error::Error>>;
 
     #[test]
@@ -845,32 +776,9 @@ mod tests {
         // the linear model, the fit must explain what the linear model misses.
         let lin = model([[0.9, 0.05], [0.0, 0.8]], [0.1, 0.2], [1.0, 0.5], 0.0);
         let h = levels(1500, 7);
-        let plant = |h: &[f64]| -> Vec<f64> {
-            let mut x = [0.0f64; 2];
-            h.iter()
-                .map(|&hi| {
-                    let y = x[0] + 0.5 * x[1];
-                    let quad = -0.15 * x[0] * x[0];
-                    x = [
-                        0.9 * x[0] + 0.05 * x[1] + 0.1 * hi + quad,
-                        0.8 * x[1] + 0.2 * hi,
-                    ];
-                    y
-                })
-                .collect()
-        };
-        let y = plant(&h);
+        let y = quadratic_plant(&h);
         let skip = vec![false; h.len()];
-        let data = DynamicsFit {
-            h: &h,
-            y: &y,
-            skip: &skip,
-            map: None,
-            fit_x0: false,
-            radius_limit: 0.999,
-            iterations: 50,
-            borders: None,
-        };
+        let data = exact(&h, &y, &skip, 50, None);
         let before = rms(
             &simulate(&lin, None, &h, &[0.0, 0.0]).ok_or("not simulated")?,
             &y,
@@ -882,7 +790,7 @@ mod tests {
         );
         // On another input of the same range (not fitted).
         let h2 = levels(1500, 99);
-        let y2 = plant(&h2);
+        let y2 = quadratic_plant(&h2);
         let before2 = rms(
             &simulate(&lin, None, &h2, &[0.0, 0.0]).ok_or("not simulated")?,
             &y2,
@@ -911,18 +819,7 @@ mod tests {
         lin.border_desc = lin.knots_asc.clone();
         let u = levels(2000, 5);
         let h_true: Vec<f64> = u.iter().map(|v| v * v).collect();
-        let mut x = [0.0f64; 2];
-        let y: Vec<f64> = h_true
-            .iter()
-            .map(|&hi| {
-                let y = x[0] + 0.5 * x[1];
-                x = [
-                    0.9 * x[0] + 0.05 * x[1] + 0.1 * hi - 0.15 * x[0] * x[0],
-                    0.8 * x[1] + 0.2 * hi,
-                ];
-                y
-            })
-            .collect();
+        let y = quadratic_plant(&h_true);
         let skip = vec![false; u.len()];
         let h_start = super::super::model::nonlinearity_output(&lin, &u);
         let fit_with = |borders: Option<Borders>| {
@@ -930,16 +827,7 @@ mod tests {
                 &lin,
                 &[0.0, 0.0],
                 2,
-                &DynamicsFit {
-                    h: &h_start,
-                    y: &y,
-                    skip: &skip,
-                    map: None,
-                    fit_x0: false,
-                    radius_limit: 0.999,
-                    iterations: 60,
-                    borders,
-                },
+                &exact(&h_start, &y, &skip, 60, borders),
             )
         };
         let (m0, p0, x0) = fit_with(None)?;
@@ -1018,22 +906,13 @@ mod tests {
         let lin = model([[0.9, 0.0], [1.0, 0.85]], [1.0, 0.0], [0.0, 0.2], 0.0);
         let h: Vec<f64> = levels(2000, 3).iter().map(|v| 0.5 * v).collect();
         let y = truth.simulate(&h).ok_or("not simulated")?;
-        let peak = truth.peak(&h);
+        let (_, peak) = truth.first_store_range(&h);
         assert!(
             peak > 3.5,
             "the test input must make the store overflow (peak {peak})"
         );
         let skip = vec![false; h.len()];
-        let data = DynamicsFit {
-            h: &h,
-            y: &y,
-            skip: &skip,
-            map: None,
-            fit_x0: false,
-            radius_limit: 0.999,
-            iterations: 100,
-            borders: None,
-        };
+        let data = exact(&h, &y, &skip, 100, None);
         let o = fit_overflow(&lin, &[0.0, 0.0], &data)?;
         let after = rms(&o.simulate(&h).ok_or("not simulated")?, &y);
         assert!((o.level - 3.0).abs() < 1e-3, "{o:?}");

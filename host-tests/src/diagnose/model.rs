@@ -432,23 +432,8 @@ pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
 /// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
 /// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
 pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
-    u.iter()
-        .zip(rising(u, m.u_min()))
-        .map(|(&ui, up)| {
-            if up {
-                m.border_asc_at(ui)
-            } else {
-                m.border_desc_at(ui)
-            }
-        })
-        .collect()
-}
-
-/// Whether the input is on the ascending path at every sample: it rose at its last change
-/// (δ starts descending, the previous input at `u_min`).
-pub fn rising(u: &[f64], u_min: f64) -> Vec<bool> {
     let mut up = false;
-    let mut prev = u_min;
+    let mut prev = m.u_min();
     u.iter()
         .map(|&ui| {
             if ui > prev {
@@ -457,7 +442,11 @@ pub fn rising(u: &[f64], u_min: f64) -> Vec<bool> {
                 up = false;
             }
             prev = ui;
-            up
+            if up {
+                m.border_asc_at(ui)
+            } else {
+                m.border_desc_at(ui)
+            }
         })
         .collect()
 }
