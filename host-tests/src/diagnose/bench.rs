@@ -136,14 +136,17 @@ pub fn confusion_table(outcomes: &[Outcome]) -> String {
     let mut rows: Vec<Option<Effect>> = vec![None];
     rows.extend(Effect::ALL.into_iter().map(Some));
     let name = |e: Option<Effect>| e.map_or("none (clean)", Effect::name);
+    // Columns: every effect the diagnosis can name first.
+    let mut cols = rows.clone();
+    cols.push(Some(Effect::StateDependentDynamics));
     let mut s = String::new();
     let _ = write!(s, "| true \\ named first |");
-    for c in &rows {
+    for c in &cols {
         let _ = write!(s, " {} |", name(*c));
     }
     let _ = writeln!(s, " runs | passed |");
     let _ = write!(s, "|---|");
-    for _ in &rows {
+    for _ in &cols {
         let _ = write!(s, "---|");
     }
     let _ = writeln!(s, "---|---|");
@@ -156,7 +159,7 @@ pub fn confusion_table(outcomes: &[Outcome]) -> String {
             continue;
         }
         let _ = write!(s, "| **{}** |", name(*r));
-        for c in &rows {
+        for c in &cols {
             let k = mine.iter().filter(|o| o.first() == *c).count();
             if k == 0 {
                 let _ = write!(s, " · |");

@@ -1,12 +1,10 @@
-//! Model classes beyond the catalog: state-dependent dynamics that no static input map,
-//! linear `G` and static output map can reproduce. [`super::diagnose`] does not propose them:
-//! when its `state_dependence` residual test fires it names the missing effect as found but
-//! not in the catalog. The example `tanks_dynamics` fits them on the cascaded tanks benchmark
-//! and reports what they do (`docs/closing-the-loop.md`): there the fit the inner
-//! cross-validation ranks first has more than one steady state for one constant input
-//! ([`unique_steady_states`]), which the plant does not have, and among the others the inner
-//! scores cannot tell a good fit from a poor one, so the diagnosis does not add them. Two
-//! classes:
+//! Model classes for state-dependent dynamics that no static input map, linear `G` and static
+//! output map can reproduce, beyond the one [`super::diagnose`] proposes (the level-dependent
+//! stores, [`super::stores`], which have one steady state per input by construction). The
+//! example `tanks_dynamics` fits these on the cascaded tanks benchmark and reports what they
+//! do (`docs/closing-the-loop.md`): there the polynomial fit the inner cross-validation ranks
+//! first has more than one steady state for one constant input ([`unique_steady_states`]),
+//! which the plant does not have, so the diagnosis does not propose them. Two classes:
 //!
 //! **Polynomial state term** ([`fit`]), in the spirit of polynomial nonlinear state-space
 //! models (NLSS):
@@ -73,6 +71,11 @@ pub enum DynamicsError {
         /// The model's poles `(re, im)`.
         poles: Vec<(f64, f64)>,
     },
+    /// Level-dependent stores start from an order-2 model.
+    NotOrderTwo {
+        /// The model's order.
+        order: usize,
+    },
 }
 
 impl std::fmt::Display for DynamicsError {
@@ -94,6 +97,10 @@ impl std::fmt::Display for DynamicsError {
             DynamicsError::NotTwoRealPoles { poles } => write!(
                 f,
                 "the internal-overflow class needs an order-2 model with two real poles; the model has {poles:?}"
+            ),
+            DynamicsError::NotOrderTwo { order } => write!(
+                f,
+                "level-dependent stores (a cascade of two stores) start from an order-2 model; the model has order {order}"
             ),
         }
     }
@@ -599,6 +606,52 @@ impl Overflow {
     }
 }
 
+/// An order-2 model with real poles written as a cascade of two stores:
+/// `x1(t+1) = p1 x1 + h`, `x2(t+1) = p2 x2 + x1`, `y = c1 x1 + c2 x2 (+ D h)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    /// Pole of the first store.
+    pub p1: f64,
+    /// Pole of the second store.
+    pub p2: f64,
+    /// Output weight of the first store.
+    pub c1: f64,
+    /// Output weight of the second store.
+    pub c2: f64,
+}
+
+/// The two cascade forms (one per assignment of the poles to the stores) of an order-2 model
+/// with real poles; they have the same transfer function `G − D` as the model.
+pub fn cascade_forms(m: &HostModel) -> Result<[Cascade; 2], DynamicsError> {
+    let poles = m.poles();
+    if m.order != 2 || poles.len() != 2 || poles.iter().any(|p| p.1 != 0.0) {
+        return Err(DynamicsError::NotTwoRealPoles { poles });
+    }
+    Ok(cascade_forms_with(m, poles[0].0, poles[1].0))
+}
+
+/// The cascade forms of an order-2 model's numerator `G − D = (β1 z + β0) / (…)` over the
+/// real poles `p1`, `p2` (the model's own, or real ones near them).
+pub fn cascade_forms_with(m: &HostModel, p1: f64, p2: f64) -> [Cascade; 2] {
+    let (a, b, c) = (&m.a, &m.b, &m.c);
+    let at = |i: usize, j: usize| a.get((i, j)).copied().unwrap_or(0.0);
+    let v = |x: &[f64], i: usize| x.get(i).copied().unwrap_or(0.0);
+    // G(z) − D = (β1 z + β0) / ((z − p1)(z − p2)).
+    let beta1 = v(c, 0) * v(b, 0) + v(c, 1) * v(b, 1);
+    let mb = [
+        -at(1, 1) * v(b, 0) + at(0, 1) * v(b, 1),
+        at(1, 0) * v(b, 0) - at(0, 0) * v(b, 1),
+    ];
+    let beta0 = v(c, 0) * mb[0] + v(c, 1) * mb[1];
+    let form = |p1: f64, p2: f64| Cascade {
+        p1,
+        p2,
+        c1: beta1,
+        c2: beta0 + beta1 * p2,
+    };
+    [form(p1, p2), form(p2, p1)]
+}
+
 /// Fits the internal-overflow class to an order-2 model with real poles (`A`, `B`, `C`, `D`
 /// give the start; the borders and the output map are held). Both assignments of the poles
 /// to the stores and three starting levels (60, 75, 90 % of the way from the lowest to the
@@ -609,19 +662,8 @@ pub fn fit_overflow(
     x0: &[f64],
     data: &DynamicsFit,
 ) -> Result<Overflow, DynamicsError> {
-    let poles = m.poles();
-    if m.order != 2 || poles.iter().any(|p| p.1 != 0.0) {
-        return Err(DynamicsError::NotTwoRealPoles { poles });
-    }
-    let a = &m.a;
-    let (b, c) = (&m.b, &m.c);
-    // G(z) − D = (β1 z + β0) / ((z − p1)(z − p2)).
-    let beta1 = c[0] * b[0] + c[1] * b[1];
-    let mb = [
-        -a[(1, 1)] * b[0] + a[(0, 1)] * b[1],
-        a[(1, 0)] * b[0] - a[(0, 0)] * b[1],
-    ];
-    let beta0 = c[0] * mb[0] + c[1] * mb[1];
+    let c = &m.c;
+    let cascades = cascade_forms(m)?;
     let y0 = m.d * data.h.first().copied().unwrap_or(0.0)
         + c.iter().zip(x0).map(|(c, x)| c * x).sum::<f64>();
     let residual = |t: &[f64]| -> Option<Vec<f64>> {
@@ -642,9 +684,7 @@ pub fn fit_overflow(
         ..Settings::default()
     };
     let mut best: Option<(f64, Overflow)> = None;
-    for (p1, p2) in [(poles[0].0, poles[1].0), (poles[1].0, poles[0].0)] {
-        let c1 = beta1;
-        let c2 = beta0 + beta1 * p2;
+    for Cascade { p1, p2, c1, c2 } in cascades {
         // The cascade at rest at the level that gives the starting model's first output.
         let gain = c1 / (1.0 - p1) + c2 / ((1.0 - p1) * (1.0 - p2)) + m.d;
         let h0 = if gain != 0.0 { y0 / gain } else { 0.0 };
@@ -688,10 +728,11 @@ pub fn fit_overflow(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn model(a: [[f64; 2]; 2], b: [f64; 2], c: [f64; 2], d: f64) -> HostModel {
+    /// An order-2 model with the given matrices (borders the identity on [0, 1]).
+    pub(crate) fn model(a: [[f64; 2]; 2], b: [f64; 2], c: [f64; 2], d: f64) -> HostModel {
         HostModel {
             order: 2,
             a: DMatrix::from_fn(2, 2, |i, j| a[i][j]),
@@ -712,7 +753,7 @@ mod tests {
     }
 
     /// A staircase of pseudo-random levels in [0, 1], 20 samples each.
-    fn levels(n: usize, seed: u64) -> Vec<f64> {
+    pub(crate) fn levels(n: usize, seed: u64) -> Vec<f64> {
         let mut s = seed;
         let mut level = 0.0;
         (0..n)
@@ -728,7 +769,7 @@ mod tests {
             .collect()
     }
 
-    fn rms(a: &[f64], b: &[f64]) -> f64 {
+    pub(crate) fn rms(a: &[f64], b: &[f64]) -> f64 {
         (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt()
     }
 

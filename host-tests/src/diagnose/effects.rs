@@ -12,8 +12,8 @@ use serde::Serialize;
 
 use super::DiagnoseError;
 use super::model::{
-    Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, delay_input, evaluate,
-    fit_ar, fit_structure, refit_borders, spectral_radius,
+    Dynamics, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, delay_input,
+    evaluate, fit_ar, fit_structure, fit_structure_fold, refit_borders, spectral_radius,
 };
 use super::residual::{LEVEL, TestSet};
 use super::stats::{newey_west_var_of_mean, normal_sf, periodogram};
@@ -36,6 +36,10 @@ pub enum Effect {
     ColoredNoise,
     /// Isolated outliers: robust re-estimation.
     Outliers,
+    /// State-dependent dynamics: level-dependent stores instead of the linear `G`. Beyond the
+    /// seven-effect catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with
+    /// them ([`Effect::PROPOSED`]).
+    StateDependentDynamics,
 }
 
 impl Effect {
@@ -50,6 +54,19 @@ impl Effect {
         Effect::Outliers,
     ];
 
+    /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
+    /// for state-dependent dynamics.
+    pub const PROPOSED: [Effect; 8] = [
+        Effect::OffsetDrift,
+        Effect::InputDelay,
+        Effect::UnmodeledDynamics,
+        Effect::OutputNonlinearity,
+        Effect::PeriodicDisturbance,
+        Effect::ColoredNoise,
+        Effect::Outliers,
+        Effect::StateDependentDynamics,
+    ];
+
     /// The catalog name (`offset_drift`, …).
     pub fn name(self) -> &'static str {
         match self {
@@ -60,12 +77,13 @@ impl Effect {
             Effect::PeriodicDisturbance => "periodic_disturbance",
             Effect::ColoredNoise => "colored_noise",
             Effect::Outliers => "outliers",
+            Effect::StateDependentDynamics => "state_dependent_dynamics",
         }
     }
 
     /// The effect with this catalog name.
     pub fn from_name(name: &str) -> Option<Effect> {
-        Effect::ALL.into_iter().find(|e| e.name() == name)
+        Effect::PROPOSED.into_iter().find(|e| e.name() == name)
     }
 
     /// The residual tests that point at this effect (at least one must fire).
@@ -87,6 +105,7 @@ impl Effect {
             Effect::PeriodicDisturbance => &["spectral_line"],
             Effect::ColoredNoise => &["whiteness"],
             Effect::Outliers => &["heavy_tails"],
+            Effect::StateDependentDynamics => &["state_dependence"],
         }
     }
 
@@ -107,6 +126,9 @@ impl Effect {
             Effect::ColoredNoise => "AR noise model (order by BIC) for one-step-ahead prediction",
             Effect::Outliers => {
                 "robust re-estimation: outliers by the MAD rule replaced by the model output, left out of the error"
+            }
+            Effect::StateDependentDynamics => {
+                "level-dependent stores: the order-2 linear part as a cascade of two stores with power-law outflows, the first overflowing into the second, borders refitted with them on the simulation error"
             }
         }
     }
@@ -130,6 +152,8 @@ impl Effect {
                 ((n.saturating_sub(base_order)) * (2 * n + 2)) as f64
             }
             Effect::ColoredNoise => s.noise_ar_order.unwrap_or(1) as f64,
+            // Exponents, offsets, overflow level and spill beyond the linear cascade.
+            Effect::StateDependentDynamics => 6.0,
         }
     }
 
@@ -142,6 +166,7 @@ impl Effect {
             Effect::PeriodicDisturbance => s.frequencies.len() >= 3,
             Effect::ColoredNoise => s.noise_ar_order.is_some(),
             Effect::Outliers => s.robust,
+            Effect::StateDependentDynamics => s.dynamics == Dynamics::Stores,
         }
     }
 }
@@ -174,6 +199,22 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
             ),
             None => "MAD rule".into(),
         },
+        Effect::StateDependentDynamics => {
+            let map = match s.output_map_segments {
+                Some(k) => format!(", output map with {k} segments"),
+                None => String::new(),
+            };
+            match model.and_then(|m| m.stores.as_ref()) {
+                Some(st) => format!(
+                    "level-dependent stores: outflow exponents {:.2}, {:.2}; overflow at {:.3} with {:.0} % spilled{map}",
+                    st.alpha[0],
+                    st.alpha[1],
+                    st.level,
+                    100.0 * st.spill
+                ),
+                None => format!("level-dependent stores{map}"),
+            }
+        }
     }
 }
 
@@ -329,7 +370,11 @@ impl<'a> Holdout<'a> {
         let mut first: Option<ExtendedModel> = None;
         let mut evs = Vec::new();
         for f in &self.folds {
-            let m = fit_structure(s, &f.fit_part, self.opts)?;
+            let m = if s.dynamics == Dynamics::Stores {
+                fit_structure_fold(s, &f.fit_part, self.opts, self.est, f.range.clone())?
+            } else {
+                fit_structure(s, &f.fit_part, self.opts)?
+            };
             if check_slow && too_slow(&m, f.fit_part.len()) {
                 return Ok(None);
             }
@@ -491,6 +536,10 @@ impl Proposal<'_> {
                 }
                 Err(DiagnoseError::Identify(e)) => {
                     tried.push((format!("{label} (identification failed: {e})"), f64::NAN));
+                    continue;
+                }
+                Err(DiagnoseError::Dynamics(e)) => {
+                    tried.push((format!("{label} (not fitted: {e})"), f64::NAN));
                     continue;
                 }
                 Err(e) => return Err(e),
@@ -656,6 +705,25 @@ impl Proposal<'_> {
                     k * 100 <= 3 * n
                         && c.inner_model.flagged * 100 <= 3 * self.holdout.fit_part.len()
                 }))
+            }
+            Effect::StateDependentDynamics => {
+                // With stores the steady-state curve bends by itself: the output map, if
+                // any, is also tried reduced to its affine part and clip.
+                let mut opts = Vec::new();
+                if self.current.output_map_segments.is_some_and(|k| k > 1) {
+                    opts.push((
+                        "stores, output map reduced to 1 segment".to_string(),
+                        with(&|s| {
+                            s.dynamics = Dynamics::Stores;
+                            s.output_map_segments = Some(1);
+                        }),
+                    ));
+                }
+                opts.push((
+                    "stores".to_string(),
+                    with(&|s| s.dynamics = Dynamics::Stores),
+                ));
+                self.best_of(effect, opts, Metric::Simulation)
             }
             Effect::ColoredNoise => {
                 let Some(p) = ar_order_bic(self.residual, 20) else {

@@ -42,6 +42,7 @@ pub mod report;
 pub mod residual;
 pub mod scenario;
 pub mod stats;
+pub mod stores;
 
 pub use checks::Warning;
 pub use effects::Effect;
@@ -124,6 +125,8 @@ pub enum DiagnoseError {
         /// Its neighbours (the segments the input never visits), when known.
         segment: Option<(f64, f64)>,
     },
+    /// A model class beyond the linear dynamics could not be fitted.
+    Dynamics(dynamics::DynamicsError),
     /// A figure or report could not be written.
     Output(String),
 }
@@ -132,6 +135,7 @@ impl fmt::Display for DiagnoseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             DiagnoseError::Identify(e) => write!(f, "identification failed: {e}"),
+            DiagnoseError::Dynamics(e) => write!(f, "{e}"),
             DiagnoseError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")
             }
@@ -759,7 +763,7 @@ fn diagnose_inner(
             tests: &tests,
         };
         let mut cands = Vec::new();
-        for e in Effect::ALL {
+        for e in Effect::PROPOSED {
             // A saturated output found by the data checks is direct evidence of an output
             // nonlinearity, even when the residual tests lack power.
             let saturated = e == Effect::OutputNonlinearity
@@ -842,8 +846,13 @@ fn diagnose_inner(
         // the hold-out model, fitted on 70 % of the same data, is kept.
         let mut refitted: Option<ExtendedModel> = None;
         while let Some(ci) = chosen {
-            let m = model::fit_structure(&cands[ci].structure, &est, &final_opts)?;
             let inner = &cands[ci].inner_model;
+            // A model class beyond the linear dynamics that does not fit the whole record
+            // keeps its hold-out fit.
+            let m = match model::fit_structure(&cands[ci].structure, &est, &final_opts) {
+                Err(DiagnoseError::Dynamics(_)) => inner.clone(),
+                other => other?,
+            };
             let rmse_full = model::evaluate(&m, &est, hold..ne, Metric::Simulation).rmse;
             let rmse_inner = model::evaluate(inner, &est, hold..ne, Metric::Simulation).rmse;
             let m = if rmse_full.is_finite() && rmse_full <= 1.1 * rmse_inner {
@@ -971,9 +980,11 @@ fn diagnose_inner(
         );
     }
     if final_tests.fired("state_dependence") {
-        unexplained.push(
-            "found, not in the catalog: state-dependent dynamics (state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the catalog has no extension for it (`diagnose::dynamics` has model classes beyond the catalog for it, measured by the example `tanks_dynamics`)".into(),
-        );
+        unexplained.push(if current.dynamics == model::Dynamics::Stores {
+            "found, not in the catalog: state dependence beyond the level-dependent stores (state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); `diagnose::dynamics` has further model classes, measured by the example `tanks_dynamics`".into()
+        } else {
+            "found, not in the catalog: state-dependent dynamics (state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the level-dependent stores (`state_dependent_dynamics`) were not added: they start from an order-2 model, and the hold-out must confirm them".into()
+        });
     }
     if warnings.iter().any(|w| w.check == "output_quantisation") {
         unexplained.push(

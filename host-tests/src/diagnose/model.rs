@@ -28,8 +28,10 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::DiagnoseError;
+use super::dynamics::{Borders, DynamicsFit};
 use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use super::stats::{lstsq, mad_sigma, nnls, rms, running_median};
+use super::stores::{self, Stores};
 use crate::identify::{HostModel, IdentifyOptions, identify};
 use crate::report::fit;
 
@@ -170,6 +172,20 @@ pub struct Structure {
     pub noise_ar_order: Option<usize>,
     /// Robust re-estimation with outliers flagged by the MAD rule (`outliers`).
     pub robust: bool,
+    /// The dynamics between the input nonlinearity and the output map
+    /// (`state_dependent_dynamics`).
+    pub dynamics: Dynamics,
+}
+
+/// The dynamics between the input nonlinearity and the output map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Dynamics {
+    /// The identified linear `G` (the paper's model).
+    Linear,
+    /// Level-dependent stores ([`super::stores`]) started from `G`, the borders refitted with
+    /// them.
+    Stores,
 }
 
 impl Structure {
@@ -184,6 +200,7 @@ impl Structure {
             output_map_segments: None,
             noise_ar_order: None,
             robust: false,
+            dynamics: Dynamics::Linear,
         }
     }
 
@@ -416,6 +433,8 @@ pub struct ExtendedModel {
     pub outlier_k: f64,
     /// Samples of the estimation data flagged as outliers.
     pub flagged: usize,
+    /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`]).
+    pub stores: Option<Stores>,
 }
 
 /// The input delayed by `d` samples, the first value repeated in front.
@@ -1307,7 +1326,10 @@ impl ExtendedModel {
     pub fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);
         let h = nonlinearity_output(&self.hammerstein, &ud);
-        linear_response(&self.hammerstein, &h, &self.x0)
+        match &self.stores {
+            Some(st) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
+            None => linear_response(&self.hammerstein, &h, &self.x0),
+        }
     }
 
     /// The simulated output (deterministic part, no measured output used).
@@ -1356,6 +1378,79 @@ pub fn fit_structure(
     rec: &Record,
     opts: &FitOptions,
 ) -> Result<ExtendedModel, DiagnoseError> {
+    fit_structure_impl(s, rec, opts, None)
+}
+
+/// [`fit_structure`] for a fold of the cross-validation: `fit_part` is `whole` without the
+/// samples `block`, joined at the gap. The linear part is fitted on `fit_part`; the
+/// level-dependent stores, whose simulation error a join would corrupt, on the simulation of
+/// `whole` with the block's samples left out of the error (the input is known throughout).
+pub fn fit_structure_fold(
+    s: &Structure,
+    fit_part: &Record,
+    opts: &FitOptions,
+    whole: &Record,
+    block: Range<usize>,
+) -> Result<ExtendedModel, DiagnoseError> {
+    fit_structure_impl(s, fit_part, opts, Some((whole, block)))
+}
+
+/// Fits level-dependent stores to a fitted model ([`Dynamics::Stores`]): started from its
+/// linear part, on the simulation error of `rec` without the `skip` samples, the borders
+/// refitted with them, the output map and the additive terms held.
+fn fit_stores(
+    model: &mut ExtendedModel,
+    rec: &Record,
+    skip: &[bool],
+    opts: &FitOptions,
+) -> Result<(), DiagnoseError> {
+    let ud = delay_input(&rec.u, model.structure.delay);
+    let h = nonlinearity_output(&model.hammerstein, &ud);
+    let target: Vec<f64> = rec
+        .y
+        .iter()
+        .zip(&rec.time)
+        .map(|(y, &t)| y - model.additive.eval(t))
+        .collect();
+    let data = DynamicsFit {
+        h: &h,
+        y: &target,
+        skip,
+        map: model.output_map.as_ref(),
+        fit_x0: true,
+        radius_limit: 1.0,
+        iterations: stores::ITERATIONS,
+        borders: Some(Borders {
+            u: &ud,
+            shared: opts.identify.static_nonlinearity,
+        }),
+    };
+    let (st, hm) =
+        stores::fit(&model.hammerstein, &model.x0, &data).map_err(DiagnoseError::Dynamics)?;
+    model.hammerstein = hm;
+    model.stores = Some(st);
+    Ok(())
+}
+
+fn fit_structure_impl(
+    s: &Structure,
+    rec: &Record,
+    opts: &FitOptions,
+    held: Option<(&Record, Range<usize>)>,
+) -> Result<ExtendedModel, DiagnoseError> {
+    // Stores start from the linear part refined on the simulation error: the subspace
+    // estimate of a slow, well-damped plant can put a lightly damped complex pair where the
+    // plant has two real poles.
+    let refined;
+    let opts = if s.dynamics == Dynamics::Stores && !opts.refine_poles {
+        refined = FitOptions {
+            refine_poles: true,
+            ..opts.clone()
+        };
+        &refined
+    } else {
+        opts
+    };
     let n = rec.len();
     let ud = delay_input(&rec.u, s.delay);
     let mut idopts = opts.identify.clone();
@@ -1540,7 +1635,17 @@ pub fn fit_structure(
         noise: None,
         outlier_k: opts.outlier_k,
         flagged: flags.iter().filter(|&&f| f).count(),
+        stores: None,
     };
+    if s.dynamics == Dynamics::Stores {
+        match held {
+            Some((whole, block)) => {
+                let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
+                fit_stores(&mut model, whole, &skip, opts)?;
+            }
+            None => fit_stores(&mut model, rec, &flags, opts)?,
+        }
+    }
     if let Some(p) = s.noise_ar_order {
         let sim = model.simulate(&rec.u, &rec.time);
         let r: Vec<f64> = rec

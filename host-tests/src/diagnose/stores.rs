@@ -1,0 +1,457 @@
+//! Level-dependent stores: state-dependent dynamics with one steady state by construction.
+//!
+//! An order-2 model with real poles is a cascade of two stores ([`dynamics::cascade_forms`]).
+//! Here each store drains through a monotone power-law outflow instead of a linear one, and
+//! the first one may overflow into the second above a level:
+//!
+//! ```text
+//! q_i   = k_i · max(x_i, 0)^α_i                          (outflow of store i)
+//! x1   ← x1 + (h + e − q1) / S ,  spill = max(x1 − L, 0),  x1 ← min(x1, L)
+//! x2   ← x2 + (q1 − q2) / S + s · spill                  (S sub-steps per sample)
+//! y     = g( c1 x1 + c2 x2 + d h + y0 )
+//! ```
+//!
+//! Stores do not go below empty (`x_i ≥ 0`). With `α1 = α2 = 1`, no overflow and one sub-step
+//! this is the linear cascade (poles `1 − k_i`), which is where the fit starts. Because every
+//! outflow is increasing in its level, a constant inflow has exactly one steady state
+//! (`q1(x1) = h + e` below the overflow, then `q2(x2) = q1(x1) + s · spill`): the class cannot
+//! produce the spurious equilibria a polynomial state term can ([`dynamics::unique_steady_states`]).
+//! The level `e` where the first store is empty and the output offset `y0` are fitted too:
+//! with `α ≠ 1` where a store is empty matters.
+//!
+//! `k`, `α`, `c`, `d`, `y0`, `e`, `L`, `s`, the initial state and (if asked) the border values
+//! are fitted on the simulation error by Levenberg–Marquardt ([`super::optimise`]), the output
+//! map held, from eight starts: both assignments of the linear model's poles to the stores
+//! (a complex pair `re ± j·im` taken as the real pair `re ± |im|`), `α` from 1 and from ½,
+//! and `L` at 75 % or 90 % of the highest level the first store of the linear start reaches.
+//! In [`super::diagnose`] this is the extension of `state_dependent_dynamics`, proposed when
+//! the residual test `state_dependence` fires and kept only if the cross-validation inside the
+//! estimation data confirms it, like every other effect.
+
+use serde::Serialize;
+
+use super::dynamics::{self, Cascade, DynamicsError, DynamicsFit};
+use super::optimise::{Settings, levenberg_marquardt};
+use crate::identify::HostModel;
+
+/// Sub-steps per sample of the store equations.
+pub const SUBSTEPS: usize = 4;
+
+/// Levenberg–Marquardt iterations per start.
+pub const ITERATIONS: usize = 100;
+
+/// Bounds on the outflow exponents `α`.
+pub const EXPONENT_RANGE: (f64, f64) = (0.2, 3.0);
+
+/// A cascade of two stores with power-law outflows, the first overflowing into the second.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stores {
+    /// Outflow coefficients `k_i` (> 0).
+    pub k: [f64; 2],
+    /// Outflow exponents `α_i` (within [`EXPONENT_RANGE`]).
+    pub alpha: [f64; 2],
+    /// Output weights `c_i`.
+    pub c: [f64; 2],
+    /// Direct feed-through `d`.
+    pub d: f64,
+    /// Output offset `y0`.
+    pub offset: f64,
+    /// Inflow offset `e`: the first store is empty in steady state at `h = −e`.
+    pub inflow_offset: f64,
+    /// Level `L` of the first store above which it overflows.
+    pub level: f64,
+    /// Fraction `s` of the overflow that reaches the second store.
+    pub spill: f64,
+    /// Initial state `(x1, x2)`.
+    pub x0: [f64; 2],
+}
+
+const PARAMETERS: usize = 13;
+
+impl Stores {
+    fn from_theta(t: &[f64]) -> Self {
+        let g = |i: usize| t.get(i).copied().unwrap_or(0.0);
+        Stores {
+            k: [g(0), g(1)],
+            alpha: [g(2), g(3)],
+            c: [g(4), g(5)],
+            d: g(6),
+            offset: g(7),
+            inflow_offset: g(8),
+            level: g(9),
+            spill: g(10),
+            x0: [g(11), g(12)],
+        }
+    }
+
+    fn theta(&self) -> Vec<f64> {
+        vec![
+            self.k[0],
+            self.k[1],
+            self.alpha[0],
+            self.alpha[1],
+            self.c[0],
+            self.c[1],
+            self.d,
+            self.offset,
+            self.inflow_offset,
+            self.level,
+            self.spill,
+            self.x0[0],
+            self.x0[1],
+        ]
+    }
+
+    fn admissible(&self) -> bool {
+        let (lo, hi) = EXPONENT_RANGE;
+        self.k.iter().all(|k| *k > 0.0 && *k < SUBSTEPS as f64)
+            && self.alpha.iter().all(|a| (lo..=hi).contains(a))
+            && self.level > 0.0
+            && (0.0..=2.0).contains(&self.spill)
+    }
+
+    /// The states along `h`, from [`Stores::x0`]: `(x1, x2)` before each sample.
+    pub fn states(&self, h: &[f64]) -> Option<Vec<[f64; 2]>> {
+        let [mut x1, mut x2] = self.x0;
+        let dt = 1.0 / SUBSTEPS as f64;
+        let mut out = Vec::with_capacity(h.len());
+        for &hi in h {
+            out.push([x1, x2]);
+            for _ in 0..SUBSTEPS {
+                let q1 = self.k[0] * x1.max(0.0).powf(self.alpha[0]);
+                let q2 = self.k[1] * x2.max(0.0).powf(self.alpha[1]);
+                let s1 = x1 + dt * (hi + self.inflow_offset - q1);
+                let over = (s1 - self.level).max(0.0);
+                x1 = (s1 - over).max(0.0);
+                x2 = (x2 + dt * (q1 - q2) + self.spill * over).max(0.0);
+            }
+            if !(x1.is_finite() && x2.is_finite()) {
+                return None;
+            }
+        }
+        Some(out)
+    }
+
+    /// The output before the output map, `c1 x1 + c2 x2 + d h + y0`, along `h`; `None` if it
+    /// is not finite.
+    pub fn simulate(&self, h: &[f64]) -> Option<Vec<f64>> {
+        let states = self.states(h)?;
+        let out: Vec<f64> = states
+            .iter()
+            .zip(h)
+            .map(|(x, hi)| self.c[0] * x[0] + self.c[1] * x[1] + self.d * hi + self.offset)
+            .collect();
+        out.iter().all(|v| v.is_finite()).then_some(out)
+    }
+
+    /// The steady output (before the output map) for a constant `h`, from the store balance
+    /// (unique: every outflow increases with its level).
+    pub fn steady_output(&self, h: f64) -> f64 {
+        let inflow = (h + self.inflow_offset).max(0.0);
+        let level = |q: f64, i: usize| (q / self.k[i]).powf(1.0 / self.alpha[i]);
+        let free = level(inflow, 0);
+        let (x1, q1, spill) = if free > self.level {
+            let q1 = self.k[0] * self.level.powf(self.alpha[0]);
+            (self.level, q1, self.spill * (inflow - q1))
+        } else {
+            (free, inflow, 0.0)
+        };
+        let x2 = level(q1 + spill, 1);
+        self.c[0] * x1 + self.c[1] * x2 + self.d * h + self.offset
+    }
+}
+
+/// Starting overflow levels, as fractions of the highest level the first store of the
+/// linear start reaches.
+const LEVEL_STARTS: [f64; 2] = [0.75, 0.9];
+
+/// The cascade forms the fit starts from: the model's poles if real; a complex pair
+/// `re ± j·im` (stores do not oscillate) starts as the real pair `re ± |im|`, and whether the
+/// stores then fit is for the validation to judge.
+pub fn start_cascades(m: &HostModel) -> Result<[Cascade; 2], DynamicsError> {
+    let poles = m.poles();
+    if m.order != 2 || poles.len() != 2 {
+        return Err(DynamicsError::NotOrderTwo { order: m.order });
+    }
+    let (re, im) = poles[0];
+    if im == 0.0 {
+        return Ok(dynamics::cascade_forms_with(m, re, poles[1].0));
+    }
+    Ok(dynamics::cascade_forms_with(
+        m,
+        re + im.abs(),
+        re - im.abs(),
+    ))
+}
+
+/// Fits the level-dependent stores to an order-2 model with real poles (`A`, `B`, `C`, `D`
+/// give the start, `x0` its initial state; the borders and the output map are held). Every
+/// start in the module documentation is tried; the fit with the least squared simulation
+/// error on the samples not skipped is returned.
+pub fn fit(
+    m: &HostModel,
+    x0: &[f64],
+    data: &DynamicsFit,
+) -> Result<(Stores, HostModel), DynamicsError> {
+    let cascades = start_cascades(m)?;
+    let y_first = m.d * data.h.first().copied().unwrap_or(0.0)
+        + m.c.iter().zip(x0).map(|(c, x)| c * x).sum::<f64>();
+    let (h_low, h_high) = data
+        .h
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, u), &v| {
+            (l.min(v), u.max(v))
+        });
+    if !(h_low.is_finite() && h_high.is_finite()) {
+        return Err(DynamicsError::Empty {
+            order: m.order,
+            samples: data.h.len(),
+        });
+    }
+    // Refitted border values are appended to θ: the ascending ones, then unless shared the
+    // descending ones.
+    let with_borders = |t: &[f64]| -> HostModel {
+        let mut mm = m.clone();
+        if let Some(b) = data.borders {
+            let mut it = t.iter().skip(PARAMETERS).copied();
+            for v in mm.border_asc.iter_mut() {
+                *v = it.next().unwrap_or(*v);
+            }
+            if b.shared {
+                mm.border_desc.clone_from(&mm.border_asc);
+            } else {
+                for v in mm.border_desc.iter_mut() {
+                    *v = it.next().unwrap_or(*v);
+                }
+            }
+        }
+        mm
+    };
+    let residual = |t: &[f64]| -> Option<Vec<f64>> {
+        let refitted = data
+            .borders
+            .map(|b| super::model::nonlinearity_output(&with_borders(t), b.u));
+        let lin = Stores::from_theta(t).simulate(refitted.as_deref().unwrap_or(data.h))?;
+        let r: Vec<f64> = lin
+            .iter()
+            .zip(data.y)
+            .zip(data.skip)
+            .filter(|(_, s)| !**s)
+            .map(|((l, y), _)| y - data.map.map_or(*l, |g| g.eval(*l)))
+            .collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let admissible = |t: &[f64]| Stores::from_theta(t).admissible();
+    let settings = Settings {
+        iterations: data.iterations,
+        ..Settings::default()
+    };
+    let mut best: Option<(f64, (Stores, HostModel))> = None;
+    for cascade in cascades {
+        let Some(linear) = linear_start(&cascade, m.d, y_first, h_low, h_high) else {
+            continue;
+        };
+        let Some(states) = linear.states(data.h) else {
+            continue;
+        };
+        let top = states.iter().map(|x| x[0]).fold(0.0, f64::max);
+        let mean = |i: usize| states.iter().map(|x| x[i]).sum::<f64>() / states.len() as f64;
+        for alpha in [1.0, 0.5] {
+            let mut start = linear.clone();
+            for (i, a) in start.alpha.iter_mut().enumerate() {
+                // Same outflow at the mean level.
+                let x = mean(i).max(1e-9);
+                start.k[i] *= x.powf(1.0 - alpha);
+                *a = alpha;
+            }
+            for level in LEVEL_STARTS {
+                let mut s = start.clone();
+                s.level = level * top;
+                let mut theta0 = s.theta();
+                if let Some(b) = data.borders {
+                    theta0.extend_from_slice(&m.border_asc);
+                    if !b.shared {
+                        theta0.extend_from_slice(&m.border_desc);
+                    }
+                }
+                let typical: Vec<f64> = theta0.iter().map(|v| v.abs().max(1e-3)).collect();
+                let held = |t: &[f64]| {
+                    let mut t = t.to_vec();
+                    if !data.fit_x0 {
+                        t[11..PARAMETERS].copy_from_slice(&theta0[11..PARAMETERS]);
+                    }
+                    t
+                };
+                let res = |t: &[f64]| residual(&held(t));
+                let Some((theta, r)) =
+                    levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible)
+                else {
+                    continue;
+                };
+                let e: f64 = r.iter().map(|v| v * v).sum();
+                if best.as_ref().is_none_or(|(b, _)| e < *b) {
+                    let theta = held(&theta);
+                    best = Some((e, (Stores::from_theta(&theta), with_borders(&theta))));
+                }
+            }
+        }
+    }
+    best.map(|(_, fit)| fit).ok_or(DynamicsError::NotSimulating)
+}
+
+/// The linear cascade as stores (`α = 1`, no overflow). Outflow rates `k_i = S (1 − p_i^{1/S})`
+/// give the poles over `S` sub-steps; at rest the stores hold `x_i = (h + e) / k_i` where the
+/// cascade holds `h / (1 − p1)` and `h / ((1 − p1)(1 − p2))`, which scales the output weights.
+/// The inflow offset puts the lowest `h` 5 % of its range above empty, the output offset
+/// compensates it, and the stores start at rest at the level that gives the model's first
+/// output.
+fn linear_start(
+    cascade: &Cascade,
+    d: f64,
+    y_first: f64,
+    h_low: f64,
+    h_high: f64,
+) -> Option<Stores> {
+    let Cascade { p1, p2, c1, c2 } = *cascade;
+    if !(0.0 < p1 && p1 < 1.0 && 0.0 < p2 && p2 < 1.0) {
+        return None;
+    }
+    let sub = SUBSTEPS as f64;
+    let rate = |p: f64| sub * (1.0 - p.powf(1.0 / sub));
+    let k = [rate(p1), rate(p2)];
+    let c = [
+        c1 * k[0] / (1.0 - p1),
+        c2 * k[1] / ((1.0 - p1) * (1.0 - p2)),
+    ];
+    let e = (0.05 * (h_high - h_low) - h_low).max(0.0);
+    // Static gain from h + e to c x.
+    let gain = c[0] / k[0] + c[1] / k[1];
+    let rest_h = if (gain + d).abs() > 1e-300 {
+        y_first / (gain + d)
+    } else {
+        0.0
+    };
+    let inflow = (rest_h + e).max(0.0);
+    Some(Stores {
+        k,
+        alpha: [1.0, 1.0],
+        c,
+        d,
+        offset: -gain * e,
+        inflow_offset: e,
+        level: f64::INFINITY,
+        spill: 1.0,
+        x0: [inflow / k[0], inflow / k[1]],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnose::dynamics::tests::{levels, model, rms};
+
+    type Outcome = Result<(), Box<dyn std::error::Error>>;
+
+    /// Two tanks: square-root outflows, the upper one overflowing at 1.2 with half the excess
+    /// reaching the lower one; the output is the lower level.
+    fn tanks() -> Stores {
+        Stores {
+            k: [0.08, 0.06],
+            alpha: [0.5, 0.5],
+            c: [0.0, 1.0],
+            d: 0.0,
+            offset: 0.0,
+            inflow_offset: 0.0,
+            level: 1.2,
+            spill: 0.5,
+            x0: [0.5, 0.5],
+        }
+    }
+
+    /// Inflow levels in [0.02, 0.12], 20 samples each (the upper tank overflows above 0.088).
+    fn inflow(n: usize, seed: u64) -> Vec<f64> {
+        levels(n, seed).iter().map(|v| 0.02 + 0.1 * v).collect()
+    }
+
+    #[test]
+    fn steady_output_is_where_the_simulation_settles() -> Outcome {
+        let t = tanks();
+        // Below the overflow (0.05 < 0.08 · √1.2 = 0.0876) and above it.
+        for h in [0.05, 0.11] {
+            let y = t.simulate(&vec![h; 4000]).ok_or("not simulated")?;
+            let last = y.last().copied().ok_or("empty")?;
+            assert!(
+                (last - t.steady_output(h)).abs() < 1e-6,
+                "h = {h}: settles at {last}, steady_output {}",
+                t.steady_output(h)
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn linear_start_simulates_like_the_linear_model() -> Outcome {
+        // The cascade x1⁺ = 0.95 x1 + h, x2⁺ = 0.9 x2 + x1, y = 0.1 x1 + 0.05 x2 as a model.
+        let lin = model([[0.95, 0.0], [1.0, 0.9]], [1.0, 0.0], [0.1, 0.05], 0.0);
+        let h = levels(2000, 3);
+        let y = dynamics::simulate(&lin, None, &h, &[0.0, 0.0]).ok_or("not simulated")?;
+        let [cascade, _] = start_cascades(&lin)?;
+        let start = linear_start(&cascade, 0.0, 0.0, 0.0, 1.0).ok_or("no start")?;
+        let ys = start.simulate(&h).ok_or("not simulated")?;
+        // Sub-steps discretise the cascade's coupling differently: a small mismatch only.
+        let spread = rms(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
+        let e = rms(&y, &ys);
+        assert!(e < 0.05 * spread, "start error {e}, output spread {spread}");
+        Ok(())
+    }
+
+    #[test]
+    fn fit_recovers_two_tanks() -> Outcome {
+        let truth = tanks();
+        let h = inflow(3000, 11);
+        let y = truth.simulate(&h).ok_or("not simulated")?;
+        // The start: the cascade form of the tanks linearised at a mid level, the static
+        // gain matched there (dq/dx = k α x^(α−1), dy/dh = 2 h / k2²).
+        let (h_mid, x1, x2): (f64, f64, f64) =
+            (0.07, (0.07f64 / 0.08).powi(2), (0.07f64 / 0.06).powi(2));
+        let p1 = 1.0 - 0.08 * 0.5 / x1.sqrt();
+        let p2 = 1.0 - 0.06 * 0.5 / x2.sqrt();
+        let c2 = 2.0 * h_mid / (0.06 * 0.06) * (1.0 - p1) * (1.0 - p2);
+        let lin = model([[p1, 0.0], [1.0, p2]], [1.0, 0.0], [0.0, c2], 0.0);
+        let skip = vec![false; h.len()];
+        let data = DynamicsFit {
+            h: &h,
+            y: &y,
+            skip: &skip,
+            map: None,
+            fit_x0: true,
+            radius_limit: 1.0,
+            iterations: ITERATIONS,
+            borders: None,
+        };
+        let x0 = [x1 / (1.0 - p2), 0.0];
+        let before = rms(
+            &dynamics::simulate(&lin, None, &h, &x0).ok_or("not simulated")?,
+            &y,
+        );
+        let (fit, _) = fit(&lin, &x0, &data)?;
+        let after = rms(&fit.simulate(&h).ok_or("not simulated")?, &y);
+        assert!(
+            after < 0.01 * before,
+            "before {before}, after {after}: {fit:?}"
+        );
+        // On a new input too, and with the tanks' own steady states.
+        let h2 = inflow(3000, 12);
+        let y2 = truth.simulate(&h2).ok_or("not simulated")?;
+        let new = rms(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
+        assert!(new < 0.02 * before, "new input: {new} (before {before})");
+        for h in [0.03, 0.06, 0.11] {
+            let (a, b) = (fit.steady_output(h), truth.steady_output(h));
+            assert!(
+                (a - b).abs() < 0.02 * b,
+                "steady output at h = {h}: {a} vs {b}"
+            );
+        }
+        Ok(())
+    }
+}
