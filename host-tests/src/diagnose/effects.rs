@@ -105,7 +105,15 @@ impl Effect {
             Effect::PeriodicDisturbance => &["spectral_line"],
             Effect::ColoredNoise => &["whiteness"],
             Effect::Outliers => &["heavy_tails"],
-            Effect::StateDependentDynamics => &["state_dependence"],
+            // Dynamics of another class: the evidence of wrong dynamics (as for a higher
+            // order), and a residual that follows the level (its increment, or its mean).
+            Effect::StateDependentDynamics => &[
+                "state_dependence",
+                "structure_output",
+                "input_correlation",
+                "regressor_correlation",
+                "whiteness",
+            ],
         }
     }
 
@@ -166,7 +174,7 @@ impl Effect {
             Effect::PeriodicDisturbance => s.frequencies.len() >= 3,
             Effect::ColoredNoise => s.noise_ar_order.is_some(),
             Effect::Outliers => s.robust,
-            Effect::StateDependentDynamics => s.dynamics == Dynamics::Stores,
+            Effect::StateDependentDynamics => s.dynamics != Dynamics::Linear,
         }
     }
 }
@@ -370,7 +378,7 @@ impl<'a> Holdout<'a> {
         let mut first: Option<ExtendedModel> = None;
         let mut evs = Vec::new();
         for f in &self.folds {
-            let m = if s.dynamics == Dynamics::Stores {
+            let m = if s.dynamics.stores().is_some() {
                 fit_structure_fold(s, &f.fit_part, self.opts, self.est, f.range.clone())?
             } else {
                 fit_structure(s, &f.fit_part, self.opts)?
@@ -439,11 +447,12 @@ impl<'a> Holdout<'a> {
     }
 }
 
-/// A model with an unstable pole, or a pole whose time constant exceeds twice the `n` samples
+/// A linear model with an unstable pole, or a pole whose time constant exceeds twice the `n` samples
 /// it was fitted on (`|p| ≥ 1 − 1/(2n)`): such a mode acts as a drift the data cannot
 /// validate, and extrapolates wildly.
 pub fn too_slow(m: &ExtendedModel, n: usize) -> bool {
-    spectral_radius(&m.hammerstein) >= 1.0 - 0.5 / n.max(4) as f64
+    // Stores replace the linear part's simulation and drain by construction.
+    m.stores.is_none() && spectral_radius(&m.hammerstein) >= 1.0 - 0.5 / n.max(4) as f64
 }
 
 /// Relative MSE reduction and one-sided Diebold–Mariano p-value of `cand` against `base`.
@@ -723,7 +732,33 @@ impl Proposal<'_> {
                     "stores".to_string(),
                     with(&|s| s.dynamics = Dynamics::Stores),
                 ));
-                self.best_of(effect, opts, Metric::Simulation)
+                let Some(mut c) = self.best_of(effect, opts, Metric::Simulation)? else {
+                    return Ok(None);
+                };
+                // The level dependence must beat the same stores with linear outflows and
+                // no overflow (the linear cascade refitted the same way, borders included):
+                // otherwise the gain is the refit's, not the state dependence's. The
+                // candidate keeps the smaller gain and the larger p-value of the two
+                // comparisons.
+                let mut reference = c.structure.clone();
+                reference.dynamics = Dynamics::LinearStores;
+                match self.holdout.score(&reference, Metric::Simulation) {
+                    Ok(Some((_, ev))) if ev.rmse.is_finite() => {
+                        let (gain, p_value) = compare(&ev, &c.evaluation);
+                        c.tried
+                            .push(("linear stores (the reference)".to_string(), ev.rmse));
+                        c.gain = c.gain.min(gain);
+                        c.p_value = c.p_value.max(p_value);
+                    }
+                    Ok(_) | Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => {
+                        c.tried.push((
+                            "linear stores (the reference): not fitted".to_string(),
+                            f64::NAN,
+                        ));
+                    }
+                    Err(e) => return Err(e),
+                }
+                Ok(Some(c))
             }
             Effect::ColoredNoise => {
                 let Some(p) = ar_order_bic(self.residual, 20) else {

@@ -31,7 +31,7 @@ use super::DiagnoseError;
 use super::dynamics::{Borders, DynamicsFit};
 use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use super::stats::{lstsq, mad_sigma, nnls, rms, running_median};
-use super::stores::{self, Stores};
+use super::stores::{self, Stores, StoresClass};
 use crate::identify::{HostModel, IdentifyOptions, identify};
 use crate::report::fit;
 
@@ -186,6 +186,20 @@ pub enum Dynamics {
     /// Level-dependent stores ([`super::stores`]) started from `G`, the borders refitted with
     /// them.
     Stores,
+    /// The same stores with linear outflows and no overflow: the linear cascade refitted as
+    /// the stores are (the reference that `Stores` must beat, not an effect of its own).
+    LinearStores,
+}
+
+impl Dynamics {
+    /// The stores class fitted, if any.
+    pub fn stores(self) -> Option<StoresClass> {
+        match self {
+            Dynamics::Linear => None,
+            Dynamics::Stores => Some(StoresClass::LevelDependent),
+            Dynamics::LinearStores => Some(StoresClass::Linear),
+        }
+    }
 }
 
 impl Structure {
@@ -1403,6 +1417,7 @@ fn fit_stores(
     rec: &Record,
     skip: &[bool],
     opts: &FitOptions,
+    class: StoresClass,
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
     let h = nonlinearity_output(&model.hammerstein, &ud);
@@ -1425,8 +1440,8 @@ fn fit_stores(
             shared: opts.identify.static_nonlinearity,
         }),
     };
-    let (st, hm) =
-        stores::fit(&model.hammerstein, &model.x0, &data).map_err(DiagnoseError::Dynamics)?;
+    let (st, hm) = stores::fit(&model.hammerstein, &model.x0, &data, class)
+        .map_err(DiagnoseError::Dynamics)?;
     model.hammerstein = hm;
     model.stores = Some(st);
     Ok(())
@@ -1442,7 +1457,7 @@ fn fit_structure_impl(
     // estimate of a slow, well-damped plant can put a lightly damped complex pair where the
     // plant has two real poles.
     let refined;
-    let opts = if s.dynamics == Dynamics::Stores && !opts.refine_poles {
+    let opts = if s.dynamics.stores().is_some() && !opts.refine_poles {
         refined = FitOptions {
             refine_poles: true,
             ..opts.clone()
@@ -1637,13 +1652,13 @@ fn fit_structure_impl(
         flagged: flags.iter().filter(|&&f| f).count(),
         stores: None,
     };
-    if s.dynamics == Dynamics::Stores {
+    if let Some(class) = s.dynamics.stores() {
         match held {
             Some((whole, block)) => {
                 let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
-                fit_stores(&mut model, whole, &skip, opts)?;
+                fit_stores(&mut model, whole, &skip, opts, class)?;
             }
-            None => fit_stores(&mut model, rec, &flags, opts)?,
+            None => fit_stores(&mut model, rec, &flags, opts, class)?,
         }
     }
     if let Some(p) = s.noise_ar_order {

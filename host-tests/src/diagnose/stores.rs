@@ -25,8 +25,10 @@
 //! (a complex pair `re ± j·im` taken as the real pair `re ± |im|`), `α` from 1 and from ½,
 //! and `L` at 75 % or 90 % of the highest level the first store of the linear start reaches.
 //! In [`super::diagnose`] this is the extension of `state_dependent_dynamics`, proposed when
-//! the residual test `state_dependence` fires and kept only if the cross-validation inside the
-//! estimation data confirms it, like every other effect.
+//! the residual tests point at the dynamics (`state_dependence`, `structure_output`,
+//! `whiteness`, input or regressor correlation) and kept only if the cross-validation inside
+//! the estimation data confirms it against the current model and against
+//! [`StoresClass::Linear`], the same stores with linear outflows.
 
 use serde::Serialize;
 
@@ -161,9 +163,26 @@ impl Stores {
     }
 }
 
+/// The slowest pole a store starts from.
+const SLOWEST_START: f64 = 0.999;
+
 /// Starting overflow levels, as fractions of the highest level the first store of the
 /// linear start reaches.
-const LEVEL_STARTS: [f64; 2] = [0.75, 0.9];
+const LEVEL_STARTS: [Option<f64>; 2] = [Some(0.75), Some(0.9)];
+
+/// The overflow level of stores that do not overflow.
+const NO_OVERFLOW: f64 = 1e200;
+
+/// Which stores [`fit`] fits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StoresClass {
+    /// Power-law outflows and the overflow: the level-dependent stores.
+    LevelDependent,
+    /// Linear outflows (`α = 1`), no overflow: the linear cascade refitted the same way
+    /// (sub-steps, offsets, borders, simulation error), the reference the level dependence
+    /// must beat.
+    Linear,
+}
 
 /// The cascade forms the fit starts from: the model's poles if real; a complex pair
 /// `re ± j·im` (stores do not oscillate) starts as the real pair `re ± |im|`, and whether the
@@ -192,6 +211,7 @@ pub fn fit(
     m: &HostModel,
     x0: &[f64],
     data: &DynamicsFit,
+    class: StoresClass,
 ) -> Result<(Stores, HostModel), DynamicsError> {
     let cascades = start_cascades(m)?;
     let y_first = m.d * data.h.first().copied().unwrap_or(0.0)
@@ -256,7 +276,11 @@ pub fn fit(
         };
         let top = states.iter().map(|x| x[0]).fold(0.0, f64::max);
         let mean = |i: usize| states.iter().map(|x| x[i]).sum::<f64>() / states.len() as f64;
-        for alpha in [1.0, 0.5] {
+        let (alphas, levels): (&[f64], &[Option<f64>]) = match class {
+            StoresClass::LevelDependent => (&[1.0, 0.5], &LEVEL_STARTS),
+            StoresClass::Linear => (&[1.0], &[None]),
+        };
+        for &alpha in alphas {
             let mut start = linear.clone();
             for (i, a) in start.alpha.iter_mut().enumerate() {
                 // Same outflow at the mean level.
@@ -264,9 +288,10 @@ pub fn fit(
                 start.k[i] *= x.powf(1.0 - alpha);
                 *a = alpha;
             }
-            for level in LEVEL_STARTS {
+            for &level in levels {
                 let mut s = start.clone();
-                s.level = level * top;
+                // No overflow: a level no store reaches (its parameter held).
+                s.level = level.map_or(NO_OVERFLOW, |f| f * top);
                 let mut theta0 = s.theta();
                 if let Some(b) = data.borders {
                     theta0.extend_from_slice(&m.border_asc);
@@ -279,6 +304,12 @@ pub fn fit(
                     let mut t = t.to_vec();
                     if !data.fit_x0 {
                         t[11..PARAMETERS].copy_from_slice(&theta0[11..PARAMETERS]);
+                    }
+                    if class == StoresClass::Linear {
+                        // α, the level and the spill held.
+                        for i in [2, 3, 9, 10] {
+                            t[i] = theta0[i];
+                        }
                     }
                     t
                 };
@@ -313,9 +344,12 @@ fn linear_start(
     h_high: f64,
 ) -> Option<Stores> {
     let Cascade { p1, p2, c1, c2 } = *cascade;
-    if !(0.0 < p1 && p1 < 1.0 && 0.0 < p2 && p2 < 1.0) {
+    if !(p1.is_finite() && p2.is_finite()) {
         return None;
     }
+    // Stores drain: a pole at or beyond 1 (a drift the linear fit put there) starts as a
+    // slow store, one at or below 0 as a fast one.
+    let (p1, p2) = (p1.clamp(0.01, SLOWEST_START), p2.clamp(0.01, SLOWEST_START));
     let sub = SUBSTEPS as f64;
     let rate = |p: f64| sub * (1.0 - p.powf(1.0 / sub));
     let k = [rate(p1), rate(p2)];
@@ -434,7 +468,7 @@ mod tests {
             &dynamics::simulate(&lin, None, &h, &x0).ok_or("not simulated")?,
             &y,
         );
-        let (fit, _) = fit(&lin, &x0, &data)?;
+        let (fit, _) = fit(&lin, &x0, &data, StoresClass::LevelDependent)?;
         let after = rms(&fit.simulate(&h).ok_or("not simulated")?, &y);
         assert!(
             after < 0.01 * before,
