@@ -7,14 +7,10 @@
 //! ```
 
 use hsid_host::diagnose::scenario::{Outflow, TwoTanks};
-use hsid_host::diagnose::{PoleRefinement, Validation, diagnose};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seeds: u64 = std::env::args().nth(1).map_or(Ok(4), |s| s.parse())?;
-    let mut options = TwoTanks::options();
-    if std::env::args().nth(2).as_deref() == Some("always") {
-        options.refine_poles = PoleRefinement::Always;
-    }
+    let options = TwoTanks::options();
     println!(
         "| outflow | noise (V) | seed | named first | before (V) | after (V) | after / before | after / floor |"
     );
@@ -27,15 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     noise,
                     seed,
                 };
-                let r = plant.records();
-                let d = diagnose(
-                    &r.estimation,
-                    &Validation::Separate {
-                        record: r.validation,
-                        skip: 0,
-                    },
-                    &options,
-                )?;
+                let (d, floor) = plant.diagnose(&options)?;
                 let first = d.steps.first();
                 let name = first.map_or("—", |s| s.effect.name());
                 let after = first.map_or(d.before.rmse, |s| s.error_after);
@@ -43,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     "| {outflow:?} | {noise} | {seed} | {name} | {:.4} | {after:.4} | {:.2} | {:.2} |",
                     d.before.rmse,
                     after / d.before.rmse,
-                    after / r.noise_floor
+                    after / floor
                 );
             }
         }

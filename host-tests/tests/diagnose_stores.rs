@@ -5,22 +5,14 @@
 //! stores_scenarios`.
 
 use hsid_host::diagnose::scenario::{Outflow, TwoTanks};
-use hsid_host::diagnose::{Diagnosis, Effect, Validation, diagnose};
+use hsid_host::diagnose::{Diagnosis, Effect};
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
 
 fn run(plant: TwoTanks) -> Result<(Diagnosis, f64), Box<dyn std::error::Error>> {
-    let r = plant.records();
-    let d = diagnose(
-        &r.estimation,
-        &Validation::Separate {
-            record: r.validation,
-            skip: 0,
-        },
-        &TwoTanks::options(),
-    )?;
+    let (d, floor) = plant.diagnose(&TwoTanks::options())?;
     println!("{}", hsid_host::diagnose::report::text(&d));
-    Ok((d, r.noise_floor))
+    Ok((d, floor))
 }
 
 #[test]

@@ -56,16 +56,15 @@ impl Effect {
 
     /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
     /// for state-dependent dynamics.
-    pub const PROPOSED: [Effect; 8] = [
-        Effect::OffsetDrift,
-        Effect::InputDelay,
-        Effect::UnmodeledDynamics,
-        Effect::OutputNonlinearity,
-        Effect::PeriodicDisturbance,
-        Effect::ColoredNoise,
-        Effect::Outliers,
-        Effect::StateDependentDynamics,
-    ];
+    pub const PROPOSED: [Effect; 8] = {
+        let mut all = [Effect::StateDependentDynamics; 8];
+        let mut i = 0;
+        while i < Effect::ALL.len() {
+            all[i] = Effect::ALL[i];
+            i += 1;
+        }
+        all
+    };
 
     /// The catalog name (`offset_drift`, …).
     pub fn name(self) -> &'static str {

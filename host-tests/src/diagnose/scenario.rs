@@ -28,7 +28,7 @@ use rand_pcg::Pcg32;
 
 use super::effects::Effect;
 use super::model::Record;
-use super::{DiagnoseOptions, Nonlinearity, Validation};
+use super::{DiagnoseError, DiagnoseOptions, Diagnosis, Nonlinearity, Validation};
 use crate::identify::IdentifyOptions;
 use crate::paper::derive_seed;
 use crate::sim::{Backlash, Lti, Nonlinearity as Element, Switch, paper_noise_model, paper_plant};
@@ -376,5 +376,20 @@ impl TwoTanks {
         let mut id = IdentifyOptions::uniform(0.0, 10.0, 5, 0);
         id.order = Some(2);
         DiagnoseOptions::new(id, Nonlinearity::Static)
+    }
+
+    /// Diagnoses the experiment (estimation record, validated on the separate validation
+    /// record) with `options`; returns the diagnosis and the validation noise floor.
+    pub fn diagnose(&self, options: &DiagnoseOptions) -> Result<(Diagnosis, f64), DiagnoseError> {
+        let r = self.records();
+        let d = super::diagnose(
+            &r.estimation,
+            &Validation::Separate {
+                record: r.validation,
+                skip: 0,
+            },
+            options,
+        )?;
+        Ok((d, r.noise_floor))
     }
 }
