@@ -732,10 +732,22 @@ fn diagnose_inner(
     for _ in 0..opts.max_steps {
         let ev = model::evaluate(&model, &est, hold..ne, Metric::Simulation);
         let tests = residual_tests(&model, &est, hold..ne, &ev, shared);
-        let Some((inner_model, baseline)) =
-            holdout.evaluate_folds(&current, Metric::Simulation, false)?
-        else {
-            break;
+        let (inner_model, baseline) = match holdout.evaluate_folds(
+            &current,
+            Metric::Simulation,
+            false,
+        ) {
+            Ok(Some(v)) => v,
+            Ok(None) => break,
+            // The current model cannot be fitted without one of the blocks: nothing can
+            // be scored against it.
+            Err(e @ (DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_))) => {
+                unexplained.push(format!(
+                        "the estimation data cannot score extensions: the current model cannot be fitted without one of the inner validation's blocks ({e})"
+                    ));
+                break;
+            }
+            Err(e) => return Err(e),
         };
         // The inner hold-out can only score extensions if the model fitted without the block
         // predicts the block about as well as the model fits the record: three times the
@@ -783,7 +795,11 @@ fn diagnose_inner(
         if chosen.is_none() && current.delay == 0 && dead.extra() > 0 {
             let mut s = current.clone();
             s.delay = dead.extra();
-            if let Some((m, ev)) = holdout.score(&s, Metric::Simulation)? {
+            let scored = match holdout.score(&s, Metric::Simulation) {
+                Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => None,
+                other => other?,
+            };
+            if let Some((m, ev)) = scored {
                 let (gain, p_value) = effects::compare(&baseline, &ev);
                 let (_, worse_p) = effects::compare(&ev, &baseline);
                 if worse_p >= residual::LEVEL {
@@ -847,10 +863,9 @@ fn diagnose_inner(
         let mut refitted: Option<ExtendedModel> = None;
         while let Some(ci) = chosen {
             let inner = &cands[ci].inner_model;
-            // A model class beyond the linear dynamics that does not fit the whole record
-            // keeps its hold-out fit.
+            // An extension that cannot be fitted on the whole record keeps its hold-out fit.
             let m = match model::fit_structure(&cands[ci].structure, &est, &final_opts) {
-                Err(DiagnoseError::Dynamics(_)) => inner.clone(),
+                Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => inner.clone(),
                 other => other?,
             };
             let rmse_full = model::evaluate(&m, &est, hold..ne, Metric::Simulation).rmse;
