@@ -8,10 +8,11 @@
 //! 2. identifies the paper's model and simulates it on the validation data;
 //! 3. tests the residual ([`residual`]): whiteness, independence from the input, δ and the
 //!    regressor, structure against the input per path and against the simulated output,
-//!    trend and offset, spectral lines, heavy tails, the lag of the strongest input–residual
-//!    correlation, all at the 1 % level;
-//! 4. traces the residual to the effect of the catalog ([`effects`]) whose model extension
-//!    explains it best: every effect whose evidence tests fired is fitted with its setting
+//!    trend and offset, spectral lines, heavy tails, state dependence, the lag of the
+//!    strongest input–residual correlation, all at the 1 % level;
+//! 4. traces the residual to the effect of the catalog ([`effects`]), or to state-dependent
+//!    dynamics (level-dependent stores, [`stores`]), whose model extension explains it best:
+//!    every effect whose evidence tests fired is fitted with its setting
 //!    chosen on an inner hold-out of the estimation data, and the one that lowers the inner
 //!    hold-out error the most — significantly and by at least the minimum gain, ties to the
 //!    simplest — is added;
@@ -20,7 +21,8 @@
 //! 6. reports ([`report`]) and draws ([`figures`]).
 //!
 //! The validation data never choose anything: they are only scored. [`scenario`] simulates
-//! Table I experiments with one undeclared effect, for the tests and the confusion table.
+//! Table I experiments with one undeclared effect, for the tests and the confusion table, and
+//! two-tank plants for the stores.
 
 use std::fmt;
 use std::ops::Range;
