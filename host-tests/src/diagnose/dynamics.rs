@@ -349,16 +349,63 @@ pub struct Borders<'a> {
     pub shared: bool,
 }
 
-/// The parameters `θ = [A, B, D, E, x0, borders]` packed, and unpacked into a model.
-struct Packing {
-    n: usize,
-    fit_x0: bool,
-    /// Border values refitted (the ascending ones, then unless shared the descending ones),
-    /// appended last.
-    borders: Option<bool>,
+impl DynamicsFit<'_> {
+    /// The error the fit minimises for a linear part's output `lin`: the target minus
+    /// `g(lin)`, the skipped samples left out; `None` if it is not finite.
+    pub fn residual(&self, lin: &[f64]) -> Option<Vec<f64>> {
+        let r: Vec<f64> = lin
+            .iter()
+            .zip(self.y)
+            .zip(self.skip)
+            .filter(|(_, s)| !**s)
+            .map(|((l, y), _)| y - self.map.map_or(*l, |g| g.eval(*l)))
+            .collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    }
+
+    /// The input nonlinearity's output for a model whose border values may be refitted:
+    /// recomputed from [`Borders::u`] if they are (`None` if they are held: `h` as given).
+    pub fn refitted_h(&self, m: &HostModel) -> Option<Vec<f64>> {
+        self.borders
+            .map(|b| super::model::nonlinearity_output(m, b.u))
+    }
 }
 
-impl Packing {
+impl Borders<'_> {
+    /// Appends a model's border values to `θ`: the ascending ones, then unless shared the
+    /// descending ones.
+    pub fn pack(&self, m: &HostModel, theta: &mut Vec<f64>) {
+        theta.extend_from_slice(&m.border_asc);
+        if !self.shared {
+            theta.extend_from_slice(&m.border_desc);
+        }
+    }
+
+    /// Reads the border values [`Borders::pack`] appended back into a model (a shared border
+    /// is copied to both directions).
+    pub fn unpack(&self, values: &mut impl Iterator<Item = f64>, m: &mut HostModel) {
+        for v in m.border_asc.iter_mut() {
+            *v = values.next().unwrap_or(*v);
+        }
+        if self.shared {
+            m.border_desc.clone_from(&m.border_asc);
+        } else {
+            for v in m.border_desc.iter_mut() {
+                *v = values.next().unwrap_or(*v);
+            }
+        }
+    }
+}
+
+/// The parameters `θ = [A, B, D, E, x0, borders]` packed, and unpacked into a model.
+struct Packing<'a> {
+    n: usize,
+    fit_x0: bool,
+    /// Border values refitted, appended last ([`Borders::pack`]).
+    borders: Option<Borders<'a>>,
+}
+
+impl Packing<'_> {
     fn pack(&self, m: &HostModel, p: &StatePoly, x0: &[f64]) -> Vec<f64> {
         let n = self.n;
         let mut t = Vec::new();
@@ -373,11 +420,8 @@ impl Packing {
         if self.fit_x0 {
             t.extend_from_slice(x0);
         }
-        if let Some(shared) = self.borders {
-            t.extend_from_slice(&m.border_asc);
-            if !shared {
-                t.extend_from_slice(&m.border_desc);
-            }
+        if let Some(b) = self.borders {
+            b.pack(m, &mut t);
         }
         t
     }
@@ -399,17 +443,8 @@ impl Packing {
                 *x = it.next().unwrap_or(0.0);
             }
         }
-        if let Some(shared) = self.borders {
-            for v in m.border_asc.iter_mut() {
-                *v = it.next().unwrap_or(0.0);
-            }
-            if shared {
-                m.border_desc.clone_from(&m.border_asc);
-            } else {
-                for v in m.border_desc.iter_mut() {
-                    *v = it.next().unwrap_or(0.0);
-                }
-            }
+        if let Some(b) = self.borders {
+            b.unpack(&mut it, m);
         }
     }
 }
@@ -474,7 +509,7 @@ pub fn fit(
     let pack = Packing {
         n,
         fit_x0: data.fit_x0,
-        borders: data.borders.map(|b| b.shared),
+        borders: data.borders,
     };
     let mut model = m.clone();
     let mut state = x0.to_vec();
@@ -485,18 +520,9 @@ pub fn fit(
         let mut xx = state.clone();
         pack.unpack(t, &mut mm, &mut pp, &mut xx);
         // Refitted borders give a new `h` (the same input nonlinearity, new values).
-        let refitted = data
-            .borders
-            .map(|b| super::model::nonlinearity_output(&mm, b.u));
+        let refitted = data.refitted_h(&mm);
         let lin = simulate(&mm, Some(&pp), refitted.as_deref().unwrap_or(data.h), &xx)?;
-        let r: Vec<f64> = lin
-            .iter()
-            .zip(data.y)
-            .zip(data.skip)
-            .filter(|(_, s)| !**s)
-            .map(|((l, y), _)| y - data.map.map_or(*l, |g| g.eval(*l)))
-            .collect();
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        data.residual(&lin)
     };
     let radius = |t: &[f64]| -> f64 {
         let a = DMatrix::from_fn(n, n, |i, j| t[i * n + j]);
@@ -667,15 +693,7 @@ pub fn fit_overflow(
     let y0 = m.d * data.h.first().copied().unwrap_or(0.0)
         + c.iter().zip(x0).map(|(c, x)| c * x).sum::<f64>();
     let residual = |t: &[f64]| -> Option<Vec<f64>> {
-        let lin = Overflow::from_theta(t).simulate(data.h)?;
-        let r: Vec<f64> = lin
-            .iter()
-            .zip(data.y)
-            .zip(data.skip)
-            .filter(|(_, s)| !**s)
-            .map(|((l, y), _)| y - data.map.map_or(*l, |g| g.eval(*l)))
-            .collect();
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        data.residual(&Overflow::from_theta(t).simulate(data.h)?)
     };
     let limit = data.radius_limit;
     let admissible = |t: &[f64]| t[0].abs() < limit && t[1].abs() < limit;

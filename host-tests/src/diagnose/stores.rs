@@ -228,38 +228,17 @@ pub fn fit(
             samples: data.h.len(),
         });
     }
-    // Refitted border values are appended to θ: the ascending ones, then unless shared the
-    // descending ones.
+    // Refitted border values are appended to θ after the stores' parameters.
     let with_borders = |t: &[f64]| -> HostModel {
         let mut mm = m.clone();
         if let Some(b) = data.borders {
-            let mut it = t.iter().skip(PARAMETERS).copied();
-            for v in mm.border_asc.iter_mut() {
-                *v = it.next().unwrap_or(*v);
-            }
-            if b.shared {
-                mm.border_desc.clone_from(&mm.border_asc);
-            } else {
-                for v in mm.border_desc.iter_mut() {
-                    *v = it.next().unwrap_or(*v);
-                }
-            }
+            b.unpack(&mut t.iter().skip(PARAMETERS).copied(), &mut mm);
         }
         mm
     };
     let residual = |t: &[f64]| -> Option<Vec<f64>> {
-        let refitted = data
-            .borders
-            .map(|b| super::model::nonlinearity_output(&with_borders(t), b.u));
-        let lin = Stores::from_theta(t).simulate(refitted.as_deref().unwrap_or(data.h))?;
-        let r: Vec<f64> = lin
-            .iter()
-            .zip(data.y)
-            .zip(data.skip)
-            .filter(|(_, s)| !**s)
-            .map(|((l, y), _)| y - data.map.map_or(*l, |g| g.eval(*l)))
-            .collect();
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        let refitted = data.borders.and_then(|_| data.refitted_h(&with_borders(t)));
+        data.residual(&Stores::from_theta(t).simulate(refitted.as_deref().unwrap_or(data.h))?)
     };
     let admissible = |t: &[f64]| Stores::from_theta(t).admissible();
     let settings = Settings {
@@ -294,10 +273,7 @@ pub fn fit(
                 s.level = level.map_or(NO_OVERFLOW, |f| f * top);
                 let mut theta0 = s.theta();
                 if let Some(b) = data.borders {
-                    theta0.extend_from_slice(&m.border_asc);
-                    if !b.shared {
-                        theta0.extend_from_slice(&m.border_desc);
-                    }
+                    b.pack(m, &mut theta0);
                 }
                 let typical: Vec<f64> = theta0.iter().map(|v| v.abs().max(1e-3)).collect();
                 let held = |t: &[f64]| {
