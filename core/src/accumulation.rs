@@ -18,8 +18,9 @@
 //! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
 //! two channels, so one update costs `O(k)` multiply-adds.
 
+use crate::direction::Direction;
 use crate::error::Error;
-use crate::regressor::{Basis, Direction, Knots, Located, for_each_nonzero};
+use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
 /// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.

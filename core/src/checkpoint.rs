@@ -25,10 +25,11 @@
 //! ```
 
 use crate::accumulation::{Entry, Lagged, Summation};
-use crate::error::{Error, Signal};
+use crate::direction::Direction;
+use crate::error::{CheckpointError, Error, Signal};
 use crate::hold::{HoldMean, MuZero};
 use crate::identifier::{Forgetting, Identifier, Settings};
-use crate::regressor::{Basis, Direction, Knots, Located};
+use crate::regressor::{Basis, Knots, Located};
 use crate::scalar::Real;
 use crate::subspace::{Method, Order};
 
@@ -36,31 +37,6 @@ use crate::subspace::{Method, Order};
 /// and the carries of compensated sums in the state).
 pub const CHECKPOINT_VERSION: u16 = 3;
 const MAGIC: [u8; 4] = *b"HSID";
-
-/// What is wrong with a checkpoint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CheckpointError {
-    /// The buffer is shorter than the checkpoint (truncated), or too small to save into.
-    Truncated,
-    /// Not a checkpoint (wrong magic).
-    NotACheckpoint,
-    /// Written by another format version.
-    Version,
-    /// Written with another scalar type (`f32` vs `f64`).
-    ScalarType,
-    /// The checksum does not match: the data are corrupted.
-    Checksum,
-    /// The settings differ from the ones expected (fingerprint mismatch).
-    SettingsMismatch,
-    /// The checkpoint needs more channels or block rows than this identifier's capacity.
-    Capacity,
-    /// A field holds an impossible value.
-    Invalid,
-    /// Written with the other summation (plain vs compensated sums): restore it into an
-    /// identifier of the same [`Summation`] type.
-    Summation,
-}
 
 /// CRC-32 (IEEE 802.3, reflected), bitwise: no table in flash.
 pub fn crc32(bytes: &[u8]) -> u32 {

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use crate::regressor::Direction;
+use crate::direction::Direction;
 
 /// Which measured signal a per-sample fault concerns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,6 +53,31 @@ pub enum Stage {
     RankOneSplit,
     /// `(I - A)` for the static gain.
     StaticGain,
+}
+
+/// What is wrong with a checkpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CheckpointError {
+    /// The buffer is shorter than the checkpoint (truncated), or too small to save into.
+    Truncated,
+    /// Not a checkpoint (wrong magic).
+    NotACheckpoint,
+    /// Written by another format version.
+    Version,
+    /// Written with another scalar type (`f32` vs `f64`).
+    ScalarType,
+    /// The checksum does not match: the data are corrupted.
+    Checksum,
+    /// The settings differ from the ones expected (fingerprint mismatch).
+    SettingsMismatch,
+    /// The checkpoint needs more channels or block rows than this identifier's capacity.
+    Capacity,
+    /// A field holds an impossible value.
+    Invalid,
+    /// Written with the other summation (plain vs compensated sums): restore it into an
+    /// identifier of the same [`Summation`](crate::Summation) type.
+    Summation,
 }
 
 /// Everything that can go wrong, from configuration to the final solve.
@@ -204,7 +229,7 @@ pub enum Error {
     /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
-    Checkpoint(crate::checkpoint::CheckpointError),
+    Checkpoint(CheckpointError),
     /// The forgetting factor must satisfy `0 < λ <= 1`.
     InvalidForgetting {
         /// The value given.
@@ -430,9 +455,9 @@ impl fmt::Display for Stage {
 
 impl core::error::Error for Error {}
 
-impl fmt::Display for crate::checkpoint::CheckpointError {
+impl fmt::Display for CheckpointError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use crate::checkpoint::CheckpointError as C;
+        use CheckpointError as C;
         f.write_str(match self {
             C::Truncated => {
                 "the buffer is shorter than the checkpoint (truncated, or too small to save into)"

@@ -10,13 +10,13 @@
 use heapless::Vec;
 
 use crate::MAX_HORIZON;
+use crate::direction::Direction;
 use crate::error::{Error, Stage};
-use crate::identifier::Poles;
 use crate::linalg::{
     Small, apply_q, at, el, householder_qr, least_squares, set, set_el, spectral_radius, svd_small,
 };
 use crate::model::Model;
-use crate::regressor::{Basis, Direction, Knots};
+use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{Layout, Projection, too_small};
 
@@ -30,6 +30,18 @@ fn take<'a, T>(rest: &mut &'a mut [T], len: usize, err: Error) -> Result<&'a mut
     let (head, tail) = core::mem::take(rest).split_at_mut_checked(len).ok_or(err)?;
     *rest = tail;
     Ok(head)
+}
+
+/// What the solve accepts as the identified linear part ([`Identifier::solve_with`](crate::Identifier::solve_with)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Poles {
+    /// Only a stable `A` (spectral radius below 1); anything else is
+    /// [`Error::UnstableModel`]. What [`Identifier::solve`](crate::Identifier::solve) does.
+    #[default]
+    Stable,
+    /// Any `A` with `I − A` invertible, for a caller that refines the poles afterwards.
+    Any,
 }
 
 /// Where μ0 comes from in the final model.

@@ -3,11 +3,12 @@
 
 use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, Plain, Summation, checked_forgetting};
+use crate::direction::Direction;
 use crate::error::{Error, Signal};
-use crate::estimation::{Mu0, estimate};
+use crate::estimation::{Mu0, Poles, estimate};
 use crate::hold::{HoldMean, MuZero};
 use crate::model::Model;
-use crate::regressor::{Basis, Direction, Knots};
+use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{Layout, Method, Order, pi_moesp, select_order};
 
@@ -31,18 +32,6 @@ pub struct Settings<T, const M: usize> {
     /// Memory of the accumulation: all samples alike, or exponential forgetting for
     /// long-running devices that must track a slowly changing actuator.
     pub forgetting: Forgetting<T>,
-}
-
-/// What the solve accepts as the identified linear part ([`Identifier::solve_with`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Poles {
-    /// Only a stable `A` (spectral radius below 1); anything else is
-    /// [`Error::UnstableModel`]. What [`Identifier::solve`] does.
-    #[default]
-    Stable,
-    /// Any `A` with `I − A` invertible, for a caller that refines the poles afterwards.
-    Any,
 }
 
 /// How the accumulation weighs old samples.

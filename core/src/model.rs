@@ -4,8 +4,9 @@
 use heapless::Vec;
 
 use crate::MAX_HORIZON;
+use crate::direction::Direction;
 use crate::linalg::Small;
-use crate::regressor::{Direction, Knots};
+use crate::regressor::Knots;
 use crate::scalar::Real;
 
 /// A Hammerstein model `y(t) = G(q) H[u(t)]` with `H` on the ascending path `P_a` and the
