@@ -357,7 +357,12 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     /// a new value on the stack. No forgetting ([`set_forgetting`](Self::set_forgetting)).
     pub fn reset(&mut self, k: usize) -> Result<(), Error> {
         if !(2..=K).contains(&k) {
-            return Err(Error::InvalidHorizon { f: 0, k });
+            return Err(Error::InvalidHorizon {
+                f: 0,
+                k,
+                max_f: K.saturating_sub(1),
+                max_k: K,
+            });
         }
         self.lambda = T::one();
         self.scale = T::one();

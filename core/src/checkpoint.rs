@@ -7,8 +7,8 @@
 //! the `m` channels and `k` lags in use, the first and last `k` samples in time order) and a
 //! CRC-32 of everything before it. Values are stored bit for bit, so resuming gives exactly the
 //! result of an uninterrupted run. The size depends on the run-time `m` and `k`, not on the
-//! capacities, so a state saved by `Identifier<f32, 14, 20>` on a device restores into any
-//! `Identifier<f32, M, K>` with `M >= 14`, `K >= 20` on a host.
+//! capacities, so a state saved by `Identifier<f32, 14, 20, Plain, 10>` on a device restores
+//! into any `Identifier<f32, M, K, Plain, H>` with `M >= 14`, `K >= 20`, `H >= f` on a host.
 //!
 //! ```
 //! use hsid::{Identifier, Knots, MuZero, Settings};
@@ -315,7 +315,9 @@ fn fault_of(
     })
 }
 
-impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: usize>
+    Identifier<T, M, K, S, H>
+{
     /// Largest checkpoint of this identifier type (capacities `M`, `K`, scalar `T`,
     /// summation `S`): size a static buffer with it.
     pub const CHECKPOINT_CAPACITY: usize = if S::CODE == 0 {

@@ -126,12 +126,17 @@ pub enum Error {
         /// Descending segments given.
         descending: usize,
     },
-    /// Horizons: `2 <= f <= MAX_HORIZON`, `p >= 1` and `f + p <= K` (the capacity).
+    /// Horizons: `2 <= f <= H`, `p >= 1` and `f + p <= K`, within the identifier's horizon
+    /// capacity `H` and block-row capacity `K`.
     InvalidHorizon {
         /// Future horizon requested.
         f: usize,
         /// Block rows `f + p` requested.
         k: usize,
+        /// Largest `f` the type holds: its horizon capacity `H`.
+        max_f: usize,
+        /// Largest `f + p` the type holds: its block-row capacity `K`.
+        max_k: usize,
     },
     /// The instruments (`p·m` rows of past inputs, plus `p` rows of past outputs for the
     /// weightings that use them) must have at least `f` rows: the SVD that gives `Γ_f` is of
@@ -321,10 +326,14 @@ impl fmt::Display for Error {
                 f,
                 "{ascending} ascending + {descending} descending segments, exceed the capacity of {expected} channels: use fewer knots or a larger M"
             ),
-            Error::InvalidHorizon { f: fh, k } => write!(
+            Error::InvalidHorizon {
+                f: fh,
+                k,
+                max_f,
+                max_k,
+            } => write!(
                 f,
-                "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
-                crate::MAX_HORIZON
+                "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {max_f} (the horizon capacity H), p >= 1 and f + p <= {max_k} (the block-row capacity K): lower f or p, or use an identifier with larger H or K"
             ),
             Error::TooFewInstruments {
                 f: fh,

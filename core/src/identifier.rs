@@ -1,13 +1,12 @@
 //! The streaming front end: the hold, δ(t), z(t) and the accumulation sample by sample, then
 //! the final solve.
 
-use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, Plain, Summation, checked_forgetting};
 use crate::direction::Direction;
 use crate::error::{Error, Signal};
 use crate::estimation::{Mu0, Poles, estimate};
 use crate::hold::{HoldMean, MuZero};
-use crate::model::Model;
+use crate::model::{DEFAULT_HORIZON, Model};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{Layout, Method, Order, pi_moesp, select_order};
@@ -76,8 +75,22 @@ impl<T: Real, const M: usize> Settings<T, M> {
 /// `S` chooses how the sums are formed: [`Plain`] (the default) or
 /// [`Compensated`](crate::Compensated), which keeps `f32` models accurate over records of 10^6
 /// samples for a carry per output sum and more work per sample (see [`Summation`]).
+///
+/// `H` is the horizon capacity: the largest future horizon `f` (so model order + 1) the
+/// final solve handles, on `H × H` matrices of its stack. It comes last and defaults to
+/// [`DEFAULT_HORIZON`] (12), so that the common spellings `Identifier<f32, M, K>` and
+/// `Identifier<f32, M, K, Compensated>` read as before; firmware that knows its `f` names it
+/// (`Identifier<f32, 14, 20, Plain, 10>` for the paper's `f = p = 10`) and saves stack, a
+/// desktop tool names the largest `f` it accepts. The model is the same, bit for bit, for
+/// every `H >= f`.
 #[derive(Clone, Debug)]
-pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M, K> = Plain> {
+pub struct Identifier<
+    T: Real,
+    const M: usize,
+    const K: usize,
+    S: Summation<T, M, K> = Plain,
+    const H: usize = DEFAULT_HORIZON,
+> {
     pub(crate) settings: Settings<T, M>,
     pub(crate) acc: Accumulator<T, M, K>,
     /// The carries of the sums (nothing for plain sums).
@@ -90,7 +103,9 @@ pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M
     pub(crate) fault: Option<Error>,
 }
 
-impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: usize>
+    Identifier<T, M, K, S, H>
+{
     /// An unconfigured identifier, usable in constant expressions so that firmware can place
     /// it in a `static` (no copy through the stack); configure it with
     /// [`reset`](Self::reset). It refuses samples until then (every `push` records a fault).
@@ -115,7 +130,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         fault: Some(Error::Unconfigured),
     };
 
-    /// Validates the settings against the capacities `(M, K)`.
+    /// Validates the settings against the capacities `(M, K, H)`.
     pub fn new(settings: Settings<T, M>) -> Result<Self, Error> {
         let mut id = Self::EMPTY;
         id.reset(settings)?;
@@ -127,8 +142,13 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     pub fn reset(&mut self, settings: Settings<T, M>) -> Result<(), Error> {
         let (f, p) = (settings.f, settings.p);
         let k = f.saturating_add(p);
-        if f < 2 || p == 0 || f > MAX_HORIZON || k > K {
-            return Err(Error::InvalidHorizon { f, k });
+        if f < 2 || p == 0 || f > H || k > K {
+            return Err(Error::InvalidHorizon {
+                f,
+                k,
+                max_f: H,
+                max_k: K,
+            });
         }
         if let Order::Fixed(n) = settings.order
             && (n == 0 || n >= f)
@@ -309,7 +329,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     /// [`workspace_len`](Self::workspace_len) scalars. An identified `A` with a pole on or
     /// outside the unit circle is [`Error::UnstableModel`] (the paper's `G` is stable); see
     /// [`solve_with`](Self::solve_with) for a caller that refines the poles afterwards.
-    pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M>, Error> {
+    pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M, H>, Error> {
         self.solve_with(ws, Poles::Stable)
     }
 
@@ -318,7 +338,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     /// outside the unit circle; a caller that refines the model afterwards (on the
     /// simulation error, say) takes it with [`Poles::Any`] and checks stability itself.
     /// `G(1) = 1` still needs `I − A` invertible: a pole at 1 is [`Error::IntegratingModel`].
-    pub fn solve_with(&self, ws: &mut [T], poles: Poles) -> Result<Model<T, M>, Error> {
+    pub fn solve_with(&self, ws: &mut [T], poles: Poles) -> Result<Model<T, M, H>, Error> {
         if let Some(e) = self.fault {
             return Err(e);
         }
@@ -361,7 +381,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         }
         let offset = self.mu0.unwrap_or_default();
         let centred = matches!(self.settings.mu0, MuZero::Estimate);
-        let proj = pi_moesp(
+        let proj = pi_moesp::<T, M, K, H>(
             &self.acc,
             knots,
             basis,
@@ -381,6 +401,6 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         } else {
             Mu0::Known(offset)
         };
-        estimate(&proj, n, lay, ws, knots, basis, mu0, poles)
+        estimate::<T, M, K, H>(&proj, n, lay, ws, knots, basis, mu0, poles)
     }
 }

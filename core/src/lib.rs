@@ -30,13 +30,9 @@ pub use estimation::Poles;
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
 pub use identifier::{Forgetting, Identifier, Settings};
-pub use model::{Model, ModelState};
+pub use model::{DEFAULT_HORIZON, Model, ModelState};
 pub use regressor::{Basis, Knots, Located};
 pub use scalar::Real;
 pub use subspace::{
     AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
 };
-
-/// Largest future horizon `f` (and so model order + 1) the final solve handles: the small
-/// SVDs run on fixed `MAX_HORIZON × MAX_HORIZON` matrices on the stack.
-pub const MAX_HORIZON: usize = 12;
