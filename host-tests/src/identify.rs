@@ -150,33 +150,36 @@ impl Capacity {
     }
 }
 
+/// The paper's class (`f = p = 10`, 7 + 7 segments, and anything like it): small enough for
+/// any thread's stack.
+const PAPER: Capacity = Capacity {
+    channels: 16,
+    block_rows: 24,
+    horizon: hsid::DEFAULT_HORIZON,
+};
+/// Up to 16 + 16 segments and `f + p <= 48`.
+const MEDIUM: Capacity = Capacity {
+    channels: 32,
+    block_rows: 48,
+    horizon: 47,
+};
+/// Up to 32 + 32 segments and `f + p <= 96`.
+const LARGE: Capacity = Capacity {
+    channels: 64,
+    block_rows: 96,
+    horizon: 95,
+};
+
 /// The capacities compiled in, smallest first; a request runs in the first that holds it.
-/// The first is the paper's class (`f = p = 10`, 7 + 7 segments), small enough for any
-/// thread's stack; the others hold up to a few MB of sums (`K·M²` scalars) and run on a
-/// thread with a large stack. Their horizon capacity is `K − 1`, so within `f + p <= K` any
-/// split of the block rows is accepted.
-pub const CAPACITIES: [Capacity; 3] = [
-    Capacity {
-        channels: 16,
-        block_rows: 24,
-        horizon: hsid::DEFAULT_HORIZON,
-    },
-    Capacity {
-        channels: 32,
-        block_rows: 48,
-        horizon: 47,
-    },
-    Capacity {
-        channels: 64,
-        block_rows: 96,
-        horizon: 95,
-    },
-];
+/// All but the paper's hold up to a few MB of sums (`K·M²` scalars) and run on a thread with
+/// a large stack. Their horizon capacity is `K − 1`, so within `f + p <= K` any split of the
+/// block rows is accepted.
+pub const CAPACITIES: [Capacity; 3] = [PAPER, MEDIUM, LARGE];
 
 /// Largest channel capacity (segments of both paths together) the desktop front end accepts.
-pub const MAX_CHANNELS: usize = CAPACITIES[CAPACITIES.len() - 1].channels;
+pub const MAX_CHANNELS: usize = LARGE.channels;
 /// Largest `f + p` the desktop front end accepts.
-pub const MAX_BLOCK_ROWS: usize = CAPACITIES[CAPACITIES.len() - 1].block_rows;
+pub const MAX_BLOCK_ROWS: usize = LARGE.block_rows;
 
 /// Stack of the thread that runs the large capacities.
 const LARGE_STACK: usize = 256 << 20;
@@ -202,14 +205,14 @@ fn with_capacity<J: SizedJob>(
         .iter()
         .position(|c| c.holds(channels, f, block_rows))?;
     if class == 0 {
-        return Some(job.run::<16, 24, { hsid::DEFAULT_HORIZON }>());
+        return Some(job.run::<{ PAPER.channels }, { PAPER.block_rows }, { PAPER.horizon }>());
     }
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .stack_size(LARGE_STACK)
             .spawn_scoped(s, || match class {
-                1 => job.run::<32, 48, 47>(),
-                _ => job.run::<64, 96, 95>(),
+                1 => job.run::<{ MEDIUM.channels }, { MEDIUM.block_rows }, { MEDIUM.horizon }>(),
+                _ => job.run::<{ LARGE.channels }, { LARGE.block_rows }, { LARGE.horizon }>(),
             })
             .ok()?
             .join()
