@@ -64,9 +64,10 @@ impl<T: Real, const M: usize> Settings<T, M> {
     }
 }
 
-/// Streaming identifier for up to `M` regressor channels (segments of both paths) and up to
-/// `K` block rows (`f + p`). Memory is fixed by `M` and `K`, whatever the number of samples:
-/// firmware sets them to the exact sizes, a desktop tool to the largest it accepts.
+/// Streaming identifier for up to `M` regressor channels (segments of both paths), up to `K`
+/// block rows (`f + p`) and a future horizon up to `H`. Memory (and the solve's stack) is
+/// fixed by `M`, `K` and `H`, whatever the number of samples: firmware sets them to the exact
+/// sizes, a desktop tool to the largest it accepts.
 ///
 /// [`push`](Self::push) never fails: a bad sample (NaN, outside the interval, a hold sample
 /// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
