@@ -18,8 +18,9 @@
 //! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
 //! two channels, so one update costs `O(k)` multiply-adds.
 
+use crate::direction::Direction;
 use crate::error::Error;
-use crate::regressor::{Basis, Direction, Knots, Located, for_each_nonzero};
+use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
 /// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.
@@ -356,7 +357,12 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     /// a new value on the stack. No forgetting ([`set_forgetting`](Self::set_forgetting)).
     pub fn reset(&mut self, k: usize) -> Result<(), Error> {
         if !(2..=K).contains(&k) {
-            return Err(Error::InvalidHorizon { f: 0, k });
+            return Err(Error::InvalidHorizon {
+                f: 0,
+                k,
+                max_f: K.saturating_sub(1),
+                max_k: K,
+            });
         }
         self.lambda = T::one();
         self.scale = T::one();

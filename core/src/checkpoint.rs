@@ -7,8 +7,8 @@
 //! the `m` channels and `k` lags in use, the first and last `k` samples in time order) and a
 //! CRC-32 of everything before it. Values are stored bit for bit, so resuming gives exactly the
 //! result of an uninterrupted run. The size depends on the run-time `m` and `k`, not on the
-//! capacities, so a state saved by `Identifier<f32, 14, 20>` on a device restores into any
-//! `Identifier<f32, M, K>` with `M >= 14`, `K >= 20` on a host.
+//! capacities, so a state saved by `Identifier<f32, 14, 20, Plain, 10>` on a device restores
+//! into any `Identifier<f32, M, K, Plain, H>` with `M >= 14`, `K >= 20`, `H >= f` on a host.
 //!
 //! ```
 //! use hsid::{Identifier, Knots, MuZero, Settings};
@@ -25,10 +25,11 @@
 //! ```
 
 use crate::accumulation::{Entry, Lagged, Summation};
-use crate::error::{Error, Signal};
+use crate::direction::Direction;
+use crate::error::{CheckpointError, Error, Signal};
 use crate::hold::{HoldMean, MuZero};
 use crate::identifier::{Forgetting, Identifier, Settings};
-use crate::regressor::{Basis, Direction, Knots, Located};
+use crate::regressor::{Basis, Knots, Located};
 use crate::scalar::Real;
 use crate::subspace::{Method, Order};
 
@@ -36,31 +37,6 @@ use crate::subspace::{Method, Order};
 /// and the carries of compensated sums in the state).
 pub const CHECKPOINT_VERSION: u16 = 3;
 const MAGIC: [u8; 4] = *b"HSID";
-
-/// What is wrong with a checkpoint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CheckpointError {
-    /// The buffer is shorter than the checkpoint (truncated), or too small to save into.
-    Truncated,
-    /// Not a checkpoint (wrong magic).
-    NotACheckpoint,
-    /// Written by another format version.
-    Version,
-    /// Written with another scalar type (`f32` vs `f64`).
-    ScalarType,
-    /// The checksum does not match: the data are corrupted.
-    Checksum,
-    /// The settings differ from the ones expected (fingerprint mismatch).
-    SettingsMismatch,
-    /// The checkpoint needs more channels or block rows than this identifier's capacity.
-    Capacity,
-    /// A field holds an impossible value.
-    Invalid,
-    /// Written with the other summation (plain vs compensated sums): restore it into an
-    /// identifier of the same [`Summation`] type.
-    Summation,
-}
 
 /// CRC-32 (IEEE 802.3, reflected), bitwise: no table in flash.
 pub fn crc32(bytes: &[u8]) -> u32 {
@@ -339,7 +315,9 @@ fn fault_of(
     })
 }
 
-impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: usize>
+    Identifier<T, M, K, S, H>
+{
     /// Largest checkpoint of this identifier type (capacities `M`, `K`, scalar `T`,
     /// summation `S`): size a static buffer with it.
     pub const CHECKPOINT_CAPACITY: usize = if S::CODE == 0 {

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use crate::regressor::Direction;
+use crate::direction::Direction;
 
 /// Which measured signal a per-sample fault concerns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -55,6 +55,31 @@ pub enum Stage {
     StaticGain,
 }
 
+/// What is wrong with a checkpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CheckpointError {
+    /// The buffer is shorter than the checkpoint (truncated), or too small to save into.
+    Truncated,
+    /// Not a checkpoint (wrong magic).
+    NotACheckpoint,
+    /// Written by another format version.
+    Version,
+    /// Written with another scalar type (`f32` vs `f64`).
+    ScalarType,
+    /// The checksum does not match: the data are corrupted.
+    Checksum,
+    /// The settings differ from the ones expected (fingerprint mismatch).
+    SettingsMismatch,
+    /// The checkpoint needs more channels or block rows than this identifier's capacity.
+    Capacity,
+    /// A field holds an impossible value.
+    Invalid,
+    /// Written with the other summation (plain vs compensated sums): restore it into an
+    /// identifier of the same [`Summation`](crate::Summation) type.
+    Summation,
+}
+
 /// Everything that can go wrong, from configuration to the final solve.
 ///
 /// Values are reported as `f64` whatever the scalar type, so that messages are comparable.
@@ -101,12 +126,17 @@ pub enum Error {
         /// Descending segments given.
         descending: usize,
     },
-    /// Horizons: `2 <= f <= MAX_HORIZON`, `p >= 1` and `f + p <= K` (the capacity).
+    /// Horizons: `2 <= f <= H`, `p >= 1` and `f + p <= K`, within the identifier's horizon
+    /// capacity `H` and block-row capacity `K`.
     InvalidHorizon {
         /// Future horizon requested.
         f: usize,
         /// Block rows `f + p` requested.
         k: usize,
+        /// Largest `f` the type holds: its horizon capacity `H`.
+        max_f: usize,
+        /// Largest `f + p` the type holds: its block-row capacity `K`.
+        max_k: usize,
     },
     /// The instruments (`p·m` rows of past inputs, plus `p` rows of past outputs for the
     /// weightings that use them) must have at least `f` rows: the SVD that gives `Γ_f` is of
@@ -204,7 +234,7 @@ pub enum Error {
     /// `I - A` is singular: the identified linear part integrates, so `G(1) = 1` cannot be imposed.
     IntegratingModel,
     /// A checkpoint could not be saved or restored.
-    Checkpoint(crate::checkpoint::CheckpointError),
+    Checkpoint(CheckpointError),
     /// The forgetting factor must satisfy `0 < λ <= 1`.
     InvalidForgetting {
         /// The value given.
@@ -296,10 +326,14 @@ impl fmt::Display for Error {
                 f,
                 "{ascending} ascending + {descending} descending segments, exceed the capacity of {expected} channels: use fewer knots or a larger M"
             ),
-            Error::InvalidHorizon { f: fh, k } => write!(
+            Error::InvalidHorizon {
+                f: fh,
+                k,
+                max_f,
+                max_k,
+            } => write!(
                 f,
-                "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {}, p >= 1 and f + p within the identifier's capacity K",
-                crate::MAX_HORIZON
+                "future horizon f = {fh} and f + p = {k} block rows: need 2 <= f <= {max_f} (the horizon capacity H), p >= 1 and f + p <= {max_k} (the block-row capacity K): lower f or p, or use an identifier with larger H or K"
             ),
             Error::TooFewInstruments {
                 f: fh,
@@ -430,9 +464,9 @@ impl fmt::Display for Stage {
 
 impl core::error::Error for Error {}
 
-impl fmt::Display for crate::checkpoint::CheckpointError {
+impl fmt::Display for CheckpointError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        use crate::checkpoint::CheckpointError as C;
+        use CheckpointError as C;
         f.write_str(match self {
             C::Truncated => {
                 "the buffer is shorter than the checkpoint (truncated, or too small to save into)"

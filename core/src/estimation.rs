@@ -9,14 +9,13 @@
 
 use heapless::Vec;
 
-use crate::MAX_HORIZON;
+use crate::direction::Direction;
 use crate::error::{Error, Stage};
-use crate::identifier::Poles;
 use crate::linalg::{
     Small, apply_q, at, el, householder_qr, least_squares, set, set_el, spectral_radius, svd_small,
 };
 use crate::model::Model;
-use crate::regressor::{Basis, Direction, Knots};
+use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{Layout, Projection, too_small};
 
@@ -30,6 +29,18 @@ fn take<'a, T>(rest: &mut &'a mut [T], len: usize, err: Error) -> Result<&'a mut
     let (head, tail) = core::mem::take(rest).split_at_mut_checked(len).ok_or(err)?;
     *rest = tail;
     Ok(head)
+}
+
+/// What the solve accepts as the identified linear part ([`Identifier::solve_with`](crate::Identifier::solve_with)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Poles {
+    /// Only a stable `A` (spectral radius below 1); anything else is
+    /// [`Error::UnstableModel`]. What [`Identifier::solve`](crate::Identifier::solve) does.
+    #[default]
+    Stable,
+    /// Any `A` with `I − A` invertible, for a caller that refines the poles afterwards.
+    Any,
 }
 
 /// Where μ0 comes from in the final model.
@@ -51,8 +62,8 @@ pub(crate) enum Mu0<T, const M: usize> {
 
 /// Builds the model of order `n` from the factored Gram in `ws` and the projection.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn estimate<T: Real, const M: usize>(
-    proj: &Projection<T>,
+pub(crate) fn estimate<T: Real, const M: usize, const K: usize, const H: usize>(
+    proj: &Projection<T, H>,
     n: usize,
     lay: Layout,
     ws: &mut [T],
@@ -60,13 +71,18 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     basis: Basis,
     mu0: Mu0<T, M>,
     poles: Poles,
-) -> Result<Model<T, M>, Error> {
+) -> Result<Model<T, M, H>, Error> {
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
     // Both refused by `Identifier::new` (and `n` by `select_order`); kept here so that no
     // order can index past the small matrices.
-    if !(2..=MAX_HORIZON).contains(&f) {
-        return Err(Error::InvalidHorizon { f, k: f + lay.p });
+    if !(2..=H).contains(&f) {
+        return Err(Error::InvalidHorizon {
+            f,
+            k: f + lay.p,
+            max_f: H,
+            max_k: K,
+        });
     }
     if n == 0 || n >= f {
         return Err(Error::InvalidOrder { order: n, f });
@@ -76,14 +92,14 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 
     // 1. Γ_f (first n columns of the weighting's estimate), C = first row, A from
     // Γ_under A = Γ_over.
-    let mut gamma = Small::<T>::zeros();
+    let mut gamma = Small::<T, H>::zeros();
     for c in 0..n {
         for r in 0..f {
             set_el(&mut gamma, r, c, el(&proj.gamma, r, c));
         }
     }
     // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
-    let mut u2 = Small::<T>::zeros();
+    let mut u2 = Small::<T, H>::zeros();
     {
         let (lg, lt, le) = lay.u2_parts(n);
         let mut rest: &mut [T] = scratch;
@@ -105,7 +121,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             }
         }
     }
-    let mut a = Small::<T>::zeros();
+    let mut a = Small::<T, H>::zeros();
     {
         let rows = f - 1;
         let (la, lb, lt) = lay.shift_parts(n);
@@ -119,7 +135,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
                 set(gb, r + c * rows, el(&gamma, r + 1, c));
             }
         }
-        least_squares(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
+        least_squares::<T, H>(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
             Error::RankDeficient {
                 stage: Stage::ShiftInvariance,
             }
@@ -138,7 +154,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             spectral_radius: rho,
         });
     }
-    let mut cvec = [T::zero(); MAX_HORIZON];
+    let mut cvec = [T::zero(); H];
     for (c, v) in cvec.iter_mut().enumerate().take(n) {
         *v = el(&gamma, 0, c);
     }
@@ -150,14 +166,14 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     let rows = f * nr;
     let cols = n + 1;
     // C A^k, k = 0 … f − 2.
-    let mut ob = Small::<T>::zeros();
+    let mut ob = Small::<T, H>::zeros();
     {
         let mut row = cvec;
         for k in 0..f.saturating_sub(1) {
             for q in 0..n {
                 set_el(&mut ob, k, q, at(&row, q));
             }
-            let mut next = [T::zero(); MAX_HORIZON];
+            let mut next = [T::zero(); H];
             for (q, nq) in next.iter_mut().enumerate().take(n) {
                 for (p, &rp) in row.iter().enumerate().take(n) {
                     *nq += rp * el(&a, p, q);
@@ -192,7 +208,7 @@ pub(crate) fn estimate<T: Real, const M: usize>(
             }
         }
     }
-    least_squares(kmat, rows, cols, rhs, m, tau, rank_tol(rows)).map_err(|()| {
+    least_squares::<T, H>(kmat, rows, cols, rhs, m, tau, rank_tol(rows)).map_err(|()| {
         Error::RankDeficient {
             stage: Stage::InputMatrices,
         }
@@ -200,17 +216,17 @@ pub(crate) fn estimate<T: Real, const M: usize>(
     // X = [D; B] ((n+1) × m): X[q][c] = rhs[q + c·rows].
 
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
-    let (s1, s2, uvec, vvec) = dominant_triple::<T, M>(rhs, rows, cols, m, split, err)?;
+    let (s1, s2, uvec, vvec) = dominant_triple::<T, M, H>(rhs, rows, cols, m, split, err)?;
 
     // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
-    let mut ia = Small::<T>::zeros();
+    let mut ia = Small::<T, H>::zeros();
     for r in 0..n {
         for c in 0..n {
             let eye = if r == c { T::one() } else { T::zero() };
             set_el(&mut ia, r, c, eye - el(&a, r, c));
         }
     }
-    let mut xb = [T::zero(); MAX_HORIZON];
+    let mut xb = [T::zero(); H];
     {
         let (la, lb, lt) = lay.gain_parts(n);
         let mut rest: &mut [T] = scratch;
@@ -223,12 +239,13 @@ pub(crate) fn estimate<T: Real, const M: usize>(
                 set(ma, r + c * n, el(&ia, r, c));
             }
         }
-        least_squares(ma, n, n, mb, 1, tau, rank_tol(n)).map_err(|()| Error::IntegratingModel)?;
+        least_squares::<T, H>(ma, n, n, mb, 1, tau, rank_tol(n))
+            .map_err(|()| Error::IntegratingModel)?;
         for (x, &v) in xb.iter_mut().zip(mb.iter()).take(n) {
             *x = v;
         }
     }
-    let ud = uvec[0];
+    let ud = at(&uvec, 0);
     let mut g0 = ud;
     let mut scale = ud.abs();
     for (&c, &x) in cvec.iter().zip(&xb).take(n) {
@@ -246,8 +263,8 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         return Err(Error::ZeroStaticGain);
     }
     // B = γ s u_B = u_B / g0, D = u_D / g0, μ = s g0 v.
-    let mut bvec = [T::zero(); MAX_HORIZON];
-    let mut dc_state = [T::zero(); MAX_HORIZON];
+    let mut bvec = [T::zero(); H];
+    let mut dc_state = [T::zero(); H];
     for q in 0..n {
         set(&mut bvec, q, at(&uvec, 1 + q) / g0);
         set(&mut dc_state, q, at(&xb, q) / g0);
@@ -294,8 +311,8 @@ pub(crate) fn estimate<T: Real, const M: usize>(
         out
     };
 
-    let mut sv = [T::zero(); MAX_HORIZON];
-    let mut sv_white = [T::zero(); MAX_HORIZON];
+    let mut sv = [T::zero(); H];
+    let mut sv_white = [T::zero(); H];
     for (v, &p) in sv.iter_mut().zip(&proj.sv).take(f) {
         *v = p;
     }
@@ -325,15 +342,15 @@ pub(crate) fn estimate<T: Real, const M: usize>(
 /// 0 for a single row or column); `buf` is scratch of at least
 /// `m·(n+1) + m + n + 1` scalars (`err` if it is shorter).
 #[inline(always)]
-fn dominant_triple<T: Real, const M: usize>(
+fn dominant_triple<T: Real, const M: usize, const H: usize>(
     x: &[T],
     ld: usize,
     rows: usize,
     m: usize,
     buf: &mut [T],
     err: Error,
-) -> Result<(T, T, [T; MAX_HORIZON], [T; M]), Error> {
-    let mut u = [T::zero(); MAX_HORIZON];
+) -> Result<(T, T, [T; H], [T; M]), Error> {
+    let mut u = [T::zero(); H];
     let mut v = [T::zero(); M];
     if m >= rows {
         // Xᵀ = Q R (m × rows), X = Rᵀ Qᵀ, SVD(Rᵀ) = U S Wᵀ: u = U₀, v = Q W₀.
@@ -347,7 +364,7 @@ fn dominant_triple<T: Real, const M: usize>(
             }
         }
         householder_qr(xt, m, rows, tau);
-        let mut rt = Small::<T>::zeros();
+        let mut rt = Small::<T, H>::zeros();
         for i in 0..rows {
             for k in 0..=i {
                 set_el(&mut rt, i, k, at(xt, k + i * m));
@@ -363,7 +380,7 @@ fn dominant_triple<T: Real, const M: usize>(
         for (vi, &yi) in v.iter_mut().zip(y.iter()) {
             *vi = yi;
         }
-        Ok((s[0], s[1], u, v))
+        Ok((at(&s, 0), at(&s, 1), u, v))
     } else {
         // X = Q R (rows × m), SVD(R) = U S Wᵀ: u = Q U₀, v = W₀.
         let mut rest = buf;
@@ -376,7 +393,7 @@ fn dominant_triple<T: Real, const M: usize>(
             }
         }
         householder_qr(xc, rows, m, tau);
-        let mut r = Small::<T>::zeros();
+        let mut r = Small::<T, H>::zeros();
         for c in 0..m {
             for k in 0..=c {
                 set_el(&mut r, k, c, at(xc, k + c * rows));
@@ -392,6 +409,6 @@ fn dominant_triple<T: Real, const M: usize>(
         for (ui, &yi) in u.iter_mut().zip(y.iter()) {
             *ui = yi;
         }
-        Ok((s[0], s[1], u, v))
+        Ok((at(&s, 0), at(&s, 1), u, v))
     }
 }

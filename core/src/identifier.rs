@@ -1,13 +1,13 @@
 //! The streaming front end: the hold, δ(t), z(t) and the accumulation sample by sample, then
 //! the final solve.
 
-use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, Plain, Summation, checked_forgetting};
+use crate::direction::Direction;
 use crate::error::{Error, Signal};
-use crate::estimation::{Mu0, estimate};
+use crate::estimation::{Mu0, Poles, estimate};
 use crate::hold::{HoldMean, MuZero};
-use crate::model::Model;
-use crate::regressor::{Basis, Direction, Knots};
+use crate::model::{DEFAULT_HORIZON, Model};
+use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{Layout, Method, Order, pi_moesp, select_order};
 
@@ -31,18 +31,6 @@ pub struct Settings<T, const M: usize> {
     /// Memory of the accumulation: all samples alike, or exponential forgetting for
     /// long-running devices that must track a slowly changing actuator.
     pub forgetting: Forgetting<T>,
-}
-
-/// What the solve accepts as the identified linear part ([`Identifier::solve_with`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Poles {
-    /// Only a stable `A` (spectral radius below 1); anything else is
-    /// [`Error::UnstableModel`]. What [`Identifier::solve`] does.
-    #[default]
-    Stable,
-    /// Any `A` with `I − A` invertible, for a caller that refines the poles afterwards.
-    Any,
 }
 
 /// How the accumulation weighs old samples.
@@ -76,9 +64,10 @@ impl<T: Real, const M: usize> Settings<T, M> {
     }
 }
 
-/// Streaming identifier for up to `M` regressor channels (segments of both paths) and up to
-/// `K` block rows (`f + p`). Memory is fixed by `M` and `K`, whatever the number of samples:
-/// firmware sets them to the exact sizes, a desktop tool to the largest it accepts.
+/// Streaming identifier for up to `M` regressor channels (segments of both paths), up to `K`
+/// block rows (`f + p`) and a future horizon up to `H`. Memory (and the solve's stack) is
+/// fixed by `M`, `K` and `H`, whatever the number of samples: firmware sets them to the exact
+/// sizes, a desktop tool to the largest it accepts.
 ///
 /// [`push`](Self::push) never fails: a bad sample (NaN, outside the interval, a hold sample
 /// not at `u_min`) is recorded as the first fault and the identifier stops accumulating;
@@ -87,8 +76,22 @@ impl<T: Real, const M: usize> Settings<T, M> {
 /// `S` chooses how the sums are formed: [`Plain`] (the default) or
 /// [`Compensated`](crate::Compensated), which keeps `f32` models accurate over records of 10^6
 /// samples for a carry per output sum and more work per sample (see [`Summation`]).
+///
+/// `H` is the horizon capacity: the largest future horizon `f` (so model order + 1) the
+/// final solve handles, on `H × H` matrices of its stack. It comes last and defaults to
+/// [`DEFAULT_HORIZON`] (12), so that the common spellings `Identifier<f32, M, K>` and
+/// `Identifier<f32, M, K, Compensated>` read as before; firmware that knows its `f` names it
+/// (`Identifier<f32, 14, 20, Plain, 10>` for the paper's `f = p = 10`) and saves stack, a
+/// desktop tool names the largest `f` it accepts. The model is the same, bit for bit, for
+/// every `H >= f`.
 #[derive(Clone, Debug)]
-pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M, K> = Plain> {
+pub struct Identifier<
+    T: Real,
+    const M: usize,
+    const K: usize,
+    S: Summation<T, M, K> = Plain,
+    const H: usize = DEFAULT_HORIZON,
+> {
     pub(crate) settings: Settings<T, M>,
     pub(crate) acc: Accumulator<T, M, K>,
     /// The carries of the sums (nothing for plain sums).
@@ -101,7 +104,9 @@ pub struct Identifier<T: Real, const M: usize, const K: usize, S: Summation<T, M
     pub(crate) fault: Option<Error>,
 }
 
-impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<T, M, K, S> {
+impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: usize>
+    Identifier<T, M, K, S, H>
+{
     /// An unconfigured identifier, usable in constant expressions so that firmware can place
     /// it in a `static` (no copy through the stack); configure it with
     /// [`reset`](Self::reset). It refuses samples until then (every `push` records a fault).
@@ -126,7 +131,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         fault: Some(Error::Unconfigured),
     };
 
-    /// Validates the settings against the capacities `(M, K)`.
+    /// Validates the settings against the capacities `(M, K, H)`.
     pub fn new(settings: Settings<T, M>) -> Result<Self, Error> {
         let mut id = Self::EMPTY;
         id.reset(settings)?;
@@ -138,8 +143,13 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     pub fn reset(&mut self, settings: Settings<T, M>) -> Result<(), Error> {
         let (f, p) = (settings.f, settings.p);
         let k = f.saturating_add(p);
-        if f < 2 || p == 0 || f > MAX_HORIZON || k > K {
-            return Err(Error::InvalidHorizon { f, k });
+        if f < 2 || p == 0 || f > H || k > K {
+            return Err(Error::InvalidHorizon {
+                f,
+                k,
+                max_f: H,
+                max_k: K,
+            });
         }
         if let Order::Fixed(n) = settings.order
             && (n == 0 || n >= f)
@@ -320,7 +330,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     /// [`workspace_len`](Self::workspace_len) scalars. An identified `A` with a pole on or
     /// outside the unit circle is [`Error::UnstableModel`] (the paper's `G` is stable); see
     /// [`solve_with`](Self::solve_with) for a caller that refines the poles afterwards.
-    pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M>, Error> {
+    pub fn solve(&self, ws: &mut [T]) -> Result<Model<T, M, H>, Error> {
         self.solve_with(ws, Poles::Stable)
     }
 
@@ -329,7 +339,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
     /// outside the unit circle; a caller that refines the model afterwards (on the
     /// simulation error, say) takes it with [`Poles::Any`] and checks stability itself.
     /// `G(1) = 1` still needs `I − A` invertible: a pole at 1 is [`Error::IntegratingModel`].
-    pub fn solve_with(&self, ws: &mut [T], poles: Poles) -> Result<Model<T, M>, Error> {
+    pub fn solve_with(&self, ws: &mut [T], poles: Poles) -> Result<Model<T, M, H>, Error> {
         if let Some(e) = self.fault {
             return Err(e);
         }
@@ -372,7 +382,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         }
         let offset = self.mu0.unwrap_or_default();
         let centred = matches!(self.settings.mu0, MuZero::Estimate);
-        let proj = pi_moesp(
+        let proj = pi_moesp::<T, M, K, H>(
             &self.acc,
             knots,
             basis,
@@ -392,6 +402,6 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>> Identifier<
         } else {
             Mu0::Known(offset)
         };
-        estimate(&proj, n, lay, ws, knots, basis, mu0, poles)
+        estimate::<T, M, K, H>(&proj, n, lay, ws, knots, basis, mu0, poles)
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod accumulation;
 pub mod checkpoint;
+pub mod direction;
 pub mod error;
 pub mod estimation;
 pub mod excitation;
@@ -21,20 +22,17 @@ pub use accumulation::{
     Summation,
 };
 pub use checkpoint::{
-    CHECKPOINT_VERSION, CheckpointError, checkpoint_capacity, compensated_checkpoint_capacity,
-    crc32,
+    CHECKPOINT_VERSION, checkpoint_capacity, compensated_checkpoint_capacity, crc32,
 };
-pub use error::{Error, KnotEnd, Signal, Stage};
+pub use direction::Direction;
+pub use error::{CheckpointError, Error, KnotEnd, Signal, Stage};
+pub use estimation::Poles;
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
-pub use identifier::{Forgetting, Identifier, Poles, Settings};
-pub use model::{Model, ModelState};
-pub use regressor::{Basis, Direction, Knots, Located};
+pub use identifier::{Forgetting, Identifier, Settings};
+pub use model::{DEFAULT_HORIZON, Model, ModelState};
+pub use regressor::{Basis, Knots, Located};
 pub use scalar::Real;
 pub use subspace::{
     AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
 };
-
-/// Largest future horizon `f` (and so model order + 1) the final solve handles: the small
-/// SVDs run on fixed `MAX_HORIZON × MAX_HORIZON` matrices on the stack.
-pub const MAX_HORIZON: usize = 12;

@@ -7,7 +7,6 @@
 
 use nalgebra::SMatrix;
 
-use crate::MAX_HORIZON;
 use crate::error::{Error, Stage};
 use crate::scalar::Real;
 
@@ -55,13 +54,13 @@ pub(crate) fn sub_mut<T>(s: &mut [T], from: usize, to: usize) -> &mut [T] {
 
 /// `m[(r, c)]`, or zero outside the matrix (see [`at`]).
 #[inline(always)]
-pub(crate) fn el<T: Real>(m: &Small<T>, r: usize, c: usize) -> T {
+pub(crate) fn el<T: Real, const H: usize>(m: &Small<T, H>, r: usize, c: usize) -> T {
     m.get((r, c)).copied().unwrap_or_default()
 }
 
 /// `m[(r, c)] = v`, ignored outside the matrix (see [`at`]).
 #[inline(always)]
-pub(crate) fn set_el<T: Real>(m: &mut Small<T>, r: usize, c: usize, v: T) {
+pub(crate) fn set_el<T: Real, const H: usize>(m: &mut Small<T, H>, r: usize, c: usize, v: T) {
     if let Some(x) = m.get_mut((r, c)) {
         *x = v;
     }
@@ -216,8 +215,8 @@ pub(crate) fn apply_q<T: Real>(a: &[T], rows: usize, cols: usize, tau: &[T], x: 
 /// each column of `b`. The columns of `A` are scaled to unit norm first (and the solution
 /// back), so that the rank test does not depend on their units: it fails if the scaled `R`
 /// has a diagonal entry below `rel_tol · max|R_ii|`, or `A` has a zero column or more than
-/// `MAX_HORIZON + 1` columns.
-pub(crate) fn least_squares<T: Real>(
+/// more than `H` columns (the solve's horizon capacity: its problems have at most `f` columns).
+pub(crate) fn least_squares<T: Real, const H: usize>(
     a: &mut [T],
     rows: usize,
     cols: usize,
@@ -226,10 +225,10 @@ pub(crate) fn least_squares<T: Real>(
     tau: &mut [T],
     rel_tol: T,
 ) -> Result<(), ()> {
-    if rows < cols || cols > MAX_HORIZON + 1 {
+    if rows < cols || cols > H {
         return Err(());
     }
-    let mut scale = [T::one(); MAX_HORIZON + 1];
+    let mut scale = [T::one(); H];
     for (k, sc) in scale.iter_mut().enumerate().take(cols) {
         let col = sub_mut(a, k * rows, (k + 1) * rows);
         // By the largest entry first, so that the squares cannot overflow.
@@ -275,11 +274,13 @@ pub(crate) fn least_squares<T: Real>(
     Ok(())
 }
 
-/// A square matrix of at most [`MAX_HORIZON`] rows, padded with zeros.
-pub(crate) type Small<T> = SMatrix<T, MAX_HORIZON, MAX_HORIZON>;
+/// A square matrix of at most `H` rows (the horizon capacity), padded with zeros. Every
+/// kernel below works on a leading `n × n` block only, so the padding never enters a result:
+/// the same data give the same bits whatever `H >= n`.
+pub(crate) type Small<T, const H: usize> = SMatrix<T, H, H>;
 
 /// Left singular vectors, singular values (descending) and right singular vectors.
-pub(crate) type Svd<T> = (Small<T>, [T; MAX_HORIZON], Small<T>);
+pub(crate) type Svd<T, const H: usize> = (Small<T, H>, [T; H], Small<T, H>);
 
 /// `true` if every entry of `m` is finite.
 pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
@@ -287,15 +288,17 @@ pub(crate) fn all_finite<T: Real>(m: &[T]) -> bool {
 }
 
 /// The first `n` rows of columns `p < q` of `m`, both mutable (empty outside the matrix).
-fn columns<T: Real>(m: &mut Small<T>, p: usize, q: usize, n: usize) -> (&mut [T], &mut [T]) {
+fn columns<T: Real, const H: usize>(
+    m: &mut Small<T, H>,
+    p: usize,
+    q: usize,
+    n: usize,
+) -> (&mut [T], &mut [T]) {
     let (left, right) = m
         .as_mut_slice()
-        .split_at_mut_checked(q * MAX_HORIZON)
+        .split_at_mut_checked(q * H)
         .unwrap_or((&mut [], &mut []));
-    (
-        sub_mut(left, p * MAX_HORIZON, p * MAX_HORIZON + n),
-        sub_mut(right, 0, n),
-    )
+    (sub_mut(left, p * H, p * H + n), sub_mut(right, 0, n))
 }
 
 /// Sweeps of the one-sided Jacobi SVD before [`Error::NoConvergence`]: it converges
@@ -315,28 +318,28 @@ pub(crate) const JACOBI_SWEEPS: usize = 64;
 /// [`Error::Overflow`] at `stage` (the sums it comes from overflowed), sweeps that did not
 /// suffice [`Error::NoConvergence`]. Left singular vectors of zero singular values are zero;
 /// without `want_v` the right singular vectors are not accumulated (the identity is returned).
-pub(crate) fn svd_small<T: Real>(
-    a: Small<T>,
+pub(crate) fn svd_small<T: Real, const H: usize>(
+    a: Small<T, H>,
     n: usize,
     stage: Stage,
     want_v: bool,
-) -> Result<Svd<T>, Error> {
+) -> Result<Svd<T, H>, Error> {
     svd_small_bounded(a, n, stage, want_v, JACOBI_SWEEPS)
 }
 
 /// [`svd_small`] with at most `sweeps` sweeps.
-fn svd_small_bounded<T: Real>(
-    mut a: Small<T>,
+fn svd_small_bounded<T: Real, const H: usize>(
+    mut a: Small<T, H>,
     n: usize,
     stage: Stage,
     want_v: bool,
     sweeps: usize,
-) -> Result<Svd<T>, Error> {
+) -> Result<Svd<T, H>, Error> {
     if !all_finite(a.as_slice()) {
         return Err(Error::Overflow { stage });
     }
-    let n = n.min(MAX_HORIZON);
-    let mut v = Small::<T>::identity();
+    let n = n.min(H);
+    let mut v = Small::<T, H>::identity();
     let tol = T::EPS * T::of_usize(n.max(1));
     let big = T::one() / T::EPS.sqrt();
     let mut converged = false;
@@ -383,7 +386,7 @@ fn svd_small_bounded<T: Real>(
     if !converged {
         return Err(Error::NoConvergence { stage });
     }
-    let mut s = [T::zero(); MAX_HORIZON];
+    let mut s = [T::zero(); H];
     for (c, sc) in s.iter_mut().enumerate().take(n) {
         let mut norm = T::zero();
         for r in 0..n {
@@ -408,7 +411,7 @@ fn svd_small_bounded<T: Real>(
             v.swap_columns(i, k);
         }
     }
-    let mut u = Small::<T>::zeros();
+    let mut u = Small::<T, H>::zeros();
     for (c, &sc) in s.iter().enumerate().take(n) {
         if sc > T::zero() {
             for r in 0..n {
@@ -428,9 +431,9 @@ pub(crate) const SPECTRAL_SQUARINGS: usize = 24;
 /// logarithms of the scales accumulated in `f64`. A bounded computation without iterations
 /// to converge: the estimate is `ρ · c^{1/N}` with `c` the conditioning of `A`'s eigenvector
 /// basis, so within a relative 1e-5 of ρ for any `c` below 1e30. A nilpotent matrix gives 0.
-pub(crate) fn spectral_radius<T: Real>(a: &Small<T>, n: usize) -> f64 {
-    let n = n.min(MAX_HORIZON);
-    let mut b = Small::<T>::zeros();
+pub(crate) fn spectral_radius<T: Real, const H: usize>(a: &Small<T, H>, n: usize) -> f64 {
+    let n = n.min(H);
+    let mut b = Small::<T, H>::zeros();
     for c in 0..n {
         for r in 0..n {
             b[(r, c)] = a[(r, c)];
@@ -446,7 +449,7 @@ pub(crate) fn spectral_radius<T: Real>(a: &Small<T>, n: usize) -> f64 {
         log_rho += weight * libm::log(big.to_f64());
         b /= big;
         // b ← b², on the leading n × n block only.
-        let mut sq = Small::<T>::zeros();
+        let mut sq = Small::<T, H>::zeros();
         for c in 0..n {
             for k in 0..n {
                 let bkc = b[(k, c)];
@@ -473,8 +476,8 @@ pub(crate) fn spectral_radius<T: Real>(a: &Small<T>, n: usize) -> f64 {
 mod tests {
     use super::*;
 
-    fn small(n: usize, entries: &[f64]) -> Small<f64> {
-        let mut m = Small::<f64>::zeros();
+    fn small(n: usize, entries: &[f64]) -> Small<f64, 12> {
+        let mut m = Small::<f64, 12>::zeros();
         for r in 0..n {
             for c in 0..n {
                 m[(r, c)] = entries[r * n + c];

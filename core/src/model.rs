@@ -3,43 +3,53 @@
 
 use heapless::Vec;
 
-use crate::MAX_HORIZON;
+use crate::direction::Direction;
 use crate::linalg::Small;
-use crate::regressor::{Direction, Knots};
+use crate::regressor::Knots;
 use crate::scalar::Real;
+
+/// The horizon capacity `H` of [`Identifier`](crate::Identifier), [`Model`] and
+/// [`ModelState`] when it is not given: 12, the bound the crate always had, so that
+/// `Identifier<f32, M, K>` keeps its meaning. Firmware that knows its `f` gives `H = f` (the
+/// small `H × H` matrices of the solve then take no more stack than they must); a desktop
+/// tool gives the largest `f` it accepts.
+pub const DEFAULT_HORIZON: usize = 12;
 
 /// A Hammerstein model `y(t) = G(q) H[u(t)]` with `H` on the ascending path `P_a` and the
 /// descending path `P_d` (eq. 2), both continuous piecewise linear on their knots.
 ///
 /// `G(q) = C (qI − A)⁻¹ B + D` has unit static gain (assumption A.2), which fixes the scale
 /// of the borders (Remark 1).
+///
+/// `H` is the horizon capacity of the [`Identifier`](crate::Identifier) that produced the
+/// model: it holds up to `H` singular values and a state of up to `H − 1` entries.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Model<T, const M: usize> {
+pub struct Model<T, const M: usize, const H: usize = DEFAULT_HORIZON> {
     pub(crate) n: usize,
-    pub(crate) a: Small<T>,
-    pub(crate) b: [T; MAX_HORIZON],
-    pub(crate) c: [T; MAX_HORIZON],
+    pub(crate) a: Small<T, H>,
+    pub(crate) b: [T; H],
+    pub(crate) c: [T; H],
     pub(crate) d: T,
-    pub(crate) dc_state: [T; MAX_HORIZON],
+    pub(crate) dc_state: [T; H],
     pub(crate) mu0: T,
     pub(crate) knots: Knots<T, M>,
     pub(crate) border_asc: Vec<T, M>,
     pub(crate) border_desc: Vec<T, M>,
     pub(crate) f: usize,
     pub(crate) columns: u64,
-    pub(crate) sv: [T; MAX_HORIZON],
-    pub(crate) sv_white: [T; MAX_HORIZON],
+    pub(crate) sv: [T; H],
+    pub(crate) sv_white: [T; H],
 }
 
 /// Simulation state of a [`Model`]: the linear state, the direction δ and the previous input.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ModelState<T> {
-    x: [T; MAX_HORIZON],
+pub struct ModelState<T, const H: usize = DEFAULT_HORIZON> {
+    x: [T; H],
     dir: Direction,
     u_prev: T,
 }
 
-impl<T: Real, const M: usize> Model<T, M> {
+impl<T: Real, const M: usize, const H: usize> Model<T, M, H> {
     /// Model order `n`.
     pub fn order(&self) -> usize {
         self.n
@@ -157,8 +167,8 @@ impl<T: Real, const M: usize> Model<T, M> {
             .fold(self.d, |s, (&c, &x)| s + c * x)
     }
 
-    fn mul_a(&self, x: &[T; MAX_HORIZON]) -> [T; MAX_HORIZON] {
-        let mut y = [T::zero(); MAX_HORIZON];
+    fn mul_a(&self, x: &[T; H]) -> [T; H] {
+        let mut y = [T::zero(); H];
         for (i, yi) in y.iter_mut().enumerate().take(self.n) {
             for (j, &xj) in x.iter().enumerate().take(self.n) {
                 *yi += self.a[(i, j)] * xj;
@@ -169,8 +179,8 @@ impl<T: Real, const M: usize> Model<T, M> {
 
     /// A simulation state at rest at `u_min`: the input held at `u_min` long enough for the
     /// output to settle at μ0, as after the identification hold.
-    pub fn rest_state(&self) -> ModelState<T> {
-        let mut x = [T::zero(); MAX_HORIZON];
+    pub fn rest_state(&self) -> ModelState<T, H> {
+        let mut x = [T::zero(); H];
         for (xi, &s) in x.iter_mut().zip(&self.dc_state).take(self.n) {
             *xi = s * self.mu0;
         }
@@ -183,7 +193,7 @@ impl<T: Real, const M: usize> Model<T, M> {
 
     /// One simulation step: δ(t) from the input, `H = P_a(u)` or `P_d(u)`, then the linear
     /// part. Returns the simulated output `y(t)`.
-    pub fn step(&self, state: &mut ModelState<T>, u: T) -> T {
+    pub fn step(&self, state: &mut ModelState<T, H>, u: T) -> T {
         state.dir = state.dir.next(state.u_prev, u);
         state.u_prev = u;
         let h = self.border(state.dir, u);

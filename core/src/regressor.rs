@@ -1,4 +1,4 @@
-//! Direction signal δ(t), knots, and the regressor z(t) of the over-parameterised model (eq. 4).
+//! Knots and the regressor z(t) of the over-parameterised model (eq. 4).
 //!
 //! The borders `P_a` / `P_d` are continuous piecewise-linear functions on user knots
 //! `n_0 = u_min < n_1 < … < n_{n_p} = u_max`, chosen separately for each path and possibly
@@ -19,55 +19,11 @@
 //! coordinates are slopes, differences of border values, which amplify noise and bias the
 //! split; see the README). [`Basis::Ramp`] reproduces the paper's estimator exactly.
 
-use core::fmt;
-
 use heapless::Vec;
 
+use crate::direction::Direction;
 use crate::error::{Error, KnotEnd};
 use crate::scalar::Real;
-
-/// Which path the nonlinearity is on: δ(t) = 1 (ascending) or δ(t) = 0 (descending).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Direction {
-    /// δ(t) = 1: `u` went up, the output follows `P_a`.
-    Ascending,
-    /// δ(t) = 0: `u` went down, the output follows `P_d`. The initial direction.
-    #[default]
-    Descending,
-}
-
-impl Direction {
-    /// The paper's δ(t): `Ascending` if `u > u_prev`, `Descending` if `u < u_prev`, otherwise
-    /// the previous direction (first display of δ in Section II-B).
-    #[inline]
-    pub fn next<T: Real>(self, u_prev: T, u: T) -> Self {
-        if u > u_prev {
-            Direction::Ascending
-        } else if u < u_prev {
-            Direction::Descending
-        } else {
-            self
-        }
-    }
-
-    /// δ as a number: 1 ascending, 0 descending.
-    pub fn delta(self) -> u8 {
-        match self {
-            Direction::Ascending => 1,
-            Direction::Descending => 0,
-        }
-    }
-}
-
-impl fmt::Display for Direction {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Direction::Ascending => "ascending",
-            Direction::Descending => "descending",
-        })
-    }
-}
 
 /// The basis the border functions are expanded in. See the [module docs](self).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -13,7 +13,6 @@
 //! far above 1 for directions that carry state. The order is the number of whitened singular
 //! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
 
-use crate::MAX_HORIZON;
 use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{
@@ -296,15 +295,15 @@ pub const fn workspace_len_with_block(m: usize, f: usize, p: usize, block: usize
 
 /// The outcome of the PI-MOESP step.
 #[derive(Clone, Debug)]
-pub(crate) struct Projection<T> {
+pub(crate) struct Projection<T, const H: usize> {
     /// Hankel columns.
     pub j: u64,
     /// Singular values of `O_f / √j`, descending (first `f` valid).
-    pub sv: [T; MAX_HORIZON],
+    pub sv: [T; H],
     /// Whitened singular values (order selection), descending.
-    pub sv_white: [T; MAX_HORIZON],
+    pub sv_white: [T; H],
     /// `Γ_f` for every order: its first `n` columns are the estimate of order `n`.
-    pub gamma: Small<T>,
+    pub gamma: Small<T, H>,
 }
 
 /// Visits every entry `(r, c, v)`, `r >= c`, of the Gram of `[Z_f; Z_p; Ȳ_f]` (rows centred
@@ -424,7 +423,7 @@ fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
 /// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is regenerated from
 /// the lagged sums block of columns by block of columns, which keeps the workspace near
 /// `(f·m)²/2 + (p·m + f)²/2` instead of `((f + p)·m + f)²/2`.
-pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
+pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     acc: &Accumulator<T, M, K>,
     knots: &Knots<T, M>,
     basis: Basis,
@@ -432,13 +431,18 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     centred: bool,
     output_rounding: OutputRounding,
     ws: &mut [T],
-) -> Result<Projection<T>, Error> {
+) -> Result<Projection<T, H>, Error> {
     let (f, m) = (lay.f, lay.m);
     let (fm, q, pm, d, w) = (lay.fm(), lay.q(), lay.p * m, lay.d(), lay.w());
     // Both refused by `Identifier::new`; kept here so that no layout can index past the QR
     // or the small matrices.
-    if !(2..=MAX_HORIZON).contains(&f) {
-        return Err(Error::InvalidHorizon { f, k: f + lay.p });
+    if !(2..=H).contains(&f) {
+        return Err(Error::InvalidHorizon {
+            f,
+            k: f + lay.p,
+            max_f: H,
+            max_k: K,
+        });
     }
     if w < f {
         return Err(Error::TooFewInstruments {
@@ -568,8 +572,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     // cannot tell noise from rounding.
     let dof = (j_eff - (d + lay.py()) as f64).max(1.0);
     let per_col = T::of(dof / w as f64);
-    let mut res_floor = [T::zero(); MAX_HORIZON];
-    let mut white_floor = [T::zero(); MAX_HORIZON];
+    let mut res_floor = [T::zero(); H];
+    let mut white_floor = [T::zero(); H];
     for (r, (v, wf)) in res_floor
         .iter_mut()
         .zip(white_floor.iter_mut())
@@ -612,7 +616,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     };
     let r_transposed = |x: &mut [T], tau: &mut [T]| {
         householder_qr(x, w, f, tau);
-        let mut rt = Small::<T>::zeros();
+        let mut rt = Small::<T, H>::zeros();
         for i in 0..f {
             for k in 0..=i {
                 set_el(&mut rt, i, k, at(x, k + i * w));
@@ -623,7 +627,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     load_l32(x);
     let rt = r_transposed(x, tau);
     // L₃₃ (f × f, lower) for the whitening and CVA.
-    let mut l33 = Small::<T>::zeros();
+    let mut l33 = Small::<T, H>::zeros();
     for r in 0..f {
         let row = packed(w + r, w);
         for c in 0..=r {
@@ -637,13 +641,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
             // L_yy L_yyᵀ = Ȳ_f Π⊥ Ȳ_fᵀ = RᵀR + L₃₃L₃₃ᵀ; SVD of L_yy⁻¹ Rᵀ. The weighting is
             // its inverse square root: a pivot at the rounding level of its row (noise-free
             // data: Ȳ_f Π⊥ has rank n) would turn rounding into canonical correlations.
-            let gram = rt * rt.transpose() + l33 * l33.transpose();
+            let gram = outer_gram(&rt, f) + outer_gram(&l33, f);
             let lyy = small_cholesky(&gram, f, &res_floor).ok_or(Error::RankDeficient {
                 stage: Stage::CvaWeighting,
             })?;
             let wtd = lower_solve(&lyy, &rt, f);
             let (u, s, _) = svd_small(wtd, f, Stage::Projection, false)?;
-            let t = lyy * u;
+            let t = product(&lyy, &u, f);
             (scale_columns(t, &s, f, T::one()), s)
         }
         Method::N4sid => {
@@ -698,11 +702,11 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize>(
     let wh = lower_solve(&l33f, &rt, f);
     let scale = T::of(libm::sqrt(dof / w as f64));
     let (_, sw, _) = svd_small(wh, f, Stage::Projection, false)?;
-    let mut sv_white = [T::zero(); MAX_HORIZON];
+    let mut sv_white = [T::zero(); H];
     for (v, &s) in sv_white.iter_mut().zip(&sw).take(f) {
         *v = s * scale;
     }
-    let mut svo = [T::zero(); MAX_HORIZON];
+    let mut svo = [T::zero(); H];
     for (v, &s) in svo.iter_mut().zip(&sv).take(f) {
         *v = s;
     }
@@ -724,8 +728,13 @@ fn rounding_level<T: Real>(j: f64, dim: usize) -> T {
 }
 
 /// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
-fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale: T) -> Small<T> {
-    let f = f.min(MAX_HORIZON);
+fn scale_columns<T: Real, const H: usize>(
+    mut t: Small<T, H>,
+    s: &[T; H],
+    f: usize,
+    scale: T,
+) -> Small<T, H> {
+    let f = f.min(H);
     for (c, &sc) in s.iter().enumerate().take(f) {
         let w = (sc * scale).sqrt();
         for r in 0..f {
@@ -737,9 +746,13 @@ fn scale_columns<T: Real>(mut t: Small<T>, s: &[T; MAX_HORIZON], f: usize, scale
 
 /// Cholesky factor of the leading `n × n` block of a symmetric positive definite matrix;
 /// `None` if a pivot is not above `floor[i]` (zero where `floor` is shorter).
-fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<T>> {
-    let n = n.min(MAX_HORIZON);
-    let mut l = Small::<T>::zeros();
+fn small_cholesky<T: Real, const H: usize>(
+    a: &Small<T, H>,
+    n: usize,
+    floor: &[T],
+) -> Option<Small<T, H>> {
+    let n = n.min(H);
+    let mut l = Small::<T, H>::zeros();
     for i in 0..n {
         for j in 0..=i {
             let mut s = a[(i, j)];
@@ -762,8 +775,8 @@ fn small_cholesky<T: Real>(a: &Small<T>, n: usize, floor: &[T]) -> Option<Small<
 }
 
 /// `L⁻¹ B` for lower-triangular `L` (leading `n × n`), zero diagonal entries giving zero rows.
-fn lower_solve<T: Real>(l: &Small<T>, b: &Small<T>, n: usize) -> Small<T> {
-    let n = n.min(MAX_HORIZON);
+fn lower_solve<T: Real, const H: usize>(l: &Small<T, H>, b: &Small<T, H>, n: usize) -> Small<T, H> {
+    let n = n.min(H);
     let mut x = *b;
     for c in 0..n {
         for r in 0..n {
@@ -778,10 +791,42 @@ fn lower_solve<T: Real>(l: &Small<T>, b: &Small<T>, n: usize) -> Small<T> {
     x
 }
 
+/// `A Aᵀ` of the leading `n × n` block (zero outside it).
+fn outer_gram<T: Real, const H: usize>(a: &Small<T, H>, n: usize) -> Small<T, H> {
+    let n = n.min(H);
+    let mut g = Small::<T, H>::zeros();
+    for c in 0..n {
+        for r in 0..n {
+            let mut s = T::zero();
+            for k in 0..n {
+                s += a[(r, k)] * a[(c, k)];
+            }
+            g[(r, c)] = s;
+        }
+    }
+    g
+}
+
+/// `A B` of the leading `n × n` blocks (zero outside them).
+fn product<T: Real, const H: usize>(a: &Small<T, H>, b: &Small<T, H>, n: usize) -> Small<T, H> {
+    let n = n.min(H);
+    let mut p = Small::<T, H>::zeros();
+    for c in 0..n {
+        for r in 0..n {
+            let mut s = T::zero();
+            for k in 0..n {
+                s += a[(r, k)] * b[(k, c)];
+            }
+            p[(r, c)] = s;
+        }
+    }
+    p
+}
+
 /// The order: fixed, or counted from the whitened singular values.
-pub(crate) fn select_order<T: Real>(
+pub(crate) fn select_order<T: Real, const H: usize>(
     order: Order,
-    proj: &Projection<T>,
+    proj: &Projection<T, H>,
     lay: Layout,
 ) -> Result<usize, Error> {
     match order {

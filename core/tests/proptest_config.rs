@@ -370,9 +370,15 @@ fn mu0_of<T: Real>(r: &Rest) -> MuZero<T> {
 fn settings_claim_holds<T: Real>(s: &Settings<T, M>, e: &Error) -> Result<(), TestCaseError> {
     let (f, p) = (s.f, s.p);
     match *e {
-        Error::InvalidHorizon { f: ef, k } => {
+        Error::InvalidHorizon {
+            f: ef,
+            k,
+            max_f,
+            max_k,
+        } => {
             prop_assert_eq!((ef, k), (f, f + p));
-            prop_assert!(f < 2 || p == 0 || f > hsid::MAX_HORIZON || f + p > K);
+            prop_assert_eq!((max_f, max_k), (hsid::DEFAULT_HORIZON, K));
+            prop_assert!(f < 2 || p == 0 || f > hsid::DEFAULT_HORIZON || f + p > K);
         }
         Error::InvalidOrder { order, f: ef } => {
             prop_assert_eq!(s.order, Order::Fixed(order));
@@ -423,7 +429,7 @@ fn settings_claim_holds<T: Real>(s: &Settings<T, M>, e: &Error) -> Result<(), Te
 
 fn settings_valid<T: Real>(s: &Settings<T, M>) -> bool {
     let (f, p) = (s.f, s.p);
-    let horizon = (2..=hsid::MAX_HORIZON).contains(&f) && p >= 1 && f + p <= K;
+    let horizon = (2..=hsid::DEFAULT_HORIZON).contains(&f) && p >= 1 && f + p <= K;
     let order = match s.order {
         Order::Fixed(n) => n >= 1 && n < f,
         Order::Auto => true,

@@ -669,7 +669,7 @@ fn f32_past_outputs_on_noise_free_data_are_not_silently_wrong() {
 
 /// The rounding floors of the rows that may be singular (past and future outputs, `p + f`
 /// of them with past outputs) are held in an array of the block-row capacity `K`: a past
-/// horizon with `p + f` beyond `2·MAX_HORIZON` (here p = 24, f = 12, K = 36) solves without
+/// horizon with `p + f` beyond twice the horizon capacity `H = 12` (here p = 24, f = 12, K = 36) solves without
 /// indexing past it, for every weighting.
 #[test]
 fn long_past_horizons_with_past_outputs_do_not_panic() {

@@ -10,8 +10,9 @@
 //! Writes `OUT_DIR/zy-RUN.csv` (columns `z1 … zm, ybar`) and `OUT_DIR/hsid.json`: per run the
 //! poles of hsid's subspace method `METHOD` (`po-moesp` by default, the instruments nfoursid
 //! uses; `pi-moesp`, `n4sid`, `cva`) and the best-of-5 wall-clock seconds of one identification
-//! from the raw record (regressor, accumulation and solve included). `F` is the horizon, `f = p` (default 10, at most 15:
-//! the core's largest future horizon is 16). Used by `scripts/compare-nfoursid.sh`.
+//! from the raw record (regressor, accumulation and solve included). `F` is the horizon,
+//! `f = p` (default 10; up to the desktop front end's capacity, `f + p <= 96`, and as far as
+//! the record's Hankel columns allow). Used by `scripts/compare-nfoursid.sh`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -96,11 +96,11 @@ pub enum IdentifyError {
         /// Samples of `y`.
         y: usize,
     },
-    /// More segments or block rows than the largest capacity compiled in.
+    /// More channels or block rows than the largest capacity compiled in ([`CAPACITIES`]).
     TooLarge {
-        /// Channels requested.
+        /// Channel capacity requested (segments of both paths; one more for shared knots).
         channels: usize,
-        /// Block rows requested.
+        /// Block rows `f + p` requested.
         block_rows: usize,
     },
 }
@@ -117,7 +117,7 @@ impl fmt::Display for IdentifyError {
                 block_rows,
             } => write!(
                 f,
-                "{channels} segments and {block_rows} block rows exceed the largest supported ({MAX_CHANNELS} segments, {MAX_BLOCK_ROWS} block rows)"
+                "{channels} channels and f + p = {block_rows} block rows: the desktop front end holds at most {MAX_CHANNELS} channels (segments of both paths, one more for shared knots) and f + p <= {MAX_BLOCK_ROWS}: use fewer knots or shorter horizons"
             ),
         }
     }
@@ -131,10 +131,121 @@ impl From<hsid::Error> for IdentifyError {
     }
 }
 
-/// Largest number of segments (both paths together) the desktop front end accepts.
-pub const MAX_CHANNELS: usize = 64;
+/// A capacity the desktop front end compiles the core for: `Identifier<_, channels,
+/// block_rows, _, horizon>`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Capacity {
+    /// Regressor channels `M`.
+    pub channels: usize,
+    /// Block rows `K` (`f + p`).
+    pub block_rows: usize,
+    /// Horizon capacity `H` (largest `f`).
+    pub horizon: usize,
+}
+
+impl Capacity {
+    /// Whether a request of `channels` channels, horizons `f` and `f + p = block_rows` fits.
+    pub fn holds(&self, channels: usize, f: usize, block_rows: usize) -> bool {
+        channels <= self.channels && block_rows <= self.block_rows && f <= self.horizon
+    }
+}
+
+/// The paper's class (`f = p = 10`, 7 + 7 segments, and anything like it): small enough for
+/// any thread's stack.
+const PAPER: Capacity = Capacity {
+    channels: 16,
+    block_rows: 24,
+    horizon: hsid::DEFAULT_HORIZON,
+};
+/// Up to 16 + 16 segments and `f + p <= 48`.
+const MEDIUM: Capacity = Capacity {
+    channels: 32,
+    block_rows: 48,
+    horizon: 47,
+};
+/// Up to 32 + 32 segments and `f + p <= 96`.
+const LARGE: Capacity = Capacity {
+    channels: 64,
+    block_rows: 96,
+    horizon: 95,
+};
+
+/// The capacities compiled in, smallest first; a request runs in the first that holds it.
+/// All but the paper's hold up to a few MB of sums (`K·M²` scalars) and run on a thread with
+/// a large stack. Their horizon capacity is `K − 1`, so within `f + p <= K` any split of the
+/// block rows is accepted.
+pub const CAPACITIES: [Capacity; 3] = [PAPER, MEDIUM, LARGE];
+
+/// Largest channel capacity (segments of both paths together) the desktop front end accepts.
+pub const MAX_CHANNELS: usize = LARGE.channels;
 /// Largest `f + p` the desktop front end accepts.
-pub const MAX_BLOCK_ROWS: usize = 48;
+pub const MAX_BLOCK_ROWS: usize = LARGE.block_rows;
+
+/// Stack of the thread that runs the large capacities.
+const LARGE_STACK: usize = 256 << 20;
+
+/// Scalars of the column blocks of the Schur complement a solve beyond the paper's capacity
+/// may use (64 MB of `f64`).
+const WIDE_CACHE: usize = 8 << 20;
+
+/// Scalars of solve workspace for `id`. In the paper's capacity the core's default block
+/// width, whose costs the documentation quotes; beyond it as wide as [`WIDE_CACHE`] allows, up
+/// to the whole Schur complement: one pass over the lagged sums instead of one per pair of
+/// column blocks (the model is the same bit for bit; at `f = p = 30` with 40 channels the
+/// solve is about 20 times faster).
+fn workspace_len<T: hsid::Real, const M: usize, const K: usize, S, const H: usize>(
+    id: &Identifier<T, M, K, S, H>,
+) -> usize
+where
+    S: hsid::Summation<T, M, K>,
+{
+    if (M, K, H) == (PAPER.channels, PAPER.block_rows, PAPER.horizon) {
+        return id.workspace_len();
+    }
+    let s = id.settings();
+    let m = s.knots.channels();
+    let fm = s.f * m;
+    // Columns of the Schur complement, with past outputs at most `p·(m + 1) + f`.
+    let q = s.p * (m + 1) + s.f;
+    let width = q.min(WIDE_CACHE / (2 * fm).max(1));
+    id.workspace_len() + 2 * fm * width.saturating_sub(hsid::SCHUR_BLOCK)
+}
+
+/// Work on an identifier of a capacity chosen at run time ([`with_capacity`]).
+trait SizedJob: Sync {
+    /// What the work gives.
+    type Out: Send;
+    /// Runs the work in the capacity `(M, K, H)`.
+    fn run<const M: usize, const K: usize, const H: usize>(&self) -> Self::Out;
+}
+
+/// Runs `job` in the first of [`CAPACITIES`] that holds `channels`, `f` and `block_rows`; the
+/// large ones on a thread with [`LARGE_STACK`]. `None` if none holds them (or the thread
+/// could not be started or panicked).
+fn with_capacity<J: SizedJob>(
+    job: &J,
+    channels: usize,
+    f: usize,
+    block_rows: usize,
+) -> Option<J::Out> {
+    let class = CAPACITIES
+        .iter()
+        .position(|c| c.holds(channels, f, block_rows))?;
+    if class == 0 {
+        return Some(job.run::<{ PAPER.channels }, { PAPER.block_rows }, { PAPER.horizon }>());
+    }
+    std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .stack_size(LARGE_STACK)
+            .spawn_scoped(s, || match class {
+                1 => job.run::<{ MEDIUM.channels }, { MEDIUM.block_rows }, { MEDIUM.horizon }>(),
+                _ => job.run::<{ LARGE.channels }, { LARGE.block_rows }, { LARGE.horizon }>(),
+            })
+            .ok()?
+            .join()
+            .ok()
+    })
+}
 
 /// An identified model with `f64` matrices, ready for analysis and JSON.
 #[derive(Clone, Debug, PartialEq)]
@@ -185,43 +296,29 @@ pub fn identify(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<HostMode
     } else {
         opts.knots_asc.len().saturating_sub(1) + opts.knots_desc.len().saturating_sub(1)
     };
-    let block_rows = opts.f + opts.p;
-    let small = channels <= 16 && block_rows <= 24;
-    if small {
-        // The paper's size and anything like it: small enough for any thread's stack.
-        return run::<16, 24>(u, y, opts);
-    }
-    if channels > MAX_CHANNELS || block_rows > MAX_BLOCK_ROWS {
-        return Err(IdentifyError::TooLarge {
-            channels,
-            block_rows,
-        });
-    }
-    // Larger capacities hold up to a few MB of sums: run them on a thread with room for them.
-    std::thread::scope(|s| {
-        let handle = std::thread::Builder::new()
-            .stack_size(256 << 20)
-            .spawn_scoped(s, || {
-                if channels <= 32 && block_rows <= 48 {
-                    run::<32, 48>(u, y, opts)
-                } else {
-                    run::<64, 48>(u, y, opts)
-                }
-            });
-        match handle {
-            Ok(h) => h.join().unwrap_or(Err(IdentifyError::TooLarge {
-                channels,
-                block_rows,
-            })),
-            Err(_) => Err(IdentifyError::TooLarge {
-                channels,
-                block_rows,
-            }),
-        }
-    })
+    let block_rows = opts.f.saturating_add(opts.p);
+    let too_large = IdentifyError::TooLarge {
+        channels,
+        block_rows,
+    };
+    with_capacity(&Identify { u, y, opts }, channels, opts.f, block_rows).unwrap_or(Err(too_large))
 }
 
-fn run<const M: usize, const K: usize>(
+/// [`identify`] in a capacity.
+struct Identify<'a> {
+    u: &'a [f64],
+    y: &'a [f64],
+    opts: &'a IdentifyOptions,
+}
+
+impl SizedJob for Identify<'_> {
+    type Out = Result<HostModel, IdentifyError>;
+    fn run<const M: usize, const K: usize, const H: usize>(&self) -> Self::Out {
+        run::<M, K, H>(self.u, self.y, self.opts)
+    }
+}
+
+fn run<const M: usize, const K: usize, const H: usize>(
     u: &[f64],
     y: &[f64],
     opts: &IdentifyOptions,
@@ -243,11 +340,11 @@ fn run<const M: usize, const K: usize>(
     settings.basis = opts.basis;
     settings.order = opts.order.map_or(Order::Auto, Order::Fixed);
     settings.method = opts.method;
-    let mut id = Box::new(Identifier::<f64, M, K>::new(settings)?);
+    let mut id = Box::new(Identifier::<f64, M, K, hsid::Plain, H>::new(settings)?);
     for (&ui, &yi) in u.iter().zip(y) {
         id.push(ui, yi);
     }
-    let mut ws = vec![0.0; id.workspace_len()];
+    let mut ws = vec![0.0; workspace_len(&id)];
     let m = id.solve_with(&mut ws, opts.poles)?;
     let n = m.order();
     Ok(HostModel {
@@ -541,29 +638,11 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
         channels: header.channels,
         block_rows: k,
     };
-    let kind = (header.scalar_bytes == 4, header.compensated);
-    let solved = if m <= 16 && k <= 24 {
-        restore_and_solve_kind::<16, 24>(kind, bytes)
-    } else if m > MAX_CHANNELS || k > MAX_BLOCK_ROWS {
-        Err(too_large.clone())
-    } else {
-        // Larger capacities hold up to a few MB of sums: restore them on a roomy stack.
-        std::thread::scope(|s| {
-            let handle = std::thread::Builder::new()
-                .stack_size(256 << 20)
-                .spawn_scoped(s, || {
-                    if m <= 32 {
-                        restore_and_solve_kind::<32, 48>(kind, bytes)
-                    } else {
-                        restore_and_solve_kind::<64, 48>(kind, bytes)
-                    }
-                });
-            match handle {
-                Ok(h) => h.join().unwrap_or(Err(too_large.clone())),
-                Err(_) => Err(too_large.clone()),
-            }
-        })
+    let job = RestoreAndSolve {
+        kind: (header.scalar_bytes == 4, header.compensated),
+        bytes,
     };
+    let solved = with_capacity(&job, m, header.f, k).unwrap_or(Err(too_large));
     let (model, shared_knots) = solved?;
     Ok(CheckpointSolve {
         header,
@@ -574,26 +653,33 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
 
 /// [`restore_and_solve`] in the checkpoint's scalar type (`f32` if the first flag is set) and
 /// summation (compensated if the second is).
-fn restore_and_solve_kind<const M: usize, const K: usize>(
-    (f32s, compensated): (bool, bool),
-    bytes: &[u8],
-) -> Result<(HostModel, bool), IdentifyError> {
-    match (f32s, compensated) {
-        (true, false) => restore_and_solve::<f32, M, K, hsid::Plain>(bytes),
-        (false, false) => restore_and_solve::<f64, M, K, hsid::Plain>(bytes),
-        (true, true) => restore_and_solve::<f32, M, K, hsid::Compensated>(bytes),
-        (false, true) => restore_and_solve::<f64, M, K, hsid::Compensated>(bytes),
+struct RestoreAndSolve<'a> {
+    kind: (bool, bool),
+    bytes: &'a [u8],
+}
+
+impl SizedJob for RestoreAndSolve<'_> {
+    type Out = Result<(HostModel, bool), IdentifyError>;
+    fn run<const M: usize, const K: usize, const H: usize>(&self) -> Self::Out {
+        use hsid::{Compensated, Plain};
+        let bytes = self.bytes;
+        match self.kind {
+            (true, false) => restore_and_solve::<f32, M, K, Plain, H>(bytes),
+            (false, false) => restore_and_solve::<f64, M, K, Plain, H>(bytes),
+            (true, true) => restore_and_solve::<f32, M, K, Compensated, H>(bytes),
+            (false, true) => restore_and_solve::<f64, M, K, Compensated, H>(bytes),
+        }
     }
 }
 
-fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize, S>(
+fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize, S, const H: usize>(
     bytes: &[u8],
 ) -> Result<(HostModel, bool), IdentifyError>
 where
     S: hsid::Summation<T, M, K>,
 {
-    let id = Box::new(Identifier::<T, M, K, S>::restore(bytes)?);
-    let mut ws = vec![T::zero(); id.workspace_len()];
+    let id = Box::new(Identifier::<T, M, K, S, H>::restore(bytes)?);
+    let mut ws = vec![T::zero(); workspace_len(&id)];
     let m = id.solve(&mut ws)?;
     let wide = |v: &[T]| v.iter().map(|x| x.to_f64()).collect::<Vec<f64>>();
     let n = m.order();

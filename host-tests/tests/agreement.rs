@@ -3,7 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
-use hsid_host::paper::{Case, PaperConfig, experiment};
+use hsid_host::identify::{HostModel, identify};
+use hsid_host::paper::{Case, PaperConfig, experiment, options};
 use hsid_host::reference::{self, RefConfig, RefModel};
 
 const HOLD: usize = 300;
@@ -279,4 +280,75 @@ fn every_weighting_matches_the_reference() {
             "{method:?}"
         );
     }
+}
+
+/// Markov parameters `h_0 = D`, `h_k = C A^{k−1} B` of a desktop model.
+fn markov_host(m: &HostModel, count: usize) -> Vec<f64> {
+    let b = nalgebra::DVector::from_column_slice(&m.b);
+    let c = nalgebra::RowDVector::from_row_slice(&m.c);
+    let mut x = b;
+    let mut h = vec![m.d];
+    for _ in 1..count {
+        h.push((&c * &x)[0]);
+        x = &m.a * x;
+    }
+    h
+}
+
+/// Desktop sizes: the host front end at `f = p = 30` with 20 segments per path (40 channels,
+/// 60 block rows: a capacity chosen at run time, far beyond the firmware's) is the reference's
+/// estimator, to the same 1e-9 as the paper's sizes.
+#[test]
+fn desktop_sizes_match_reference_to_1e9() {
+    let cfg = PaperConfig {
+        f: 30,
+        p: 30,
+        segments: 20,
+        j: 3000,
+        order: Some(2),
+        basis: Basis::Ramp,
+        ..PaperConfig::default()
+    };
+    let e = experiment(Case::Backlash, &cfg, 0).unwrap();
+    let opts = options(&cfg);
+    let host = identify(&e.u, &e.y, &opts).unwrap();
+    let rcfg = RefConfig {
+        u_min: cfg.u_min,
+        u_max: cfg.u_max,
+        knots_asc: opts.knots_asc.clone(),
+        knots_desc: opts.knots_desc.clone(),
+        f: 30,
+        p: 30,
+        order: 2,
+    };
+    let mu0 = reference::mu0_from_hold(&e.y[..cfg.hold], cfg.settle);
+    let r = reference::identify(&e.u[cfg.hold..], &e.y[cfg.hold..], mu0, &rcfg).unwrap();
+    assert_eq!((host.order, host.singular_values.len()), (2, 30));
+    let dsv = rel_diff(&host.singular_values, &r.singular_values);
+    let upper = |p: &[(f64, f64)]| {
+        let q = p
+            .iter()
+            .copied()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        vec![q.0, q.1]
+    };
+    let dp = rel_diff(&upper(&host.poles()), &upper(&r.poles));
+    let rh: Vec<f64> = (0..60).map(|k| r.markov(k)).collect();
+    let dh = rel_diff(&markov_host(&host, 60), &rh);
+    let hb: Vec<f64> = host
+        .border_asc
+        .iter()
+        .chain(&host.border_desc)
+        .copied()
+        .collect();
+    let db = rel_diff(&hb, &ref_borders(&r));
+    println!(
+        "f = p = 30, 40 channels: singular values {dsv:.2e}, poles {dp:.2e}, Markov {dh:.2e}, borders {db:.2e}"
+    );
+    assert!(dsv < 1e-9, "singular values differ by {dsv:e}");
+    assert!(dp < 1e-9, "poles differ by {dp:e}");
+    assert!(dh < 1e-9, "Markov parameters differ by {dh:e}");
+    assert!(db < 1e-9, "borders differ by {db:e}");
+    assert!((host.mu0 - r.mu0).abs() < 1e-12);
 }

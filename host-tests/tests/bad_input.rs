@@ -313,20 +313,31 @@ fn too_few_or_too_many_knots() {
     );
 }
 
-/// Horizons: `f < 2`, `p = 0`, `f > MAX_HORIZON`, `f + p > K`: `InvalidHorizon` with the
-/// rule. Order: `n >= f` or `n = 0`: `InvalidOrder` with the advice.
+/// Horizons: `f < 2`, `p = 0`, `f > H` (the horizon capacity, 12 by default), `f + p > K`:
+/// `InvalidHorizon` with the rule and both capacities. Order: `n >= f` or `n = 0`: `InvalidOrder` with the advice.
 #[test]
 fn horizons_and_order() {
-    for (f, p) in [(1, 10), (10, 0), (hsid::MAX_HORIZON + 1, 3), (12, 9)] {
+    for (f, p) in [(1, 10), (10, 0), (13, 3), (12, 9)] {
         let mut s = settings();
         (s.f, s.p) = (f, p);
         let err = Id::new(s).unwrap_err();
-        assert_eq!(err, Error::InvalidHorizon { f, k: f + p });
+        let (max_f, max_k) = (12, 20);
+        assert_eq!(
+            err,
+            Error::InvalidHorizon {
+                f,
+                k: f + p,
+                max_f,
+                max_k
+            }
+        );
         says(
             &err,
             &[
                 &format!("f = {f}"),
-                &format!("need 2 <= f <= {}, p >= 1", hsid::MAX_HORIZON),
+                "need 2 <= f <= 12 (the horizon capacity H), p >= 1",
+                "f + p <= 20 (the block-row capacity K)",
+                "use an identifier with larger H or K",
             ],
         );
     }
@@ -737,8 +748,36 @@ fn desktop_front_end() {
         matches!(err, IdentifyError::Core(Error::NoExcitation { .. })),
         "{err:?}"
     );
-    let mut big = IdentifyOptions::uniform(-3.0, 3.0, 40, HOLD);
+    // Beyond the largest capacity compiled in: 33 + 33 segments, or f + p = 97.
+    let mut big = IdentifyOptions::uniform(-3.0, 3.0, 33, HOLD);
     big.f = 30;
     let err = identify(&e.u, &e.y, &big).unwrap_err();
-    assert!(matches!(err, IdentifyError::TooLarge { .. }), "{err:?}");
+    assert_eq!(
+        err,
+        IdentifyError::TooLarge {
+            channels: 66,
+            block_rows: 40
+        }
+    );
+    assert!(err.to_string().contains("at most 64 channels"), "{err}");
+    let mut long = IdentifyOptions::uniform(-3.0, 3.0, 7, HOLD);
+    (long.f, long.p) = (50, 47);
+    let err = identify(&e.u, &e.y, &long).unwrap_err();
+    assert_eq!(
+        err,
+        IdentifyError::TooLarge {
+            channels: 14,
+            block_rows: 97
+        }
+    );
+    assert!(err.to_string().contains("f + p <= 96"), "{err}");
+    // Within the capacities, the data are the limit: 4019 excitation samples are too few
+    // Hankel columns for f = p = 40 with 30 + 30 segments.
+    let mut wide = IdentifyOptions::uniform(-3.0, 3.0, 30, HOLD);
+    (wide.f, wide.p) = (40, 40);
+    let err = identify(&e.u, &e.y, &wide).unwrap_err();
+    assert!(
+        matches!(err, IdentifyError::Core(Error::TooFewSamples { .. })),
+        "{err:?}"
+    );
 }

@@ -595,8 +595,14 @@ fn hold_settings<T: hsid::Real, const MM: usize>(
 }
 
 /// Pushes the record into `id`, rounded to its scalar type.
-fn feed<T: hsid::Real, const MM: usize, const KK: usize, S: hsid::Summation<T, MM, KK>>(
-    id: &mut Identifier<T, MM, KK, S>,
+fn feed<
+    T: hsid::Real,
+    const MM: usize,
+    const KK: usize,
+    S: hsid::Summation<T, MM, KK>,
+    const H: usize,
+>(
+    id: &mut Identifier<T, MM, KK, S, H>,
     u: &[f64],
     y: &[f64],
 ) {
@@ -620,6 +626,41 @@ fn f64_checkpoint_solves_to_the_direct_identification() {
     let solved = solve_checkpoint(&bytes).unwrap();
     assert_eq!(solved.header.scalar_name(), "f64");
     assert!(!solved.shared_knots);
+    assert_eq!(solved.model, direct);
+}
+
+/// A desktop-size checkpoint (`f = p = 30`, 20 + 20 segments, `f64`), saved by an identifier
+/// of exactly its sizes (`Identifier<f64, 40, 60, Plain, 30>`), is restored into the host's
+/// largest capacity and solves bit for bit to the direct identification.
+#[test]
+fn desktop_size_checkpoint_solves_to_the_direct_identification() {
+    let (u, y) = backlash_record(300 + 6000, 300, 8);
+    let mut opts = IdentifyOptions::uniform(-3.0, 3.0, 20, 300);
+    (opts.f, opts.p) = (30, 30);
+    let direct = identify(&u, &y, &opts).unwrap();
+    // 0.8 MB of sums: built on a thread with room for them.
+    let bytes = std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .stack_size(64 << 20)
+            .spawn_scoped(s, || {
+                let mut id = Box::new(
+                    Identifier::<f64, 40, 60, hsid::Plain, 30>::new(hold_settings(20, 30, 30))
+                        .unwrap(),
+                );
+                feed(&mut id, &u, &y);
+                let mut bytes = vec![0u8; id.checkpoint_len()];
+                id.save(&mut bytes).unwrap();
+                bytes
+            })
+            .unwrap()
+            .join()
+            .unwrap()
+    });
+    let solved = solve_checkpoint(&bytes).unwrap();
+    assert_eq!(
+        (solved.header.channels, solved.header.f, solved.header.p),
+        (40, 30, 30)
+    );
     assert_eq!(solved.model, direct);
 }
 
@@ -661,7 +702,7 @@ fn compensated_f32_checkpoint_solves_to_the_direct_solve() {
 }
 
 /// A checkpoint larger than the small capacity (12 segments per path, 24 channels, `f32`)
-/// goes to the `<32, 48>` identifier on a big-stack thread and gives the direct solve, also
+/// goes to the `<32, 48, 47>` identifier on a big-stack thread and gives the direct solve, also
 /// with padding after it (a flash sector dump).
 #[test]
 fn large_f32_checkpoint_restores_into_a_larger_capacity() {

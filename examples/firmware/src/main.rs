@@ -61,8 +61,9 @@ const EXCITATION_SEED: u64 = 1;
 type Summation = hsid::Plain;
 #[cfg(feature = "compensated")]
 type Summation = hsid::Compensated;
-/// The identifier type: `f32`, exact capacities, the chosen summation.
-type Id = Identifier<f32, M, K, Summation>;
+/// The identifier type: `f32`, exact capacities (channels, block rows and the horizon `f`),
+/// the chosen summation.
+type Id = Identifier<f32, M, K, Summation, F>;
 
 /// Scalars of the solve workspace.
 const WORKSPACE_LEN: usize = workspace_len(M, F, P);
@@ -155,7 +156,7 @@ fn stored_crc(bytes: &[u8]) -> u32 {
 /// The final solve, measured. Not inlined, like [`identifier`]: the solve's temporaries live
 /// in this frame only while it runs, not in `main`'s during the whole experiment.
 #[inline(never)]
-fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M>, hsid::Error>, u64) {
+fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M, F>, hsid::Error>, u64) {
     cost::measure_with(|| id.solve(ws))
 }
 

@@ -217,7 +217,7 @@ fn row(tag: &str, values: &[f32]) {
 /// The model: `HSID model order=.. ...`, `HSID A <i> ...` (one line per row), `HSID B`,
 /// `HSID C`, `HSID D`, `HSID mu0`, the knots and the border values at the knots of both
 /// paths, and the singular values (plain and noise-whitened).
-pub fn model<const M: usize>(m: &Model<f32, M>) {
+pub fn model<const M: usize, const H: usize>(m: &Model<f32, M, H>) {
     let n = m.order();
     out!(
         "HSID model order={} horizon={} columns={} mu0={} static_gain={}",
@@ -227,7 +227,7 @@ pub fn model<const M: usize>(m: &Model<f32, M>) {
         m.mu0(),
         m.static_gain()
     );
-    let mut a_row = [0.0f32; hsid::MAX_HORIZON];
+    let mut a_row = [0.0f32; H];
     for i in 0..n {
         for (j, v) in a_row.iter_mut().enumerate().take(n) {
             *v = m.a(i, j);

@@ -33,14 +33,15 @@ use hsid::{
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 
-/// Channels (knots of both paths) and lags, as in the firmware.
+/// Channels (knots of both paths), lags and the horizon capacity, as in the firmware.
 const M: usize = 14;
 const K: usize = 20;
+const H: usize = 10;
 /// Workspace of the solve for `f = p = 10` at the default block width.
 #[cfg(feature = "solve")]
 const WS_LEN: usize = hsid::workspace_len(M, 10, 10);
 
-type Id<T, S> = Identifier<T, M, K, S>;
+type Id<T, S> = Identifier<T, M, K, S, H>;
 
 static mut ID: Id<f32, Plain> = Id::EMPTY;
 

@@ -650,11 +650,11 @@ impl Proposal<'_> {
                 self.best_of(effect, opts, Metric::Simulation)
             }
             Effect::UnmodeledDynamics => {
-                // Orders up to 3 above the current one, at the current horizons and at the
-                // longest the core supports (for slower or higher-order dynamics).
+                // Orders up to 3 above the current one, at the current horizons and at 12
+                // (the core's default horizon capacity; for slower or higher-order dynamics).
                 let mut horizons = vec![self.f];
-                if self.f < hsid::MAX_HORIZON {
-                    horizons.push(hsid::MAX_HORIZON);
+                if self.f < hsid::DEFAULT_HORIZON {
+                    horizons.push(hsid::DEFAULT_HORIZON);
                 }
                 let mut opts = Vec::new();
                 for n in self.order + 1..=self.order + 3 {

@@ -253,7 +253,7 @@ pub fn generate(s: &Scenario) -> Result<ScenarioData, String> {
     // Horizons that cover the plant's dominant time constant: the paper's G settles in about
     // 60 samples, the first-order lag in about 15.
     let h = match s.plant {
-        Plant::Paper => hsid::MAX_HORIZON.min(12),
+        Plant::Paper => 12,
         Plant::FirstOrder => 10,
     };
     id.f = h;
