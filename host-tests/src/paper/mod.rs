@@ -3,7 +3,7 @@
 //! evaluation beyond it on the same experiments.
 //!
 //! * [`case`]: the two examples, one simulated experiment, the seeds and options of a run;
-//! * [`monte_carlo`]: the runs of a case and their statistics;
+//! * [`mod@monte_carlo`]: the runs of a case and their statistics;
 //! * [`table`]: the Monte Carlo table;
 //! * [`figures`]: the paper's figures (pole map, Bode magnitude, borders);
 //! * [`methods`]: every method on the same experiments, the table of the README;

@@ -21,7 +21,7 @@ pub(super) enum Kind {
     },
 }
 
-/// One data series of a [`Figure`]: a line, a set of markers or a filled band.
+/// One data series of a [`Figure`](super::Figure): a line, a set of markers or a filled band.
 ///
 /// Built with [`Series::line`], [`Series::scatter`] or [`Series::band`] and styled with the
 /// chained setters. The data is copied.
