@@ -22,9 +22,12 @@ use std::fmt;
 use std::ops::Range;
 use std::sync::Arc;
 
+use hsid::Direction;
 use nalgebra::DMatrix;
 use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
+
+use crate::numerics::direction::DirectionTracker;
 
 /// A border function `H_a` or `H_d` of a switch or backlash element: any `Fn(f64) -> f64` that
 /// can be shared between threads.
@@ -152,8 +155,8 @@ impl fmt::Debug for TruePaths {
 pub struct Switch {
     h_a: Border,
     h_d: Border,
-    prev_u: Option<f64>,
-    ascending: bool,
+    /// δ(t) and the previous input; `None` before the first sample.
+    direction: Option<DirectionTracker>,
 }
 
 impl Switch {
@@ -162,8 +165,7 @@ impl Switch {
         Self {
             h_a,
             h_d,
-            prev_u: None,
-            ascending: false,
+            direction: None,
         }
     }
 
@@ -188,7 +190,8 @@ impl Switch {
 
     /// Whether the element is currently on its ascending branch.
     pub fn is_ascending(&self) -> bool {
-        self.ascending
+        self.direction
+            .is_some_and(|d| d.direction() == Direction::Ascending)
     }
 
     /// The true paths over the Table I cycle: for a switch `P_a = H_a` and `P_d = H_d`
@@ -201,31 +204,25 @@ impl Switch {
 impl fmt::Debug for Switch {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Switch")
-            .field("prev_u", &self.prev_u)
-            .field("ascending", &self.ascending)
+            .field("prev_u", &self.direction.map(|d| d.previous()))
+            .field("ascending", &self.is_ascending())
             .finish_non_exhaustive()
     }
 }
 
 impl Nonlinearity for Switch {
     fn reset(&mut self) {
-        self.prev_u = None;
-        self.ascending = false;
+        self.direction = None;
     }
 
     fn step(&mut self, u: f64) -> f64 {
-        if let Some(prev) = self.prev_u {
-            if u > prev {
-                self.ascending = true;
-            } else if u < prev {
-                self.ascending = false;
-            }
-        }
-        self.prev_u = Some(u);
-        if self.ascending {
-            self.h_a(u)
-        } else {
-            self.h_d(u)
+        // Before the first sample there is no previous input: the first sample keeps δ.
+        let tracker = self
+            .direction
+            .get_or_insert_with(|| DirectionTracker::new(u));
+        match tracker.step(u) {
+            Direction::Ascending => self.h_a(u),
+            Direction::Descending => self.h_d(u),
         }
     }
 }
@@ -509,21 +506,9 @@ impl Lti {
     }
 }
 
-/// Eigenvalues of a real square matrix as `(re, im)`, sorted by decreasing real part then
-/// decreasing imaginary part; `None` if the Schur iteration does not converge.
-pub fn eigenvalues(m: DMatrix<f64>) -> Option<Vec<(f64, f64)>> {
-    if m.nrows() == 0 {
-        return Some(Vec::new());
-    }
-    let schur = nalgebra::Schur::try_new(m, f64::EPSILON, 10_000)?;
-    let mut ev: Vec<(f64, f64)> = schur
-        .complex_eigenvalues()
-        .iter()
-        .map(|c| (c.re, c.im))
-        .collect();
-    ev.sort_by(|x, y| y.0.total_cmp(&x.0).then(y.1.total_cmp(&x.1)));
-    Some(ev)
-}
+/// Eigenvalues of a real square matrix, at their former path (now
+/// [`crate::numerics::poly::eigenvalues`]).
+pub use crate::numerics::poly::eigenvalues;
 
 /// The paper's plant `G(q) = q^-1 (0.1994 - 0.1804 q^-1) / (1 - 1.8858 q^-1 + 0.9048 q^-2)`.
 pub fn paper_plant() -> Lti {

@@ -7,9 +7,9 @@
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
+use hsid_host::paper::figures::{bode_magnitude_plot, border_plot, pole_plot};
 use hsid_host::plot::{
-    Dash, Figure, LegendPosition, Marker, PlotError, Series, bode_magnitude_plot, border_plot,
-    log_ticks, nice_step, nice_ticks, pole_plot,
+    Dash, Figure, LegendPosition, Marker, PlotError, Series, log_ticks, nice_step, nice_ticks,
 };
 
 fn out_dir() -> PathBuf {

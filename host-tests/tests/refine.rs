@@ -5,13 +5,13 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use hsid_host::identify::{HostModel, IdentifyOptions, identify, interpolate};
+use hsid_host::paper::crb::paper_crb;
 use hsid_host::paper::{
     Case, Experiment, PaperConfig, case_system, derive_seed, experiment, options,
 };
 use hsid_host::refine::RefineError;
 use hsid_host::refine::Unstable;
 use hsid_host::refine::bilinear::split;
-use hsid_host::refine::crb::paper_crb;
 use hsid_host::refine::knots::{Criterion, SegmentCount, select_segments};
 use hsid_host::refine::pem::{
     BURN_IN, Feedthrough, InitialState, PemOptions, Problem, Structure, feedthrough_std, minimise,

@@ -8,9 +8,9 @@
 //! 2.5 standard errors of room.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use hsid_host::paper::crb::paper_crb;
+use hsid_host::paper::methods::{Method, methods_json, methods_table, run_methods};
 use hsid_host::paper::{Case, PaperConfig};
-use hsid_host::refine::crb::paper_crb;
-use hsid_host::refine::methods::{Method, methods_json, methods_table, run_methods};
 
 const RUNS: usize = 24;
 
@@ -57,7 +57,7 @@ fn check(case: Case) {
     assert!((pem.summary.pole_std_over_crb - s_pem / crb).abs() < 1e-12);
     assert!(pem.summary.base.pole_bias < 3.0 * s_pem / (RUNS as f64).sqrt() + 1e-3);
     // Borders: PEM ≈ 0.03, ALS in between, the rank-1 split ≈ 0.13.
-    let b = |r: &hsid_host::refine::methods::MethodResult| r.summary.base.border_rms_single_median;
+    let b = |r: &hsid_host::paper::methods::MethodResult| r.summary.base.border_rms_single_median;
     assert!(b(pem) <= 0.036, "PEM border {}", b(pem));
     assert!(b(als) < 0.8 * b(pi), "ALS {} vs split {}", b(als), b(pi));
     assert!(b(pi) > 0.09, "PI-MOESP border {}", b(pi));
@@ -112,7 +112,7 @@ fn mu0_without_the_hold() {
     let a = run_methods(Case::Backlash, &with, &ms, &|| {}).unwrap();
     let b = run_methods(Case::Backlash, &without, &ms, &|| {}).unwrap();
     let mu0 =
-        |c: &hsid_host::refine::methods::CaseMethods, m: usize| c.methods[m].summary.mu0_rms_error;
+        |c: &hsid_host::paper::methods::CaseMethods, m: usize| c.methods[m].summary.mu0_rms_error;
     for (c, name) in [(&a, "hold"), (&b, "no hold")] {
         println!(
             "{name}: μ0 RMS error PI-MOESP {:.4}, PEM {:.4}",

@@ -16,6 +16,7 @@ use super::RefineError;
 use super::poly::tf_from_ss;
 use super::signal::{HatRegressors, filter};
 use crate::identify::HostModel;
+use crate::numerics::lstsq::{Scaling, lstsq_columns};
 
 /// The outcome of [`split`].
 #[derive(Clone, Debug)]
@@ -26,26 +27,6 @@ pub struct BilinearFit {
     pub iterations: usize,
     /// Mean squared output error at the end.
     pub mse: f64,
-}
-
-fn solve_ls(cols: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
-    let k = cols.len();
-    let g = DMatrix::from_fn(k, k, |i, j| {
-        cols[i]
-            .iter()
-            .zip(&cols[j])
-            .map(|(a, b)| a * b)
-            .sum::<f64>()
-    });
-    let r = DVector::from_fn(k, |i, _| {
-        cols[i].iter().zip(y).map(|(a, b)| a * b).sum::<f64>()
-    });
-    // Equilibrate before the factorisation.
-    let s: Vec<f64> = (0..k).map(|i| 1.0 / g[(i, i)].max(1e-300).sqrt()).collect();
-    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * s[i] * s[j]);
-    let rs = DVector::from_fn(k, |i, _| r[i] * s[i]);
-    let x = gs.cholesky()?.solve(&rs);
-    Some((0..k).map(|i| x[i] * s[i]).collect())
 }
 
 /// Re-estimates `B`, `D` and the borders of `model` with its `A`, `C` and μ0 fixed, by
@@ -113,13 +94,15 @@ pub fn split(
         }
         let mut cols: Vec<Vec<f64>> = unit.iter().map(|(nu, de)| filter(nu, de, &hd)).collect();
         cols.push(hd);
-        let bd = solve_ls(&cols, &yb).ok_or(RefineError::Singular("B, D given the borders"))?;
+        let bd = lstsq_columns(&cols, &yb, Scaling::UnitDiagonal)
+            .ok_or(RefineError::Singular("B, D given the borders"))?;
         b = bd[..n].to_vec();
         d = bd[n];
         // c with (B, D) fixed.
         let (num, den) = tf_from_ss(&model.a, &b, &model.c, d);
         let cols: Vec<Vec<f64>> = w.iter().map(|wi| filter(&num, &den, wi)).collect();
-        c = solve_ls(&cols, &yb).ok_or(RefineError::Singular("borders given B, D"))?;
+        c = lstsq_columns(&cols, &yb, Scaling::UnitDiagonal)
+            .ok_or(RefineError::Singular("borders given B, D"))?;
         let mut fit = vec![0.0; yb.len()];
         for (ci, col) in c.iter().zip(&cols) {
             fit.iter_mut().zip(col).for_each(|(f, x)| *f += ci * x);

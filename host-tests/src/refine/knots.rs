@@ -13,26 +13,10 @@ use std::ops::RangeInclusive;
 use super::RefineError;
 use super::pem::{PemOptions, refine};
 use crate::identify::{IdentifyOptions, identify};
+use crate::numerics::select::best;
 use crate::reference::uniform_knots;
 
-/// The information criterion.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Criterion {
-    /// Bayesian (Schwarz): `N ln σ̂² + d ln N`.
-    Bic,
-    /// Akaike: `N ln σ̂² + 2d`.
-    Aic,
-}
-
-impl Criterion {
-    /// Name for reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Criterion::Bic => "BIC",
-            Criterion::Aic => "AIC",
-        }
-    }
-}
+pub use crate::numerics::select::Criterion;
 
 /// The choice and the score of every candidate.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,31 +83,22 @@ pub fn select_segments(
             .and_then(|init| refine(u, y, &init, &PemOptions::for_identify(&opts)));
         match fit {
             Ok(f) => {
-                let n = f.samples as f64;
-                let d = f.parameters() as f64;
-                let pen = match criterion {
-                    Criterion::Bic => d * n.ln(),
-                    Criterion::Aic => 2.0 * d,
-                };
-                scores.push((s, n * f.mse.max(f64::MIN_POSITIVE).ln() + pen));
+                let (n, d) = (f.samples as f64, f.parameters() as f64);
+                scores.push((s, criterion.score(n, f.mse, d)));
             }
             Err(e) => failures.push((s, e.to_string())),
         }
     }
-    let segments = scores
-        .iter()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(s, _)| *s)
-        .ok_or_else(|| {
-            RefineError::Identify(format!(
-                "no candidate knot count could be identified: {}",
-                failures
-                    .iter()
-                    .map(|(s, e)| format!("{s} segments: {e}"))
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            ))
-        })?;
+    let segments = best(&scores).ok_or_else(|| {
+        RefineError::Identify(format!(
+            "no candidate knot count could be identified: {}",
+            failures
+                .iter()
+                .map(|(s, e)| format!("{s} segments: {e}"))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))
+    })?;
     Ok(KnotChoice {
         segments,
         criterion,

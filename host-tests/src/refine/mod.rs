@@ -1,5 +1,5 @@
-//! Beyond the paper: the noise model, a prediction-error refinement, uncertainty, the
-//! Cramér–Rao bound and the knot count.
+//! Beyond the paper: the noise model, a prediction-error refinement, uncertainty and the knot
+//! count.
 //!
 //! The subspace estimate of the core (PI-MOESP, eq. 11) is consistent but not efficient: it
 //! ignores the colour of the noise and splits the over-parameterised `[D; B]` by a rank-1 SVD.
@@ -16,24 +16,32 @@
 //!   Jacobian. Asymptotically efficient when the noise model order is right.
 //! * [`uncertainty`]: standard deviations of the poles, the Bode magnitude and the border
 //!   values from the refinement's asymptotic covariance `σ_e² (JᵀJ)⁻¹`.
-//! * [`crb`]: the Cramér–Rao bound of the paper's example, the same covariance at the true
-//!   system and the true noise model.
 //! * [`knots`]: the knot count from the data (BIC of the refined model).
-//! * [`methods`]: every method on the paper's Monte Carlo, the table of the README.
+//!
+//! The Cramér–Rao bound of the paper's example and the comparison of every method on the
+//! paper's Monte Carlo are part of the paper's evaluation, [`crate::paper`].
 //!
 //! Everything here is host side (`std`, `f64`, `nalgebra`); the core is untouched.
 
 use std::fmt;
 
 pub mod bilinear;
-pub mod crb;
 pub mod knots;
-pub mod methods;
 pub mod pem;
 pub mod poly;
 pub mod signal;
 pub mod stochastic;
 pub mod uncertainty;
+
+/// The Cramér–Rao bound, at its former path (now [`crate::paper::crb`]).
+pub use crate::paper::crb;
+
+/// The method comparison, at its former path (now [`crate::paper::methods`] and
+/// [`crate::paper::method_figures`]).
+pub mod methods {
+    pub use crate::paper::method_figures::write_method_figures;
+    pub use crate::paper::methods::*;
+}
 
 pub use pem::{InitialState, PemFit, PemOptions, identify_pem, refine};
 pub use stochastic::NoiseOrder;

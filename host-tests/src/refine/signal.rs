@@ -10,7 +10,10 @@
 //!
 //! δ(t) follows the core's convention: `u(−1) = u_min` and the initial direction descending.
 
+use hsid::Direction;
+
 use super::RefineError;
+use crate::numerics::direction::directions;
 
 /// Filters `x` through `b(q⁻¹) / a(q⁻¹)` from zero initial state; `a[0]` must be 1.
 ///
@@ -135,16 +138,8 @@ impl HatRegressors {
         let n_desc = if shared { 0 } else { knots_desc.len() - 1 };
         let mut idx = Vec::with_capacity(u.len());
         let mut w = Vec::with_capacity(u.len());
-        let mut prev = lo;
-        let mut up = false;
-        for &ut in u {
-            if ut > prev {
-                up = true;
-            } else if ut < prev {
-                up = false;
-            }
-            prev = ut;
-            let (k, off) = if up || shared {
+        for (&ut, dir) in u.iter().zip(directions(u, lo)) {
+            let (k, off) = if dir == Direction::Ascending || shared {
                 (knots_asc, 0)
             } else {
                 (knots_desc, n_asc)

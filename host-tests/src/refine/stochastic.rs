@@ -17,10 +17,16 @@ use std::path::Path;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+use hsid::Direction;
+
 use super::RefineError;
 use super::poly::{is_stable, observer_form, stabilise};
 use super::signal::filter;
 use crate::identify::HostModel;
+use crate::numerics::ar::fit_ar;
+use crate::numerics::direction::directions;
+use crate::numerics::lstsq::{Scaling, lstsq};
+use crate::numerics::select::{Criterion, best};
 
 /// An ARMA noise model `v(t) = C(q)/D(q) e(t)`, `e` white with variance `sigma2`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -115,13 +121,6 @@ impl Default for NoiseOrder {
     }
 }
 
-/// Least squares `X θ ≈ y` through the normal equations, `None` if singular.
-fn lstsq(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
-    let g = x.transpose() * x;
-    let r = x.transpose() * y;
-    g.cholesky().map(|c| c.solve(&r))
-}
-
 /// Mean of the squares.
 fn mean_sq(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64
@@ -144,14 +143,9 @@ pub fn hannan_rissanen(r: &[f64], k: usize) -> Result<NoiseModel, RefineError> {
         });
     }
     // Stage 1: long AR(l) → innovation estimates.
-    let rows = n - l;
-    let x = DMatrix::from_fn(rows, l, |t, i| -r[t + l - 1 - i]);
-    let yv = DVector::from_iterator(rows, r[l..].iter().copied());
-    let ar = lstsq(&x, &yv).ok_or(RefineError::Singular("long AR model of the residual"))?;
-    let mut e = vec![0.0; n];
-    for t in l..n {
-        e[t] = r[t] + (0..l).map(|i| ar[i] * r[t - 1 - i]).sum::<f64>();
-    }
+    let e = fit_ar(r, l)
+        .ok_or(RefineError::Singular("long AR model of the residual"))?
+        .innovations(r);
     // Stage 2: r(t) = −Σ d_i r(t−i) + Σ c_i ê(t−i) + e(t).
     let s = l + k;
     let rows = n - s;
@@ -164,7 +158,8 @@ pub fn hannan_rissanen(r: &[f64], k: usize) -> Result<NoiseModel, RefineError> {
         }
     });
     let yv = DVector::from_iterator(rows, r[s..].iter().copied());
-    let th = lstsq(&x, &yv).ok_or(RefineError::Singular("ARMA regression of the residual"))?;
+    let th = lstsq(&x, &yv, Scaling::None)
+        .ok_or(RefineError::Singular("ARMA regression of the residual"))?;
     let mut d = vec![1.0];
     d.extend(th.iter().take(k));
     let mut c = vec![1.0];
@@ -193,7 +188,7 @@ pub fn fit_noise(r: &[f64], order: NoiseOrder) -> Result<NoiseFit, RefineError> 
         NoiseOrder::Auto { max } => (0..=max).collect(),
     };
     let n = r.len() as f64;
-    let mut best: Option<(f64, NoiseModel)> = None;
+    let mut models = Vec::new();
     let mut bic = Vec::new();
     for k in orders {
         let m = match hannan_rissanen(r, k) {
@@ -201,13 +196,14 @@ pub fn fit_noise(r: &[f64], order: NoiseOrder) -> Result<NoiseFit, RefineError> 
             Err(e) if matches!(order, NoiseOrder::Fixed(_)) => return Err(e),
             Err(_) => continue,
         };
-        let b = n * m.sigma2.max(f64::MIN_POSITIVE).ln() + (2 * k) as f64 * n.ln();
-        bic.push((k, b));
-        if best.as_ref().is_none_or(|(bb, _)| b < *bb) {
-            best = Some((b, m));
-        }
+        bic.push((k, Criterion::Bic.score(n, m.sigma2, (2 * k) as f64)));
+        models.push((k, m));
     }
-    let (_, model) = best.ok_or(RefineError::Singular("every noise model order"))?;
+    let chosen = best(&bic).ok_or(RefineError::Singular("every noise model order"))?;
+    let model = models
+        .into_iter()
+        .find_map(|(k, m)| (k == chosen).then_some(m))
+        .ok_or(RefineError::Singular("every noise model order"))?;
     Ok(NoiseFit { model, bic })
 }
 
@@ -287,21 +283,12 @@ impl InnovationForm {
 
     /// The nonlinearity output `H[u(t)]` of the model along `u` (δ from `u(−1) = u_min`).
     pub fn nonlinearity(&self, u: &[f64]) -> Vec<f64> {
-        let mut up = false;
-        let mut prev = self.plant.knots_asc.first().copied().unwrap_or(0.0);
+        let u_min = self.plant.knots_asc.first().copied().unwrap_or(0.0);
         u.iter()
-            .map(|&ut| {
-                if ut > prev {
-                    up = true;
-                } else if ut < prev {
-                    up = false;
-                }
-                prev = ut;
-                if up {
-                    self.plant.border_asc_at(ut)
-                } else {
-                    self.plant.border_desc_at(ut)
-                }
+            .zip(directions(u, u_min))
+            .map(|(&ut, dir)| match dir {
+                Direction::Ascending => self.plant.border_asc_at(ut),
+                Direction::Descending => self.plant.border_desc_at(ut),
             })
             .collect()
     }

@@ -1,13 +1,13 @@
 //! The Cramér–Rao bound for the pole estimates on the paper's example (item 8 of the issue).
 //!
 //! For Gaussian innovations the bound of an unbiased estimator of `θ` in the model structure of
-//! the refinement ([`pem`](super::pem): plant `B/F` of order 2 with `G(1) = 1`, μ0 and the
+//! the refinement ([`pem`](crate::refine::pem): plant `B/F` of order 2 with `G(1) = 1`, μ0 and the
 //! border values on the knots, noise ARMA(1, 1), plant at rest after the hold) is
 //! `σ_e² E[JᵀJ]⁻¹`, `J = ∂ε/∂θ` evaluated at the *true* system and the *true* noise model
 //! `G_v(q) = (1 + 0.5q⁻¹)/(1 − 0.85q⁻¹)`. It is also the asymptotic covariance of the
 //! prediction-error estimate, which is therefore efficient. `E[JᵀJ]` is the average over the
 //! Monte Carlo's own experiments (same seeds), and the bound is mapped onto the poles like the
-//! estimate's covariance ([`uncertainty::pole_std`](super::uncertainty::pole_std)).
+//! estimate's covariance ([`uncertainty::pole_std`](crate::refine::uncertainty::pole_std)).
 //!
 //! Without a hold (`cfg.hold == 0`) the structure estimates the initial state, whose true
 //! value (the simulator starts the plant from zero) is included in the true parameters.
@@ -18,10 +18,10 @@
 
 use nalgebra::DMatrix;
 
-use super::RefineError;
-use super::pem::{BURN_IN, InitialState, Problem, Structure};
-use super::uncertainty::{PoleStd, pole_std};
-use crate::paper::{Case, PaperConfig, case_system, experiment, options};
+use super::case::{Case, PaperConfig, case_system, experiment, options};
+use crate::refine::RefineError;
+use crate::refine::pem::{BURN_IN, InitialState, Problem, Structure};
+use crate::refine::uncertainty::{PoleStd, pole_std};
 use crate::sim::{paper_noise_model, paper_plant, variance};
 
 /// The bound on the paper's example.

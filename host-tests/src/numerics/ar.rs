@@ -1,0 +1,120 @@
+//! Autoregressive noise models `D(q) r(t) = e(t)`, `D(q) = 1 + d_1 q⁻¹ + … + d_p q⁻ᵖ`, fitted
+//! by least squares on the lagged record, and the order chosen by BIC.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::lstsq::{Scaling, lstsq};
+use super::select::{Criterion, best};
+
+/// A fitted AR(p) model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ar {
+    /// `d_1 … d_p` of `D(q)`: `r(t) = −Σ d_i r(t − i) + e(t)`.
+    pub d: Vec<f64>,
+    /// Mean square of the innovations over the fitted samples `p … N − 1`.
+    pub sigma2: f64,
+}
+
+impl Ar {
+    /// The order `p`.
+    pub fn order(&self) -> usize {
+        self.d.len()
+    }
+
+    /// The innovations `e(t) = D(q) r(t)` for `t ≥ p`, and 0 before (where the lags are
+    /// missing).
+    pub fn innovations(&self, r: &[f64]) -> Vec<f64> {
+        let p = self.d.len();
+        let mut e = vec![0.0; r.len()];
+        for t in p..r.len() {
+            e[t] = r[t] + (0..p).map(|i| self.d[i] * r[t - 1 - i]).sum::<f64>();
+        }
+        e
+    }
+}
+
+/// Fits an AR(`p`) model to `r` (zero mean) by least squares over `t = p … N − 1`; `None` if
+/// `p` is 0, the record is not longer than `p`, or the lagged record is rank deficient.
+pub fn fit_ar(r: &[f64], p: usize) -> Option<Ar> {
+    let n = r.len();
+    if p == 0 || n <= p {
+        return None;
+    }
+    let rows = n - p;
+    let x = DMatrix::from_fn(rows, p, |t, i| -r[t + p - 1 - i]);
+    let y = DVector::from_iterator(rows, r[p..].iter().copied());
+    let d = lstsq(&x, &y, Scaling::None)?;
+    let mut ar = Ar {
+        d: d.iter().copied().collect(),
+        sigma2: 0.0,
+    };
+    let e = ar.innovations(r);
+    ar.sigma2 = e[p..].iter().map(|v| v * v).sum::<f64>() / rows as f64;
+    Some(ar)
+}
+
+/// The AR model of order `1 … max` with the smallest BIC (`N ln σ̂² + p ln N`, `N = r.len()`);
+/// `None` if no order can be fitted.
+pub fn fit_ar_bic(r: &[f64], max: usize) -> Option<Ar> {
+    let n = r.len() as f64;
+    let fits: Vec<Ar> = (1..=max).filter_map(|p| fit_ar(r, p)).collect();
+    let scores: Vec<(usize, f64)> = fits
+        .iter()
+        .enumerate()
+        .map(|(i, a)| (i, Criterion::Bic.score(n, a.sigma2, a.order() as f64)))
+        .collect();
+    best(&scores).and_then(|i| fits.into_iter().nth(i))
+}
+
+#[cfg(test)]
+mod tests {
+    use rand_core::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    use rand_pcg::Pcg32;
+
+    use super::*;
+
+    /// `r(t) = 1.2 r(t−1) − 0.5 r(t−2) + e(t)`, `e` white with variance 0.25.
+    fn ar2(n: usize, seed: u64) -> Vec<f64> {
+        let mut rng = Pcg32::seed_from_u64(seed);
+        let mut r = vec![0.0f64; n + 200];
+        for t in 2..r.len() {
+            let e: f64 = StandardNormal.sample(&mut rng);
+            r[t] = 1.2 * r[t - 1] - 0.5 * r[t - 2] + 0.5 * e;
+        }
+        r.split_off(200)
+    }
+
+    #[test]
+    fn recovers_known_coefficients_from_a_long_record() {
+        let r = ar2(100_000, 7);
+        let ar = fit_ar(&r, 2).unwrap_or_else(|| Ar {
+            d: vec![],
+            sigma2: f64::NAN,
+        });
+        // D(q) = 1 − 1.2 q⁻¹ + 0.5 q⁻²; standard error ≈ sqrt((1 − 0.5²)/N) ≈ 0.003.
+        assert!((ar.d[0] + 1.2).abs() < 0.015, "{:?}", ar.d);
+        assert!((ar.d[1] - 0.5).abs() < 0.015, "{:?}", ar.d);
+        assert!((ar.sigma2 - 0.25).abs() < 0.01, "{}", ar.sigma2);
+        // The innovations whiten the record: lag-1 autocorrelation near 0.
+        let e = ar.innovations(&r);
+        let e = &e[2..];
+        let c0: f64 = e.iter().map(|v| v * v).sum();
+        let c1: f64 = e.windows(2).map(|w| w[0] * w[1]).sum();
+        assert!((c1 / c0).abs() < 0.02, "{}", c1 / c0);
+    }
+
+    #[test]
+    fn bic_chooses_the_true_order() {
+        let r = ar2(20_000, 11);
+        let ar = fit_ar_bic(&r, 8).map(|a| a.order());
+        assert_eq!(ar, Some(2));
+    }
+
+    #[test]
+    fn too_short_or_order_zero_is_refused() {
+        assert!(fit_ar(&[1.0, 2.0], 2).is_none());
+        assert!(fit_ar(&[1.0, 2.0, 3.0], 0).is_none());
+        assert!(fit_ar_bic(&[], 3).is_none());
+    }
+}

@@ -1,0 +1,175 @@
+//! SVG text pieces: numbers, escaping, dash patterns, polylines, bands and markers.
+
+use std::fmt::Write as _;
+
+use super::series::Series;
+use super::style::{Dash, Marker, PALETTE};
+
+/// A point in px.
+pub(super) type Point = (f64, f64);
+
+/// Rough rendered width of a text in a sans-serif font.
+pub(super) fn text_width(s: &str, size: f64) -> f64 {
+    s.chars()
+        .map(|c| match c {
+            '0'..='9' => 0.64,
+            '.' | ',' | ':' | ';' | '|' | 'i' | 'j' | 'l' | '!' | '\'' => 0.32,
+            ' ' => 0.32,
+            '\u{2212}' | '+' | '=' | '<' | '>' => 0.84,
+            '-' | '(' | ')' | '[' | ']' | 'f' | 't' | 'r' => 0.40,
+            'm' | 'w' | 'M' | 'W' => 0.95,
+            'A'..='Z' => 0.72,
+            _ => 0.60,
+        })
+        .sum::<f64>()
+        * size
+}
+
+pub(super) fn series_color(series: &Series, index: usize) -> String {
+    series
+        .color
+        .clone()
+        .unwrap_or_else(|| PALETTE[index % PALETTE.len()].to_string())
+}
+
+/// A pixel coordinate with at most two decimals and no trailing zeros.
+pub(super) fn num(v: f64) -> String {
+    if !v.is_finite() {
+        return "0".to_string();
+    }
+    let s = format!("{:.2}", v);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" || s.is_empty() {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+pub(super) fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c if (c as u32) < 0x20 && c != '\t' && c != '\n' => {}
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+pub(super) fn dash_attr(dash: Dash, width: f64) -> String {
+    let k = (width / 1.5).max(1.0);
+    let pattern = match dash {
+        Dash::Solid => return String::new(),
+        Dash::Dashed => vec![7.0, 4.0],
+        Dash::Dotted => vec![0.5, 3.5],
+        Dash::DashDot => vec![8.0, 3.5, 0.5, 3.5],
+    };
+    let p: Vec<String> = pattern.iter().map(|v| num(v * k)).collect();
+    format!(r#" stroke-dasharray="{}""#, p.join(" "))
+}
+
+/// Path data through the points, starting a new sub-path after every missing point.
+pub(super) fn polyline(points: impl Iterator<Item = Option<(f64, f64)>>) -> String {
+    let mut d = String::new();
+    let mut pen_down = false;
+    for p in points {
+        match p {
+            Some((x, y)) => {
+                let _ = write!(
+                    d,
+                    "{}{} {}",
+                    if pen_down { "L" } else { "M" },
+                    num(x),
+                    num(y)
+                );
+                pen_down = true;
+            }
+            None => pen_down = false,
+        }
+    }
+    d
+}
+
+pub(super) fn band_path(
+    x: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+    to_px: &dyn Fn(f64, f64) -> Option<(f64, f64)>,
+) -> String {
+    let mut d = String::new();
+    let mut run: Vec<(Point, Point)> = Vec::new();
+    let flush = |run: &mut Vec<(Point, Point)>, d: &mut String| {
+        if run.len() >= 2 {
+            for (k, (u, _)) in run.iter().enumerate() {
+                let _ = write!(
+                    d,
+                    "{}{} {}",
+                    if k == 0 { "M" } else { "L" },
+                    num(u.0),
+                    num(u.1)
+                );
+            }
+            for (_, l) in run.iter().rev() {
+                let _ = write!(d, "L{} {}", num(l.0), num(l.1));
+            }
+            d.push('Z');
+        }
+        run.clear();
+    };
+    for i in 0..x.len() {
+        match (to_px(x[i], upper[i]), to_px(x[i], lower[i])) {
+            (Some(u), Some(l)) => run.push((u, l)),
+            _ => flush(&mut run, &mut d),
+        }
+    }
+    flush(&mut run, &mut d);
+    d
+}
+
+pub(super) fn marker_path(d: &mut String, marker: Marker, x: f64, y: f64, r: f64) {
+    let mut seg = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        let _ = write!(d, "M{} {}L{} {}", num(x0), num(y0), num(x1), num(y1));
+    };
+    let a = r * std::f64::consts::FRAC_1_SQRT_2;
+    match marker {
+        Marker::Plus => {
+            seg(x - r, y, x + r, y);
+            seg(x, y - r, x, y + r);
+        }
+        Marker::Cross => {
+            seg(x - a, y - a, x + a, y + a);
+            seg(x - a, y + a, x + a, y - a);
+        }
+        Marker::Star => {
+            seg(x - r, y, x + r, y);
+            seg(x, y - r, x, y + r);
+            seg(x - a, y - a, x + a, y + a);
+            seg(x - a, y + a, x + a, y - a);
+        }
+        Marker::Circle | Marker::Dot => {
+            let (rs, d2) = (num(r), num(2.0 * r));
+            let _ = write!(
+                d,
+                "M{} {}a{rs} {rs} 0 1 0 {d2} 0a{rs} {rs} 0 1 0 -{d2} 0",
+                num(x - r),
+                num(y)
+            );
+        }
+    }
+}
+
+pub(super) fn marker_element(d: &str, marker: Marker, color: &str, width: f64) -> String {
+    match marker {
+        Marker::Dot => format!(r#"<path d="{d}" fill="{color}" stroke="none"/>"#),
+        _ => format!(
+            r#"<path d="{d}" fill="none" stroke="{color}" stroke-width="{}" stroke-linecap="round"/>"#,
+            num(width)
+        ),
+    }
+}
