@@ -5,6 +5,7 @@
 pub mod diagnose;
 pub mod identify;
 pub mod io;
+pub mod model_file;
 pub mod paper;
 pub mod plot;
 pub mod reference;
