@@ -125,7 +125,7 @@ pub enum IoError {
         /// File that was being read.
         path: PathBuf,
         /// 1-based line where the parser stopped, when it knows.
-        line: Option<u64>,
+        line: Option<usize>,
         /// The parser's message.
         reason: String,
     },

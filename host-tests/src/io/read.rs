@@ -151,14 +151,30 @@ pub fn parse_table(
     let delimiter = options
         .delimiter
         .unwrap_or_else(|| Delimiter::sniff(header_text));
+    // Comment lines are emptied rather than left to the parser's comment option, which does
+    // not count them in its line numbers; empty lines it skips and counts.
+    let uncommented: String = text
+        .split_inclusive('\n')
+        .map(|l| if l.starts_with('#') { "\n" } else { l })
+        .collect();
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .comment(Some(b'#'))
         .delimiter(delimiter.byte())
-        .from_reader(text.as_bytes());
+        .from_reader(uncommented.as_bytes());
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(uncommented.match_indices('\n').map(|(i, _)| i + 1))
+        .collect();
+    let empty: Vec<usize> = uncommented
+        .split('\n')
+        .enumerate()
+        .filter(|(_, l)| l.is_empty() || *l == "\r")
+        .map(|(i, _)| i + 1)
+        .collect();
     let mut rows = Rows {
         path,
+        starts: &starts,
+        empty: &empty,
         blank: &lay.blank,
         last: lay.last,
         reader: &mut reader,
@@ -194,6 +210,11 @@ pub fn parse_table(
 /// The CSV records up to the last line with content, refusing a blank line before any of them.
 struct Rows<'a, R> {
     path: &'a Path,
+    /// Byte offset of the start of each line.
+    starts: &'a [usize],
+    /// 1-based lines that are empty (nothing but the line end) for the parser.
+    empty: &'a [usize],
+    /// 1-based lines that are blank (whitespace only), ascending.
     blank: &'a [usize],
     last: usize,
     reader: &'a mut csv::Reader<R>,
@@ -201,19 +222,30 @@ struct Rows<'a, R> {
 }
 
 impl<R: std::io::Read> Rows<'_, R> {
+    /// The 1-based line of a record the parser placed at byte `byte`. The parser's line count
+    /// leaves out the empty lines it skips, and its offset points before them: the line is the
+    /// first at or after `byte` that is not empty.
+    fn line_of(&self, byte: u64) -> usize {
+        let byte = usize::try_from(byte).unwrap_or(usize::MAX);
+        let mut line = self.starts.partition_point(|&s| s <= byte);
+        while line < self.starts.len() && self.empty.binary_search(&line).is_ok() {
+            line += 1;
+        }
+        line
+    }
+
     /// Reads the next record into `self.record` and returns its line, `None` at the end.
     fn next_row(&mut self) -> Result<Option<usize>, IoError> {
-        let more = self
-            .reader
-            .read_record(&mut self.record)
-            .map_err(|e| IoError::Malformed {
-                path: self.path.to_path_buf(),
-                line: e.position().map(|p| p.line()),
-                reason: e.to_string(),
-            })?;
-        let line = self.record.position().map_or(usize::MAX, |p| {
-            usize::try_from(p.line()).unwrap_or(usize::MAX)
-        });
+        let more = self.reader.read_record(&mut self.record);
+        let more = more.map_err(|e| IoError::Malformed {
+            path: self.path.to_path_buf(),
+            line: e.position().map(|p| self.line_of(p.byte())),
+            reason: e.to_string(),
+        })?;
+        let line = self
+            .record
+            .position()
+            .map_or(usize::MAX, |p| self.line_of(p.byte()));
         if !more || line > self.last {
             return Ok(None);
         }
