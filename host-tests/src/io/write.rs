@@ -10,9 +10,9 @@ use super::IoError;
 ///
 /// Values are written with the shortest text that parses back to the same `f64` (so
 /// [`read_columns`](super::read_columns) returns exactly what was written); very small or large
-/// magnitudes use exponent notation (`1e-300`). All columns must have the same length and the values must be
-/// finite (NaN and infinities could not be read back). Names must be non-empty and contain no
-/// double quote or line break; names with a comma are quoted.
+/// magnitudes use exponent notation (`1e-300`). All columns must have the same length and the
+/// values must be finite (NaN and infinities could not be read back). Names must be non-empty
+/// and contain no double quote or line break; names with a comma are quoted.
 pub fn write_columns<C: AsRef<[f64]>>(
     path: impl AsRef<Path>,
     names: &[&str],
