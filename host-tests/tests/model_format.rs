@@ -149,3 +149,51 @@ fn validate_reads_what_every_command_writes() {
         assert!(out.starts_with("simulation fit on 4019 samples"), "{out}");
     }
 }
+
+/// An effect the model file has no place for (an input delay) is named when the final model is
+/// written, and the report keeps it beside the model.
+#[test]
+fn diagnose_names_what_the_model_file_leaves_out() {
+    use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
+    use hsid_host::diagnose::{Effect, Nonlinearity};
+    let dir = Scratch::new("model-format-delay");
+    let s = Scenario::new(
+        Some(Effect::InputDelay),
+        Plant::Paper,
+        Nonlinearity::Backlash,
+        1,
+    );
+    let d = generate(&s).unwrap();
+    let data = dir.write_uy("delay.csv", &d.record.u, &d.record.y);
+    let (model, report) = (dir.join("m.json"), dir.join("r.json"));
+    let args = [
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-2.5",
+        "--umax",
+        "2.5",
+        "--segments",
+        "8",
+        "--order",
+        "2",
+        "--f",
+        "12",
+        "--p",
+        "12",
+        "--json",
+        p(&report),
+        "--model-out",
+        p(&model),
+    ];
+    let out = hsid(&args).success().stdout;
+    let note = format!(
+        "note: {} holds the Hammerstein part; input_delay only in the JSON report's model_after",
+        model.display()
+    );
+    assert!(out.contains(&note), "{out}");
+    let r: Value = serde_json::from_str(&read(&report)).unwrap();
+    assert_eq!(r["model_after"]["structure"]["delay"], 3);
+    check("diagnose --model-out", &read(&model));
+}

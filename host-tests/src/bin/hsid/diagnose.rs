@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use hsid_host::diagnose::report::ModelSummary;
 use hsid_host::diagnose::{
-    DiagnoseOptions, InitialState, PoleRefinement, Record, Validation, diagnose, figures, report,
+    DiagnoseOptions, Effect, InitialState, PoleRefinement, Record, Validation, diagnose, figures,
+    report,
 };
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::{CsvOptions, read_table};
@@ -245,6 +246,19 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
     Ok(opts)
 }
 
+/// Whether an added effect changes the model beyond what a model file holds (the order, the
+/// noise model and a robust refit it does hold).
+fn not_in_the_model_file(e: Effect) -> bool {
+    match e {
+        Effect::UnmodeledDynamics | Effect::ColoredNoise | Effect::Outliers => false,
+        Effect::OffsetDrift
+        | Effect::InputDelay
+        | Effect::OutputNonlinearity
+        | Effect::PeriodicDisturbance
+        | Effect::StateDependentDynamics => true,
+    }
+}
+
 /// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
 /// model file.
 pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
@@ -293,6 +307,20 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         let summary = ModelSummary::of(&d.model, d.nonlinearity);
         summary.model.save(path).map_err(|e| e.to_string())?;
         println!("wrote {}", path.display());
+        let outside: Vec<&str> = d
+            .steps
+            .iter()
+            .map(|s| s.effect)
+            .filter(|&e| not_in_the_model_file(e))
+            .map(Effect::name)
+            .collect();
+        if !outside.is_empty() {
+            println!(
+                "note: {} holds the Hammerstein part; {} only in the JSON report's model_after",
+                path.display(),
+                outside.join(", ")
+            );
+        }
     }
     Ok(())
 }
