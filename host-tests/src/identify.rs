@@ -10,7 +10,7 @@ use std::fmt;
 use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
 use nalgebra::DMatrix;
 
-use crate::io::ModelJson;
+use crate::model_file::{FormatTag, ModelFile, NonlinearityKind};
 use crate::sim::eigenvalues;
 
 /// Everything the desktop identification needs besides the data.
@@ -485,9 +485,12 @@ impl HostModel {
         out
     }
 
-    /// The model in the JSON schema of [`ModelJson`].
-    pub fn to_json(&self, nonlinearity: Option<String>) -> ModelJson {
-        ModelJson {
+    /// The model as a [`ModelFile`] of the given kind, without noise model, standard
+    /// deviations, sample time or units (the caller adds what it knows).
+    pub fn to_json(&self, nonlinearity: Option<NonlinearityKind>) -> ModelFile {
+        ModelFile {
+            format: FormatTag,
+            nonlinearity,
             order: self.order,
             a: (0..self.order)
                 .map(|i| (0..self.order).map(|j| self.a[(i, j)]).collect())
@@ -497,22 +500,25 @@ impl HostModel {
             d: self.d,
             poles: self.poles().into_iter().map(|(r, i)| [r, i]).collect(),
             mu0: self.mu0,
+            u_min: self.knots_asc.first().copied().unwrap_or(f64::NAN),
+            u_max: self.knots_asc.last().copied().unwrap_or(f64::NAN),
             knots_asc: self.knots_asc.clone(),
             knots_desc: self.knots_desc.clone(),
             border_asc: self.border_asc.clone(),
             border_desc: self.border_desc.clone(),
+            sample_time: None,
+            units: None,
             singular_values: self.singular_values.clone(),
-            u_min: self.knots_asc.first().copied().unwrap_or(f64::NAN),
-            u_max: self.knots_asc.last().copied().unwrap_or(f64::NAN),
-            nonlinearity,
             f: self.f,
             p: self.p,
             samples: self.samples,
+            noise: None,
+            std: None,
         }
     }
 
     /// A model read back from its JSON form (the whitened singular values are not stored).
-    pub fn from_json(j: &ModelJson) -> Self {
+    pub fn from_json(j: &ModelFile) -> Self {
         let n = j.order;
         HostModel {
             order: n,

@@ -1,10 +1,12 @@
 //! Desktop side of `hsid`: a simulator of the true systems, a reference implementation written
 //! straight from the paper's equations, the desktop identification front end, the paper's
-//! Monte Carlo, CSV/JSON I/O, figures, reports and the `hsid` command line.
+//! Monte Carlo, CSV I/O, the model file, figures and reports. The `hsid` command line is the
+//! package's binary (`src/bin/hsid/`), built on this library; the library knows no command line.
 
 pub mod diagnose;
 pub mod identify;
 pub mod io;
+pub mod model_file;
 pub mod numerics;
 pub mod paper;
 pub mod plot;

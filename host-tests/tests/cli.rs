@@ -64,12 +64,15 @@ fn numbers(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-/// Reads a model JSON and checks its fields and that it is an order-2 model with poles within
+/// Reads a model file and checks its fields and that it is an order-2 model with poles within
 /// 0.02 of the true ones.
 fn check_model_json(path: &Path) -> Value {
     let text = std::fs::read_to_string(path).unwrap();
     let m: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(m["format"], "hsid-model/1", "{text}");
+    assert_eq!(m["nonlinearity"], "backlash", "{text}");
     for key in [
+        "noise",
         "order",
         "A",
         "B",
@@ -600,6 +603,76 @@ fn validate_rejects_a_model_with_unsorted_knots() {
         }),
     );
     validate(&bad, &data).clean_error(&["bad.json", "knots_asc"]);
+}
+
+#[test]
+fn validate_names_the_version_of_an_old_model_file() {
+    let dir = Scratch::new("validate-old-format");
+    let (data, text) = identified(&dir);
+    let old = dir.write(
+        "old.json",
+        &edit_model(&text, |m| {
+            m.remove("format");
+        }),
+    );
+    validate(&old, &data).clean_error(&["old.json", "no \"format\" key", "hsid-model/1"]);
+    let newer = dir.write(
+        "newer.json",
+        &edit_model(&text, |m| {
+            m.insert("format".into(), Value::from("hsid-model/2"));
+        }),
+    );
+    validate(&newer, &data).clean_error(&["newer.json", "hsid-model/2", "hsid-model/1"]);
+}
+
+/// The record as text with `delimiter` between the fields and comment lines at the top and
+/// after the 100th row.
+fn delimited(u: &[f64], y: &[f64], delimiter: &str) -> String {
+    let mut s = format!("# a comment\n# another\nu{delimiter}y\n");
+    for (i, (u, y)) in u.iter().zip(y).enumerate() {
+        if i == 100 {
+            s.push_str("# half-way note\n");
+        }
+        s.push_str(&format!("{u}{delimiter}{y}\n"));
+    }
+    s
+}
+
+#[test]
+fn identify_reads_semicolons_tabs_and_comments_to_the_same_model() {
+    let dir = Scratch::new("delimiters");
+    let e = noisy();
+    let plain = dir.write_uy("plain.csv", &e.u, &e.y);
+    let reference = identify(&plain, &[]).success().stdout;
+    let fit = |out: &str| {
+        out.lines()
+            .filter(|l| l.contains("fit"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    for (name, delimiter, extra) in [
+        ("semi.csv", ";", None),
+        ("tab.tsv", "\t", None),
+        ("tab-given.tsv", "\t", Some("tab")),
+    ] {
+        let path = dir.write(name, &delimited(&e.u, &e.y, delimiter));
+        let mut args = vec![];
+        if let Some(d) = extra {
+            args.extend(["--delimiter", d]);
+        }
+        let out = identify(&path, &args).success().stdout;
+        assert_eq!(fit(&out), fit(&reference), "{name}");
+    }
+    // A comment line shifts the lines of the errors: row 150 sits on line 154.
+    let mut text = delimited(&e.u, &e.y, ";");
+    let row = text.lines().nth(153).unwrap().to_string();
+    text = text.replacen(&row, "0.5;1.2.3", 1);
+    let bad = dir.write("bad.csv", &text);
+    identify(&bad, &[]).clean_error(&["bad.csv line 154", "\"1.2.3\" is not a number"]);
+    // Told the wrong delimiter: the header has no column "u".
+    let semi = dir.write("semi2.csv", &delimited(&e.u, &e.y, ";"));
+    identify(&semi, &["--delimiter", "comma"])
+        .clean_error(&["semi2.csv line 3", "no column \"u\""]);
 }
 
 #[test]

@@ -499,7 +499,7 @@ fn firmware_checkpoint_solved_on_host_matches_on_target_solve() {
     assert!(stdout.contains("f32 checkpoint"), "{stdout}");
     assert!(stdout.contains("order n = 2"), "{stdout}");
     // The JSON holds the same model (serde_json parses floats to within an ulp or so).
-    let from_json = HostModel::from_json(&hsid_host::io::load_json(&json).unwrap());
+    let from_json = HostModel::from_json(&hsid_host::model_file::ModelFile::load(&json).unwrap());
     assert_eq!(from_json.order, solved.model.order);
     assert!(rel(&from_json.border_asc, &solved.model.border_asc) < 1e-14);
     assert!(rel(&from_json.border_desc, &solved.model.border_desc) < 1e-14);

@@ -1,10 +1,10 @@
-//! Tests of the CSV and model JSON I/O, on the shared measurement files and on small texts.
+//! Tests of the CSV I/O, on the shared measurement files and on small texts.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::path::PathBuf;
 
 use hsid_host::io::{
-    IoError, ModelJson, load_json, parse_columns, read_columns, save_json, write_columns,
+    CsvOptions, Delimiter, IoError, parse_columns, parse_table, read_columns, write_columns,
     write_columns_to,
 };
 
@@ -397,181 +397,93 @@ fn write_errors() {
     assert!(matches!(err, IoError::Write { .. }), "{err:?}");
 }
 
-// ----- model JSON ---------------------------------------------------------------------------
+// ----- delimiters and comments --------------------------------------------------------------
 
-fn model() -> ModelJson {
-    ModelJson {
-        order: 2,
-        a: vec![vec![1.8858, -0.9048], vec![1.0, 0.0]],
-        b: vec![1.0, 0.0],
-        c: vec![0.1994, -0.1804],
-        d: 0.0,
-        poles: vec![[0.9429, 0.1256], [0.9429, -0.1256]],
-        mu0: -0.25,
-        knots_asc: vec![-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0],
-        knots_desc: vec![-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0],
-        border_asc: vec![-1.0, -1.0, -0.5, 0.0, 0.5, 1.0, 1.0],
-        border_desc: vec![-1.0, -1.0, -0.6, 0.1, 0.6, 1.0, 1.0],
-        singular_values: vec![10.0, 5.0, 0.1, 0.01],
-        u_min: -3.0,
-        u_max: 3.0,
-        nonlinearity: Some("switch".to_string()),
-        f: 10,
-        p: 10,
-        samples: 8000,
-    }
+fn parse_with(text: &str, delimiter: Option<Delimiter>) -> Result<Vec<Vec<f64>>, IoError> {
+    parse_table("data.csv", text, &["u", "y"], &CsvOptions { delimiter }).map(|t| t.columns)
 }
 
 #[test]
-fn json_round_trip_and_keys() {
-    let dir = scratch("json");
-    let p = dir.join("model.json");
-    let m = model();
-    save_json(&p, &m).unwrap();
-    assert_eq!(load_json(&p).unwrap(), m);
-
-    let value: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
-    let mut keys: Vec<&str> = value
-        .as_object()
-        .unwrap()
-        .keys()
-        .map(|k| k.as_str())
-        .collect();
-    keys.sort_unstable();
-    let mut expected = vec![
-        "order",
-        "A",
-        "B",
-        "C",
-        "D",
-        "poles",
-        "mu0",
-        "knots_asc",
-        "knots_desc",
-        "border_asc",
-        "border_desc",
-        "singular_values",
-        "u_min",
-        "u_max",
-        "nonlinearity",
-        "f",
-        "p",
-        "samples",
-    ];
-    expected.sort_unstable();
-    assert_eq!(keys, expected);
-    assert_eq!(value["A"][0][1], serde_json::json!(-0.9048));
-    assert_eq!(value["poles"][1], serde_json::json!([0.9429, -0.1256]));
-
-    let unknown = ModelJson {
-        nonlinearity: None,
-        ..model()
-    };
-    save_json(&p, &unknown).unwrap();
-    assert_eq!(load_json(&p).unwrap().nonlinearity, None);
-}
-
-fn json_with(edit: impl FnOnce(&mut serde_json::Map<String, serde_json::Value>)) -> String {
-    let mut v = serde_json::to_value(model()).unwrap();
-    edit(v.as_object_mut().unwrap());
-    serde_json::to_string(&v).unwrap()
-}
-
-fn field_of(err: &IoError) -> &str {
-    match err {
-        IoError::InvalidModel { field, .. } => field,
-        other => panic!("expected InvalidModel, got {other:?}"),
+fn delimiter_is_sniffed_from_the_header() {
+    let want = vec![vec![1.5, -2.0], vec![3.25, 4.0]];
+    for text in [
+        "u,y\n1.5,3.25\n-2,4\n",
+        "u;y\n1.5;3.25\n-2;4\n",
+        "u\ty\n1.5\t3.25\n-2\t4\n",
+        "\"u\";\"y\"\r\n1.5;3.25\r\n-2;4\r\n",
+    ] {
+        assert_eq!(parse_with(text, None).unwrap(), want, "{text:?}");
     }
+    assert_eq!(Delimiter::sniff("a\tb,c"), Delimiter::Tab);
+    assert_eq!(Delimiter::sniff("a;b,c"), Delimiter::Comma);
+    assert_eq!(Delimiter::sniff("a;b"), Delimiter::Semicolon);
+    assert_eq!(Delimiter::sniff("a b"), Delimiter::Comma);
 }
 
 #[test]
-fn json_shape_errors_name_the_field() {
-    use serde_json::json;
-    let cases: Vec<(&str, String)> = vec![
-        (
-            "A",
-            json_with(|m| drop(m.insert("A".into(), json!([[1.0, 2.0]])))),
-        ),
-        (
-            "A",
-            json_with(|m| drop(m.insert("A".into(), json!([[1.0, 2.0], [3.0]])))),
-        ),
-        ("B", json_with(|m| drop(m.insert("B".into(), json!([1.0]))))),
-        (
-            "C",
-            json_with(|m| drop(m.insert("C".into(), json!([1.0, 2.0, 3.0])))),
-        ),
-        (
-            "poles",
-            json_with(|m| drop(m.insert("poles".into(), json!([])))),
-        ),
-        (
-            "border_asc",
-            json_with(|m| drop(m.insert("border_asc".into(), json!([0.0, 1.0])))),
-        ),
-        (
-            "border_desc",
-            json_with(|m| drop(m.insert("knots_desc".into(), json!([0.0])))),
-        ),
-        (
-            "u_max",
-            json_with(|m| drop(m.insert("u_max".into(), json!(-4.0)))),
-        ),
-    ];
-    for (field, text) in cases {
-        let err = ModelJson::from_json_str("m.json", &text).unwrap_err();
-        assert_eq!(field_of(&err), field, "{err}");
-        assert!(
-            err.to_string()
-                .starts_with(&format!("m.json: field \"{field}\": ")),
-            "{err}"
-        );
-    }
+fn a_given_delimiter_overrides_the_sniffing() {
+    // A header with a comma inside a name would sniff as `,`; given `;`, it is one name.
+    let text = "\"u, V\";y\n1;2\n";
+    let cols = parse_table(
+        "d.csv",
+        text,
+        &["u, V", "y"],
+        &CsvOptions {
+            delimiter: Some(Delimiter::Semicolon),
+        },
+    )
+    .unwrap();
+    assert_eq!(cols.columns, vec![vec![1.0], vec![2.0]]);
+    // The wrong delimiter: one column named "u;y", so "u" is missing, named with the header.
+    let err = parse_with("u;y\n1;2\n", Some(Delimiter::Comma)).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "data.csv line 1: no column \"u\" (columns are \"u;y\")"
+    );
 }
 
 #[test]
-fn json_type_errors_name_the_field() {
-    use serde_json::json;
-    let missing = json_with(|m| drop(m.remove("A")));
-    let err = ModelJson::from_json_str("m.json", &missing).unwrap_err();
-    assert!(matches!(err, IoError::Json { .. }));
-    assert!(err.to_string().contains("missing field `A`"), "{err}");
+fn decimal_commas_are_not_numbers() {
+    let err = parse_with("u;y\n1,5;2\n", None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "data.csv line 2: column \"u\": \"1,5\" is not a number"
+    );
+}
 
-    let wrong = json_with(|m| drop(m.insert("A".into(), json!([[1.0, "x"], [0.0, 1.0]]))));
-    let err = ModelJson::from_json_str("m.json", &wrong).unwrap_err();
+#[test]
+fn comment_lines_are_skipped_and_lines_still_counted() {
+    let text = "# rig 3, 2024-05-01\n# u in V\nu,y\n1,2\n# a note\n3,4\n5,x\n";
+    let err = parse_with(text, None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "data.csv line 7: column \"y\": \"x\" is not a number"
+    );
+    let ok = "# rig 3\nu;y\n1;2\n# a note\n3;4\n# end\n\n";
+    let t = parse_table("d.csv", ok, &["u", "y"], &CsvOptions::default()).unwrap();
+    assert_eq!(t.columns, vec![vec![1.0, 3.0], vec![2.0, 4.0]]);
+    assert_eq!(t.lines, vec![3, 5]);
+    // Only comments: as empty as an empty file.
+    let err = parse_with("# nothing\n# here\n", None).unwrap_err();
+    assert!(matches!(err, IoError::Empty { .. }), "{err:?}");
+    // The header after comments: a missing column names the header's line.
+    let err = parse_with("# c\nu,z\n1,2\n", None).unwrap_err();
     assert!(
-        err.to_string().starts_with("m.json: field A[0][1]: "),
+        err.to_string()
+            .starts_with("data.csv line 2: no column \"y\""),
         "{err}"
     );
-
-    let pole = json_with(|m| drop(m.insert("poles".into(), json!([[1.0], [0.0, 1.0]]))));
-    let err = ModelJson::from_json_str("m.json", &pole).unwrap_err();
-    assert!(err.to_string().contains("field poles[0]"), "{err}");
-
-    let unknown = json_with(|m| drop(m.insert("a".into(), json!(1))));
-    let err = ModelJson::from_json_str("m.json", &unknown).unwrap_err();
-    assert!(err.to_string().contains("unknown field `a`"), "{err}");
-
-    let err = ModelJson::from_json_str("m.json", "{\"order\": 2,").unwrap_err();
-    assert!(matches!(err, IoError::Json { .. }), "{err:?}");
-    let err = ModelJson::from_json_str("m.json", &format!("{} x", json_with(|_| ()))).unwrap_err();
-    assert!(matches!(err, IoError::Json { .. }), "{err:?}");
 }
 
 #[test]
-fn json_non_finite_is_refused_on_save() {
-    let dir = scratch("json-nan");
-    let p = dir.join("nan.json");
-    let mut m = model();
-    m.border_desc[3] = f64::NAN;
-    let err = save_json(&p, &m).unwrap_err();
-    assert_eq!(field_of(&err), "border_desc");
-    assert!(!p.exists());
+fn a_blank_line_between_rows_is_an_error_with_comments_too() {
+    let err = parse_with("u\ty\n1\t2\n# c\n\n3\t4\n", None).unwrap_err();
+    assert_eq!(err.to_string(), "data.csv line 4: unexpected blank line");
 }
 
 #[test]
-fn json_load_missing_file() {
-    let err = load_json("/nonexistent/model.json").unwrap_err();
-    assert!(matches!(err, IoError::Open { .. }), "{err:?}");
+fn an_unterminated_quote_is_a_clean_error() {
+    let r = parse_with("u,y\n1,\"2\n3,4\n", None);
+    let err = r.unwrap_err();
+    assert!(err.to_string().starts_with("data.csv line "), "{err}");
 }

@@ -1,5 +1,5 @@
 //! The command line of the refinement: `hsid paper --method`, `hsid identify --refine`,
-//! `--segments auto`, the noise model next to the model JSON and the one-step predictions of
+//! `--segments auto`, the noise model in the model file and the one-step predictions of
 //! `hsid validate`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -115,20 +115,33 @@ fn identify_refine_writes_the_noise_model_and_validate_predicts() {
         pred > sim + 10.0,
         "prediction {pred} % vs simulation {sim} %"
     );
-    let side = dir.join("m.noise.json");
-    let noise: Value = serde_json::from_str(&std::fs::read_to_string(&side).unwrap()).unwrap();
+    // The model file holds the noise model and, refined, the standard deviations.
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let noise = &m["noise"];
     let c1 = noise["c"][1].as_f64().unwrap();
     let d1 = noise["d"][1].as_f64().unwrap();
     assert!(
         (c1 - 0.5).abs() < 0.1 && (d1 + 0.85).abs() < 0.05,
         "{noise}"
     );
-    // The model JSON is the foundation's schema: poles near the truth.
-    let m: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert!(!dir.join("m.noise.json").exists());
+    assert_eq!(m["format"], "hsid-model/1");
     assert_eq!(m["order"], 2);
     let re = m["poles"][0][0].as_f64().unwrap();
     assert!((re - 0.9429).abs() < 0.006, "{re}");
-    // validate on fresh data: both fits, the sidecar found by itself.
+    // The pole's standard deviation covers its error and is of the size of the Monte Carlo's
+    // (a few thousandths at this noise level).
+    let sd = m["std"]["poles"][0][0].as_f64().unwrap();
+    assert!(
+        sd > 2e-4 && sd < 5e-3 && (re - 0.9429).abs() < 4.0 * sd,
+        "{re} ± {sd}"
+    );
+    assert_eq!(
+        m["std"]["border_asc"].as_array().unwrap().len(),
+        m["border_asc"].as_array().unwrap().len()
+    );
+    assert_eq!(m["std"]["mu0"], m["std"]["border_asc"][0]);
+    // validate on fresh data: both fits, the noise model from the model file.
     let r = hsid(&[
         "validate",
         "--model",
@@ -181,7 +194,9 @@ fn identify_without_refine_has_the_remark6_noise_model() {
     let sim = fit_of(&r.stdout, "simulation fit on ");
     let pred = fit_of(&r.stdout, "one-step prediction fit on ");
     assert!(pred > sim, "prediction {pred} % vs simulation {sim} %");
-    assert!(dir.join("m.noise.json").exists());
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert!(m["noise"]["c"].is_array(), "{m}");
+    assert!(m["std"].is_null(), "not refined: no standard deviations");
 }
 
 #[test]

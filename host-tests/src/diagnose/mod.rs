@@ -33,7 +33,6 @@ use crate::identify::{IdentifyError, IdentifyOptions};
 
 pub mod bench;
 pub mod checks;
-pub mod cli;
 pub mod delay;
 pub mod dynamics;
 pub mod effects;

@@ -6,9 +6,10 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::effects::{Effect, has_evidence};
-use super::model::{ArNoise, ExtendedModel, Metric, OutputMap, Structure};
+use super::model::{ExtendedModel, Metric, OutputMap, Structure};
 use super::residual::TestSet;
-use super::{Diagnosis, Warning};
+use super::{Diagnosis, Nonlinearity, Warning};
+use crate::model_file::{ModelFile, NoiseFile, NonlinearityKind};
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]
@@ -43,68 +44,46 @@ pub struct EffectJson {
     pub excluded: Option<usize>,
 }
 
-/// A model in the report.
+/// A model in the report: its Hammerstein part as a model file, and the extensions the model
+/// file does not hold.
 #[derive(Clone, Debug, Serialize)]
 pub struct ModelSummary {
     /// The extensions.
     pub structure: Structure,
-    /// Order of `G`.
-    pub order: usize,
-    /// Poles `(re, im)`.
-    pub poles: Vec<[f64; 2]>,
-    /// μ0.
-    pub mu0: f64,
-    /// Knots of the ascending path.
-    pub knots_asc: Vec<f64>,
-    /// `P_a` at the knots.
-    pub border_asc: Vec<f64>,
-    /// Knots of the descending path.
-    pub knots_desc: Vec<f64>,
-    /// `P_d` at the knots.
-    pub border_desc: Vec<f64>,
-    /// `A`, `B`, `C`, `D`.
-    pub a: Vec<Vec<f64>>,
-    /// `B`.
-    pub b: Vec<f64>,
-    /// `C`.
-    pub c: Vec<f64>,
-    /// `D`.
-    pub d: f64,
+    /// The Hammerstein part (plant, μ0, borders) and the AR noise model, in the model file's
+    /// format (`hsid-model/1`); the extensions below are not part of it.
+    pub model: ModelFile,
     /// Initial state of simulations.
     pub x0: Vec<f64>,
     /// Output map.
     pub output_map: Option<OutputMap>,
     /// Trend coefficients (normalised time) and sinusoids.
     pub additive: super::model::Additive,
-    /// Noise model.
-    pub noise: Option<ArNoise>,
     /// Estimation samples flagged as outliers.
     pub flagged: usize,
 }
 
 impl ModelSummary {
-    /// Summary of a model.
-    pub fn of(m: &ExtendedModel) -> Self {
-        let h = &m.hammerstein;
+    /// Summary of a model whose input element is `kind`.
+    pub fn of(m: &ExtendedModel, kind: Nonlinearity) -> Self {
+        let kind = match kind {
+            Nonlinearity::Backlash => NonlinearityKind::Backlash,
+            Nonlinearity::Switch => NonlinearityKind::Switch,
+            Nonlinearity::Static => NonlinearityKind::Static,
+        };
+        let mut model = m.hammerstein.to_json(Some(kind));
+        // v(t) = Σ a_i v(t − i) + e(t): C = 1, D = 1 − Σ a_i q⁻ⁱ.
+        model.noise = m.noise.as_ref().map(|n| NoiseFile {
+            c: vec![1.0],
+            d: std::iter::once(1.0).chain(n.a.iter().map(|a| -a)).collect(),
+            sigma2: n.sigma * n.sigma,
+        });
         Self {
             structure: m.structure.clone(),
-            order: h.order,
-            poles: h.poles().into_iter().map(|(r, i)| [r, i]).collect(),
-            mu0: h.mu0,
-            knots_asc: h.knots_asc.clone(),
-            border_asc: h.border_asc.clone(),
-            knots_desc: h.knots_desc.clone(),
-            border_desc: h.border_desc.clone(),
-            a: (0..h.order)
-                .map(|i| (0..h.order).map(|j| h.a[(i, j)]).collect())
-                .collect(),
-            b: h.b.clone(),
-            c: h.c.clone(),
-            d: h.d,
+            model,
             x0: m.x0.clone(),
             output_map: m.output_map.clone(),
             additive: m.additive.clone(),
-            noise: m.noise.clone(),
             flagged: m.flagged,
         }
     }
@@ -226,8 +205,8 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         tests_after: d.tests_after.clone(),
         tests_estimation: d.tests_estimation.clone(),
         dead_time: d.dead_time.clone(),
-        model_before: ModelSummary::of(&d.base),
-        model_after: ModelSummary::of(&d.model),
+        model_before: ModelSummary::of(&d.base, d.nonlinearity),
+        model_after: ModelSummary::of(&d.model, d.nonlinearity),
     }
 }
 

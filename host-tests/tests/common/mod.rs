@@ -135,3 +135,19 @@ pub fn identify(data: &Path, extra: &[&str]) -> Run {
     args.extend_from_slice(extra);
     hsid(&args)
 }
+
+/// The messages of every way `instance` breaks the model file's JSON Schema
+/// (`docs/model-format.schema.json`); empty when it conforms.
+pub fn schema_errors(instance: &serde_json::Value) -> Vec<String> {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../docs/model-format.schema.json"
+    );
+    let schema: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let validator = jsonschema::draft202012::new(&schema).unwrap();
+    validator
+        .iter_errors(instance)
+        .map(|e| format!("{}: {e}", e.instance_path()))
+        .collect()
+}

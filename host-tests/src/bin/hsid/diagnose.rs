@@ -1,34 +1,17 @@
-//! The `hsid diagnose` command: arguments and the run.
+//! `hsid diagnose`: arguments and the run.
 
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
+use hsid_host::diagnose::report::ModelSummary;
+use hsid_host::diagnose::{
+    DiagnoseOptions, Effect, InitialState, PoleRefinement, Record, Validation, diagnose, figures,
+    report,
+};
+use hsid_host::identify::IdentifyOptions;
+use hsid_host::io::{CsvOptions, read_table};
 
-use super::model::{InitialState, Record};
-use super::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation, diagnose, figures, report};
-use crate::identify::IdentifyOptions;
-use crate::io::read_columns;
-
-/// The input element of `hsid diagnose`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum NonlinearityArg {
-    /// Backlash (play operator): two paths, Table I data.
-    Backlash,
-    /// Switch: two paths.
-    Switch,
-    /// Static, memoryless: one border for both directions, any input.
-    Static,
-}
-
-impl From<NonlinearityArg> for Nonlinearity {
-    fn from(n: NonlinearityArg) -> Self {
-        match n {
-            NonlinearityArg::Backlash => Nonlinearity::Backlash,
-            NonlinearityArg::Switch => Nonlinearity::Switch,
-            NonlinearityArg::Static => Nonlinearity::Static,
-        }
-    }
-}
+use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -101,30 +84,18 @@ pub struct DiagnoseArgs {
     /// Knots of both paths (or of the static border), comma separated, u_min first, u_max last.
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub knots: Option<Vec<f64>>,
-    /// Ascending knots (backlash, switch).
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-    pub knots_asc: Option<Vec<f64>>,
-    /// Descending knots (backlash, switch).
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-    pub knots_desc: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub paths: KnotArgs,
     /// Model order (default: automatic).
     #[arg(long)]
     pub order: Option<usize>,
-    /// Samples of the initial hold at u_min (0: no hold).
-    #[arg(long, default_value_t = 300)]
-    pub hold: usize,
-    /// Samples of the hold skipped while the plant settles (default: half the hold).
-    #[arg(long)]
-    pub settle: Option<usize>,
+    #[command(flatten)]
+    pub hold: HoldArgs,
     /// Known μ0 = H(u_min) for data without a hold; without it μ0 is estimated.
     #[arg(long, allow_hyphen_values = true)]
     pub mu0: Option<f64>,
-    /// Future horizon f.
-    #[arg(long, default_value_t = 10)]
-    pub f: usize,
-    /// Past horizon p.
-    #[arg(long, default_value_t = 10)]
-    pub p: usize,
+    #[command(flatten)]
+    pub horizons: Horizons,
     /// Initial state of the simulations (default: rest with a hold, estimate without).
     #[arg(long, value_enum)]
     pub initial_state: Option<InitialArg>,
@@ -157,6 +128,12 @@ pub struct DiagnoseArgs {
     /// Write the JSON report here.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write the final model's Hammerstein part here, as a model file (format hsid-model/1);
+    /// the extensions the diagnosis added are in the JSON report only.
+    #[arg(long)]
+    pub model_out: Option<PathBuf>,
+    #[command(flatten)]
+    pub csv: CsvArgs,
 }
 
 fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
@@ -172,38 +149,25 @@ fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
     Ok(p(a)?..p(b)?)
 }
 
-/// Runs `hsid diagnose`: prints the text report, writes the figures and the JSON report.
-pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
-    let cols = read_columns(
-        &a.data,
-        &[a.input_column.as_str(), a.output_column.as_str()],
-    )
-    .map_err(|e| e.to_string())?;
-    let [u, y]: [Vec<f64>; 2] = cols
+/// Reads the two columns of a CSV file as a record.
+fn record(path: &std::path::Path, names: [&str; 2], csv: &CsvOptions) -> Result<Record, String> {
+    let t = read_table(path, &names, csv).map_err(|e| e.to_string())?;
+    let [u, y]: [Vec<f64>; 2] = t
+        .columns
         .try_into()
         .map_err(|_| "internal: two columns expected".to_string())?;
-    let val = match &a.validation {
-        Some(path) => {
-            let ic = a
-                .validation_input_column
-                .as_deref()
-                .unwrap_or(&a.input_column);
-            let oc = a
-                .validation_output_column
-                .as_deref()
-                .unwrap_or(&a.output_column);
-            let c = read_columns(path, &[ic, oc]).map_err(|e| e.to_string())?;
-            let [vu, vy]: [Vec<f64>; 2] = c
-                .try_into()
-                .map_err(|_| "internal: two columns expected".to_string())?;
-            Some(Record::new(vu, vy))
-        }
-        None => None,
-    };
-    let all_u = u.iter().chain(val.iter().flat_map(|r| r.u.iter()));
-    let (lo, hi) = all_u.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
-        (l.min(v), h.max(v))
-    });
+    Ok(Record::new(u, y))
+}
+
+/// The identification settings: the interval (given, from the knots or from the data), the
+/// knots, the order, horizons, hold and μ0.
+fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptions, String> {
+    let (lo, hi) = all_u
+        .iter()
+        .flat_map(|r| r.u.iter())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
     let knots_all = a.knots.clone();
     let umin = a
         .umin
@@ -221,15 +185,15 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
     if a.segments == 0 {
         return Err("--segments 0: each path needs at least one segment".into());
     }
-    let mut id = IdentifyOptions::uniform(umin, umax, a.segments, a.hold);
+    let mut id = IdentifyOptions::uniform(umin, umax, a.segments, a.hold.hold);
     if let Some(k) = knots_all {
         id.knots_asc = k.clone();
         id.knots_desc = k;
     }
-    if let Some(k) = &a.knots_asc {
+    if let Some(k) = &a.paths.knots_asc {
         id.knots_asc = k.clone();
     }
-    if let Some(k) = &a.knots_desc {
+    if let Some(k) = &a.paths.knots_desc {
         id.knots_desc = k.clone();
     }
     for (name, k) in [("ascending", &id.knots_asc), ("descending", &id.knots_desc)] {
@@ -240,10 +204,15 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         }
     }
     id.order = a.order;
-    id.f = a.f;
-    id.p = a.p;
-    id.settle = a.settle.unwrap_or(a.hold / 2);
+    id.f = a.horizons.f;
+    id.p = a.horizons.p;
+    id.settle = a.hold.settle();
     id.mu0 = a.mu0;
+    Ok(id)
+}
+
+/// The diagnosis settings around the identification's.
+fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, String> {
     let mut opts = DiagnoseOptions::new(id, a.nonlinearity.into());
     opts.initial = a.initial_state.map(|i| match i {
         InitialArg::Rest => InitialState::Rest,
@@ -274,16 +243,54 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         RefineArg::Final => PoleRefinement::Final,
         RefineArg::Always => PoleRefinement::Always,
     };
+    Ok(opts)
+}
+
+/// Whether an added effect changes the model beyond what a model file holds (the order, the
+/// noise model and a robust refit it does hold).
+fn not_in_the_model_file(e: Effect) -> bool {
+    match e {
+        Effect::UnmodeledDynamics | Effect::ColoredNoise | Effect::Outliers => false,
+        Effect::OffsetDrift
+        | Effect::InputDelay
+        | Effect::OutputNonlinearity
+        | Effect::PeriodicDisturbance
+        | Effect::StateDependentDynamics => true,
+    }
+}
+
+/// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
+/// model file.
+pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
+    let csv = CsvOptions {
+        delimiter: a.csv.delimiter(),
+    };
+    let est = record(&a.data, [&a.input_column, &a.output_column], &csv)?;
+    let val = match &a.validation {
+        Some(path) => {
+            let ic = a
+                .validation_input_column
+                .as_ref()
+                .unwrap_or(&a.input_column);
+            let oc = a
+                .validation_output_column
+                .as_ref()
+                .unwrap_or(&a.output_column);
+            Some(record(path, [ic, oc], &csv)?)
+        }
+        None => None,
+    };
+    let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
+    let opts = options(a, identify_options(a, &records)?)?;
     let validation = match (val, &a.holdout) {
         (Some(v), _) => Validation::Separate {
             record: v,
-            skip: a.validation_skip.unwrap_or(a.hold),
+            skip: a.validation_skip.unwrap_or(a.hold.hold),
         },
         (None, Some(r)) => Validation::Holdout(parse_range(r)?),
         (None, None) => Validation::Split(a.split),
     };
-    let d = diagnose(&Record::new(u, y), &validation, &opts)
-        .map_err(|e| format!("{}: {e}", a.data.display()))?;
+    let d = diagnose(&est, &validation, &opts).map_err(|e| format!("{}: {e}", a.data.display()))?;
     println!("{}", report::text(&d));
     if let Some(dir) = &a.out {
         for f in figures::write_figures(&d, dir, &a.prefix, &a.title).map_err(|e| e.to_string())? {
@@ -295,6 +302,25 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
         println!("wrote {}", path.display());
+    }
+    if let Some(path) = &a.model_out {
+        let summary = ModelSummary::of(&d.model, d.nonlinearity);
+        summary.model.save(path).map_err(|e| e.to_string())?;
+        println!("wrote {}", path.display());
+        let outside: Vec<&str> = d
+            .steps
+            .iter()
+            .map(|s| s.effect)
+            .filter(|&e| not_in_the_model_file(e))
+            .map(Effect::name)
+            .collect();
+        if !outside.is_empty() {
+            println!(
+                "note: {} holds the Hammerstein part; {} only in the JSON report's model_after",
+                path.display(),
+                outside.join(", ")
+            );
+        }
     }
     Ok(())
 }

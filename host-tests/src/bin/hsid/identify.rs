@@ -1,0 +1,240 @@
+//! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use hsid_host::identify::{HostModel, IdentifyOptions, identify};
+use hsid_host::io::{CsvOptions, read_table};
+use hsid_host::model_file::{ModelFile, ModelStd, NoiseFile};
+use hsid_host::reference::uniform_knots;
+use hsid_host::refine::knots::{AUTO_CANDIDATES, Criterion, SegmentCount, select_segments};
+use hsid_host::refine::pem::PemFit;
+use hsid_host::refine::refine as refine_model;
+use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
+use hsid_host::refine::uncertainty::{border_std, fit_poles};
+use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
+use hsid_host::report::{fit_report, model_text};
+
+use crate::args::{
+    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg,
+};
+use crate::locate;
+
+/// Arguments of `hsid identify`.
+#[derive(Args)]
+pub struct IdentifyArgs {
+    /// CSV file with a header.
+    #[arg(long)]
+    data: PathBuf,
+    /// Lower end of the input interval.
+    #[arg(long, allow_hyphen_values = true)]
+    umin: f64,
+    /// Upper end of the input interval.
+    #[arg(long, allow_hyphen_values = true)]
+    umax: f64,
+    /// Uniform segments per path (ignored when knots are given), or `auto` to choose the
+    /// count from the data (BIC of the refined model over 2 to 14).
+    #[arg(long, default_value = "7")]
+    segments: SegmentCount,
+    #[command(flatten)]
+    knots: KnotArgs,
+    /// Model order (default: automatic).
+    #[arg(long)]
+    order: Option<usize>,
+    #[command(flatten)]
+    hold: HoldArgs,
+    #[command(flatten)]
+    horizons: Horizons,
+    #[command(flatten)]
+    columns: Columns,
+    #[command(flatten)]
+    csv: CsvArgs,
+    /// Border basis (coordinates of the regressor and of the rank-1 split).
+    #[arg(long, value_enum, default_value = "hat")]
+    basis: BasisArg,
+    /// The input element: backlash or switch (two paths, Table I data), or static (one
+    /// memoryless border for both directions, any input).
+    #[arg(long, value_enum, default_value = "backlash")]
+    nonlinearity: NonlinearityArg,
+    /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
+    /// hold, μ0 is estimated with the model.
+    #[arg(long, allow_hyphen_values = true)]
+    mu0: Option<f64>,
+    /// Refine the subspace model by the prediction-error method: plant, μ0, borders and
+    /// noise model jointly (lower variance; see docs/beyond-the-paper.md).
+    #[arg(long)]
+    refine: bool,
+    #[command(flatten)]
+    out: ModelOut,
+}
+
+/// The identification settings from the arguments (knots checked against the interval).
+fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
+    let (umin, umax) = (a.umin, a.umax);
+    let fixed = match a.segments {
+        SegmentCount::Fixed(n) => n,
+        SegmentCount::Auto => 7,
+    };
+    let mut opts = IdentifyOptions::uniform(umin, umax, fixed, a.hold.hold);
+    opts.mu0 = a.mu0;
+    opts.static_nonlinearity = a.nonlinearity == NonlinearityArg::Static;
+    if let Some(k) = &a.knots.knots_asc {
+        opts.knots_asc = k.clone();
+    }
+    if let Some(k) = &a.knots.knots_desc {
+        opts.knots_desc = k.clone();
+    }
+    for (name, k) in [
+        ("--knots-asc", &opts.knots_asc),
+        ("--knots-desc", &opts.knots_desc),
+    ] {
+        if k.first() != Some(&umin) || k.last() != Some(&umax) {
+            return Err(format!(
+                "{name} must start at --umin {umin} and end at --umax {umax}"
+            ));
+        }
+    }
+    opts.f = a.horizons.f;
+    opts.p = a.horizons.p;
+    opts.order = a.order;
+    opts.basis = a.basis.into();
+    opts.settle = a.hold.settle();
+    Ok(opts)
+}
+
+/// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
+pub fn run(a: &IdentifyArgs) -> Result<(), String> {
+    let (umin, umax, hold) = (a.umin, a.umax, a.hold.hold);
+    if !(umin.is_finite() && umax.is_finite() && umin < umax) {
+        return Err(format!(
+            "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
+        ));
+    }
+    if a.segments == SegmentCount::Fixed(0) {
+        return Err("--segments 0: each path needs at least one segment".to_string());
+    }
+    let names = [
+        a.columns.input_column.as_str(),
+        a.columns.output_column.as_str(),
+    ];
+    let csv = CsvOptions {
+        delimiter: a.csv.delimiter(),
+    };
+    let table = read_table(&a.data, &names, &csv).map_err(|e| e.to_string())?;
+    let (u, y) = (&table.columns[0], &table.columns[1]);
+    if hold >= u.len() {
+        return Err(format!(
+            "{}: {} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
+            a.data.display(),
+            u.len()
+        ));
+    }
+    let mut opts = options(a)?;
+    let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
+    if a.segments == SegmentCount::Auto && !knots_given {
+        let choice = select_segments(u, y, &opts, AUTO_CANDIDATES, Criterion::Bic)
+            .map_err(|e| format!("{}: {e}", a.data.display()))?;
+        println!("{}", choice.report());
+        let k = uniform_knots(umin, umax, choice.segments);
+        opts.knots_asc = k.clone();
+        opts.knots_desc = k;
+    }
+    let model =
+        identify(u, y, &opts).map_err(|e| locate::sample_error(&a.data, &table.lines, &e))?;
+    let pem = PemOptions::for_identify(&opts);
+    let (model, noise, std) = if a.refine {
+        let fit =
+            refine_model(u, y, &model, &pem).map_err(|e| format!("{}: {e}", a.data.display()))?;
+        println!(
+            "refined by the prediction-error method: {} iterations, {} parameters, D {}",
+            fit.iterations,
+            fit.parameters(),
+            if fit.layout.feedthrough {
+                "estimated"
+            } else {
+                "= 0 (not significant)"
+            }
+        );
+        let std = model_std(&fit);
+        (fit.model, Some(fit.noise), Some(std))
+    } else {
+        // Remark 6 for the subspace model; without it only the simulation is reported.
+        let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
+        if let Err(e) = &nf {
+            println!("no noise model: {e}");
+        }
+        (model, nf.ok().map(|f| f.model), None)
+    };
+    report(&model, noise.as_ref(), u, y, hold)?;
+    if let Some(path) = &a.out.json {
+        let mut file = model.to_json(Some(a.nonlinearity.into()));
+        file.noise = noise.as_ref().map(noise_file);
+        file.std = std;
+        write(&file, path)?;
+    }
+    Ok(())
+}
+
+/// Prints the model, its simulation fit and, with a noise model, its prediction fit.
+fn report(
+    model: &HostModel,
+    noise: Option<&NoiseModel>,
+    u: &[f64],
+    y: &[f64],
+    hold: usize,
+) -> Result<(), String> {
+    println!("{}", model_text(model));
+    let sim = model.simulate(u);
+    println!("{}", fit_report(&y[hold..], &sim[hold..])?);
+    if let Some(noise) = noise {
+        println!("{}", noise_text(noise));
+        let pred = InnovationForm::new(model, noise).predict(u, y);
+        println!(
+            "{}",
+            prediction_report(&y[hold..], &pred[hold..], noise.sigma2)?
+        );
+    }
+    Ok(())
+}
+
+fn write(file: &ModelFile, path: &Path) -> Result<(), String> {
+    file.save(path).map_err(|e| e.to_string())?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The noise model in the model file's form.
+pub fn noise_file(n: &NoiseModel) -> NoiseFile {
+    NoiseFile {
+        c: n.c.clone(),
+        d: n.d.clone(),
+        sigma2: n.sigma2,
+    }
+}
+
+/// Standard deviations of a refined model: each pole of the model paired with the nearest
+/// root of the refined denominator.
+fn model_std(fit: &PemFit) -> ModelStd {
+    let roots = fit_poles(fit);
+    let poles = fit
+        .model
+        .poles()
+        .into_iter()
+        .map(|(re, im)| {
+            roots
+                .iter()
+                .min_by(|a, b| {
+                    let d = |p: (f64, f64)| (p.0 - re).hypot(p.1 - im);
+                    d(a.pole).total_cmp(&d(b.pole))
+                })
+                .map_or([f64::NAN; 2], |r| [r.std.0, r.std.1])
+        })
+        .collect();
+    let (asc, desc) = border_std(fit);
+    ModelStd {
+        poles,
+        mu0: asc.first().copied().unwrap_or(f64::NAN),
+        border_asc: asc,
+        border_desc: desc,
+    }
+}

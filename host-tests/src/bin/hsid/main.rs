@@ -1,0 +1,65 @@
+//! `hsid`: identify backlash/switch Hammerstein systems from data, reproduce the paper.
+//!
+//! One file per subcommand; the argument groups they share are in `args.rs`. The library
+//! (`hsid_host`) knows nothing of the command line: each subcommand turns its arguments into the
+//! library's option structs, runs it and prints.
+
+mod args;
+mod diagnose;
+mod excite;
+mod identify;
+mod locate;
+mod paper;
+mod solve;
+mod validate;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "hsid",
+    version,
+    about = "Subspace identification of Hammerstein systems with backlash or switch input nonlinearities"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Reproduce Section IV: Monte Carlo on the switch and backlash examples.
+    Paper(paper::PaperArgs),
+    /// Print the Table I excitation as CSV (column `u`).
+    Excite(excite::ExciteArgs),
+    /// Identify a model from a CSV file with columns `u,y`.
+    Identify(Box<identify::IdentifyArgs>),
+    /// Close the loop: check the data, identify, test the validation residual, trace it to a
+    /// missing effect, add it, and report the error before and after each step.
+    Diagnose(Box<diagnose::DiagnoseArgs>),
+    /// Solve an identifier's checkpoint (e.g. exported by the firmware) on the host, in the
+    /// checkpoint's precision (f32 or f64), and print the model.
+    Solve(solve::SolveArgs),
+    /// Simulate a model on a CSV file with columns `u,y` and print the fit.
+    Validate(validate::ValidateArgs),
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().cmd {
+        Cmd::Paper(a) => paper::run(&a),
+        Cmd::Excite(a) => excite::run(&a),
+        Cmd::Identify(a) => identify::run(&a),
+        Cmd::Diagnose(a) => diagnose::run(&a),
+        Cmd::Solve(a) => solve::run(&a),
+        Cmd::Validate(a) => validate::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("hsid: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! `hsid paper`: the Monte Carlo of Section IV, optionally with the other methods.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use hsid_host::paper::{Case, PaperConfig, run_case, write_figures};
+use hsid_host::refine::methods::{
+    Method, methods_json, methods_table, run_methods, write_method_figures,
+};
+use hsid_host::report::paper_table;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::args::BasisArg;
+
+/// Arguments of `hsid paper`.
+#[derive(Args)]
+pub struct PaperArgs {
+    /// Which example.
+    #[arg(long, value_enum, default_value = "both")]
+    case: CaseArg,
+    /// Runs per case.
+    #[arg(long, default_value_t = 100)]
+    runs: usize,
+    /// Base seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Output folder for summary.json and the figures.
+    #[arg(long, default_value = "out/paper")]
+    out: PathBuf,
+    /// Fixed model order (default: automatic).
+    #[arg(long)]
+    order: Option<usize>,
+    /// Border basis (coordinates of the regressor and of the rank-1 split).
+    #[arg(long, value_enum, default_value = "hat")]
+    basis: BasisArg,
+    /// Also run these methods on the same experiments: a table of pole bias, pole std,
+    /// std/CRB, border error and time, a `methods` object per case in summary.json, and
+    /// the refinement's figures with uncertainty bands.
+    #[arg(long, value_enum)]
+    method: Option<MethodArg>,
+    /// Samples of the initial hold at u_min (0: no hold, μ0 estimated with the model).
+    #[arg(long, default_value_t = 300)]
+    hold: usize,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum CaseArg {
+    Switch,
+    Backlash,
+    Both,
+}
+
+/// Identification method of `hsid paper --method` (see `hsid_host::refine::methods`).
+#[derive(Clone, Copy, ValueEnum)]
+enum MethodArg {
+    /// The paper's weighting.
+    PiMoesp,
+    /// PO-MOESP weighting (from the core, when available).
+    PoMoesp,
+    /// N4SID weighting (from the core, when available).
+    N4sid,
+    /// CVA weighting (from the core, when available).
+    Cva,
+    /// PI-MOESP with B, D and the borders by alternating least squares (Remark 5).
+    PiMoespAls,
+    /// PI-MOESP refined by the prediction-error method (noise model, μ0, borders, plant).
+    Pem,
+    /// Every method, one table.
+    All,
+}
+
+impl MethodArg {
+    fn methods(self) -> Vec<Method> {
+        match self {
+            MethodArg::PiMoesp => vec![Method::PiMoesp],
+            MethodArg::PoMoesp => vec![Method::PoMoesp],
+            MethodArg::N4sid => vec![Method::N4sid],
+            MethodArg::Cva => vec![Method::Cva],
+            MethodArg::PiMoespAls => vec![Method::PiMoespAls],
+            MethodArg::Pem => vec![Method::Pem],
+            MethodArg::All => Method::ALL.into_iter().filter(|m| m.available()).collect(),
+        }
+    }
+}
+
+fn progress(len: usize, unit: &str) -> Result<ProgressBar, String> {
+    let bar = ProgressBar::new(len as u64);
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{msg:>9}} [{{bar:40}}] {{pos}}/{{len}} {unit} ({{elapsed}})"
+        ))
+        .map_err(|e| e.to_string())?
+        .progress_chars("=> "),
+    );
+    Ok(bar)
+}
+
+/// Runs the cases, prints the tables, writes summary.json and the figures.
+pub fn run(a: &PaperArgs) -> Result<(), String> {
+    let cfg = PaperConfig {
+        runs: a.runs,
+        seed: a.seed,
+        order: a.order,
+        basis: a.basis.into(),
+        hold: a.hold,
+        settle: a.hold / 2,
+        ..PaperConfig::default()
+    };
+    let cases: Vec<Case> = match a.case {
+        CaseArg::Switch => vec![Case::Switch],
+        CaseArg::Backlash => vec![Case::Backlash],
+        CaseArg::Both => vec![Case::Switch, Case::Backlash],
+    };
+    let out = &a.out;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let bar = progress(a.runs * cases.len(), "runs")?;
+    let mut results = Vec::new();
+    for &c in &cases {
+        bar.set_message(c.name());
+        let tick = || bar.inc(1);
+        results.push(run_case(c, &cfg, &tick));
+    }
+    bar.finish_and_clear();
+    println!("{}", paper_table(&cfg, &results));
+    let mut files = Vec::new();
+    for r in &results {
+        files.extend(write_figures(r, out)?);
+    }
+    let mut summary: serde_json::Map<String, serde_json::Value> = results
+        .iter()
+        .map(|r| {
+            (
+                r.summary.case.clone(),
+                serde_json::to_value(&r.summary).unwrap_or_default(),
+            )
+        })
+        .collect();
+    if let Some(method) = a.method {
+        let methods = method.methods();
+        let bar = progress(a.runs * cases.len() * methods.len(), "identifications")?;
+        let mut all = Vec::new();
+        for &c in &cases {
+            bar.set_message(c.name());
+            let tick = || bar.inc(1);
+            all.push(run_methods(c, &cfg, &methods, &tick).map_err(|e| e.to_string())?);
+        }
+        bar.finish_and_clear();
+        println!("{}", methods_table(&cfg, &all));
+        for c in &all {
+            files.extend(write_method_figures(c, out)?);
+            if let Some(serde_json::Value::Object(o)) = summary.get_mut(c.case.name()) {
+                o.insert("methods".to_string(), methods_json(c));
+            }
+        }
+    }
+    let path = out.join("summary.json");
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    println!("wrote {}", path.display());
+    for f in files {
+        println!("wrote {f}");
+    }
+    Ok(())
+}

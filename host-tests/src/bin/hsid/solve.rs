@@ -1,0 +1,60 @@
+//! `hsid solve`: an identifier's checkpoint solved on the host.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use hsid::{CheckpointError, Error};
+use hsid_host::identify::{IdentifyError, solve_checkpoint};
+use hsid_host::model_file::NonlinearityKind;
+use hsid_host::report::model_text;
+
+use crate::args::ModelOut;
+
+/// Arguments of `hsid solve`.
+#[derive(Args)]
+pub struct SolveArgs {
+    /// Checkpoint file written by `Identifier::save` (the firmware's `hsid-state.bin`).
+    #[arg(long)]
+    state: PathBuf,
+    #[command(flatten)]
+    out: ModelOut,
+}
+
+/// `hsid solve --state FILE [--json OUT]`.
+pub fn run(a: &SolveArgs) -> Result<(), String> {
+    let state = &a.state;
+    let bytes = std::fs::read(state).map_err(|e| format!("{}: {e}", state.display()))?;
+    let solved = solve_checkpoint(&bytes).map_err(|e| {
+        let hint = match e {
+            IdentifyError::Core(Error::Checkpoint(CheckpointError::NotACheckpoint)) => {
+                ": give the binary state file Identifier::save wrote (the firmware's hsid-state.bin), not the printed output"
+            }
+            _ => "",
+        };
+        format!("{} ({} bytes): {e}{hint}", state.display(), bytes.len())
+    })?;
+    let h = &solved.header;
+    println!(
+        "{}: {} checkpoint, {} bytes, {} channels, f = {}, p = {}; solved in {}",
+        state.display(),
+        h.scalar_name(),
+        bytes.len(),
+        h.channels,
+        h.f,
+        h.p,
+        h.scalar_name()
+    );
+    println!("{}", model_text(&solved.model));
+    if let Some(path) = &a.out.json {
+        // A checkpoint records one border (static) or two; which two-path element it is, it
+        // does not record.
+        let kind = solved.shared_knots.then_some(NonlinearityKind::Static);
+        solved
+            .model
+            .to_json(kind)
+            .save(path)
+            .map_err(|e| e.to_string())?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

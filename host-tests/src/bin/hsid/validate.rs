@@ -1,0 +1,92 @@
+//! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use hsid_host::identify::HostModel;
+use hsid_host::io::{CsvOptions, read_table};
+use hsid_host::model_file::ModelFile;
+use hsid_host::refine::poly::is_stable;
+use hsid_host::refine::stochastic::prediction_report;
+use hsid_host::refine::{InnovationForm, NoiseModel};
+use hsid_host::report::fit_report;
+
+use crate::args::{Columns, CsvArgs};
+
+/// Arguments of `hsid validate`.
+#[derive(Args)]
+pub struct ValidateArgs {
+    /// Model file written by `hsid identify --json` (format hsid-model/1).
+    #[arg(long)]
+    model: PathBuf,
+    /// CSV file with a header.
+    #[arg(long)]
+    data: PathBuf,
+    /// Samples at the start left out of the fit (e.g. the hold).
+    #[arg(long, default_value_t = 0)]
+    skip: usize,
+    #[command(flatten)]
+    columns: Columns,
+    #[command(flatten)]
+    csv: CsvArgs,
+    /// Noise model JSON (`c`, `d`, `sigma2`) for one-step-ahead predictions, in place of the
+    /// model file's own `noise` (default: the model file's, when it has one).
+    #[arg(long)]
+    noise: Option<PathBuf>,
+}
+
+/// Prints the simulation fit and, with a noise model, the one-step prediction fit.
+pub fn run(a: &ValidateArgs) -> Result<(), String> {
+    let given = match &a.noise {
+        Some(p) => Some(NoiseModel::load(p)?),
+        None => None,
+    };
+    let file = ModelFile::load(&a.model).map_err(|e| e.to_string())?;
+    let own = match &file.noise {
+        Some(n) if !is_stable(&n.c, 1.0) => {
+            return Err(format!(
+                "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
+                a.model.display()
+            ));
+        }
+        Some(n) => Some(NoiseModel {
+            c: n.c.clone(),
+            d: n.d.clone(),
+            sigma2: n.sigma2,
+        }),
+        None => None,
+    };
+    let noise = given.or(own);
+    let m = HostModel::from_json(&file);
+    let names = [
+        a.columns.input_column.as_str(),
+        a.columns.output_column.as_str(),
+    ];
+    let csv = CsvOptions {
+        delimiter: a.csv.delimiter(),
+    };
+    let table = read_table(&a.data, &names, &csv).map_err(|e| e.to_string())?;
+    let (u, y) = (&table.columns[0], &table.columns[1]);
+    let skip = a.skip;
+    if skip >= u.len() {
+        return Err(format!("--skip {skip} leaves no samples of {}", u.len()));
+    }
+    let (lo, hi) = (m.u_min(), m.u_max());
+    if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| **v < lo || **v > hi) {
+        return Err(format!(
+            "{} line {}: u = {v} lies outside the model's interval [{lo}, {hi}]",
+            a.data.display(),
+            table.lines[i]
+        ));
+    }
+    let sim = m.simulate(u);
+    println!("{}", fit_report(&y[skip..], &sim[skip..])?);
+    if let Some(nm) = noise {
+        let pred = InnovationForm::new(&m, &nm).predict(u, y);
+        println!(
+            "{}",
+            prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
+        );
+    }
+    Ok(())
+}

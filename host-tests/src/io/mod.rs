@@ -1,0 +1,30 @@
+//! CSV columns in and out.
+//!
+//! The CSV reader (on the `csv` crate) is deliberately strict: every problem is reported as an
+//! [`IoError`] that names the file, the 1-based line and, where it applies, the column; nothing
+//! is silently skipped. The only things tolerated are the harmless quirks of real measurement
+//! files:
+//!
+//! * the delimiter `,`, `;` or tab: given ([`CsvOptions::delimiter`]) or sniffed from the
+//!   header line ([`Delimiter::sniff`]: tab if the header has a tab, else `;` if it has a `;`
+//!   and no `,`, else `,`); numbers use a decimal point in every case;
+//! * comment lines starting with `#` (before the header or between rows), skipped;
+//! * header names and cells are trimmed of surrounding spaces and double quotes
+//!   (`"uEst", "yEst"` works), and quoted fields may hold the delimiter;
+//! * trailing empty fields (`3.2567,0.97619,5.205,4.9728,4,`) and trailing empty header names;
+//! * a column that is not requested may be empty or hold text (the `Ts` column of the cascaded
+//!   tanks benchmark only has a value on its first row);
+//! * blank lines at the very end of the file, Windows line endings and a UTF-8 byte order mark.
+//!
+//! A blank line *between* data rows is an error, because it usually means two files were
+//! concatenated or a row was lost.
+
+mod error;
+mod read;
+mod write;
+
+pub use error::IoError;
+pub use read::{
+    CsvOptions, Delimiter, Table, parse_columns, parse_table, read_columns, read_table,
+};
+pub use write::{write_columns, write_columns_to};

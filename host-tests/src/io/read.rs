@@ -1,0 +1,358 @@
+//! CSV columns in: the requested columns of a file with a header, as numbers, with the line of
+//! every sample.
+
+use std::fs;
+use std::path::Path;
+
+use super::IoError;
+
+/// A CSV field delimiter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Delimiter {
+    /// `,`
+    Comma,
+    /// `;`
+    Semicolon,
+    /// A tab character.
+    Tab,
+}
+
+impl Delimiter {
+    /// The delimiter of a header line: tab if it holds a tab, else `;` if it holds a `;` and
+    /// no `,`, else `,`.
+    pub fn sniff(header: &str) -> Self {
+        if header.contains('\t') {
+            Self::Tab
+        } else if header.contains(';') && !header.contains(',') {
+            Self::Semicolon
+        } else {
+            Self::Comma
+        }
+    }
+
+    fn byte(self) -> u8 {
+        match self {
+            Self::Comma => b',',
+            Self::Semicolon => b';',
+            Self::Tab => b'\t',
+        }
+    }
+}
+
+/// How a CSV file is read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CsvOptions {
+    /// The field delimiter; `None` sniffs it from the header line ([`Delimiter::sniff`]).
+    pub delimiter: Option<Delimiter>,
+}
+
+/// The requested columns of a CSV file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// One column per requested name, in the order of the names, one value per data row.
+    pub columns: Vec<Vec<f64>>,
+    /// The 1-based line of each data row in the file (comment lines make it differ from the
+    /// row index + 2).
+    pub lines: Vec<usize>,
+}
+
+/// Reads the named columns of a CSV file with a header row, the delimiter sniffed.
+///
+/// Returns one `Vec<f64>` per requested name, in the order of `names`, each with one value per
+/// data row. Column names are case-sensitive and compared after trimming spaces and double
+/// quotes. See the [module documentation](super) for what is tolerated; everything else is an
+/// [`IoError`] naming the 1-based line.
+pub fn read_columns(path: impl AsRef<Path>, names: &[&str]) -> Result<Vec<Vec<f64>>, IoError> {
+    read_table(path, names, &CsvOptions::default()).map(|t| t.columns)
+}
+
+/// Parses CSV text that is already in memory; `source` is only used in error messages.
+///
+/// Same rules and errors as [`read_columns`].
+pub fn parse_columns(
+    source: impl AsRef<Path>,
+    text: &str,
+    names: &[&str],
+) -> Result<Vec<Vec<f64>>, IoError> {
+    parse_table(source, text, names, &CsvOptions::default()).map(|t| t.columns)
+}
+
+/// [`read_columns`] with options, keeping the line of each row.
+pub fn read_table(
+    path: impl AsRef<Path>,
+    names: &[&str],
+    options: &CsvOptions,
+) -> Result<Table, IoError> {
+    let path = path.as_ref();
+    let bytes = fs::read(path).map_err(|source| IoError::Open {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let text = match String::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let valid = e.utf8_error().valid_up_to();
+            let line = 1 + e.as_bytes()[..valid]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count();
+            return Err(IoError::NotUtf8 {
+                path: path.to_path_buf(),
+                line,
+            });
+        }
+    };
+    parse_table(path, &text, names, options)
+}
+
+/// What the lines of the text are, before the CSV parser sees them.
+struct Layout {
+    /// 1-based lines that are blank (whitespace only), ascending.
+    blank: Vec<usize>,
+    /// The last line with content (not blank, not a comment); 0 when there is none.
+    last: usize,
+    /// The first line with content, if any.
+    header: Option<(usize, String)>,
+}
+
+fn layout(text: &str) -> Layout {
+    let mut l = Layout {
+        blank: Vec::new(),
+        last: 0,
+        header: None,
+    };
+    for (i, line) in text.split('\n').enumerate() {
+        let line = line.strip_suffix('\r').unwrap_or(line);
+        if line.trim().is_empty() {
+            l.blank.push(i + 1);
+        } else if !line.starts_with('#') {
+            l.last = i + 1;
+            l.header.get_or_insert_with(|| (i + 1, line.to_string()));
+        }
+    }
+    l
+}
+
+/// [`parse_columns`] with options, keeping the line of each row.
+pub fn parse_table(
+    source: impl AsRef<Path>,
+    text: &str,
+    names: &[&str],
+    options: &CsvOptions,
+) -> Result<Table, IoError> {
+    let path = source.as_ref();
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let lay = layout(text);
+    let Some((_, header_text)) = &lay.header else {
+        return Err(IoError::Empty {
+            path: path.to_path_buf(),
+        });
+    };
+    let delimiter = options
+        .delimiter
+        .unwrap_or_else(|| Delimiter::sniff(header_text));
+    // Comment lines are emptied rather than left to the parser's comment option, which does
+    // not count them in its line numbers; empty lines it skips and counts.
+    let uncommented: String = text
+        .split_inclusive('\n')
+        .map(|l| if l.starts_with('#') { "\n" } else { l })
+        .collect();
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .delimiter(delimiter.byte())
+        .from_reader(uncommented.as_bytes());
+    let starts: Vec<usize> = std::iter::once(0)
+        .chain(uncommented.match_indices('\n').map(|(i, _)| i + 1))
+        .collect();
+    let empty: Vec<usize> = uncommented
+        .split('\n')
+        .enumerate()
+        .filter(|(_, l)| l.is_empty() || *l == "\r")
+        .map(|(i, _)| i + 1)
+        .collect();
+    let mut rows = Rows {
+        path,
+        starts: &starts,
+        empty: &empty,
+        blank: &lay.blank,
+        last: lay.last,
+        reader: &mut reader,
+        record: csv::StringRecord::new(),
+    };
+    let Some(header_line) = rows.next_row()? else {
+        return Err(IoError::Empty {
+            path: path.to_path_buf(),
+        });
+    };
+    let mut header: Vec<String> = rows.record.iter().map(|f| clean(f).to_string()).collect();
+    while header.last().is_some_and(|h| h.is_empty()) {
+        header.pop();
+    }
+    let indices = resolve(path, header_line, &header, names)?;
+    let mut table = Table {
+        columns: vec![Vec::new(); names.len()],
+        lines: Vec::new(),
+    };
+    while let Some(line) = rows.next_row()? {
+        let fields: Vec<&str> = rows.record.iter().map(clean).collect();
+        row(path, line, &header, &indices, &fields, &mut table.columns)?;
+        table.lines.push(line);
+    }
+    if table.lines.is_empty() {
+        return Err(IoError::NoData {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(table)
+}
+
+/// The CSV records up to the last line with content, refusing a blank line before any of them.
+struct Rows<'a, R> {
+    path: &'a Path,
+    /// Byte offset of the start of each line.
+    starts: &'a [usize],
+    /// 1-based lines that are empty (nothing but the line end) for the parser.
+    empty: &'a [usize],
+    /// 1-based lines that are blank (whitespace only), ascending.
+    blank: &'a [usize],
+    last: usize,
+    reader: &'a mut csv::Reader<R>,
+    record: csv::StringRecord,
+}
+
+impl<R: std::io::Read> Rows<'_, R> {
+    /// The 1-based line of a record the parser placed at byte `byte`. The parser's line count
+    /// leaves out the empty lines it skips, and its offset points before them: the line is the
+    /// first at or after `byte` that is not empty.
+    fn line_of(&self, byte: u64) -> usize {
+        let byte = usize::try_from(byte).unwrap_or(usize::MAX);
+        let mut line = self.starts.partition_point(|&s| s <= byte);
+        while line < self.starts.len() && self.empty.binary_search(&line).is_ok() {
+            line += 1;
+        }
+        line
+    }
+
+    /// Reads the next record into `self.record` and returns its line, `None` at the end.
+    fn next_row(&mut self) -> Result<Option<usize>, IoError> {
+        let more = self.reader.read_record(&mut self.record);
+        let more = more.map_err(|e| IoError::Malformed {
+            path: self.path.to_path_buf(),
+            line: e.position().map(|p| self.line_of(p.byte())),
+            reason: e.to_string(),
+        })?;
+        let line = self
+            .record
+            .position()
+            .map_or(usize::MAX, |p| self.line_of(p.byte()));
+        if !more || line > self.last {
+            return Ok(None);
+        }
+        if let Some(&b) = self.blank.first().filter(|&&b| b <= line) {
+            return Err(IoError::BlankLine {
+                path: self.path.to_path_buf(),
+                line: b,
+            });
+        }
+        Ok(Some(line))
+    }
+}
+
+/// The index of each requested column in the header.
+fn resolve(
+    path: &Path,
+    line: usize,
+    header: &[String],
+    names: &[&str],
+) -> Result<Vec<usize>, IoError> {
+    let mut indices = Vec::with_capacity(names.len());
+    for &name in names {
+        let wanted = clean(name);
+        let mut hits = header.iter().enumerate().filter(|(_, h)| *h == wanted);
+        match (hits.next(), hits.next()) {
+            (Some((i, _)), None) => indices.push(i),
+            (Some(_), Some(_)) => {
+                return Err(IoError::DuplicateColumn {
+                    path: path.to_path_buf(),
+                    line,
+                    column: wanted.to_string(),
+                });
+            }
+            (None, _) => {
+                return Err(IoError::MissingColumn {
+                    path: path.to_path_buf(),
+                    line,
+                    column: wanted.to_string(),
+                    available: header.iter().filter(|h| !h.is_empty()).cloned().collect(),
+                });
+            }
+        }
+    }
+    Ok(indices)
+}
+
+/// Checks one data row and appends its requested cells to `columns`.
+fn row(
+    path: &Path,
+    line: usize,
+    header: &[String],
+    indices: &[usize],
+    fields: &[&str],
+    columns: &mut [Vec<f64>],
+) -> Result<(), IoError> {
+    let err_path = || path.to_path_buf();
+    let expected = header.len();
+    if fields.len() < expected {
+        return Err(IoError::TooFewFields {
+            path: err_path(),
+            line,
+            expected,
+            found: fields.len(),
+        });
+    }
+    let non_empty = fields
+        .iter()
+        .rposition(|f| !f.is_empty())
+        .map_or(0, |p| p + 1);
+    if non_empty > expected {
+        return Err(IoError::TooManyFields {
+            path: err_path(),
+            line,
+            expected,
+            found: non_empty,
+        });
+    }
+    for (k, &col) in indices.iter().enumerate() {
+        let cell = fields[col];
+        let column = || header[col].clone();
+        if cell.is_empty() {
+            return Err(IoError::EmptyCell {
+                path: err_path(),
+                line,
+                column: column(),
+            });
+        }
+        let value: f64 = cell.parse().map_err(|_| IoError::BadNumber {
+            path: err_path(),
+            line,
+            column: column(),
+            text: cell.to_string(),
+        })?;
+        if !value.is_finite() {
+            return Err(IoError::NonFinite {
+                path: err_path(),
+                line,
+                column: column(),
+                value,
+            });
+        }
+        columns[k].push(value);
+    }
+    Ok(())
+}
+
+/// Trims surrounding whitespace and double quotes.
+fn clean(s: &str) -> &str {
+    s.trim().trim_matches('"').trim()
+}

@@ -1,0 +1,183 @@
+//! Shape and value checks of a model file, each failure naming the offending key.
+
+use std::path::Path;
+
+use super::{ModelFile, ModelFileError};
+
+type Checked = Result<(), ModelFileError>;
+
+/// All checks of [`ModelFile::validate`], in the order of the keys.
+pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
+    let bad = |field: &'static str, reason: String| ModelFileError::Invalid {
+        path: path.to_path_buf(),
+        field,
+        reason,
+    };
+    plant(m, &bad)?;
+    finite_all(m, &bad)?;
+    knots(m, &bad)?;
+    if let Some(t) = m.sample_time
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(bad("sample_time", format!("{t} is not a positive number")));
+    }
+    noise(m, &bad)?;
+    std(m, &bad)
+}
+
+type Bad<'a> = dyn Fn(&'static str, String) -> ModelFileError + 'a;
+
+fn plant(m: &ModelFile, bad: &Bad) -> Checked {
+    let n = m.order;
+    if m.a.len() != n {
+        return Err(bad(
+            "A",
+            format!("has {} rows, expected order = {n}", m.a.len()),
+        ));
+    }
+    if let Some((i, row)) = m.a.iter().enumerate().find(|(_, r)| r.len() != n) {
+        return Err(bad(
+            "A",
+            format!("row {i} has {} values, expected order = {n}", row.len()),
+        ));
+    }
+    for (field, len) in [("B", m.b.len()), ("C", m.c.len()), ("poles", m.poles.len())] {
+        if len != n {
+            return Err(bad(
+                field,
+                format!("has {len} entries, expected order = {n}"),
+            ));
+        }
+    }
+    for (kf, bf, k, b) in [
+        ("knots_asc", "border_asc", &m.knots_asc, &m.border_asc),
+        ("knots_desc", "border_desc", &m.knots_desc, &m.border_desc),
+    ] {
+        if k.len() != b.len() {
+            return Err(bad(
+                bf,
+                format!("has {} values but {kf} has {}", b.len(), k.len()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn finite(bad: &Bad, field: &'static str, values: &mut dyn Iterator<Item = f64>) -> Checked {
+    match values.enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((i, v)) => Err(bad(field, format!("entry {i} is {v}, not a finite number"))),
+        None => Ok(()),
+    }
+}
+
+fn finite_all(m: &ModelFile, bad: &Bad) -> Checked {
+    let one = |v: f64| std::iter::once(v);
+    finite(bad, "A", &mut m.a.iter().flatten().copied())?;
+    finite(bad, "B", &mut m.b.iter().copied())?;
+    finite(bad, "C", &mut m.c.iter().copied())?;
+    finite(bad, "D", &mut one(m.d))?;
+    finite(bad, "poles", &mut m.poles.iter().flatten().copied())?;
+    finite(bad, "mu0", &mut one(m.mu0))?;
+    finite(bad, "u_min", &mut one(m.u_min))?;
+    finite(bad, "u_max", &mut one(m.u_max))?;
+    finite(bad, "knots_asc", &mut m.knots_asc.iter().copied())?;
+    finite(bad, "knots_desc", &mut m.knots_desc.iter().copied())?;
+    finite(bad, "border_asc", &mut m.border_asc.iter().copied())?;
+    finite(bad, "border_desc", &mut m.border_desc.iter().copied())?;
+    finite(
+        bad,
+        "singular_values",
+        &mut m.singular_values.iter().copied(),
+    )
+}
+
+fn knots(m: &ModelFile, bad: &Bad) -> Checked {
+    if m.u_min >= m.u_max {
+        return Err(bad(
+            "u_max",
+            format!("{} is not above u_min = {}", m.u_max, m.u_min),
+        ));
+    }
+    for (field, k) in [("knots_asc", &m.knots_asc), ("knots_desc", &m.knots_desc)] {
+        if k.len() < 2 {
+            return Err(bad(
+                field,
+                format!(
+                    "has {} knots: at least two (u_min and u_max) are needed",
+                    k.len()
+                ),
+            ));
+        }
+        if let Some(i) = k.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(bad(
+                field,
+                format!(
+                    "knot {} is not above knot {i}: knots must increase strictly",
+                    i + 1
+                ),
+            ));
+        }
+        let (first, last) = (k[0], k[k.len() - 1]);
+        if first != m.u_min || last != m.u_max {
+            return Err(bad(
+                field,
+                format!(
+                    "runs from {first} to {last}, but the interval is [u_min, u_max] = [{}, {}]",
+                    m.u_min, m.u_max
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn noise(m: &ModelFile, bad: &Bad) -> Checked {
+    let Some(nm) = &m.noise else {
+        return Ok(());
+    };
+    for (field, poly) in [("noise.c", &nm.c), ("noise.d", &nm.d)] {
+        if poly.first() != Some(&1.0) {
+            return Err(bad(field, "must start with 1 (a monic polynomial)".into()));
+        }
+        finite(bad, field, &mut poly.iter().copied())?;
+    }
+    if !(nm.sigma2.is_finite() && nm.sigma2 >= 0.0) {
+        return Err(bad(
+            "noise.sigma2",
+            format!("{} is not a finite variance >= 0", nm.sigma2),
+        ));
+    }
+    Ok(())
+}
+
+fn std(m: &ModelFile, bad: &Bad) -> Checked {
+    let Some(s) = &m.std else {
+        return Ok(());
+    };
+    for (field, len, want) in [
+        ("std.poles", s.poles.len(), m.poles.len()),
+        ("std.border_asc", s.border_asc.len(), m.border_asc.len()),
+        ("std.border_desc", s.border_desc.len(), m.border_desc.len()),
+    ] {
+        if len != want {
+            return Err(bad(
+                field,
+                format!("has {len} entries, the estimates it describes {want}"),
+            ));
+        }
+    }
+    let all = s
+        .poles
+        .iter()
+        .flatten()
+        .chain(&s.border_asc)
+        .chain(&s.border_desc)
+        .chain(std::iter::once(&s.mu0));
+    if let Some(v) = all.copied().find(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(bad(
+            "std",
+            format!("{v} is not a standard deviation (finite, >= 0)"),
+        ));
+    }
+    Ok(())
+}

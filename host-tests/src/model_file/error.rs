@@ -1,0 +1,109 @@
+//! What can go wrong while reading or writing a model file.
+
+use std::fmt;
+use std::path::PathBuf;
+
+use super::FORMAT;
+
+/// A model file that could not be read or written.
+///
+/// `Display` gives one line that starts with the file name, e.g.
+/// `m.json: field "B": has 1 entries, expected order = 2`.
+#[derive(Debug)]
+pub enum ModelFileError {
+    /// The file could not be opened or read (not found, permission denied, ...).
+    Open {
+        /// File that was being read.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file could not be created or written.
+    Write {
+        /// File that was being written.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file has no `format` key, or names another format or version than [`FORMAT`].
+    Version {
+        /// File that was being read.
+        path: PathBuf,
+        /// The `format` value found (`None`: no `format` key, a file of the unversioned
+        /// layout written before the format had a version).
+        found: Option<String>,
+    },
+    /// The JSON text is malformed or does not have the fields and types of the format.
+    Json {
+        /// File that was being read or written.
+        path: PathBuf,
+        /// Where in the document the problem is (e.g. `A[1][0]`), `.` for the top level.
+        location: String,
+        /// The underlying error.
+        source: serde_json::Error,
+    },
+    /// The model is well-formed JSON but inconsistent (wrong matrix shape, lengths that differ,
+    /// non-finite numbers, knots out of order).
+    Invalid {
+        /// File that was being read or written.
+        path: PathBuf,
+        /// The JSON key of the offending field, e.g. `A`, `border_desc` or `noise.c`.
+        field: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+impl fmt::Display for ModelFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Open { path, source } => {
+                write!(f, "{}: cannot read file: {source}", path.display())
+            }
+            Self::Write { path, source } => {
+                write!(f, "{}: cannot write file: {source}", path.display())
+            }
+            Self::Version { path, found: None } => write!(
+                f,
+                "{}: no \"format\" key: the file is of the unversioned model layout, this hsid \
+                 reads \"{FORMAT}\"; identify the model again with this hsid (its --json)",
+                path.display()
+            ),
+            Self::Version {
+                path,
+                found: Some(v),
+            } => write!(
+                f,
+                "{}: model format \"{v}\", this hsid reads \"{FORMAT}\"; write the model with \
+                 the hsid that reads it, or identify it again with this one",
+                path.display()
+            ),
+            Self::Json {
+                path,
+                location,
+                source,
+            } => {
+                if location == "." || location == "?" {
+                    write!(f, "{}: {source}", path.display())
+                } else {
+                    write!(f, "{}: field {location}: {source}", path.display())
+                }
+            }
+            Self::Invalid {
+                path,
+                field,
+                reason,
+            } => write!(f, "{}: field \"{field}\": {reason}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for ModelFileError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Open { source, .. } | Self::Write { source, .. } => Some(source),
+            Self::Json { source, .. } => Some(source),
+            Self::Version { .. } | Self::Invalid { .. } => None,
+        }
+    }
+}

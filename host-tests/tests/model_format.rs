@@ -1,0 +1,199 @@
+//! Every command that writes a model writes the one model file: `identify`, `identify --refine`,
+//! `solve` and `diagnose` (its `--model-out` and the models in its JSON report). Each output
+//! conforms to `docs/model-format.schema.json`, reads back through the library and writes the
+//! same bytes again, and `validate` reads each.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::{Path, PathBuf};
+
+use hsid::{Identifier, Knots, MuZero, Settings};
+use hsid_host::model_file::ModelFile;
+use hsid_host::paper::{Case, PaperConfig, experiment};
+use serde_json::Value;
+
+mod common;
+
+use common::{Scratch, hsid, identify, p, schema_errors};
+
+/// The paper's backlash, run 0, as `data.csv`, and an `f64` checkpoint of the same samples as
+/// `state.bin` (f = p = 10, 7 segments per path, the hold of 300 samples).
+fn record(dir: &Scratch) -> (PathBuf, PathBuf) {
+    let e = experiment(Case::Backlash, &PaperConfig::default(), 0).unwrap();
+    let data = dir.write_uy("data.csv", &e.u, &e.y);
+    let knots = Knots::uniform(-3.0f64, 3.0, 7, 7).unwrap();
+    let hold = MuZero::Hold {
+        len: 300,
+        settle: 150,
+    };
+    let mut id =
+        Box::new(Identifier::<f64, 14, 20>::new(Settings::new(knots, 10, 10, hold)).unwrap());
+    for (&u, &y) in e.u.iter().zip(&e.y) {
+        id.push(u, y);
+    }
+    let mut bytes = vec![0u8; hsid::checkpoint_capacity(14, 20, 8)];
+    let len = id.save(&mut bytes).unwrap();
+    bytes.truncate(len);
+    let state = dir.join("state.bin");
+    std::fs::write(&state, bytes).unwrap();
+    (data, state)
+}
+
+/// Checks one model file written by a command; returns its JSON.
+fn check(what: &str, text: &str) -> Value {
+    let v: Value = serde_json::from_str(text).unwrap();
+    assert_eq!(schema_errors(&v), Vec::<String>::new(), "{what}:\n{text}");
+    let m = ModelFile::from_json_str(what, text).unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert_eq!(
+        m.to_json_string(what).unwrap(),
+        text,
+        "{what}: not the same bytes"
+    );
+    v
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap()
+}
+
+#[test]
+fn every_command_writes_the_one_model_file() {
+    let dir = Scratch::new("model-format");
+    let (data, state) = record(&dir);
+    let [plain, refined, solved, diagnosed] = [
+        "identify.json",
+        "refine.json",
+        "solve.json",
+        "diagnose-model.json",
+    ]
+    .map(|f| dir.join(f));
+    identify(&data, &["--json", p(&plain)]).success();
+    identify(&data, &["--refine", "--json", p(&refined)]).success();
+    hsid(&["solve", "--state", p(&state), "--json", p(&solved)]).success();
+    let report = dir.join("diagnose.json");
+    let args = [
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-3",
+        "--umax",
+        "3",
+        "--max-steps",
+        "1",
+    ];
+    let out = ["--json", p(&report), "--model-out", p(&diagnosed)];
+    hsid(&[&args[..], &out[..]].concat()).success();
+
+    let plain = check("identify", &read(&plain));
+    let refined = check("identify --refine", &read(&refined));
+    let solved = check("solve", &read(&solved));
+    let diagnosed = check("diagnose --model-out", &read(&diagnosed));
+    let r: Value = serde_json::from_str(&read(&report)).unwrap();
+    for key in ["model_before", "model_after"] {
+        // The report's object (its keys sorted by the test's parser): the schema, the reader,
+        // and back to the same value.
+        let v = &r[key]["model"];
+        assert_eq!(schema_errors(v), Vec::<String>::new(), "{key}:\n{v}");
+        let m = ModelFile::from_json_str(key, &v.to_string()).unwrap();
+        assert_eq!(&serde_json::to_value(&m).unwrap(), v, "{key}");
+    }
+    assert_eq!(r["model_after"]["model"], diagnosed);
+
+    // One layout: the same keys in the same order, whatever wrote it.
+    let keys = |v: &Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    for other in [&refined, &solved, &diagnosed] {
+        assert_eq!(keys(other), keys(&plain));
+    }
+    // What each knows: the subspace model and its Remark 6 noise model, the refined one with
+    // its standard deviations, the checkpoint without either (the state holds no residual).
+    assert!(plain["noise"].is_object() && plain["std"].is_null());
+    assert!(refined["noise"].is_object() && refined["std"].is_object());
+    assert!(solved["noise"].is_null() && solved["std"].is_null());
+    assert!(solved["nonlinearity"].is_null());
+    assert_eq!(diagnosed["nonlinearity"], "backlash");
+    // The checkpoint of the same samples and settings is the direct identification.
+    assert_eq!(solved["A"], plain["A"]);
+    assert_eq!(solved["border_desc"], plain["border_desc"]);
+}
+
+#[test]
+fn validate_reads_what_every_command_writes() {
+    let dir = Scratch::new("model-format-validate");
+    let (data, state) = record(&dir);
+    let solved = dir.join("solve.json");
+    hsid(&["solve", "--state", p(&state), "--json", p(&solved)]).success();
+    let diagnosed = dir.join("d.json");
+    let args = [
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-3",
+        "--umax",
+        "3",
+        "--max-steps",
+        "0",
+    ];
+    hsid(&[&args[..], &["--model-out", p(&diagnosed)][..]].concat()).success();
+    for model in [&solved, &diagnosed] {
+        let run = hsid(&[
+            "validate",
+            "--model",
+            p(model),
+            "--data",
+            p(&data),
+            "--skip",
+            "300",
+        ]);
+        let out = run.success().stdout;
+        assert!(out.starts_with("simulation fit on 4019 samples"), "{out}");
+    }
+}
+
+/// An effect the model file has no place for (an input delay) is named when the final model is
+/// written, and the report keeps it beside the model.
+#[test]
+fn diagnose_names_what_the_model_file_leaves_out() {
+    use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
+    use hsid_host::diagnose::{Effect, Nonlinearity};
+    let dir = Scratch::new("model-format-delay");
+    let s = Scenario::new(
+        Some(Effect::InputDelay),
+        Plant::Paper,
+        Nonlinearity::Backlash,
+        1,
+    );
+    let d = generate(&s).unwrap();
+    let data = dir.write_uy("delay.csv", &d.record.u, &d.record.y);
+    let (model, report) = (dir.join("m.json"), dir.join("r.json"));
+    let args = [
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-2.5",
+        "--umax",
+        "2.5",
+        "--segments",
+        "8",
+        "--order",
+        "2",
+        "--f",
+        "12",
+        "--p",
+        "12",
+        "--json",
+        p(&report),
+        "--model-out",
+        p(&model),
+    ];
+    let out = hsid(&args).success().stdout;
+    let note = format!(
+        "note: {} holds the Hammerstein part; input_delay only in the JSON report's model_after",
+        model.display()
+    );
+    assert!(out.contains(&note), "{out}");
+    let r: Value = serde_json::from_str(&read(&report)).unwrap();
+    assert_eq!(r["model_after"]["structure"]["delay"], 3);
+    check("diagnose --model-out", &read(&model));
+}
