@@ -13,8 +13,9 @@ use serde::Serialize;
 use super::DiagnoseError;
 use super::model::{
     Dynamics, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, delay_input,
-    evaluate, fit_ar, fit_structure, fit_structure_fold, refit_borders, spectral_radius,
+    evaluate, fit_structure, fit_structure_fold, refit_borders, spectral_radius,
 };
+use super::noise::ar_order_bic;
 use super::residual::{LEVEL, TestSet};
 use super::stats::{newey_west_var_of_mean, normal_sf, periodogram};
 
@@ -768,20 +769,6 @@ impl Proposal<'_> {
             }
         }
     }
-}
-
-/// AR order by BIC on the residual, `1 … max`.
-pub fn ar_order_bic(r: &[f64], max: usize) -> Option<usize> {
-    let n = r.len() as f64;
-    let mut best: Option<(f64, usize)> = None;
-    for p in 1..=max.min(r.len() / 50) {
-        let Some(ar) = fit_ar(r, p) else { continue };
-        let bic = n * (ar.sigma * ar.sigma).max(1e-300).ln() + p as f64 * n.ln();
-        if best.is_none_or(|(b, _)| bic < b) {
-            best = Some((bic, p));
-        }
-    }
-    best.map(|(_, p)| p)
 }
 
 /// Power of the least-squares sinusoid at `w` in `r`.

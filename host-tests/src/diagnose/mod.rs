@@ -39,6 +39,7 @@ pub mod dynamics;
 pub mod effects;
 pub mod figures;
 pub mod model;
+pub mod noise;
 pub mod optimise;
 pub mod report;
 pub mod residual;

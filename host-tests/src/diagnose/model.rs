@@ -29,6 +29,7 @@ use serde::Serialize;
 
 use super::DiagnoseError;
 use super::dynamics::{Borders, DynamicsFit};
+use super::noise::{ArNoise, fit_ar};
 use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use super::stats::{lstsq, mad_sigma, nnls, rms, running_median};
 use super::stores::{self, Stores, StoresClass};
@@ -400,32 +401,6 @@ impl Additive {
             }
         }
     }
-}
-
-/// An AR noise model `v(t) = Σ_i a_i v(t − i) + e(t)`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ArNoise {
-    /// Coefficients `a_1 … a_p`.
-    pub a: Vec<f64>,
-    /// Standard deviation of the innovations `e` on the estimation data.
-    pub sigma: f64,
-}
-
-/// Fits an AR(`p`) model to `r` by least squares; `None` when there are too few samples.
-pub fn fit_ar(r: &[f64], p: usize) -> Option<ArNoise> {
-    let n = r.len();
-    if p == 0 || n <= 3 * p + 10 {
-        return None;
-    }
-    let rows = n - p;
-    let x = DMatrix::from_fn(rows, p, |i, k| r[i + p - 1 - k]);
-    let y = DVector::from_iterator(rows, (p..n).map(|t| r[t]));
-    let a = lstsq(&x, &y)?;
-    let e = &y - &x * &a;
-    Some(ArNoise {
-        a: a.iter().copied().collect(),
-        sigma: (e.norm_squared() / rows as f64).sqrt(),
-    })
 }
 
 /// The fitted extended model.

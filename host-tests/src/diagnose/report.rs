@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::effects::{Effect, has_evidence};
-use super::model::{ArNoise, ExtendedModel, Metric, OutputMap, Structure};
+use super::model::{ExtendedModel, Metric, OutputMap, Structure};
+use super::noise::ArNoise;
 use super::residual::TestSet;
 use super::{Diagnosis, Warning};
 

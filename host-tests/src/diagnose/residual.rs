@@ -196,10 +196,10 @@ fn max_lag(n: usize) -> usize {
 fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let m = mean(x);
     let xc: Vec<f64> = x.iter().map(|v| v - m).collect();
-    let Some(p) = super::effects::ar_order_bic(&xc, 10) else {
+    let Some(p) = super::noise::ar_order_bic(&xc, 10) else {
         return (x.to_vec(), r.to_vec());
     };
-    let Some(ar) = super::model::fit_ar(&xc, p) else {
+    let Some(ar) = super::noise::fit_ar(&xc, p) else {
         return (x.to_vec(), r.to_vec());
     };
     let filt = |v: &[f64]| -> Vec<f64> {
