@@ -12,11 +12,12 @@ use serde::Serialize;
 
 use super::DiagnoseError;
 use super::model::{
-    Dynamics, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, delay_input,
-    evaluate, fit_structure, fit_structure_fold, refit_borders, spectral_radius,
+    Dynamics, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, evaluate,
+    fit_structure, fit_structure_fold, refit_borders, spectral_radius,
 };
 use super::noise::ar_order_bic;
 use super::residual::{LEVEL, TestSet};
+use super::simulate::delay_input;
 use super::stats::{newey_west_var_of_mean, normal_sf, periodogram};
 
 /// The effects the diagnosis can name and add.

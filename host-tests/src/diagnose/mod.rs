@@ -41,9 +41,11 @@ pub mod figures;
 pub mod model;
 pub mod noise;
 pub mod optimise;
+pub mod output_map;
 pub mod report;
 pub mod residual;
 pub mod scenario;
+pub mod simulate;
 pub mod stats;
 pub mod stores;
 

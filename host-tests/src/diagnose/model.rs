@@ -31,6 +31,10 @@ use super::DiagnoseError;
 use super::dynamics::{Borders, DynamicsFit};
 use super::noise::{ArNoise, fit_ar};
 use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
+use super::output_map::OutputMap;
+use super::simulate::{
+    delay_input, level_of, linear_response, nonlinearity_output, rest_state, steady_state,
+};
 use super::stats::{lstsq, mad_sigma, nnls, rms, running_median};
 use super::stores::{self, Stores, StoresClass};
 use crate::identify::{HostModel, IdentifyOptions, identify};
@@ -232,100 +236,6 @@ impl Structure {
     }
 }
 
-/// A monotone non-decreasing piecewise-linear map, extrapolated linearly with its end slopes.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct OutputMap {
-    /// Knots (inputs of the map: Hammerstein outputs).
-    pub x: Vec<f64>,
-    /// Values at the knots (outputs).
-    pub v: Vec<f64>,
-    /// Level the output cannot exceed (a saturation found by the data checks): `g` is
-    /// clipped there.
-    pub ceiling: Option<f64>,
-    /// Level the output cannot go below.
-    pub floor: Option<f64>,
-}
-
-impl OutputMap {
-    /// `g(x)`: the piecewise-linear map, clipped to `[floor, ceiling]`.
-    pub fn eval(&self, x: f64) -> f64 {
-        let v = self.eval_linear(x);
-        let v = self.ceiling.map_or(v, |c| v.min(c));
-        self.floor.map_or(v, |f| v.max(f))
-    }
-
-    /// Whether the output is clipped at `x`.
-    fn clipped(&self, x: f64) -> bool {
-        let v = self.eval_linear(x);
-        self.ceiling.is_some_and(|c| v > c) || self.floor.is_some_and(|f| v < f)
-    }
-
-    /// The piecewise-linear map without the clipping.
-    fn eval_linear(&self, x: f64) -> f64 {
-        let n = self.x.len();
-        if n < 2 {
-            return x;
-        }
-        let j = match self.x.iter().rposition(|&k| k <= x) {
-            None => 0,
-            Some(j) => j.min(n - 2),
-        };
-        let t = (x - self.x[j]) / (self.x[j + 1] - self.x[j]);
-        self.v[j] + t * (self.v[j + 1] - self.v[j])
-    }
-
-    /// `g⁻¹(y)` where `g` is invertible with a slope of at least `min_slope`, else `None`.
-    pub fn invert(&self, y: f64, min_slope: f64) -> Option<f64> {
-        let min_slope = min_slope.max(1e-12);
-        if self.ceiling.is_some_and(|c| y >= c) || self.floor.is_some_and(|f| y <= f) {
-            return None;
-        }
-        let n = self.x.len();
-        if n < 2 {
-            return Some(y);
-        }
-        let slope = |j: usize| (self.v[j + 1] - self.v[j]) / (self.x[j + 1] - self.x[j]);
-        if y < self.v[0] {
-            let s = slope(0);
-            return (s >= min_slope).then(|| self.x[0] + (y - self.v[0]) / s);
-        }
-        if y > self.v[n - 1] {
-            let s = slope(n - 2);
-            return (s >= min_slope).then(|| self.x[n - 1] + (y - self.v[n - 1]) / s);
-        }
-        (0..n - 1).find_map(|j| {
-            let s = slope(j);
-            (self.v[j] <= y && y <= self.v[j + 1] && s >= min_slope)
-                .then(|| self.x[j] + (y - self.v[j]) / s)
-        })
-    }
-
-    /// Slope of `g` at `x` (end slopes outside the knots).
-    pub fn slope_at(&self, x: f64) -> f64 {
-        let n = self.x.len();
-        if self.clipped(x) {
-            return 0.0;
-        }
-        if n < 2 {
-            return 1.0;
-        }
-        let j = match self.x.iter().rposition(|&k| k <= x) {
-            None => 0,
-            Some(j) => j.min(n - 2),
-        };
-        (self.v[j + 1] - self.v[j]) / (self.x[j + 1] - self.x[j])
-    }
-
-    /// Mean slope over the knots.
-    pub fn mean_slope(&self) -> f64 {
-        let n = self.x.len();
-        if n < 2 {
-            return 1.0;
-        }
-        (self.v[n - 1] - self.v[0]) / (self.x[n - 1] - self.x[0])
-    }
-}
-
 /// Additive output terms: a polynomial trend in normalised time and sinusoids.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Additive {
@@ -424,90 +334,6 @@ pub struct ExtendedModel {
     pub flagged: usize,
     /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`]).
     pub stores: Option<Stores>,
-}
-
-/// The input delayed by `d` samples, the first value repeated in front.
-pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
-    let n = u.len();
-    if d == 0 || n == 0 {
-        return u.to_vec();
-    }
-    let mut v = vec![u[0]; d.min(n)];
-    v.extend_from_slice(&u[..n - d.min(n)]);
-    v
-}
-
-/// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
-/// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
-pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
-    let mut up = false;
-    let mut prev = m.u_min();
-    u.iter()
-        .map(|&ui| {
-            if ui > prev {
-                up = true;
-            } else if ui < prev {
-                up = false;
-            }
-            prev = ui;
-            if up {
-                m.border_asc_at(ui)
-            } else {
-                m.border_desc_at(ui)
-            }
-        })
-        .collect()
-}
-
-/// The response of `G` to `h` from the state `x0`.
-pub fn linear_response(m: &HostModel, h: &[f64], x0: &[f64]) -> Vec<f64> {
-    let n = m.order;
-    let mut x: Vec<f64> = x0
-        .iter()
-        .copied()
-        .chain(std::iter::repeat(0.0))
-        .take(n)
-        .collect();
-    let mut next = vec![0.0; n];
-    h.iter()
-        .map(|&hi| {
-            let y = m.d * hi + m.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
-            for (i, nx) in next.iter_mut().enumerate() {
-                *nx = m.b[i] * hi + (0..n).map(|j| m.a[(i, j)] * x[j]).sum::<f64>();
-            }
-            std::mem::swap(&mut x, &mut next);
-            y
-        })
-        .collect()
-}
-
-/// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
-pub fn rest_state(m: &HostModel) -> Vec<f64> {
-    let n = m.order;
-    let ia = DMatrix::<f64>::identity(n, n) - &m.a;
-    let b = DVector::from_column_slice(&m.b) * m.mu0;
-    ia.lu()
-        .solve(&b)
-        .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
-}
-
-/// The state at rest at the unit level: `(I − A)⁻¹ B`.
-pub fn steady_state(m: &HostModel) -> Vec<f64> {
-    let n = m.order;
-    let ia = DMatrix::<f64>::identity(n, n) - &m.a;
-    ia.lu()
-        .solve(&DVector::from_column_slice(&m.b))
-        .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
-}
-
-/// The level `c` of a state at rest, `x0 = (I − A)⁻¹ B c` (least squares).
-pub fn level_of(m: &HostModel, x0: &[f64]) -> f64 {
-    let xs = steady_state(m);
-    let nn: f64 = xs.iter().map(|v| v * v).sum();
-    if nn <= 0.0 {
-        return 0.0;
-    }
-    xs.iter().zip(x0).map(|(a, b)| a * b).sum::<f64>() / nn
 }
 
 /// Least-squares initial state at rest at a level `c`: `target(t) − zero-state response =

@@ -6,8 +6,9 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::effects::{Effect, has_evidence};
-use super::model::{ExtendedModel, Metric, OutputMap, Structure};
+use super::model::{ExtendedModel, Metric, Structure};
 use super::noise::ArNoise;
+use super::output_map::OutputMap;
 use super::residual::TestSet;
 use super::{Diagnosis, Warning};
 
