@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use hsid_host::diagnose::model::Record;
-use hsid_host::diagnose::{DiagnoseOptions, Effect, Nonlinearity, Validation, diagnose};
+use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Nonlinearity, Validation, diagnose};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
 
@@ -43,7 +43,7 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
     // Better than the best linear approximation of the benchmark (0.75 V).
     assert!(d.before.rmse < 0.70, "base {}", d.before.rmse);
     // The overflow is seen by the data checks, and the missing hold.
-    for check in ["output_saturation", "hold"] {
+    for check in [Check::OutputSaturation, Check::Hold] {
         assert!(d.warnings.iter().any(|w| w.check == check), "{check}");
     }
     // The last 30 % cannot be scored, so the settings are chosen by leave-block-out
@@ -177,7 +177,7 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         d.verdict
     );
     // Quantisation and the staircase input are reported by the data checks.
-    for check in ["output_quantisation", "input_levels"] {
+    for check in [Check::OutputQuantisation, Check::InputLevels] {
         assert!(d.warnings.iter().any(|w| w.check == check), "{check}");
     }
 }

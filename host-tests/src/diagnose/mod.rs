@@ -49,7 +49,7 @@ pub mod simulate;
 pub mod stats;
 pub mod stores;
 
-pub use checks::Warning;
+pub use checks::{Check, Warning};
 pub use effects::Effect;
 pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
 pub use residual::TestSet;
@@ -784,7 +784,7 @@ fn diagnose_inner(
             // A saturated output found by the data checks is direct evidence of an output
             // nonlinearity, even when the residual tests lack power.
             let saturated = e == Effect::OutputNonlinearity
-                && warnings.iter().any(|w| w.check == "output_saturation");
+                && warnings.iter().any(|w| w.check == Check::OutputSaturation);
             if !e.deterministic() || !(effects::has_evidence(e, &tests) || saturated) {
                 continue;
             }
@@ -854,7 +854,7 @@ fn diagnose_inner(
                 v.extend(
                     warnings
                         .iter()
-                        .filter(|w| w.check == "output_saturation")
+                        .filter(|w| w.check == Check::OutputSaturation)
                         .map(|w| format!("data check output_saturation: {}", w.message)),
                 );
             }
@@ -1006,7 +1006,10 @@ fn diagnose_inner(
             "found, not in the catalog: state-dependent dynamics (state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the level-dependent stores (`state_dependent_dynamics`) were not added: they start from an order-2 model, and the hold-out must confirm them".into()
         });
     }
-    if warnings.iter().any(|w| w.check == "output_quantisation") {
+    if warnings
+        .iter()
+        .any(|w| w.check == Check::OutputQuantisation)
+    {
         unexplained.push(
             "found, not in the catalog: the output is quantised (data check output_quantisation); quantisation is measurement noise bounded by half a step and is left in the residual".into(),
         );
