@@ -16,7 +16,7 @@ use super::model::{
     fit_structure, fit_structure_fold, refit_borders, spectral_radius,
 };
 use super::noise::ar_order_bic;
-use super::residual::{LEVEL, TestSet};
+use super::residual::{LEVEL, Test, TestSet};
 use super::simulate::delay_input;
 use super::stats::{newey_west_var_of_mean, normal_sf, periodogram};
 
@@ -88,32 +88,32 @@ impl Effect {
     }
 
     /// The residual tests that point at this effect (at least one must fire).
-    pub fn evidence_tests(self) -> &'static [&'static str] {
+    pub fn evidence_tests(self) -> &'static [Test] {
         match self {
-            Effect::OffsetDrift => &["trend"],
+            Effect::OffsetDrift => &[Test::Trend],
             Effect::InputDelay => &[
-                "input_correlation",
-                "direction_correlation",
-                "regressor_correlation",
+                Test::InputCorrelation,
+                Test::DirectionCorrelation,
+                Test::RegressorCorrelation,
             ],
             Effect::UnmodeledDynamics => &[
-                "input_correlation",
-                "direction_correlation",
-                "regressor_correlation",
-                "whiteness",
+                Test::InputCorrelation,
+                Test::DirectionCorrelation,
+                Test::RegressorCorrelation,
+                Test::Whiteness,
             ],
-            Effect::OutputNonlinearity => &["structure_output", "structure_input"],
-            Effect::PeriodicDisturbance => &["spectral_line"],
-            Effect::ColoredNoise => &["whiteness"],
-            Effect::Outliers => &["heavy_tails"],
+            Effect::OutputNonlinearity => &[Test::StructureOutput, Test::StructureInput],
+            Effect::PeriodicDisturbance => &[Test::SpectralLine],
+            Effect::ColoredNoise => &[Test::Whiteness],
+            Effect::Outliers => &[Test::HeavyTails],
             // Dynamics of another class: the evidence of wrong dynamics (as for a higher
             // order), and a residual that follows the level (its increment, or its mean).
             Effect::StateDependentDynamics => &[
-                "state_dependence",
-                "structure_output",
-                "input_correlation",
-                "regressor_correlation",
-                "whiteness",
+                Test::StateDependence,
+                Test::StructureOutput,
+                Test::InputCorrelation,
+                Test::RegressorCorrelation,
+                Test::Whiteness,
             ],
         }
     }
@@ -829,7 +829,7 @@ pub fn refine_frequency(r: &[f64], w0: f64) -> Option<f64> {
 
 /// Whether any of the effect's evidence tests fired.
 pub fn has_evidence(effect: Effect, tests: &TestSet) -> bool {
-    effect.evidence_tests().iter().any(|t| tests.fired(t))
+    effect.evidence_tests().iter().any(|&t| tests.fired(t))
 }
 
 /// Picks the effect to add among candidates: significant at 1 % and at least `min_gain`; the

@@ -52,7 +52,7 @@ pub mod stores;
 pub use checks::{Check, Warning};
 pub use effects::Effect;
 pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
-pub use residual::TestSet;
+pub use residual::{Test, TestSet};
 
 /// The kind of input nonlinearity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -843,7 +843,7 @@ fn diagnose_inner(
             let mut v: Vec<String> = e
                 .evidence_tests()
                 .iter()
-                .filter_map(|t| tests.get(t))
+                .filter_map(|&t| tests.get(t))
                 .filter(|t| t.fired)
                 .map(|t| format!("{}: {} (p = {:.2e})", t.name, t.detail, t.p_value))
                 .collect();
@@ -900,7 +900,7 @@ fn diagnose_inner(
             for t in tests.tests.iter().filter(|t| t.fired) {
                 let tried: Vec<String> = cands
                     .iter()
-                    .filter(|c| c.effect.evidence_tests().contains(&t.name.as_str()))
+                    .filter(|c| c.effect.evidence_tests().contains(&t.name))
                     .map(|c| {
                         format!(
                             "{} changes the hold-out MSE by {:+.1} % (p = {:.2})",
@@ -994,12 +994,12 @@ fn diagnose_inner(
         None => residual_tests(&model, &vrec, vrange.clone(), &after, shared),
     };
     // Effects the tests or the data checks find that the catalog has no extension for.
-    if shared && final_tests.fired("direction_correlation") {
+    if shared && final_tests.fired(Test::DirectionCorrelation) {
         unexplained.push(
             "found, not in the catalog: the residual depends on the direction of the input (direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed".into(),
         );
     }
-    if final_tests.fired("state_dependence") {
+    if final_tests.fired(Test::StateDependence) {
         unexplained.push(if current.dynamics == model::Dynamics::Stores {
             "found, not in the catalog: state dependence beyond the level-dependent stores (state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); `diagnose::dynamics` has further model classes, measured by the example `tanks_dynamics`".into()
         } else {

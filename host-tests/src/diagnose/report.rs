@@ -240,7 +240,7 @@ fn test_table(s: &mut String, before: &TestSet, after: &TestSet) {
         "test (1 % level)", "before", "p", "", "after", "p"
     );
     for t in &before.tests {
-        let a = after.get(&t.name);
+        let a = after.get(t.name);
         let mark = |f: bool| if f { "FIRES" } else { "" };
         let _ = writeln!(
             s,

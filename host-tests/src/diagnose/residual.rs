@@ -30,11 +30,61 @@ use super::stats::{
 /// Significance level of every test.
 pub const LEVEL: f64 = 0.01;
 
+/// The residual tests (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Test {
+    /// Ljung–Box on the autocorrelation.
+    Whiteness,
+    /// Cross-correlation with the prewhitened input.
+    InputCorrelation,
+    /// Cross-correlation with the direction δ.
+    DirectionCorrelation,
+    /// Cross-correlation with the regressor channels.
+    RegressorCorrelation,
+    /// Binned means per path and knot segment.
+    StructureInput,
+    /// Binned means in deciles of the simulated output.
+    StructureOutput,
+    /// Slope and mean over time.
+    Trend,
+    /// Largest periodogram ordinate against the local median spectrum.
+    SpectralLine,
+    /// Correlation with the level times the increment of the simulated output.
+    StateDependence,
+    /// Count of samples beyond 5 robust σ.
+    HeavyTails,
+}
+
+impl Test {
+    /// The test's name, as in the reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Test::Whiteness => "whiteness",
+            Test::InputCorrelation => "input_correlation",
+            Test::DirectionCorrelation => "direction_correlation",
+            Test::RegressorCorrelation => "regressor_correlation",
+            Test::StructureInput => "structure_input",
+            Test::StructureOutput => "structure_output",
+            Test::Trend => "trend",
+            Test::SpectralLine => "spectral_line",
+            Test::StateDependence => "state_dependence",
+            Test::HeavyTails => "heavy_tails",
+        }
+    }
+}
+
+impl std::fmt::Display for Test {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
 /// One test's outcome.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TestResult {
-    /// Test name (see the module docs).
-    pub name: String,
+    /// Which test.
+    pub name: Test,
     /// Test statistic.
     pub statistic: f64,
     /// Critical value at the 1 % level.
@@ -98,14 +148,14 @@ pub struct TestSet {
 }
 
 impl TestSet {
-    /// The test with this name.
-    pub fn get(&self, name: &str) -> Option<&TestResult> {
-        self.tests.iter().find(|t| t.name == name)
+    /// The result of this test.
+    pub fn get(&self, test: Test) -> Option<&TestResult> {
+        self.tests.iter().find(|t| t.name == test)
     }
 
-    /// Whether the named test fired.
-    pub fn fired(&self, name: &str) -> bool {
-        self.get(name).is_some_and(|t| t.fired)
+    /// Whether this test fired.
+    pub fn fired(&self, test: Test) -> bool {
+        self.get(test).is_some_and(|t| t.fired)
     }
 
     /// Names of the tests that fired.
@@ -113,7 +163,7 @@ impl TestSet {
         self.tests
             .iter()
             .filter(|t| t.fired)
-            .map(|t| t.name.clone())
+            .map(|t| t.name.name().to_string())
             .collect()
     }
 }
@@ -282,9 +332,9 @@ fn binned_test(r: &[f64], bins: &[usize], count: usize, rho: &[f64]) -> Option<(
     (used >= 2).then_some((chi2, used - 1))
 }
 
-fn result(name: &str, statistic: f64, threshold: f64, p: f64, detail: String) -> TestResult {
+fn result(name: Test, statistic: f64, threshold: f64, p: f64, detail: String) -> TestResult {
     TestResult {
-        name: name.to_string(),
+        name,
         statistic,
         threshold,
         p_value: p.clamp(0.0, 1.0),
@@ -369,7 +419,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         .filter(|&j| rho[j].abs() > z99 / (n as f64).sqrt())
         .count();
     set.tests.push(result(
-        "whiteness",
+        Test::Whiteness,
         q,
         chi2_quantile(1.0 - LEVEL, k as f64),
         chi2_sf(q, k as f64),
@@ -389,7 +439,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     set.strongest_input_lag = lag_u;
     set.strongest_input_lag_significant = s_u > z99;
     set.tests.push(result(
-        "input_correlation",
+        Test::InputCorrelation,
         s_u,
         crit,
         p_u,
@@ -408,7 +458,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     set.curves.ccf_input_bound = b_u;
     let (s_d, lag_d, c_d, b_d) = xcorr_test(inp.delta, r, &rho, k, false);
     set.tests.push(result(
-        "direction_correlation",
+        Test::DirectionCorrelation,
         s_d,
         crit,
         max_normal_p(s_d, m_lags),
@@ -431,7 +481,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     let tried = tried.max(1);
     set.strongest_regressor_lag = best.2;
     set.tests.push(result(
-        "regressor_correlation",
+        Test::RegressorCorrelation,
         best.0,
         normal_quantile(1.0 - LEVEL / (2.0 * tried as f64)),
         max_normal_p(best.0, tried),
@@ -446,7 +496,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     // Structure against the input per path, and against the simulated output.
     match binned_test(r, inp.bins, inp.bin_count, &rho) {
         Some((c, df)) => set.tests.push(result(
-            "structure_input",
+            Test::StructureInput,
             c,
             chi2_quantile(1.0 - LEVEL, df as f64),
             chi2_sf(c, df as f64),
@@ -456,7 +506,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
             ),
         )),
         None => set.tests.push(result(
-            "structure_input",
+            Test::StructureInput,
             0.0,
             f64::NAN,
             1.0,
@@ -473,14 +523,14 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         .collect();
     match binned_test(r, &out_bins, 10, &rho) {
         Some((c, df)) => set.tests.push(result(
-            "structure_output",
+            Test::StructureOutput,
             c,
             chi2_quantile(1.0 - LEVEL, df as f64),
             chi2_sf(c, df as f64),
             "mean residual in deciles of the simulated output, autocorrelation-corrected".into(),
         )),
         None => set.tests.push(result(
-            "structure_output",
+            Test::StructureOutput,
             0.0,
             f64::NAN,
             1.0,
@@ -503,7 +553,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     let t_mean = m / newey_west_var_of_mean(r, lags).sqrt().max(1e-300);
     let stat = t_slope.abs().max(t_mean.abs());
     set.tests.push(result(
-        "trend",
+        Test::Trend,
         stat,
         normal_quantile(1.0 - LEVEL / 4.0),
         (4.0 * normal_sf(stat)).min(1.0),
@@ -543,7 +593,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         let g = power.get(idx).copied().unwrap_or(0.0) / total.max(1e-300);
         set.line_frequency = omega.get(idx).copied().unwrap_or(0.0);
         set.tests.push(result(
-            "spectral_line",
+            Test::SpectralLine,
             q,
             thr,
             p,
@@ -569,7 +619,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
         let (s_w, lag_w, _, _) = xcorr_test(&w, r, &rho, k, true);
         let m_w = k + 1;
         set.tests.push(result(
-            "state_dependence",
+            Test::StateDependence,
             s_w,
             normal_quantile(1.0 - LEVEL / (2.0 * m_w as f64)),
             max_normal_p(s_w, m_w),
@@ -588,7 +638,7 @@ pub fn run_tests(inp: &ResidualInput) -> TestSet {
     let lambda = n as f64 * 5.733e-7;
     let p = poisson_sf(beyond, lambda);
     set.tests.push(result(
-        "heavy_tails",
+        Test::HeavyTails,
         beyond as f64,
         (0..).find(|&c| poisson_sf(c, lambda) < LEVEL).unwrap_or(1) as f64,
         p,
