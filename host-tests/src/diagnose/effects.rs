@@ -10,7 +10,7 @@
 
 use serde::Serialize;
 
-use super::DiagnoseError;
+use super::error::DiagnoseError;
 use super::model::{
     Dynamics, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, evaluate,
     fit_structure, fit_structure_fold, refit_borders, spectral_radius,

@@ -24,10 +24,7 @@
 //! Table I experiments with one undeclared effect, for the tests and the confusion table, and
 //! two-tank plants for the stores.
 
-use std::fmt;
 use std::ops::Range;
-
-use serde::Serialize;
 
 use crate::identify::{IdentifyError, IdentifyOptions};
 
@@ -35,12 +32,15 @@ pub mod bench;
 pub mod checks;
 pub mod cli;
 pub mod delay;
+pub mod diagnosis;
 pub mod dynamics;
 pub mod effects;
+pub mod error;
 pub mod figures;
 pub mod model;
 pub mod noise;
 pub mod optimise;
+pub mod options;
 pub mod output_map;
 pub mod report;
 pub mod residual;
@@ -50,327 +50,12 @@ pub mod stats;
 pub mod stores;
 
 pub use checks::{Check, Warning};
+pub use diagnosis::{Diagnosis, Rejected, Step};
 pub use effects::Effect;
+pub use error::DiagnoseError;
 pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
+pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation};
 pub use residual::{Test, TestSet};
-
-/// The kind of input nonlinearity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Nonlinearity {
-    /// Backlash (needs the Table I excitation).
-    Backlash,
-    /// Switch.
-    Switch,
-    /// Static (memoryless) piecewise-linear nonlinearity, one border for both directions.
-    Static,
-}
-
-impl Nonlinearity {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Nonlinearity::Backlash => "backlash",
-            Nonlinearity::Switch => "switch",
-            Nonlinearity::Static => "static",
-        }
-    }
-}
-
-/// Why a diagnosis could not run.
-#[derive(Debug)]
-pub enum DiagnoseError {
-    /// The identification failed.
-    Identify(IdentifyError),
-    /// `u` and `y` differ in length.
-    LengthMismatch {
-        /// Input samples.
-        u: usize,
-        /// Output samples.
-        y: usize,
-    },
-    /// Too few samples.
-    TooShort {
-        /// Samples available.
-        samples: usize,
-        /// Samples needed.
-        need: usize,
-    },
-    /// An input sample outside the knots' interval.
-    InputOutOfRange {
-        /// `estimation` or `validation`.
-        record: &'static str,
-        /// 0-based sample.
-        index: usize,
-        /// The value.
-        value: f64,
-        /// Interval start.
-        u_min: f64,
-        /// Interval end.
-        u_max: f64,
-    },
-    /// The split fraction is not in (0, 1).
-    InvalidSplit(f64),
-    /// The held-out range is empty, inside the hold or beyond the record.
-    InvalidHoldout {
-        /// Start.
-        start: usize,
-        /// End (exclusive).
-        end: usize,
-        /// Record length.
-        len: usize,
-    },
-    /// With a static nonlinearity, the input never visits the segments next to a knot (the
-    /// core's `NoExcitation`, whose Table I advice does not apply to static data).
-    KnotNotVisited {
-        /// Knot index (1-based, as in the core's error).
-        knot: usize,
-        /// The knot's value, when known.
-        value: Option<f64>,
-        /// Its neighbours (the segments the input never visits), when known.
-        segment: Option<(f64, f64)>,
-    },
-    /// A model class beyond the linear dynamics could not be fitted.
-    Dynamics(dynamics::DynamicsError),
-    /// A figure or report could not be written.
-    Output(String),
-}
-
-impl fmt::Display for DiagnoseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DiagnoseError::Identify(e) => write!(f, "identification failed: {e}"),
-            DiagnoseError::Dynamics(e) => write!(f, "{e}"),
-            DiagnoseError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            DiagnoseError::TooShort { samples, need } => {
-                write!(
-                    f,
-                    "{samples} samples are too few: at least {need} are needed"
-                )
-            }
-            DiagnoseError::InputOutOfRange {
-                record,
-                index,
-                value,
-                u_min,
-                u_max,
-            } => write!(
-                f,
-                "{record} sample {index}: u = {value} lies outside the knots' interval [{u_min}, {u_max}]"
-            ),
-            DiagnoseError::InvalidSplit(v) => {
-                write!(f, "split fraction {v} must lie strictly between 0 and 1")
-            }
-            DiagnoseError::InvalidHoldout { start, end, len } => write!(
-                f,
-                "held-out range {start}..{end} must be non-empty, after the hold and within the {len} samples"
-            ),
-            DiagnoseError::KnotNotVisited {
-                knot,
-                value,
-                segment,
-            } => {
-                write!(f, "static nonlinearity: the basis function of knot {knot}")?;
-                if let Some(v) = value {
-                    write!(f, " (u = {v})")?;
-                }
-                write!(f, " is never excited: the input never visits ")?;
-                match segment {
-                    Some((a, b)) => write!(f, "[{a}, {b}]")?,
-                    None => write!(f, "the segments next to it")?,
-                }
-                write!(
-                    f,
-                    "; move or remove that knot (--knots, --segments, --select-segments), or record data whose input covers that range"
-                )
-            }
-            DiagnoseError::Output(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for DiagnoseError {}
-
-/// Where the validation data come from.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Validation {
-    /// A separate record, simulated from its own start; the first `skip` samples (its hold)
-    /// are not scored.
-    Separate {
-        /// The record.
-        record: Record,
-        /// Samples not scored.
-        skip: usize,
-    },
-    /// The record is split: the first `fraction` of the samples after the hold estimate, the
-    /// rest validates (simulated from the start of the record, input only).
-    Split(f64),
-    /// A held-out range of the record validates; the rest (concatenated) estimates.
-    Holdout(Range<usize>),
-}
-
-/// Diagnosis settings.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DiagnoseOptions {
-    /// Base identification options (knots, horizons, order, hold, μ0, static).
-    pub identify: IdentifyOptions,
-    /// Nonlinearity kind (static sets `identify.static_nonlinearity`).
-    pub nonlinearity: Nonlinearity,
-    /// Initial state of simulations (`None`: at rest with a hold, estimated without).
-    pub initial: Option<InitialState>,
-    /// Most effects added.
-    pub max_steps: usize,
-    /// Least relative reduction of the inner hold-out MSE for an effect to be added.
-    pub min_gain: f64,
-    /// Gains within this of the best count as ties (the simplest extension wins).
-    pub tie: f64,
-    /// Largest input delay tried (samples).
-    pub max_delay: usize,
-    /// Fraction of the estimation samples (after the hold) that fit in the inner hold-out.
-    pub inner_fraction: f64,
-    /// MAD rule threshold for outliers (robust standard deviations).
-    pub outlier_k: f64,
-    /// Where the poles are refined by the simulation error after the subspace step (see
-    /// [`model::FitOptions::refine_poles`]).
-    pub refine_poles: PoleRefinement,
-    /// Choose the number of uniform segments per path in this range by the BIC of the
-    /// estimation simulation error (the knots given are then replaced).
-    pub select_segments: Option<std::ops::RangeInclusive<usize>>,
-}
-
-/// Where [`model::FitOptions::refine_poles`] is used.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PoleRefinement {
-    /// Never: every model is the subspace estimate with its borders, `B` and `D` refit.
-    Never,
-    /// In the models reported (the base model and the model after each step), not in the
-    /// inner hold-out fits that choose the effects (they are many).
-    Final,
-    /// In every fit.
-    Always,
-}
-
-impl DiagnoseOptions {
-    /// Defaults around the given identification options.
-    pub fn new(identify: IdentifyOptions, nonlinearity: Nonlinearity) -> Self {
-        Self {
-            identify,
-            nonlinearity,
-            initial: None,
-            max_steps: 4,
-            min_gain: 0.20,
-            tie: 0.03,
-            max_delay: 10,
-            inner_fraction: 0.7,
-            outlier_k: 5.0,
-            refine_poles: PoleRefinement::Final,
-            select_segments: None,
-        }
-    }
-}
-
-/// One effect added.
-#[derive(Clone, Debug)]
-pub struct Step {
-    /// The effect.
-    pub effect: Effect,
-    /// The tests that pointed at it, with their findings.
-    pub evidence: Vec<String>,
-    /// Its setting.
-    pub setting: String,
-    /// Relative reduction of the inner hold-out MSE.
-    pub inner_gain: f64,
-    /// Diebold–Mariano p-value of that reduction.
-    pub inner_p: f64,
-    /// Settings tried with their inner hold-out RMSE.
-    pub tried: Vec<(String, f64)>,
-    /// Other effects evaluated at this step: `(effect, gain, p)`.
-    pub competitors: Vec<(Effect, f64, f64)>,
-    /// Metric of the errors below.
-    pub metric: Metric,
-    /// Validation error of the model before this step (same metric; outliers of the new
-    /// model excluded when it is robust).
-    pub error_before: f64,
-    /// Validation error after this step, output units.
-    pub error_after: f64,
-    /// NRMSE after.
-    pub nrmse_after: f64,
-    /// Fit % after.
-    pub fit_after: f64,
-    /// Validation samples excluded as outliers after this step.
-    pub excluded: usize,
-    /// The model after this step.
-    pub model: ExtendedModel,
-}
-
-/// An effect with evidence that was not added.
-#[derive(Clone, Debug, Serialize)]
-pub struct Rejected {
-    /// The effect.
-    pub effect: Effect,
-    /// Tests that pointed at it.
-    pub evidence: Vec<String>,
-    /// Relative inner hold-out MSE reduction of its extension.
-    pub inner_gain: f64,
-    /// Its Diebold–Mariano p-value.
-    pub inner_p: f64,
-}
-
-/// The outcome of [`diagnose`].
-#[derive(Clone, Debug)]
-pub struct Diagnosis {
-    /// Nonlinearity kind.
-    pub nonlinearity: Nonlinearity,
-    /// How estimation and validation data were formed.
-    pub data_description: String,
-    /// Estimation samples.
-    pub estimation_samples: usize,
-    /// Validation samples scored.
-    pub validation_samples: usize,
-    /// Data checks.
-    pub warnings: Vec<Warning>,
-    /// The paper's model.
-    pub base: ExtendedModel,
-    /// The model with every effect added.
-    pub model: ExtendedModel,
-    /// Effects added, in order.
-    pub steps: Vec<Step>,
-    /// Effects with evidence that were not added at the last step.
-    pub rejected: Vec<Rejected>,
-    /// Tests that still fire on the final estimation residual and that no catalog effect
-    /// explained.
-    pub unexplained: Vec<String>,
-    /// One-paragraph conclusion.
-    pub verdict: String,
-    /// Validation simulation of the paper's estimate alone (subspace identification, borders
-    /// from the rank-1 split, no least-squares refit), when it could be computed.
-    pub paper: Option<Evaluation>,
-    /// Validation simulation of the base model (the paper's structure, borders, `B`, `D` and
-    /// poles refit on the estimation data): the error before.
-    pub before: Evaluation,
-    /// Whether the reported models have their poles refined.
-    pub poles_refined: bool,
-    /// Validation simulation of the final model.
-    pub after: Evaluation,
-    /// Validation one-step prediction of the final model (with a noise model).
-    pub after_prediction: Option<Evaluation>,
-    /// Tests on the validation residual of the paper's model.
-    pub tests_before: TestSet,
-    /// Tests on the final validation residual (prediction residual with a noise model).
-    pub tests_after: TestSet,
-    /// Tests on the estimation residual (simulation) of the last deterministic model: what the
-    /// decisions saw last.
-    pub tests_estimation: TestSet,
-    /// The record the validation simulation runs over.
-    pub validation_record: Record,
-    /// Its scored samples.
-    pub validation_range: Range<usize>,
-    /// The dead time of the estimation data (ARX test), against the base model's.
-    pub dead_time: delay::DeadTime,
-}
 
 fn check_record(
     rec: &Record,

@@ -27,8 +27,8 @@ use std::ops::Range;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::DiagnoseError;
 use super::dynamics::{Borders, DynamicsFit};
+use super::error::DiagnoseError;
 use super::noise::{ArNoise, fit_ar};
 use super::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use super::output_map::OutputMap;

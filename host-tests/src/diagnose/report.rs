@@ -5,12 +5,13 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::checks::Warning;
+use super::diagnosis::Diagnosis;
 use super::effects::{Effect, has_evidence};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::noise::ArNoise;
 use super::output_map::OutputMap;
 use super::residual::TestSet;
-use super::{Diagnosis, Warning};
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]

@@ -1,6 +1,7 @@
 //! Both paths over the whole interval: samples per knot segment and path.
 
-use super::{Check, CheckSetup, Warning, warn};
+use super::setup::CheckSetup;
+use super::warning::{Check, Warning, warn};
 use crate::diagnose::residual::regressor;
 
 /// Knot segments with too few samples.

@@ -2,7 +2,8 @@
 
 use nalgebra::DMatrix;
 
-use super::{Check, CheckSetup, Warning, warn};
+use super::setup::CheckSetup;
+use super::warning::{Check, Warning, warn};
 use crate::diagnose::residual::regressor;
 
 /// The regressor's block-Toeplitz Gram, checked for rank and condition.

@@ -1,6 +1,7 @@
 //! The hold at `u_min` that measures μ0: present, and the output settled in it.
 
-use super::{Check, CheckSetup, Warning, warn};
+use super::setup::CheckSetup;
+use super::warning::{Check, Warning, warn};
 use crate::diagnose::stats::{mean, newey_west_var_of_mean, normal_sf};
 
 /// A missing hold (without a known μ0), or an output still moving in it.

@@ -1,6 +1,6 @@
 //! A piecewise-constant input with few levels.
 
-use super::{Check, Warning, warn};
+use super::warning::{Check, Warning, warn};
 
 /// An input with at most 40 distinct values, each held for 20 samples on average or more.
 pub fn input_levels(ex: &[f64]) -> Vec<Warning> {

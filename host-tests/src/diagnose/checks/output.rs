@@ -1,6 +1,6 @@
 //! The output's sensor: saturation and quantisation.
 
-use super::{Check, Warning, warn};
+use super::warning::{Check, Warning, warn};
 use crate::diagnose::model::Saturation;
 
 /// The levels at which the output saturates: an extreme (maximum or minimum) at which more

@@ -1,6 +1,6 @@
 //! What the checks need to know about the identification.
 
-use crate::diagnose::Nonlinearity;
+use crate::diagnose::options::Nonlinearity;
 
 /// What the checks need to know about the identification.
 #[derive(Clone, Debug)]

@@ -1,8 +1,9 @@
 //! The Table I structure: every monotone input run starts at `u_min` (ascending) or `u_max`
 //! (descending).
 
-use super::{Check, CheckSetup, Warning, warn};
-use crate::diagnose::Nonlinearity;
+use super::setup::CheckSetup;
+use super::warning::{Check, Warning, warn};
+use crate::diagnose::options::Nonlinearity;
 
 /// Runs that do not start at an end of the interval (backlash and switch only).
 pub fn table1_structure(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
