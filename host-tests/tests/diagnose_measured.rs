@@ -4,7 +4,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use hsid_host::diagnose::model::Record;
-use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Nonlinearity, Validation, diagnose};
+use hsid_host::diagnose::{
+    Check, DiagnoseOptions, Effect, Finding, Nonlinearity, Validation, diagnose,
+};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
 
@@ -74,7 +76,7 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
     assert!(
         d.unexplained
             .iter()
-            .any(|u| u.contains("state dependence beyond the level-dependent stores")),
+            .any(|u| *u == Finding::StateDependenceBeyondStores),
         "{:?}",
         d.unexplained
     );
@@ -161,13 +163,13 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
     );
     // The coast-down (direction dependence) and the quantisation are reported as found but
     // not in the catalog.
-    let found: Vec<&String> = d
+    let found: Vec<&Finding> = d
         .unexplained
         .iter()
-        .filter(|u| u.starts_with("found, not in the catalog"))
+        .filter(|u| u.outside_catalog())
         .collect();
-    assert!(found.iter().any(|u| u.contains("direction")), "{found:?}");
-    assert!(found.iter().any(|u| u.contains("quantised")), "{found:?}");
+    assert!(found.contains(&&Finding::DirectionDependence), "{found:?}");
+    assert!(found.contains(&&Finding::Quantised), "{found:?}");
     // The verdict names them as found outside the catalog, not as tests no effect explains.
     assert!(
         d.verdict

@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::checks::Warning;
 use super::delay;
 use super::effects::Effect;
+use super::findings::Finding;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
 use super::options::Nonlinearity;
 use super::residual::TestSet;
@@ -59,7 +60,7 @@ pub struct Rejected {
     pub inner_p: f64,
 }
 
-/// The outcome of [`diagnose`].
+/// The outcome of [`diagnose`](super::diagnose).
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
     /// Nonlinearity kind.
@@ -82,7 +83,7 @@ pub struct Diagnosis {
     pub rejected: Vec<Rejected>,
     /// Tests that still fire on the final estimation residual and that no catalog effect
     /// explained.
-    pub unexplained: Vec<String>,
+    pub unexplained: Vec<Finding>,
     /// One-paragraph conclusion.
     pub verdict: String,
     /// Validation simulation of the paper's estimate alone (subspace identification, borders

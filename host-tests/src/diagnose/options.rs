@@ -71,14 +71,14 @@ pub struct DiagnoseOptions {
     /// MAD rule threshold for outliers (robust standard deviations).
     pub outlier_k: f64,
     /// Where the poles are refined by the simulation error after the subspace step (see
-    /// [`model::FitOptions::refine_poles`]).
+    /// [`FitOptions::refine_poles`](super::model::FitOptions::refine_poles)).
     pub refine_poles: PoleRefinement,
     /// Choose the number of uniform segments per path in this range by the BIC of the
     /// estimation simulation error (the knots given are then replaced).
     pub select_segments: Option<std::ops::RangeInclusive<usize>>,
 }
 
-/// Where [`model::FitOptions::refine_poles`] is used.
+/// Where [`FitOptions::refine_poles`](super::model::FitOptions::refine_poles) is used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PoleRefinement {

@@ -12,6 +12,7 @@ use super::model::{ExtendedModel, Metric, Structure};
 use super::noise::ArNoise;
 use super::output_map::OutputMap;
 use super::residual::TestSet;
+use super::verdict::dead_time_text;
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]
@@ -223,7 +224,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         excluded_after: d.after.excluded.iter().filter(|&&e| e).count(),
         prediction_error_after: d.after_prediction.as_ref().map(|e| e.rmse),
         effects,
-        unexplained: d.unexplained.clone(),
+        unexplained: d.unexplained.iter().map(ToString::to_string).collect(),
         verdict: d.verdict.clone(),
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
@@ -356,7 +357,7 @@ pub fn text(d: &Diagnosis) -> String {
     for u in &d.unexplained {
         let _ = writeln!(s, "not identified: {u}");
     }
-    let _ = writeln!(s, "{}", super::dead_time_text(&d.dead_time));
+    let _ = writeln!(s, "{}", dead_time_text(&d.dead_time));
     let _ = writeln!(s);
     let _ = writeln!(
         s,
