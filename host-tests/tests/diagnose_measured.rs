@@ -75,8 +75,7 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
     // What the stores leave is still named.
     assert!(
         d.unexplained
-            .iter()
-            .any(|u| *u == Finding::StateDependenceBeyondStores),
+            .contains(&Finding::StateDependenceBeyondStores),
         "{:?}",
         d.unexplained
     );

@@ -12,7 +12,7 @@ pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSe
     // Cross-correlations.
     let m_lags = 2 * k + 1;
     let crit = normal_quantile(1.0 - LEVEL / (2.0 * m_lags as f64));
-    let (s_u, lag_u, c_u, b_u) = xcorr_test(inp.u, r, &rho, k, false);
+    let (s_u, lag_u, c_u, b_u) = xcorr_test(inp.u, r, rho, k, false);
     let p_u = max_normal_p(s_u, m_lags);
     set.strongest_input_lag = lag_u;
     set.strongest_input_lag_significant = s_u > z99;
@@ -34,7 +34,7 @@ pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSe
         .map_or(0, |(i, _)| i as i64 - k as i64);
     set.curves.ccf_input = c_u;
     set.curves.ccf_input_bound = b_u;
-    let (s_d, lag_d, c_d, b_d) = xcorr_test(inp.delta, r, &rho, k, false);
+    let (s_d, lag_d, c_d, b_d) = xcorr_test(inp.delta, r, rho, k, false);
     set.tests.push(result(
         Test::DirectionCorrelation,
         s_d,
@@ -51,7 +51,7 @@ pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSe
             continue;
         }
         tried += k + 1;
-        let (s, lag, _, _) = xcorr_test(z, r, &rho, k, true);
+        let (s, lag, _, _) = xcorr_test(z, r, rho, k, true);
         if s > best.0 {
             best = (s, i, lag);
         }

@@ -13,7 +13,7 @@ pub fn state_dependence(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut Te
     // a residual driven by the level times the increment of the output. The product is made
     // orthogonal to 1, ŷ and Δŷ (a linear error correlates with those).
     if let Some(w) = level_times_increment(inp.simulated) {
-        let (s_w, lag_w, _, _) = xcorr_test(&w, r, &rho, k, true);
+        let (s_w, lag_w, _, _) = xcorr_test(&w, r, rho, k, true);
         let m_w = k + 1;
         set.tests.push(result(
             Test::StateDependence,

@@ -10,7 +10,7 @@ pub fn structure(inp: &ResidualInput, rho: &[f64], set: &mut TestSet) {
     let r = inp.residual;
     let n = r.len();
     // Structure against the input per path, and against the simulated output.
-    match binned_test(r, inp.bins, inp.bin_count, &rho) {
+    match binned_test(r, inp.bins, inp.bin_count, rho) {
         Some((c, df)) => set.tests.push(result(
             Test::StructureInput,
             c,
@@ -37,7 +37,7 @@ pub fn structure(inp: &ResidualInput, rho: &[f64], set: &mut TestSet) {
         .iter()
         .map(|&v| edges.iter().filter(|&&e| v > e).count())
         .collect();
-    match binned_test(r, &out_bins, 10, &rho) {
+    match binned_test(r, &out_bins, 10, rho) {
         Some((c, df)) => set.tests.push(result(
             Test::StructureOutput,
             c,
