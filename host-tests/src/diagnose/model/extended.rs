@@ -29,7 +29,7 @@ pub struct ExtendedModel {
     pub outlier_k: f64,
     /// Samples of the estimation data flagged as outliers.
     pub flagged: usize,
-    /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`]).
+    /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`](super::structure::Dynamics::Stores)).
     pub stores: Option<Stores>,
 }
 

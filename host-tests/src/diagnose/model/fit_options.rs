@@ -20,7 +20,7 @@ pub enum InitialState {
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
     /// The base identification options (knots, horizons, hold, μ0, static or not; the order
-    /// here is the base order, overridden by [`Structure::order`]).
+    /// here is the base order, overridden by [`Structure::order`](super::structure::Structure::order)).
     pub identify: IdentifyOptions,
     /// Initial state of simulations.
     pub initial: InitialState,

@@ -34,7 +34,7 @@ pub struct Structure {
 pub enum Dynamics {
     /// The identified linear `G` (the paper's model).
     Linear,
-    /// Level-dependent stores ([`super::stores`]) started from `G`, the borders refitted with
+    /// Level-dependent stores ([`stores`](crate::diagnose::stores)) started from `G`, the borders refitted with
     /// them.
     Stores,
     /// The same stores with linear outflows and no overflow: the linear cascade refitted as
