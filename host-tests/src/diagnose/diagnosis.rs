@@ -9,6 +9,7 @@ use super::checks::Warning;
 use super::delay;
 use super::effects::Effect;
 use super::findings::Finding;
+use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
 use super::options::Nonlinearity;
 use super::residual::TestSet;
@@ -109,6 +110,8 @@ pub struct Diagnosis {
     pub validation_record: Record,
     /// Its scored samples.
     pub validation_range: Range<usize>,
+    /// The inner validation that chose every setting and effect.
+    pub inner: InnerValidation,
     /// The dead time of the estimation data (ARX test), against the base model's.
     pub dead_time: delay::DeadTime,
 }

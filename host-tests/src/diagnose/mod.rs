@@ -217,6 +217,7 @@ fn diagnose_inner(
         validation_record: data.validation.clone(),
         validation_range: vrange,
         dead_time: dead,
+        inner,
     })
 }
 
