@@ -29,7 +29,7 @@ use hsid_host::diagnose::effects::Holdout;
 use hsid_host::diagnose::model::{
     self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure,
 };
-use hsid_host::diagnose::{checks, residual};
+use hsid_host::diagnose::{checks, residual, simulate};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
 
@@ -77,8 +77,8 @@ fn extend(
         .zip(&rec.time)
         .map(|(y, &t)| y - base.additive.eval(t))
         .collect();
-    let ud = model::delay_input(&rec.u, base.structure.delay);
-    let hr = model::nonlinearity_output(&hm, &ud);
+    let ud = simulate::delay_input(&rec.u, base.structure.delay);
+    let hr = simulate::nonlinearity_output(&hm, &ud);
     let refit_borders = matches!(class, Class::Polynomial(_, true));
     let data = DynamicsFit {
         h: &hr,
@@ -114,7 +114,7 @@ fn extend(
         Class::Polynomial(degree, _) => {
             let (m, poly, x0) =
                 dynamics::fit(&hm, &base.x0, degree, &data).map_err(|e| e.to_string())?;
-            let h_fit = model::nonlinearity_output(&m, &ud);
+            let h_fit = simulate::nonlinearity_output(&m, &ud);
             let steady = match dynamics::unique_steady_states(&m, &poly, &h_fit, &x0) {
                 Ok(()) => "one".to_string(),
                 Err(DynamicsError::Multistable { level, outputs }) => format!(
@@ -125,7 +125,7 @@ fn extend(
             };
             Fitted {
                 simulate: Box::new(move |r: &Record| {
-                    let h = model::nonlinearity_output(&m, &model::delay_input(&r.u, delay));
+                    let h = simulate::nonlinearity_output(&m, &simulate::delay_input(&r.u, delay));
                     finish(dynamics::simulate(&m, Some(&poly), &h, &x0), r)
                 }),
                 steady,
@@ -135,7 +135,7 @@ fn extend(
             let o = dynamics::fit_overflow(&hm, &base.x0, &data).map_err(|e| e.to_string())?;
             Fitted {
                 simulate: Box::new(move |r: &Record| {
-                    let h = model::nonlinearity_output(&hm, &model::delay_input(&r.u, delay));
+                    let h = simulate::nonlinearity_output(&hm, &simulate::delay_input(&r.u, delay));
                     finish(o.simulate(&h), r)
                 }),
                 steady: "one (stable cascade)".into(),

@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use hsid_host::diagnose::bench::{Outcome, run_all};
 use hsid_host::diagnose::residual::{ResidualInput, run_tests};
 use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
-use hsid_host::diagnose::{Effect, Nonlinearity, PoleRefinement, diagnose};
+use hsid_host::diagnose::{Effect, Nonlinearity, PoleRefinement, Test, diagnose};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 
@@ -117,7 +117,7 @@ fn residual_tests_hold_their_level_on_white_noise() {
     let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
     let runs = 200;
     let n = 1500;
-    let mut fired = std::collections::BTreeMap::<String, usize>::new();
+    let mut fired = std::collections::BTreeMap::<Test, usize>::new();
     for _ in 0..runs {
         let mut g = || -> Vec<f64> { (0..n).map(|_| StandardNormal.sample(&mut rng)).collect() };
         let r = g();
@@ -125,7 +125,7 @@ fn residual_tests_hold_their_level_on_white_noise() {
         let sim: Vec<f64> = g();
         let t = tests_on(&r, &u, &sim);
         for test in t.tests.iter().filter(|t| t.fired) {
-            *fired.entry(test.name.clone()).or_default() += 1;
+            *fired.entry(test.name).or_default() += 1;
         }
     }
     println!("{fired:?}");
@@ -163,8 +163,8 @@ fn state_dependence_fires_on_level_times_increment() {
         .zip(&w)
         .map(|(v, w)| v + 0.3 * w / w_rms)
         .collect();
-    assert!(run(&with).fired("state_dependence"));
-    assert!(!run(&noise).fired("state_dependence"));
+    assert!(run(&with).fired(Test::StateDependence));
+    assert!(!run(&noise).fired(Test::StateDependence));
 }
 
 /// Each effect's tests fire where they should: a delay shows in the input cross-correlation
@@ -181,7 +181,7 @@ fn tests_point_at_the_effect() {
     let mut opts = data.options.clone();
     opts.max_steps = 0;
     let d = diagnose(&data.record, &data.validation, &opts).unwrap();
-    assert!(d.tests_before.fired("spectral_line"));
+    assert!(d.tests_before.fired(Test::SpectralLine));
     let w = 2.0 * std::f64::consts::PI / 23.7;
     assert!(
         (d.tests_before.line_frequency - w).abs() < 0.01,
@@ -198,7 +198,7 @@ fn tests_point_at_the_effect() {
     let mut opts = data.options.clone();
     opts.max_steps = 0;
     let d = diagnose(&data.record, &data.validation, &opts).unwrap();
-    assert!(d.tests_before.fired("input_correlation"));
+    assert!(d.tests_before.fired(Test::InputCorrelation));
     assert!(
         (1..=4).contains(&d.tests_before.strongest_input_lag),
         "lag {}",

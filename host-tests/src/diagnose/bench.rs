@@ -6,9 +6,11 @@ use std::fmt::Write as _;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use super::diagnose;
 use super::effects::Effect;
+use super::error::DiagnoseError;
+use super::model::Metric;
 use super::scenario::{Scenario, generate};
-use super::{DiagnoseError, Metric, diagnose};
 
 /// The outcome of one scenario.
 #[derive(Clone, Debug)]

@@ -329,7 +329,7 @@ pub struct DynamicsFit<'a> {
     /// Samples left out of the error (outliers).
     pub skip: &'a [bool],
     /// Output map, held (`None`: identity).
-    pub map: Option<&'a super::model::OutputMap>,
+    pub map: Option<&'a super::output_map::OutputMap>,
     /// Whether the initial state is fitted too.
     pub fit_x0: bool,
     /// Largest spectral radius of `A` allowed.
@@ -367,7 +367,7 @@ impl DynamicsFit<'_> {
     /// recomputed from [`Borders::u`] if they are (`None` if they are held: `h` as given).
     pub fn refitted_h(&self, m: &HostModel) -> Option<Vec<f64>> {
         self.borders
-            .map(|b| super::model::nonlinearity_output(m, b.u))
+            .map(|b| super::simulate::nonlinearity_output(m, b.u))
     }
 }
 
@@ -880,7 +880,7 @@ pub(super) mod tests {
         let h_true: Vec<f64> = u.iter().map(|v| v * v).collect();
         let y = quadratic_plant(&h_true);
         let skip = vec![false; u.len()];
-        let h_start = super::super::model::nonlinearity_output(&lin, &u);
+        let h_start = super::super::simulate::nonlinearity_output(&lin, &u);
         let fit_with = |borders: Option<Borders>| {
             fit(
                 &lin,
@@ -895,7 +895,7 @@ pub(super) mod tests {
             u: &u,
             shared: true,
         }))?;
-        let h1 = super::super::model::nonlinearity_output(&m1, &u);
+        let h1 = super::super::simulate::nonlinearity_output(&m1, &u);
         let refit = rms(&simulate(&m1, Some(&p1), &h1, &x1).ok_or("refit")?, &y);
         assert_eq!(
             m1.border_asc, m1.border_desc,

@@ -5,8 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::diagnosis::Diagnosis;
+use super::error::DiagnoseError;
 use super::residual::TestSet;
-use super::{DiagnoseError, Diagnosis};
 use crate::plot::{Dash, Figure, LegendPosition, Marker, Series};
 
 const BEFORE: &str = "#d62728";

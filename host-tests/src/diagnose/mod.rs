@@ -24,401 +24,46 @@
 //! Table I experiments with one undeclared effect, for the tests and the confusion table, and
 //! two-tank plants for the stores.
 
-use std::fmt;
-use std::ops::Range;
-
-use serde::Serialize;
-
 use crate::identify::{IdentifyError, IdentifyOptions};
 
 pub mod bench;
 pub mod checks;
 pub mod delay;
+pub mod diagnosis;
 pub mod dynamics;
 pub mod effects;
+pub mod error;
 pub mod figures;
+pub mod findings;
+pub mod fit_plan;
+pub mod inner;
 pub mod model;
+pub mod noise;
 pub mod optimise;
+pub mod options;
+pub mod output_map;
 pub mod report;
 pub mod residual;
 pub mod scenario;
+pub mod scoring;
+pub mod segments;
+pub mod simulate;
+pub mod split;
 pub mod stats;
+pub mod steps;
 pub mod stores;
+pub mod verdict;
 
-pub use checks::Warning;
+pub use checks::{Check, Warning};
+pub use diagnosis::{Diagnosis, Rejected, Step};
 pub use effects::Effect;
+pub use error::DiagnoseError;
+pub use findings::Finding;
 pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
-pub use residual::TestSet;
-
-/// The kind of input nonlinearity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Nonlinearity {
-    /// Backlash (needs the Table I excitation).
-    Backlash,
-    /// Switch.
-    Switch,
-    /// Static (memoryless) piecewise-linear nonlinearity, one border for both directions.
-    Static,
-}
-
-impl Nonlinearity {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Nonlinearity::Backlash => "backlash",
-            Nonlinearity::Switch => "switch",
-            Nonlinearity::Static => "static",
-        }
-    }
-}
-
-/// Why a diagnosis could not run.
-#[derive(Debug)]
-pub enum DiagnoseError {
-    /// The identification failed.
-    Identify(IdentifyError),
-    /// `u` and `y` differ in length.
-    LengthMismatch {
-        /// Input samples.
-        u: usize,
-        /// Output samples.
-        y: usize,
-    },
-    /// Too few samples.
-    TooShort {
-        /// Samples available.
-        samples: usize,
-        /// Samples needed.
-        need: usize,
-    },
-    /// An input sample outside the knots' interval.
-    InputOutOfRange {
-        /// `estimation` or `validation`.
-        record: &'static str,
-        /// 0-based sample.
-        index: usize,
-        /// The value.
-        value: f64,
-        /// Interval start.
-        u_min: f64,
-        /// Interval end.
-        u_max: f64,
-    },
-    /// The split fraction is not in (0, 1).
-    InvalidSplit(f64),
-    /// The held-out range is empty, inside the hold or beyond the record.
-    InvalidHoldout {
-        /// Start.
-        start: usize,
-        /// End (exclusive).
-        end: usize,
-        /// Record length.
-        len: usize,
-    },
-    /// With a static nonlinearity, the input never visits the segments next to a knot (the
-    /// core's `NoExcitation`, whose Table I advice does not apply to static data).
-    KnotNotVisited {
-        /// Knot index (1-based, as in the core's error).
-        knot: usize,
-        /// The knot's value, when known.
-        value: Option<f64>,
-        /// Its neighbours (the segments the input never visits), when known.
-        segment: Option<(f64, f64)>,
-    },
-    /// A model class beyond the linear dynamics could not be fitted.
-    Dynamics(dynamics::DynamicsError),
-    /// A figure or report could not be written.
-    Output(String),
-}
-
-impl fmt::Display for DiagnoseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DiagnoseError::Identify(e) => write!(f, "identification failed: {e}"),
-            DiagnoseError::Dynamics(e) => write!(f, "{e}"),
-            DiagnoseError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            DiagnoseError::TooShort { samples, need } => {
-                write!(
-                    f,
-                    "{samples} samples are too few: at least {need} are needed"
-                )
-            }
-            DiagnoseError::InputOutOfRange {
-                record,
-                index,
-                value,
-                u_min,
-                u_max,
-            } => write!(
-                f,
-                "{record} sample {index}: u = {value} lies outside the knots' interval [{u_min}, {u_max}]"
-            ),
-            DiagnoseError::InvalidSplit(v) => {
-                write!(f, "split fraction {v} must lie strictly between 0 and 1")
-            }
-            DiagnoseError::InvalidHoldout { start, end, len } => write!(
-                f,
-                "held-out range {start}..{end} must be non-empty, after the hold and within the {len} samples"
-            ),
-            DiagnoseError::KnotNotVisited {
-                knot,
-                value,
-                segment,
-            } => {
-                write!(f, "static nonlinearity: the basis function of knot {knot}")?;
-                if let Some(v) = value {
-                    write!(f, " (u = {v})")?;
-                }
-                write!(f, " is never excited: the input never visits ")?;
-                match segment {
-                    Some((a, b)) => write!(f, "[{a}, {b}]")?,
-                    None => write!(f, "the segments next to it")?,
-                }
-                write!(
-                    f,
-                    "; move or remove that knot (--knots, --segments, --select-segments), or record data whose input covers that range"
-                )
-            }
-            DiagnoseError::Output(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for DiagnoseError {}
-
-/// Where the validation data come from.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Validation {
-    /// A separate record, simulated from its own start; the first `skip` samples (its hold)
-    /// are not scored.
-    Separate {
-        /// The record.
-        record: Record,
-        /// Samples not scored.
-        skip: usize,
-    },
-    /// The record is split: the first `fraction` of the samples after the hold estimate, the
-    /// rest validates (simulated from the start of the record, input only).
-    Split(f64),
-    /// A held-out range of the record validates; the rest (concatenated) estimates.
-    Holdout(Range<usize>),
-}
-
-/// Diagnosis settings.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DiagnoseOptions {
-    /// Base identification options (knots, horizons, order, hold, μ0, static).
-    pub identify: IdentifyOptions,
-    /// Nonlinearity kind (static sets `identify.static_nonlinearity`).
-    pub nonlinearity: Nonlinearity,
-    /// Initial state of simulations (`None`: at rest with a hold, estimated without).
-    pub initial: Option<InitialState>,
-    /// Most effects added.
-    pub max_steps: usize,
-    /// Least relative reduction of the inner hold-out MSE for an effect to be added.
-    pub min_gain: f64,
-    /// Gains within this of the best count as ties (the simplest extension wins).
-    pub tie: f64,
-    /// Largest input delay tried (samples).
-    pub max_delay: usize,
-    /// Fraction of the estimation samples (after the hold) that fit in the inner hold-out.
-    pub inner_fraction: f64,
-    /// MAD rule threshold for outliers (robust standard deviations).
-    pub outlier_k: f64,
-    /// Where the poles are refined by the simulation error after the subspace step (see
-    /// [`model::FitOptions::refine_poles`]).
-    pub refine_poles: PoleRefinement,
-    /// Choose the number of uniform segments per path in this range by the BIC of the
-    /// estimation simulation error (the knots given are then replaced).
-    pub select_segments: Option<std::ops::RangeInclusive<usize>>,
-}
-
-/// Where [`model::FitOptions::refine_poles`] is used.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PoleRefinement {
-    /// Never: every model is the subspace estimate with its borders, `B` and `D` refit.
-    Never,
-    /// In the models reported (the base model and the model after each step), not in the
-    /// inner hold-out fits that choose the effects (they are many).
-    Final,
-    /// In every fit.
-    Always,
-}
-
-impl DiagnoseOptions {
-    /// Defaults around the given identification options.
-    pub fn new(identify: IdentifyOptions, nonlinearity: Nonlinearity) -> Self {
-        Self {
-            identify,
-            nonlinearity,
-            initial: None,
-            max_steps: 4,
-            min_gain: 0.20,
-            tie: 0.03,
-            max_delay: 10,
-            inner_fraction: 0.7,
-            outlier_k: 5.0,
-            refine_poles: PoleRefinement::Final,
-            select_segments: None,
-        }
-    }
-}
-
-/// One effect added.
-#[derive(Clone, Debug)]
-pub struct Step {
-    /// The effect.
-    pub effect: Effect,
-    /// The tests that pointed at it, with their findings.
-    pub evidence: Vec<String>,
-    /// Its setting.
-    pub setting: String,
-    /// Relative reduction of the inner hold-out MSE.
-    pub inner_gain: f64,
-    /// Diebold–Mariano p-value of that reduction.
-    pub inner_p: f64,
-    /// Settings tried with their inner hold-out RMSE.
-    pub tried: Vec<(String, f64)>,
-    /// Other effects evaluated at this step: `(effect, gain, p)`.
-    pub competitors: Vec<(Effect, f64, f64)>,
-    /// Metric of the errors below.
-    pub metric: Metric,
-    /// Validation error of the model before this step (same metric; outliers of the new
-    /// model excluded when it is robust).
-    pub error_before: f64,
-    /// Validation error after this step, output units.
-    pub error_after: f64,
-    /// NRMSE after.
-    pub nrmse_after: f64,
-    /// Fit % after.
-    pub fit_after: f64,
-    /// Validation samples excluded as outliers after this step.
-    pub excluded: usize,
-    /// The model after this step.
-    pub model: ExtendedModel,
-}
-
-/// An effect with evidence that was not added.
-#[derive(Clone, Debug, Serialize)]
-pub struct Rejected {
-    /// The effect.
-    pub effect: Effect,
-    /// Tests that pointed at it.
-    pub evidence: Vec<String>,
-    /// Relative inner hold-out MSE reduction of its extension.
-    pub inner_gain: f64,
-    /// Its Diebold–Mariano p-value.
-    pub inner_p: f64,
-}
-
-/// The outcome of [`diagnose`].
-#[derive(Clone, Debug)]
-pub struct Diagnosis {
-    /// Nonlinearity kind.
-    pub nonlinearity: Nonlinearity,
-    /// How estimation and validation data were formed.
-    pub data_description: String,
-    /// Estimation samples.
-    pub estimation_samples: usize,
-    /// Validation samples scored.
-    pub validation_samples: usize,
-    /// Data checks.
-    pub warnings: Vec<Warning>,
-    /// The paper's model.
-    pub base: ExtendedModel,
-    /// The model with every effect added.
-    pub model: ExtendedModel,
-    /// Effects added, in order.
-    pub steps: Vec<Step>,
-    /// Effects with evidence that were not added at the last step.
-    pub rejected: Vec<Rejected>,
-    /// Tests that still fire on the final estimation residual and that no catalog effect
-    /// explained.
-    pub unexplained: Vec<String>,
-    /// One-paragraph conclusion.
-    pub verdict: String,
-    /// Validation simulation of the paper's estimate alone (subspace identification, borders
-    /// from the rank-1 split, no least-squares refit), when it could be computed.
-    pub paper: Option<Evaluation>,
-    /// Validation simulation of the base model (the paper's structure, borders, `B`, `D` and
-    /// poles refit on the estimation data): the error before.
-    pub before: Evaluation,
-    /// Whether the reported models have their poles refined.
-    pub poles_refined: bool,
-    /// Validation simulation of the final model.
-    pub after: Evaluation,
-    /// Validation one-step prediction of the final model (with a noise model).
-    pub after_prediction: Option<Evaluation>,
-    /// Tests on the validation residual of the paper's model.
-    pub tests_before: TestSet,
-    /// Tests on the final validation residual (prediction residual with a noise model).
-    pub tests_after: TestSet,
-    /// Tests on the estimation residual (simulation) of the last deterministic model: what the
-    /// decisions saw last.
-    pub tests_estimation: TestSet,
-    /// The record the validation simulation runs over.
-    pub validation_record: Record,
-    /// Its scored samples.
-    pub validation_range: Range<usize>,
-    /// The dead time of the estimation data (ARX test), against the base model's.
-    pub dead_time: delay::DeadTime,
-}
-
-fn check_record(
-    rec: &Record,
-    which: &'static str,
-    u_min: f64,
-    u_max: f64,
-) -> Result<(), DiagnoseError> {
-    if rec.u.len() != rec.y.len() {
-        return Err(DiagnoseError::LengthMismatch {
-            u: rec.u.len(),
-            y: rec.y.len(),
-        });
-    }
-    if let Some((index, &value)) = rec
-        .u
-        .iter()
-        .enumerate()
-        .find(|(_, v)| !(**v >= u_min && **v <= u_max))
-    {
-        return Err(DiagnoseError::InputOutOfRange {
-            record: which,
-            index,
-            value,
-            u_min,
-            u_max,
-        });
-    }
-    Ok(())
-}
-
-/// Tests of a model's residual on `range` of `rec`.
-pub fn residual_tests(
-    model: &ExtendedModel,
-    rec: &Record,
-    range: Range<usize>,
-    ev: &Evaluation,
-    shared: bool,
-) -> TestSet {
-    let h = &model.hammerstein;
-    let (delta, z, bins, count) = residual::regressor(&rec.u, &h.knots_asc, &h.knots_desc, shared);
-    let r = range.clone();
-    let zs: Vec<Vec<f64>> = z.iter().map(|c| c[r.clone()].to_vec()).collect();
-    residual::run_tests(&residual::ResidualInput {
-        residual: &ev.residual,
-        u: &rec.u[r.clone()],
-        delta: &delta[r.clone()],
-        regressor: &zs,
-        bins: &bins[r.clone()],
-        bin_count: count,
-        simulated: &ev.output[r],
-    })
-}
+pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation};
+pub use residual::{Test, TestSet};
+pub use scoring::residual_tests;
+pub use verdict::dead_time_text;
 
 /// Runs the whole loop. `record` is the estimation record (or the whole record, for
 /// [`Validation::Split`] and [`Validation::Holdout`]).
@@ -462,259 +107,29 @@ fn diagnose_inner(
     if id.static_nonlinearity {
         id.knots_desc = id.knots_asc.clone();
     }
-    let (u_min, u_max) = (id.u_min(), id.u_max());
-    check_record(record, "estimation", u_min, u_max)?;
-    let hold = id.hold;
-    let n = record.len();
-    let min_len = hold + 4 * (id.f + id.p) + 50;
-    if n < min_len {
-        return Err(DiagnoseError::TooShort {
-            samples: n,
-            need: min_len,
-        });
-    }
-    let (est, vrec, vrange, description) = match validation {
-        Validation::Separate { record: v, skip } => {
-            check_record(v, "validation", u_min, u_max)?;
-            if *skip >= v.len() {
-                return Err(DiagnoseError::InvalidHoldout {
-                    start: *skip,
-                    end: v.len(),
-                    len: v.len(),
-                });
-            }
-            (
-                record.clone(),
-                v.clone(),
-                *skip..v.len(),
-                format!(
-                    "estimation: all {n} samples of the estimation record; validation: a separate record of {} samples, simulated from its start with the input only, scored from sample {skip}",
-                    v.len()
-                ),
-            )
-        }
-        Validation::Split(frac) => {
-            if !(*frac > 0.0 && *frac < 1.0) {
-                return Err(DiagnoseError::InvalidSplit(*frac));
-            }
-            let at = hold + ((n - hold) as f64 * frac).round() as usize;
-            if at + 50 > n || at < min_len {
-                return Err(DiagnoseError::TooShort {
-                    samples: n,
-                    need: min_len.max(at + 50),
-                });
-            }
-            (
-                record.slice(0..at),
-                record.clone(),
-                at..n,
-                format!(
-                    "no validation record: samples 0..{at} ({:.0} % of the samples after the hold) estimate, samples {at}..{n} validate; the validation simulation runs from the start of the record with the input only",
-                    100.0 * frac
-                ),
-            )
-        }
-        Validation::Holdout(r) => {
-            if r.start >= r.end || r.start < hold || r.end > n {
-                return Err(DiagnoseError::InvalidHoldout {
-                    start: r.start,
-                    end: r.end,
-                    len: n,
-                });
-            }
-            let est = record.parts(&[0..r.start, r.end..n]);
-            (
-                est,
-                record.clone(),
-                r.clone(),
-                format!(
-                    "samples {}..{} are held out for validation; the other {} samples, joined at the gap, estimate; the validation simulation runs from the start of the record with the input only",
-                    r.start,
-                    r.end,
-                    n - (r.end - r.start)
-                ),
-            )
-        }
-    };
-    if est.len() < min_len {
-        return Err(DiagnoseError::TooShort {
-            samples: est.len(),
-            need: min_len,
-        });
-    }
     let shared = id.static_nonlinearity;
-    // Uniform segment count chosen on the estimation data: the BIC of the in-sample simulation
-    // error, N ln(MSE) + k ln N, k = border values + 2 n + 2.
-    let mut segment_choice = String::new();
-    if let Some(range) = &opts.select_segments {
-        let initial = opts.initial.unwrap_or(if hold > 0 {
-            InitialState::Rest
-        } else {
-            InitialState::Estimated
-        });
-        let ne = est.len();
-        let mut best: Option<(f64, usize)> = None;
-        let mut tried = Vec::new();
-        for segs in range.clone() {
-            let trial = IdentifyOptions::uniform(u_min, u_max, segs, hold);
-            let mut ids = id.clone();
-            ids.knots_desc = trial.knots_asc.clone();
-            ids.knots_asc = trial.knots_asc;
-            let fo = model::FitOptions {
-                identify: ids,
-                initial,
-                time_center: 0.0,
-                time_scale: 1.0,
-                outlier_k: opts.outlier_k,
-                rounds: 1,
-                refit: true,
-                refine_poles: opts.refine_poles != PoleRefinement::Never,
-                saturation: model::Saturation::default(),
-            };
-            let Ok(m) = model::fit_structure(&Structure::base(), &est, &fo) else {
-                continue;
-            };
-            let e = model::evaluate(&m, &est, hold..ne, Metric::Simulation);
-            let borders = if shared { segs + 1 } else { 2 * segs + 1 };
-            let k = (borders + 2 * m.hammerstein.order + 2) as f64;
-            let nn = (ne - hold) as f64;
-            let bic = nn * (e.rmse * e.rmse).max(1e-300).ln() + k * nn.ln();
-            if bic.is_finite() {
-                tried.push(format!("{segs}: {bic:.1}"));
-                if best.is_none_or(|(b, _)| bic < b) {
-                    best = Some((bic, segs));
-                }
-            }
-        }
-        if let Some((_, segs)) = best {
-            let u = IdentifyOptions::uniform(u_min, u_max, segs, hold);
-            id.knots_desc = u.knots_asc.clone();
-            id.knots_asc = u.knots_asc;
-            segment_choice = format!(
-                "; {segs} uniform segments per path, chosen by the BIC of the estimation simulation error (tried {})",
-                tried.join(", ")
-            );
-        }
-    }
-    let description = format!("{description}{segment_choice}");
-    let warnings = checks::check_data(
-        &est.u,
-        &est.y,
-        &checks::CheckSetup {
-            kind: opts.nonlinearity,
-            knots_asc: &id.knots_asc,
-            knots_desc: &id.knots_desc,
-            hold,
-            settle: id.settle,
-            mu0_known: id.mu0.is_some(),
-            f: id.f,
-            p: id.p,
-        },
-    );
-    let (tmin, tmax) = est
-        .time
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
-            (a.min(t), b.max(t))
-        });
-    let fit_opts = model::FitOptions {
-        initial: opts.initial.unwrap_or(if hold > 0 {
-            InitialState::Rest
-        } else {
-            InitialState::Estimated
-        }),
-        identify: id.clone(),
-        time_center: 0.5 * (tmin + tmax),
-        time_scale: 0.5 * (tmax - tmin),
-        outlier_k: opts.outlier_k,
-        rounds: 3,
-        refit: true,
-        refine_poles: opts.refine_poles == PoleRefinement::Always,
-        saturation: checks::saturation(&est.y),
+    let data = split::split(record, validation, &id)?;
+    let (est, vrec, vrange) = (&data.estimation, &data.validation, data.range.clone());
+    let segment_choice = match &opts.select_segments {
+        Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
+        None => String::new(),
     };
-    let final_opts = model::FitOptions {
-        refine_poles: opts.refine_poles != PoleRefinement::Never,
-        ..fit_opts.clone()
-    };
-    // The paper's estimate alone (subspace, borders from the rank-1 split), for reference.
-    let paper_opts = model::FitOptions {
-        refit: false,
-        refine_poles: false,
-        ..fit_opts.clone()
-    };
-    let paper = model::fit_structure(&Structure::base(), &est, &paper_opts)
-        .map(|m| model::evaluate(&m, &vrec, vrange.clone(), Metric::Simulation))
+    let warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
+    let plan = fit_plan::FitPlan::new(opts, &id, est);
+    let paper = model::fit_structure(&Structure::base(), est, &plan.paper)
+        .map(|m| model::evaluate(&m, vrec, vrange.clone(), Metric::Simulation))
         .ok();
-    let ne = est.len();
-    let block_len = ((ne - hold) as f64 * (1.0 - opts.inner_fraction)).round() as usize;
-    let (_, _, est_bins, est_bin_count) =
-        residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
-    let block = effects::Holdout::choose_block(
-        &est,
-        hold,
-        block_len,
-        &est_bins,
-        est_bin_count,
-        fit_opts.initial == InitialState::Estimated,
+    let (hold, ne) = (id.hold, est.len());
+    let base = model::fit_structure(&Structure::base(), est, &plan.reported)?;
+    let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
+    let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
+    let inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
+    let holdout = effects::Holdout::with_folds(est, inner.folds.clone(), &plan.inner);
+    let description = format!(
+        "{}{segment_choice}; {}",
+        data.description,
+        inner.describe(ne)
     );
-
-    let mut current = Structure::base();
-    let mut model = model::fit_structure(&current, &est, &final_opts)?;
-    let base = model.clone();
-    let before = model::evaluate(&base, &vrec, vrange.clone(), Metric::Simulation);
-    let tests_before = residual_tests(&base, &vrec, vrange.clone(), &before, shared);
-
-    // The inner validation: the block above if the base model fitted without it simulates it
-    // about as well as the model fits the record (at most 3 × the in-sample RMSE); otherwise
-    // leave-block-out cross-validation over tenths of the record (10-fold) that are scorable in
-    // that sense (at least two), their scores pooled.
-    let in_sample0 = model::evaluate(&model, &est, hold..ne, Metric::Simulation).rmse;
-    let scorable = |r: &Range<usize>| -> bool {
-        let fit_part = est.parts(&[0..r.start, r.end..ne]);
-        model::fit_structure(&current, &fit_part, &fit_opts).is_ok_and(|m| {
-            let e = model::evaluate(&m, &est, r.clone(), Metric::Simulation).rmse;
-            e.is_finite() && e <= 3.0 * in_sample0
-        })
-    };
-    let folds: Vec<Range<usize>> = if scorable(&block) {
-        vec![block.clone()]
-    } else {
-        let good: Vec<Range<usize>> = effects::Holdout::fold_blocks(
-            &est,
-            hold,
-            10,
-            &est_bins,
-            est_bin_count,
-            fit_opts.initial == InitialState::Estimated,
-        )
-        .into_iter()
-        .filter(|r| scorable(r))
-        .collect();
-        if good.len() >= 2 {
-            good
-        } else {
-            vec![block.clone()]
-        }
-    };
-    let holdout = effects::Holdout::with_folds(&est, folds.clone(), &fit_opts);
-    let description = if folds.len() == 1 {
-        format!(
-            "{description}; every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
-            block.start, block.end
-        )
-    } else {
-        let list: Vec<String> = folds
-            .iter()
-            .map(|r| format!("{}..{}", r.start, r.end))
-            .collect();
-        format!(
-            "{description}; every setting and every effect is chosen on the estimation data by leave-block-out cross-validation (10 blocks; blocks that leave a knot segment unexcited, the first with an estimated initial state, and blocks the base model fitted without them simulates with more than 3 × its in-sample error are not used): fitted without each of the blocks {} (of {ne}) in turn, scored on it, the scores pooled (the last 30 % of the record, {}..{}, cannot be scored: the model fitted without it simulates it with more than 3 × its in-sample error)",
-            list.join(", "),
-            block.start,
-            block.end
-        )
-    };
-
     let (_, est_z, _, _) = residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
     let dead = delay::dead_time(
         &est_z,
@@ -723,353 +138,61 @@ fn diagnose_inner(
         opts.max_delay + 1,
         delay::model_dead_time(&base.hammerstein, opts.max_delay + 1),
     );
-    let mut steps: Vec<Step> = Vec::new();
-    let mut rejected = Vec::new();
-    let mut unexplained = Vec::new();
-    let mut previous_validation = before.clone();
-    let mut final_tests: Option<TestSet> = None;
-    // Whether the loop ended because no extension passed the inner validation.
-    let mut no_candidate = false;
-    for _ in 0..opts.max_steps {
-        let ev = model::evaluate(&model, &est, hold..ne, Metric::Simulation);
-        let tests = residual_tests(&model, &est, hold..ne, &ev, shared);
-        let (inner_model, baseline) = match holdout.evaluate_folds(
-            &current,
-            Metric::Simulation,
-            false,
-        ) {
-            Ok(Some(v)) => v,
-            Ok(None) => break,
-            // The current model cannot be fitted without one of the blocks: nothing can
-            // be scored against it.
-            Err(e @ (DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_))) => {
-                unexplained.push(format!(
-                        "the estimation data cannot score extensions: the current model cannot be fitted without one of the inner validation's blocks ({e})"
-                    ));
-                break;
-            }
-            Err(e) => return Err(e),
-        };
-        // The inner hold-out can only score extensions if the model fitted without the block
-        // predicts the block about as well as the model fits the record: three times the
-        // in-sample error means the fitting part leaves the block's behaviour unseen (a level
-        // or input range visited only there), and every score would be noise.
-        let in_sample = model::evaluate(&model, &est, hold..ne, Metric::Simulation).rmse;
-        if baseline.rmse.is_nan() || baseline.rmse > 3.0 * in_sample {
-            unexplained.push(format!(
-                "the estimation data cannot score extensions: the model fitted without samples {}..{} simulates them with RMSE {:.4}, more than 3 × its in-sample RMSE {:.4} (that block holds behaviour the rest of the record does not show)",
-                block.start, block.end, baseline.rmse, in_sample
-            ));
-            break;
-        }
-        let resid = &ev.residual;
-        let proposal = effects::Proposal {
-            holdout: &holdout,
-            current: &current,
-            baseline: &baseline,
-            inner_model: &inner_model,
-            order: model.hammerstein.order,
-            f: current.horizon.unwrap_or(id.f),
-            max_delay: opts.max_delay,
-            residual: resid,
-            input: &est.u[hold..],
-            tests: &tests,
-        };
-        let mut cands = Vec::new();
-        for e in Effect::PROPOSED {
-            // A saturated output found by the data checks is direct evidence of an output
-            // nonlinearity, even when the residual tests lack power.
-            let saturated = e == Effect::OutputNonlinearity
-                && warnings.iter().any(|w| w.check == "output_saturation");
-            if !e.deterministic() || !(effects::has_evidence(e, &tests) || saturated) {
-                continue;
-            }
-            if let Some(c) = proposal.propose(e)? {
-                cands.push(c);
-            }
-        }
-        let mut chosen = effects::choose(&cands, opts.min_gain, opts.tie);
-        // The dead time of the data (ARX test, independent of the simulation error) beyond the
-        // model's: a delay found by a test at 1 %, added unless it makes the inner score
-        // significantly worse (the simulation error of measured data is dominated by what else
-        // the model lacks, and cannot be asked to confirm a delay of a few samples).
-        if chosen.is_none() && current.delay == 0 && dead.extra() > 0 {
-            let mut s = current.clone();
-            s.delay = dead.extra();
-            let scored = match holdout.score(&s, Metric::Simulation) {
-                Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => None,
-                other => other?,
-            };
-            if let Some((m, ev)) = scored {
-                let (gain, p_value) = effects::compare(&baseline, &ev);
-                let (_, worse_p) = effects::compare(&ev, &baseline);
-                if worse_p >= residual::LEVEL {
-                    // One input_delay candidate: the dead-time test's delay replaces the one
-                    // the screen proposed (whose settings stay listed as tried).
-                    let mut tried = Vec::new();
-                    if let Some(i) = cands.iter().position(|c| c.effect == Effect::InputDelay) {
-                        tried = cands.remove(i).tried;
-                    }
-                    tried.push((format!("d = {} (dead-time test)", dead.extra()), ev.rmse));
-                    cands.push(effects::Candidate {
-                        effect: Effect::InputDelay,
-                        structure: s,
-                        inner_model: m,
-                        tried,
-                        evaluation: ev,
-                        gain,
-                        p_value,
-                        complexity: 1.0,
-                    });
-                    chosen = Some(cands.len() - 1);
-                }
-            }
-        }
-        if chosen.is_none()
-            && effects::has_evidence(Effect::ColoredNoise, &tests)
-            && let Some(c) = proposal.propose(Effect::ColoredNoise)?
-        {
-            cands.push(c);
-            let last = cands.len() - 1;
-            if effects::choose(&cands[last..], opts.min_gain, opts.tie).is_some() {
-                chosen = Some(last);
-            }
-        }
-        let evidence_of = |e: Effect| -> Vec<String> {
-            let mut v: Vec<String> = e
-                .evidence_tests()
-                .iter()
-                .filter_map(|t| tests.get(t))
-                .filter(|t| t.fired)
-                .map(|t| format!("{}: {} (p = {:.2e})", t.name, t.detail, t.p_value))
-                .collect();
-            if e == Effect::InputDelay && dead.extra() > 0 {
-                v.push(dead_time_text(&dead));
-            }
-            if e == Effect::OutputNonlinearity {
-                v.extend(
-                    warnings
-                        .iter()
-                        .filter(|w| w.check == "output_saturation")
-                        .map(|w| format!("data check output_saturation: {}", w.message)),
-                );
-            }
-            v
-        };
-        // The chosen extension refitted on the whole estimation record; if that model has a
-        // mode too slow to validate, the next candidate is taken.
-        // The refit must also fit the estimation record at least about as well as the
-        // hold-out model does (a subspace fit can land on a poor local solution); otherwise
-        // the hold-out model, fitted on 70 % of the same data, is kept.
-        let mut refitted: Option<ExtendedModel> = None;
-        while let Some(ci) = chosen {
-            let inner = &cands[ci].inner_model;
-            // An extension that cannot be fitted on the whole record keeps its hold-out fit.
-            let m = match model::fit_structure(&cands[ci].structure, &est, &final_opts) {
-                Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => inner.clone(),
-                other => other?,
-            };
-            let rmse_full = model::evaluate(&m, &est, hold..ne, Metric::Simulation).rmse;
-            let rmse_inner = model::evaluate(inner, &est, hold..ne, Metric::Simulation).rmse;
-            let m = if rmse_full.is_finite() && rmse_full <= 1.1 * rmse_inner {
-                m
-            } else {
-                inner.clone()
-            };
-            if !effects::too_slow(&m, ne) {
-                refitted = Some(m);
-                break;
-            }
-            cands[ci].gain = f64::NEG_INFINITY;
-            chosen = effects::choose(&cands, opts.min_gain, opts.tie);
-        }
-        let Some(ci) = chosen else {
-            rejected = cands
-                .iter()
-                .map(|c| Rejected {
-                    effect: c.effect,
-                    evidence: evidence_of(c.effect),
-                    inner_gain: c.gain,
-                    inner_p: c.p_value,
-                })
-                .collect();
-            for t in tests.tests.iter().filter(|t| t.fired) {
-                let tried: Vec<String> = cands
-                    .iter()
-                    .filter(|c| c.effect.evidence_tests().contains(&t.name.as_str()))
-                    .map(|c| {
-                        format!(
-                            "{} changes the hold-out MSE by {:+.1} % (p = {:.2})",
-                            c.effect.name(),
-                            -100.0 * c.gain,
-                            c.p_value
-                        )
-                    })
-                    .collect();
-                let why = if tried.is_empty() {
-                    "no catalog effect left to try".to_string()
-                } else {
-                    tried.join("; ")
-                };
-                unexplained.push(format!(
-                    "{} fired ({}; p = {:.2e}) but no catalog effect explains it ({why}): effect not identified",
-                    t.name, t.detail, t.p_value
-                ));
-            }
-            final_tests = Some(tests);
-            no_candidate = true;
-            break;
-        };
-        let c = cands[ci].clone();
-        let Some(new_model) = refitted else { break };
-        let metric = if c.effect.deterministic() {
-            Metric::Simulation
-        } else {
-            Metric::Prediction
-        };
-        let after = model::evaluate(&new_model, &vrec, vrange.clone(), metric);
-        // The previous model on the same samples (outliers of the new model excluded).
-        let prev_same = {
-            let mut s = 0.0;
-            let mut k = 0usize;
-            for (r, &e) in previous_validation.residual.iter().zip(&after.excluded) {
-                if !e {
-                    s += r * r;
-                    k += 1;
-                }
-            }
-            (s / k.max(1) as f64).sqrt()
-        };
-        let error_before = if after.excluded.iter().any(|&e| e) {
-            prev_same
-        } else {
-            previous_validation.rmse
-        };
-        steps.push(Step {
-            effect: c.effect,
-            evidence: evidence_of(c.effect),
-            setting: effects::setting(c.effect, &c.structure, Some(&new_model)),
-            inner_gain: c.gain,
-            inner_p: c.p_value,
-            tried: c.tried.clone(),
-            competitors: cands
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| *i != ci)
-                .map(|(_, o)| (o.effect, o.gain, o.p_value))
-                .collect(),
-            metric,
-            error_before,
-            error_after: after.rmse,
-            nrmse_after: after.nrmse,
-            fit_after: after.fit_percent,
-            excluded: after.excluded.iter().filter(|&&e| e).count(),
-            model: new_model.clone(),
-        });
-        current = c.structure;
-        model = new_model;
-        previous_validation = after;
-        if !c.effect.deterministic() {
-            break;
-        }
-    }
-    let final_tests = match final_tests {
+    let context = steps::Context {
+        est,
+        validation: vrec,
+        range: vrange.clone(),
+        opts,
+        holdout: &holdout,
+        block: &inner.block,
+        reported: &plan.reported,
+        warnings: &warnings,
+        dead: &dead,
+    };
+    let mut p = steps::Progress {
+        current: Structure::base(),
+        model: base.clone(),
+        steps: Vec::new(),
+        rejected: Vec::new(),
+        findings: Vec::new(),
+        previous_validation: before.clone(),
+        final_tests: None,
+        ending: verdict::Ending::Other,
+    };
+    context.run(&mut p)?;
+    let model = p.model;
+    let final_tests = match p.final_tests {
         Some(t) => t,
         None => {
-            let ev = model::evaluate(&model, &est, hold..ne, Metric::Simulation);
-            residual_tests(&model, &est, hold..ne, &ev, shared)
+            let ev = model::evaluate(&model, est, hold..ne, Metric::Simulation);
+            residual_tests(&model, est, hold..ne, &ev, shared)
         }
     };
-    let after = model::evaluate(&model, &vrec, vrange.clone(), Metric::Simulation);
+    let after = model::evaluate(&model, vrec, vrange.clone(), Metric::Simulation);
     let after_prediction = model
         .noise
         .is_some()
-        .then(|| model::evaluate(&model, &vrec, vrange.clone(), Metric::Prediction));
+        .then(|| model::evaluate(&model, vrec, vrange.clone(), Metric::Prediction));
     let tests_after = match &after_prediction {
-        Some(p) => residual_tests(&model, &vrec, vrange.clone(), p, shared),
-        None => residual_tests(&model, &vrec, vrange.clone(), &after, shared),
+        Some(pr) => residual_tests(&model, vrec, vrange.clone(), pr, shared),
+        None => residual_tests(&model, vrec, vrange.clone(), &after, shared),
     };
-    // Effects the tests or the data checks find that the catalog has no extension for.
-    if shared && final_tests.fired("direction_correlation") {
-        unexplained.push(
-            "found, not in the catalog: the residual depends on the direction of the input (direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed".into(),
-        );
-    }
-    if final_tests.fired("state_dependence") {
-        unexplained.push(if current.dynamics == model::Dynamics::Stores {
-            "found, not in the catalog: state dependence beyond the level-dependent stores (state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); `diagnose::dynamics` has further model classes, measured by the example `tanks_dynamics`".into()
-        } else {
-            "found, not in the catalog: state-dependent dynamics (state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the level-dependent stores (`state_dependent_dynamics`) were not added: they start from an order-2 model, and the hold-out must confirm them".into()
-        });
-    }
-    if warnings.iter().any(|w| w.check == "output_quantisation") {
-        unexplained.push(
-            "found, not in the catalog: the output is quantised (data check output_quantisation); quantisation is measurement noise bounded by half a step and is left in the residual".into(),
-        );
-    }
-    let fired = final_tests.fired_names();
-    let unscorable = unexplained
-        .iter()
-        .any(|u| u.starts_with("the estimation data cannot score"));
-    let verdict = if steps.is_empty() && unscorable {
-        format!(
-            "The estimation data cannot score any extension (the inner hold-out block holds behaviour the rest of the record does not show): nothing is added, and the tests that fire ({}) are reported without a diagnosis.",
-            fired.join(", ")
-        )
-    } else if steps.is_empty() && fired.is_empty() {
-        "No test fires on the estimation residual: the residual is consistent with the model, nothing is added.".to_string()
-    } else if steps.is_empty() {
-        format!(
-            "Tests fire ({}) but no catalog effect explains them: the missing effect is not identified; the model is left as identified.",
-            fired.join(", ")
-        )
-    } else {
-        let names: Vec<&str> = steps.iter().map(|s| s.effect.name()).collect();
-        let rest = if fired.is_empty() {
-            "the final residual is consistent with the extended model".to_string()
-        } else if unscorable {
-            format!(
-                "then the estimation data could not score further extensions; tests still fire ({})",
-                fired.join(", ")
-            )
-        } else if steps.last().is_some_and(|s| !s.effect.deterministic()) {
-            format!(
-                "the noise model is the last step; on the simulation residual tests still fire ({}) that no deterministic catalog effect explained",
-                fired.join(", ")
-            )
-        } else if no_candidate {
-            format!(
-                "tests still fire ({}) and no further catalog effect explains them",
-                fired.join(", ")
-            )
-        } else {
-            format!(
-                "the step limit was reached with tests still firing ({})",
-                fired.join(", ")
-            )
-        };
-        // Effects found outside the catalog are named, not counted as unexplained tests.
-        let outside: Vec<&str> = unexplained
-            .iter()
-            .filter_map(|u| u.strip_prefix("found, not in the catalog: "))
-            .filter_map(|u| u.split(" (").next())
-            .collect();
-        let rest = if outside.is_empty() {
-            rest
-        } else {
-            format!("{rest}; found, not in the catalog: {}", outside.join("; "))
-        };
-        let last_metric = match steps.last().map(|s| s.metric) {
-            Some(Metric::Prediction) => " (the last in one-step prediction)",
-            _ => "",
-        };
-        format!(
-            "Added {} (in this order); validation error {:.4} → {:.4}{last_metric}; {rest}.",
-            names.join(", "),
-            before.rmse,
-            steps.last().map_or(after.rmse, |s| s.error_after)
-        )
-    };
+    let mut unexplained = p.findings;
+    let stores = p.current.dynamics == model::Dynamics::Stores;
+    unexplained.extend(findings::outside_catalog(
+        &final_tests,
+        &warnings,
+        shared,
+        stores,
+    ));
+    let verdict = verdict::verdict(
+        &p.steps,
+        &unexplained,
+        &final_tests.fired_names(),
+        p.ending,
+        before.rmse,
+        after.rmse,
+    );
     Ok(Diagnosis {
         nonlinearity: opts.nonlinearity,
         data_description: description,
@@ -1078,8 +201,8 @@ fn diagnose_inner(
         warnings,
         base,
         model,
-        steps,
-        rejected,
+        steps: p.steps,
+        rejected: p.rejected,
         unexplained,
         verdict,
         paper,
@@ -1090,27 +213,23 @@ fn diagnose_inner(
         tests_before,
         tests_after,
         tests_estimation: final_tests,
-        validation_record: vrec,
+        validation_record: data.validation.clone(),
         validation_range: vrange,
         dead_time: dead,
+        inner,
     })
 }
 
-/// The dead-time test's finding, in words.
-pub fn dead_time_text(d: &delay::DeadTime) -> String {
-    match d.lag {
-        Some(l) => format!(
-            "dead_time: the output first responds to the input at lag {l} (ARX({}) likelihood-ratio tests of no response at lags 0…j: p = {} for j = 0…{l}), the model at lag {}: {} extra samples",
-            d.ar_order,
-            d.p_values
-                .iter()
-                .take(l + 1)
-                .map(|p| format!("{p:.2e}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            d.model_lag,
-            d.extra()
-        ),
-        None => "dead_time: no lag tested is significant".into(),
+/// What the data checks need to know about the identification `id` (knots chosen).
+fn check_setup<'a>(opts: &DiagnoseOptions, id: &'a IdentifyOptions) -> checks::CheckSetup<'a> {
+    checks::CheckSetup {
+        kind: opts.nonlinearity,
+        knots_asc: &id.knots_asc,
+        knots_desc: &id.knots_desc,
+        hold: id.hold,
+        settle: id.settle,
+        mu0_known: id.mu0.is_some(),
+        f: id.f,
+        p: id.p,
     }
 }

@@ -5,10 +5,14 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::checks::Warning;
+use super::diagnosis::Diagnosis;
 use super::effects::{Effect, has_evidence};
-use super::model::{ExtendedModel, Metric, OutputMap, Structure};
+use super::model::{ExtendedModel, Metric, Structure};
+use super::options::Nonlinearity;
+use super::output_map::OutputMap;
 use super::residual::TestSet;
-use super::{Diagnosis, Nonlinearity, Warning};
+use super::verdict::dead_time_text;
 use crate::model_file::{ModelFile, NoiseFile, NonlinearityKind};
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
@@ -199,7 +203,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         excluded_after: d.after.excluded.iter().filter(|&&e| e).count(),
         prediction_error_after: d.after_prediction.as_ref().map(|e| e.rmse),
         effects,
-        unexplained: d.unexplained.clone(),
+        unexplained: d.unexplained.iter().map(ToString::to_string).collect(),
         verdict: d.verdict.clone(),
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
@@ -217,7 +221,7 @@ fn test_table(s: &mut String, before: &TestSet, after: &TestSet) {
         "test (1 % level)", "before", "p", "", "after", "p"
     );
     for t in &before.tests {
-        let a = after.get(&t.name);
+        let a = after.get(t.name);
         let mark = |f: bool| if f { "FIRES" } else { "" };
         let _ = writeln!(
             s,
@@ -332,7 +336,7 @@ pub fn text(d: &Diagnosis) -> String {
     for u in &d.unexplained {
         let _ = writeln!(s, "not identified: {u}");
     }
-    let _ = writeln!(s, "{}", super::dead_time_text(&d.dead_time));
+    let _ = writeln!(s, "{}", dead_time_text(&d.dead_time));
     let _ = writeln!(s);
     let _ = writeln!(
         s,

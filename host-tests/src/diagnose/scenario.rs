@@ -26,9 +26,11 @@ use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;
 
+use super::diagnosis::Diagnosis;
 use super::effects::Effect;
+use super::error::DiagnoseError;
 use super::model::Record;
-use super::{DiagnoseError, DiagnoseOptions, Diagnosis, Nonlinearity, Validation};
+use super::options::{DiagnoseOptions, Nonlinearity, Validation};
 use crate::identify::IdentifyOptions;
 use crate::paper::derive_seed;
 use crate::sim::{Backlash, Lti, Nonlinearity as Element, Switch, paper_noise_model, paper_plant};

@@ -1,0 +1,32 @@
+//! The data against the method's assumptions, before any fit. Every violation is a warning
+//! that says what was found and what it costs; one file per family of checks.
+
+pub mod coverage;
+pub mod excitation;
+pub mod hold;
+pub mod input_levels;
+pub mod output;
+pub mod setup;
+pub mod table1;
+pub mod warning;
+
+pub use output::saturation;
+pub use setup::CheckSetup;
+pub use warning::{Check, Warning, warn};
+
+/// Runs all checks on an estimation record (`u` and `y` of one length).
+pub fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
+    let n = u.len();
+    if n < 10 {
+        return Vec::new();
+    }
+    let ex = &u[s.hold.min(n)..];
+    let mut out = Vec::new();
+    out.extend(table1::table1_structure(ex, s));
+    out.extend(coverage::path_coverage(ex, s));
+    out.extend(excitation::persistent_excitation(ex, s));
+    out.extend(hold::hold(y, s));
+    out.extend(output::output_sensor(y));
+    out.extend(input_levels::input_levels(ex));
+    out
+}

@@ -1,0 +1,70 @@
+//! The output's sensor: saturation and quantisation.
+
+use super::warning::{Check, Warning, warn};
+use crate::diagnose::model::Saturation;
+
+/// The levels at which the output saturates: an extreme (maximum or minimum) at which more
+/// than 2 % of the samples sit (within 0.1 % of the output's span).
+pub fn saturation(y: &[f64]) -> Saturation {
+    let (ymin, ymax) = y
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let tolerance = 1e-3 * (ymax - ymin).max(1e-300);
+    let level = |ext: f64| {
+        let at = y.iter().filter(|&&v| (v - ext).abs() <= tolerance).count();
+        (ext.is_finite() && at * 50 > y.len()).then_some(ext)
+    };
+    Saturation {
+        ceiling: level(ymax),
+        floor: level(ymin),
+        tolerance,
+    }
+}
+
+/// An output that sits at an extreme, or takes values on a grid only.
+pub fn output_sensor(y: &[f64]) -> Vec<Warning> {
+    let mut out = Vec::new();
+    let n = y.len();
+    // Output saturation and quantisation.
+    let sat = saturation(y);
+    for (label, level) in [("maximum", sat.ceiling), ("minimum", sat.floor)] {
+        if let Some(ext) = level {
+            let at = y
+                .iter()
+                .filter(|&&v| (v - ext).abs() <= sat.tolerance)
+                .count();
+            out.push(warn(
+                Check::OutputSaturation,
+                format!(
+                    "the output sits at its {label} {ext:.4} in {at} samples ({:.1} %): a saturating sensor or an overflow, an output nonlinearity the Hammerstein model does not have",
+                    100.0 * at as f64 / n as f64
+                ),
+            ));
+        }
+    }
+    let mut sorted = y.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted.dedup();
+    if sorted.len() >= 3 && sorted.len() * 5 < n {
+        let step = sorted
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
+        let on_grid = y
+            .iter()
+            .all(|v| ((v / step) - (v / step).round()).abs() < 1e-6);
+        if on_grid {
+            out.push(warn(
+                Check::OutputQuantisation,
+                format!(
+                    "the output is quantised in steps of {step} ({} distinct values): quantisation noise of RMS {:.3} is added, and it is not white where the output changes slowly",
+                    sorted.len(),
+                    step / 12f64.sqrt()
+                ),
+            ));
+        }
+    }
+    out
+}

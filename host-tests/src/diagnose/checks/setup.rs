@@ -1,0 +1,39 @@
+//! What the checks need to know about the identification.
+
+use crate::diagnose::options::Nonlinearity;
+
+/// What the checks need to know about the identification.
+#[derive(Clone, Debug)]
+pub struct CheckSetup<'a> {
+    /// Nonlinearity kind.
+    pub kind: Nonlinearity,
+    /// Ascending knots.
+    pub knots_asc: &'a [f64],
+    /// Descending knots.
+    pub knots_desc: &'a [f64],
+    /// Hold samples at `u_min` (0: none).
+    pub hold: usize,
+    /// Samples of the hold skipped.
+    pub settle: usize,
+    /// A known μ0 was given.
+    pub mu0_known: bool,
+    /// Future horizon.
+    pub f: usize,
+    /// Past horizon.
+    pub p: usize,
+}
+
+impl CheckSetup<'_> {
+    /// The knots' interval `(u_min, u_max)` and the tolerance of "at an end" of it.
+    pub fn interval(&self) -> (f64, f64, f64) {
+        let u_min = self.knots_asc.first().copied().unwrap_or(f64::NAN);
+        let u_max = self.knots_asc.last().copied().unwrap_or(f64::NAN);
+        let tol = 1e-9 * (u_max - u_min).abs().max(1e-300);
+        (u_min, u_max, tol)
+    }
+
+    /// One border for both directions (a static nonlinearity).
+    pub fn shared(&self) -> bool {
+        self.kind == Nonlinearity::Static
+    }
+}

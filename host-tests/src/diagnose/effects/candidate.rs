@@ -1,0 +1,74 @@
+//! A proposed extension with its inner hold-out score; the comparison of two scores and the
+//! choice among candidates.
+
+use crate::diagnose::model::{Evaluation, ExtendedModel, Structure};
+use crate::diagnose::residual::LEVEL;
+use crate::diagnose::stats::{newey_west_var_of_mean, normal_sf};
+
+use super::catalog::Effect;
+
+/// Relative MSE reduction and one-sided Diebold–Mariano p-value of `cand` against `base`.
+/// Excluded samples (outliers) count with the model's mean loss.
+pub fn compare(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
+    let lb = base.losses();
+    let lc = cand.losses();
+    let mean_of = |l: &[Option<f64>]| {
+        let v: Vec<f64> = l.iter().flatten().copied().collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    };
+    let (mb, mc) = (mean_of(&lb), mean_of(&lc));
+    let d: Vec<f64> = lb
+        .iter()
+        .zip(&lc)
+        .map(|(b, c)| b.unwrap_or(mb) - c.unwrap_or(mc))
+        .collect();
+    if d.is_empty() || mb <= 0.0 {
+        return (0.0, 1.0);
+    }
+    let dbar = d.iter().sum::<f64>() / d.len() as f64;
+    let lags = ((d.len() as f64).powf(1.0 / 3.0) * 1.5).ceil() as usize;
+    let var = newey_west_var_of_mean(&d, lags);
+    let stat = dbar / var.sqrt().max(1e-300);
+    (1.0 - mc / mb, normal_sf(stat))
+}
+
+/// A proposed extension with its inner hold-out score.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The effect.
+    pub effect: Effect,
+    /// The structure with the extension.
+    pub structure: Structure,
+    /// It fitted on the inner hold-out's fitting part.
+    pub inner_model: ExtendedModel,
+    /// Its inner hold-out evaluation.
+    pub evaluation: Evaluation,
+    /// Relative reduction of the inner hold-out MSE against the current model.
+    pub gain: f64,
+    /// One-sided Diebold–Mariano p-value of that reduction.
+    pub p_value: f64,
+    /// Complexity (parameters added), for ties.
+    pub complexity: f64,
+    /// Settings tried, with their inner hold-out RMSE.
+    pub tried: Vec<(String, f64)>,
+}
+
+/// Picks the effect to add among candidates: significant at 1 % and at least `min_gain`; the
+/// largest gain wins, and within `tie` of it the simplest extension.
+pub fn choose(cands: &[Candidate], min_gain: f64, tie: f64) -> Option<usize> {
+    let ok: Vec<usize> = (0..cands.len())
+        .filter(|&i| cands[i].p_value < LEVEL && cands[i].gain >= min_gain)
+        .collect();
+    let top = ok
+        .iter()
+        .map(|&i| cands[i].gain)
+        .fold(f64::NEG_INFINITY, f64::max);
+    ok.into_iter()
+        .filter(|&i| cands[i].gain >= top - tie)
+        .min_by(|&a, &b| {
+            cands[a]
+                .complexity
+                .total_cmp(&cands[b].complexity)
+                .then(cands[b].gain.total_cmp(&cands[a].gain))
+        })
+}

@@ -1,0 +1,220 @@
+//! The catalog of effects: their names, the residual tests that are their evidence, their
+//! complexity, and their settings in words.
+
+use serde::Serialize;
+
+use crate::diagnose::model::{Dynamics, ExtendedModel, Structure};
+use crate::diagnose::residual::{Test, TestSet};
+
+/// The effects the diagnosis can name and add.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
+#[serde(rename_all = "snake_case")]
+pub enum Effect {
+    /// Output offset or slow drift: a polynomial trend in time.
+    OffsetDrift,
+    /// Extra transport delay: the input shifted by `d` samples.
+    InputDelay,
+    /// Order too low: a higher model order.
+    UnmodeledDynamics,
+    /// A static output map (saturation, overflow, sensor curve): Hammerstein–Wiener.
+    OutputNonlinearity,
+    /// A sinusoidal disturbance at a frequency detected in the residual.
+    PeriodicDisturbance,
+    /// Coloured noise: an AR noise model for one-step-ahead prediction.
+    ColoredNoise,
+    /// Isolated outliers: robust re-estimation.
+    Outliers,
+    /// State-dependent dynamics: level-dependent stores instead of the linear `G`. Beyond the
+    /// seven-effect catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with
+    /// them ([`Effect::PROPOSED`]).
+    StateDependentDynamics,
+}
+
+impl Effect {
+    /// Every effect of the catalog.
+    pub const ALL: [Effect; 7] = [
+        Effect::OffsetDrift,
+        Effect::InputDelay,
+        Effect::UnmodeledDynamics,
+        Effect::OutputNonlinearity,
+        Effect::PeriodicDisturbance,
+        Effect::ColoredNoise,
+        Effect::Outliers,
+    ];
+
+    /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
+    /// for state-dependent dynamics.
+    pub const PROPOSED: [Effect; 8] = {
+        let mut all = [Effect::StateDependentDynamics; 8];
+        let mut i = 0;
+        while i < Effect::ALL.len() {
+            all[i] = Effect::ALL[i];
+            i += 1;
+        }
+        all
+    };
+
+    /// The catalog name (`offset_drift`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::OffsetDrift => "offset_drift",
+            Effect::InputDelay => "input_delay",
+            Effect::UnmodeledDynamics => "unmodeled_dynamics",
+            Effect::OutputNonlinearity => "output_nonlinearity",
+            Effect::PeriodicDisturbance => "periodic_disturbance",
+            Effect::ColoredNoise => "colored_noise",
+            Effect::Outliers => "outliers",
+            Effect::StateDependentDynamics => "state_dependent_dynamics",
+        }
+    }
+
+    /// The effect with this catalog name.
+    pub fn from_name(name: &str) -> Option<Effect> {
+        Effect::PROPOSED.into_iter().find(|e| e.name() == name)
+    }
+
+    /// The residual tests that point at this effect (at least one must fire).
+    pub fn evidence_tests(self) -> &'static [Test] {
+        match self {
+            Effect::OffsetDrift => &[Test::Trend],
+            Effect::InputDelay => &[
+                Test::InputCorrelation,
+                Test::DirectionCorrelation,
+                Test::RegressorCorrelation,
+            ],
+            Effect::UnmodeledDynamics => &[
+                Test::InputCorrelation,
+                Test::DirectionCorrelation,
+                Test::RegressorCorrelation,
+                Test::Whiteness,
+            ],
+            Effect::OutputNonlinearity => &[Test::StructureOutput, Test::StructureInput],
+            Effect::PeriodicDisturbance => &[Test::SpectralLine],
+            Effect::ColoredNoise => &[Test::Whiteness],
+            Effect::Outliers => &[Test::HeavyTails],
+            // Dynamics of another class: the evidence of wrong dynamics (as for a higher
+            // order), and a residual that follows the level (its increment, or its mean).
+            Effect::StateDependentDynamics => &[
+                Test::StateDependence,
+                Test::StructureOutput,
+                Test::InputCorrelation,
+                Test::RegressorCorrelation,
+                Test::Whiteness,
+            ],
+        }
+    }
+
+    /// The model extension, in words.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Effect::OffsetDrift => {
+                "polynomial output trend in time, degree chosen on the estimation hold-out"
+            }
+            Effect::InputDelay => "input shifted by d samples, d chosen on the estimation hold-out",
+            Effect::UnmodeledDynamics => "higher model order, chosen on the estimation hold-out",
+            Effect::OutputNonlinearity => {
+                "monotone piecewise-linear output map (Hammerstein–Wiener), segments chosen on the estimation hold-out"
+            }
+            Effect::PeriodicDisturbance => {
+                "sinusoid at the residual's spectral line, frequency refined by least squares"
+            }
+            Effect::ColoredNoise => "AR noise model (order by BIC) for one-step-ahead prediction",
+            Effect::Outliers => {
+                "robust re-estimation: outliers by the MAD rule replaced by the model output, left out of the error"
+            }
+            Effect::StateDependentDynamics => {
+                "level-dependent stores: the order-2 linear part as a cascade of two stores with power-law outflows, the first overflowing into the second, borders refitted with them on the simulation error"
+            }
+        }
+    }
+
+    /// Whether the effect changes the deterministic (simulated) model; the noise model only
+    /// changes predictions.
+    pub fn deterministic(self) -> bool {
+        self != Effect::ColoredNoise
+    }
+
+    /// Rough count of parameters the extension adds (ties go to the simpler one).
+    pub fn complexity(self, s: &Structure, base_order: usize) -> f64 {
+        match self {
+            Effect::InputDelay => 1.0,
+            Effect::OffsetDrift => s.trend_degree.map_or(1, |d| d + 1) as f64,
+            Effect::PeriodicDisturbance => 3.0,
+            Effect::Outliers => 2.0,
+            Effect::OutputNonlinearity => s.output_map_segments.unwrap_or(3) as f64 + 1.0,
+            Effect::UnmodeledDynamics => {
+                let n = s.order.unwrap_or(base_order + 1);
+                ((n.saturating_sub(base_order)) * (2 * n + 2)) as f64
+            }
+            Effect::ColoredNoise => s.noise_ar_order.unwrap_or(1) as f64,
+            // Exponents, offsets, overflow level and spill beyond the linear cascade.
+            Effect::StateDependentDynamics => 6.0,
+        }
+    }
+
+    /// Whether structure `s` already has the effect.
+    pub fn is_in(self, s: &Structure) -> bool {
+        match self {
+            Effect::OffsetDrift => s.trend_degree.is_some(),
+            Effect::InputDelay => s.delay > 0,
+            Effect::UnmodeledDynamics => s.order.is_some(),
+            Effect::OutputNonlinearity => s.output_map_segments.is_some(),
+            Effect::PeriodicDisturbance => s.frequencies.len() >= 3,
+            Effect::ColoredNoise => s.noise_ar_order.is_some(),
+            Effect::Outliers => s.robust,
+            Effect::StateDependentDynamics => s.dynamics != Dynamics::Linear,
+        }
+    }
+}
+
+/// Whether any of the effect's evidence tests fired.
+pub fn has_evidence(effect: Effect, tests: &TestSet) -> bool {
+    effect.evidence_tests().iter().any(|&t| tests.fired(t))
+}
+
+/// The effect's setting, in words, for a structure that has it.
+pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> String {
+    match effect {
+        Effect::OffsetDrift => format!("trend degree {}", s.trend_degree.unwrap_or(0)),
+        Effect::InputDelay => format!("delay {} samples", s.delay),
+        Effect::UnmodeledDynamics => match s.horizon {
+            Some(h) => format!("order {}, horizons f = p = {h}", s.order.unwrap_or(0)),
+            None => format!("order {}", s.order.unwrap_or(0)),
+        },
+        Effect::OutputNonlinearity => format!(
+            "output map with {} segments",
+            s.output_map_segments.unwrap_or(0)
+        ),
+        Effect::PeriodicDisturbance => match s.frequencies.last() {
+            Some(w) => format!(
+                "sinusoid at ω = {w:.5} rad/sample (period {:.2} samples)",
+                2.0 * std::f64::consts::PI / w
+            ),
+            None => String::new(),
+        },
+        Effect::ColoredNoise => format!("AR({}) noise model", s.noise_ar_order.unwrap_or(0)),
+        Effect::Outliers => match model {
+            Some(m) => format!(
+                "MAD rule at {} robust σ, {} estimation samples flagged",
+                m.outlier_k, m.flagged
+            ),
+            None => "MAD rule".into(),
+        },
+        Effect::StateDependentDynamics => {
+            let map = match s.output_map_segments {
+                Some(k) => format!(", output map with {k} segments"),
+                None => String::new(),
+            };
+            match model.and_then(|m| m.stores.as_ref()) {
+                Some(st) => format!(
+                    "level-dependent stores: outflow exponents {:.2}, {:.2}; overflow at {:.3} with {:.0} % spilled{map}",
+                    st.alpha[0],
+                    st.alpha[1],
+                    st.level,
+                    100.0 * st.spill
+                ),
+                None => format!("level-dependent stores{map}"),
+            }
+        }
+    }
+}

@@ -1,0 +1,112 @@
+//! The proposal of an effect's extension: the settings of each effect (one file per effect)
+//! scored on the inner validation, the simplest of the best kept.
+
+use super::candidate::{Candidate, compare};
+use super::catalog::Effect;
+use super::holdout::Holdout;
+use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::model::{Evaluation, ExtendedModel, Metric, Structure};
+use crate::diagnose::residual::TestSet;
+
+/// What a proposal needs.
+pub struct Proposal<'a> {
+    /// The inner hold-out.
+    pub holdout: &'a Holdout<'a>,
+    /// The current structure.
+    pub current: &'a Structure,
+    /// Its inner hold-out evaluation (simulation).
+    pub baseline: &'a Evaluation,
+    /// The current structure fitted on the inner hold-out's fitting part.
+    pub inner_model: &'a ExtendedModel,
+    /// Order of the current model.
+    pub order: usize,
+    /// Future horizon (orders stay below it).
+    pub f: usize,
+    /// Largest delay tried.
+    pub max_delay: usize,
+    /// In-sample residual of the current model on the estimation record (after the hold).
+    pub residual: &'a [f64],
+    /// Input over the same samples.
+    pub input: &'a [f64],
+    /// The current model's tests on that residual.
+    pub tests: &'a TestSet,
+}
+
+impl Proposal<'_> {
+    /// The current structure changed by `f`.
+    pub fn with(&self, f: impl Fn(&mut Structure)) -> Structure {
+        let mut s = self.current.clone();
+        f(&mut s);
+        s
+    }
+
+    /// Scores every setting (given in increasing complexity) on the inner hold-out and keeps
+    /// the simplest whose RMSE is within 0.5 % of the best.
+    pub fn best_of(
+        &self,
+        effect: Effect,
+        options: Vec<(String, Structure)>,
+        metric: Metric,
+    ) -> Result<Option<Candidate>, DiagnoseError> {
+        let mut scored: Vec<(Structure, ExtendedModel, Evaluation)> = Vec::new();
+        let mut tried = Vec::new();
+        for (label, s) in options {
+            let (m, ev) = match self.holdout.score(&s, metric) {
+                Ok(Some(v)) => v,
+                Ok(None) => {
+                    tried.push((format!("{label} (mode too slow)"), f64::NAN));
+                    continue;
+                }
+                Err(DiagnoseError::Identify(e)) => {
+                    tried.push((format!("{label} (identification failed: {e})"), f64::NAN));
+                    continue;
+                }
+                Err(DiagnoseError::Dynamics(e)) => {
+                    tried.push((format!("{label} (not fitted: {e})"), f64::NAN));
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            tried.push((label, ev.rmse));
+            if ev.rmse.is_finite() {
+                scored.push((s, m, ev));
+            }
+        }
+        let best = scored
+            .iter()
+            .map(|(_, _, e)| e.rmse)
+            .fold(f64::INFINITY, f64::min);
+        let Some((s, m, ev)) = scored.into_iter().find(|(_, _, e)| e.rmse <= best * 1.005) else {
+            return Ok(None);
+        };
+        let (gain, p_value) = compare(self.baseline, &ev);
+        Ok(Some(Candidate {
+            effect,
+            complexity: effect.complexity(&s, self.order),
+            structure: s,
+            inner_model: m,
+            evaluation: ev,
+            gain,
+            p_value,
+            tried,
+        }))
+    }
+
+    /// Proposes the effect's extension with its best setting, or `None` when it has nothing
+    /// to add (already in the model, no setting left, no fit).
+    pub fn propose(&self, effect: Effect) -> Result<Option<Candidate>, DiagnoseError> {
+        if effect.is_in(self.current) {
+            return Ok(None);
+        }
+        match effect {
+            Effect::InputDelay => self.input_delay(),
+            Effect::UnmodeledDynamics => self.unmodeled_dynamics(),
+            Effect::OffsetDrift => self.offset_drift(),
+            Effect::OutputNonlinearity => self.output_nonlinearity(),
+            Effect::PeriodicDisturbance => self.periodic_disturbance(),
+            Effect::Outliers => self.outliers(),
+            Effect::StateDependentDynamics => self.state_dependent_dynamics(),
+            Effect::ColoredNoise => self.colored_noise(),
+        }
+    }
+}

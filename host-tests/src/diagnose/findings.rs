@@ -1,0 +1,98 @@
+//! What the diagnosis found but could not add: tests no catalog effect explains, effects outside
+//! the catalog, and estimation data that cannot score extensions. Typed here; put in words in
+//! [`verdict`](super::verdict).
+
+use super::effects::Effect;
+use super::residual::Test;
+
+/// A finding the loop could not act on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Finding {
+    /// The current model cannot be fitted without one of the inner validation's blocks.
+    FoldsUnfittable {
+        /// Why the fit failed, in words.
+        error: String,
+    },
+    /// The model fitted without the inner hold-out block simulates it with more than 3 × its
+    /// in-sample RMSE.
+    BlockUnscorable {
+        /// Block start.
+        start: usize,
+        /// Block end (exclusive).
+        end: usize,
+        /// RMSE on the block.
+        rmse: f64,
+        /// In-sample RMSE.
+        in_sample: f64,
+    },
+    /// A test fired on the estimation residual that no catalog effect explains.
+    NotExplained {
+        /// The test.
+        test: Test,
+        /// What it found, in words.
+        detail: String,
+        /// Its p-value.
+        p_value: f64,
+        /// The effects tried on its evidence: `(effect, gain, p)`.
+        tried: Vec<(Effect, f64, f64)>,
+    },
+    /// Outside the catalog: the residual depends on the input's direction although the
+    /// nonlinearity is static.
+    DirectionDependence,
+    /// Outside the catalog: state dependence the level-dependent stores leave.
+    StateDependenceBeyondStores,
+    /// Outside the catalog: state-dependent dynamics not added.
+    StateDependence,
+    /// Outside the catalog: the output is quantised.
+    Quantised,
+}
+
+impl Finding {
+    /// Whether the finding is that the estimation data cannot score extensions.
+    pub fn unscorable(&self) -> bool {
+        matches!(
+            self,
+            Finding::FoldsUnfittable { .. } | Finding::BlockUnscorable { .. }
+        )
+    }
+
+    /// Whether the finding is an effect outside the catalog.
+    pub fn outside_catalog(&self) -> bool {
+        matches!(
+            self,
+            Finding::DirectionDependence
+                | Finding::StateDependenceBeyondStores
+                | Finding::StateDependence
+                | Finding::Quantised
+        )
+    }
+}
+
+/// The effects outside the catalog that the final estimation tests (`tests`) and the data
+/// checks (`warnings`) find; `shared`: a static nonlinearity, `stores`: the model has the
+/// level-dependent stores.
+pub fn outside_catalog(
+    tests: &super::residual::TestSet,
+    warnings: &[super::checks::Warning],
+    shared: bool,
+    stores: bool,
+) -> Vec<Finding> {
+    let mut out = Vec::new();
+    if shared && tests.fired(Test::DirectionCorrelation) {
+        out.push(Finding::DirectionDependence);
+    }
+    if tests.fired(Test::StateDependence) {
+        out.push(if stores {
+            Finding::StateDependenceBeyondStores
+        } else {
+            Finding::StateDependence
+        });
+    }
+    if warnings
+        .iter()
+        .any(|w| w.check == super::checks::Check::OutputQuantisation)
+    {
+        out.push(Finding::Quantised);
+    }
+    out
+}

@@ -1,0 +1,88 @@
+//! The inner validation inside the estimation data, on which every setting and every effect is
+//! chosen: one held-out block if the base model fitted without it simulates it about as well as
+//! the model fits the record (at most 3 × the in-sample RMSE); otherwise leave-block-out
+//! cross-validation over tenths of the record (10-fold) that are scorable in that sense (at
+//! least two), their scores pooled.
+
+use std::ops::Range;
+
+use super::effects::Holdout;
+use super::model::{self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure};
+use super::options::DiagnoseOptions;
+use super::residual;
+
+/// The blocks of the inner validation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InnerValidation {
+    /// The single held-out block (the last `1 − inner_fraction` of the record, moved to
+    /// leave every knot segment excited).
+    pub block: Range<usize>,
+    /// The blocks scored: the single block, or the cross-validation folds.
+    pub folds: Vec<Range<usize>>,
+}
+
+impl InnerValidation {
+    /// Chooses the blocks for the estimation record `est`, fitted with `fit` (knots chosen),
+    /// its base model `base` fitted on all of it.
+    pub fn choose(
+        est: &Record,
+        opts: &DiagnoseOptions,
+        fit: &FitOptions,
+        base: &ExtendedModel,
+    ) -> Self {
+        let id = &fit.identify;
+        let (hold, ne) = (id.hold, est.len());
+        let shared = id.static_nonlinearity;
+        let estimated = fit.initial == InitialState::Estimated;
+        let block_len = ((ne - hold) as f64 * (1.0 - opts.inner_fraction)).round() as usize;
+        let (_, _, bins, count) =
+            residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
+        let block = Holdout::choose_block(est, hold, block_len, &bins, count, estimated);
+        let in_sample0 = model::evaluate(base, est, hold..ne, Metric::Simulation).rmse;
+        let scorable = |r: &Range<usize>| -> bool {
+            let fit_part = est.parts(&[0..r.start, r.end..ne]);
+            model::fit_structure(&Structure::base(), &fit_part, fit).is_ok_and(|m| {
+                let e = model::evaluate(&m, est, r.clone(), Metric::Simulation).rmse;
+                e.is_finite() && e <= 3.0 * in_sample0
+            })
+        };
+        let folds: Vec<Range<usize>> = if scorable(&block) {
+            vec![block.clone()]
+        } else {
+            let good: Vec<Range<usize>> =
+                Holdout::fold_blocks(est, hold, 10, &bins, count, estimated)
+                    .into_iter()
+                    .filter(|r| scorable(r))
+                    .collect();
+            if good.len() >= 2 {
+                good
+            } else {
+                vec![block.clone()]
+            }
+        };
+        Self { block, folds }
+    }
+
+    /// How the settings and effects are chosen, in words, for `ne` estimation samples.
+    pub fn describe(&self, ne: usize) -> String {
+        let block = &self.block;
+        if self.folds.len() == 1 {
+            format!(
+                "every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
+                block.start, block.end
+            )
+        } else {
+            let list: Vec<String> = self
+                .folds
+                .iter()
+                .map(|r| format!("{}..{}", r.start, r.end))
+                .collect();
+            format!(
+                "every setting and every effect is chosen on the estimation data by leave-block-out cross-validation (10 blocks; blocks that leave a knot segment unexcited, the first with an estimated initial state, and blocks the base model fitted without them simulates with more than 3 × its in-sample error are not used): fitted without each of the blocks {} (of {ne}) in turn, scored on it, the scores pooled (the last 30 % of the record, {}..{}, cannot be scored: the model fitted without it simulates it with more than 3 × its in-sample error)",
+                list.join(", "),
+                block.start,
+                block.end
+            )
+        }
+    }
+}

@@ -1,0 +1,85 @@
+//! The fitted extended model and its simulation.
+
+use crate::diagnose::noise::ArNoise;
+use crate::diagnose::output_map::OutputMap;
+use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output};
+use crate::diagnose::stores::Stores;
+use crate::identify::HostModel;
+
+use super::additive::Additive;
+use super::outliers::detect_outliers;
+use super::structure::Structure;
+
+/// The fitted extended model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExtendedModel {
+    /// Its structure.
+    pub structure: Structure,
+    /// The Hammerstein part (identified on the delayed input).
+    pub hammerstein: HostModel,
+    /// Initial state of simulations.
+    pub x0: Vec<f64>,
+    /// Output map `g` (Hammerstein–Wiener), if any.
+    pub output_map: Option<OutputMap>,
+    /// Additive output terms.
+    pub additive: Additive,
+    /// Noise model, if any.
+    pub noise: Option<ArNoise>,
+    /// MAD rule threshold (robust standard deviations) for the outliers.
+    pub outlier_k: f64,
+    /// Samples of the estimation data flagged as outliers.
+    pub flagged: usize,
+    /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`](super::structure::Dynamics::Stores)).
+    pub stores: Option<Stores>,
+}
+
+impl ExtendedModel {
+    /// Output of the Hammerstein part (delay included) for an input record.
+    pub fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
+        let ud = delay_input(u, self.structure.delay);
+        let h = nonlinearity_output(&self.hammerstein, &ud);
+        match &self.stores {
+            Some(st) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
+            None => linear_response(&self.hammerstein, &h, &self.x0),
+        }
+    }
+
+    /// The simulated output (deterministic part, no measured output used).
+    pub fn simulate(&self, u: &[f64], time: &[f64]) -> Vec<f64> {
+        let lin = self.hammerstein_output(u);
+        lin.iter()
+            .zip(time)
+            .map(|(&l, &t)| {
+                let g = self.output_map.as_ref().map_or(l, |m| m.eval(l));
+                g + self.additive.eval(t)
+            })
+            .collect()
+    }
+
+    /// One-step-ahead prediction: the simulation plus the noise model's prediction of the
+    /// residual from the past residuals (the simulation when there is no noise model).
+    /// Residuals of samples flagged as outliers are replaced by their own prediction.
+    pub fn predict(&self, u: &[f64], y: &[f64], time: &[f64]) -> Vec<f64> {
+        let sim = self.simulate(u, time);
+        let Some(ar) = &self.noise else { return sim };
+        let flags = if self.structure.robust {
+            let r: Vec<f64> = y.iter().zip(&sim).map(|(a, b)| a - b).collect();
+            detect_outliers(&r, self.outlier_k)
+        } else {
+            vec![false; y.len()]
+        };
+        let mut r = vec![0.0; y.len()];
+        let mut out = Vec::with_capacity(y.len());
+        for t in 0..y.len() {
+            let pr: f64 =
+                ar.a.iter()
+                    .enumerate()
+                    .filter(|(k, _)| t > *k)
+                    .map(|(k, a)| a * r[t - 1 - k])
+                    .sum();
+            out.push(sim[t] + pr);
+            r[t] = if flags[t] { pr } else { y[t] - sim[t] };
+        }
+        out
+    }
+}

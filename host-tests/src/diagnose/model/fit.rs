@@ -1,0 +1,310 @@
+//! The extended model fitted on a record by backfitting.
+
+use std::ops::Range;
+
+use crate::diagnose::dynamics::{Borders, DynamicsFit};
+use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::noise::fit_ar;
+use crate::diagnose::output_map::OutputMap;
+use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output, rest_state};
+use crate::diagnose::stores::{self, StoresClass};
+use crate::identify::{HostModel, identify};
+
+use super::additive::Additive;
+use super::borders::{estimate_x0, refit_borders};
+use super::extended::ExtendedModel;
+use super::fit_options::{FitOptions, InitialState};
+use super::outliers::detect_outliers;
+use super::poles::{refine_poles, refine_poles_mapped};
+use super::record::Record;
+use super::refine_linear::refine_linear;
+use super::structure::Structure;
+
+/// Fits a structure on a record.
+pub fn fit_structure(
+    s: &Structure,
+    rec: &Record,
+    opts: &FitOptions,
+) -> Result<ExtendedModel, DiagnoseError> {
+    fit_structure_impl(s, rec, opts, None)
+}
+
+/// [`fit_structure`] for a fold of the cross-validation: `fit_part` is `whole` without the
+/// samples `block`, joined at the gap. The linear part is fitted on `fit_part`; the
+/// level-dependent stores, whose simulation error a join would corrupt, on the simulation of
+/// `whole` with the block's samples left out of the error (the input is known throughout).
+pub fn fit_structure_fold(
+    s: &Structure,
+    fit_part: &Record,
+    opts: &FitOptions,
+    whole: &Record,
+    block: Range<usize>,
+) -> Result<ExtendedModel, DiagnoseError> {
+    fit_structure_impl(s, fit_part, opts, Some((whole, block)))
+}
+
+/// Fits level-dependent stores to a fitted model ([`Dynamics::Stores`]): started from its
+/// linear part, on the simulation error of `rec` without the `skip` samples, the borders
+/// refitted with them, the output map and the additive terms held.
+pub(super) fn fit_stores(
+    model: &mut ExtendedModel,
+    rec: &Record,
+    skip: &[bool],
+    opts: &FitOptions,
+    class: StoresClass,
+) -> Result<(), DiagnoseError> {
+    let ud = delay_input(&rec.u, model.structure.delay);
+    let h = nonlinearity_output(&model.hammerstein, &ud);
+    let target: Vec<f64> = rec
+        .y
+        .iter()
+        .zip(&rec.time)
+        .map(|(y, &t)| y - model.additive.eval(t))
+        .collect();
+    let data = DynamicsFit {
+        h: &h,
+        y: &target,
+        skip,
+        map: model.output_map.as_ref(),
+        fit_x0: true,
+        radius_limit: 1.0,
+        iterations: stores::ITERATIONS,
+        borders: Some(Borders {
+            u: &ud,
+            shared: opts.identify.static_nonlinearity,
+        }),
+    };
+    let (st, hm) = stores::fit(&model.hammerstein, &model.x0, &data, class)
+        .map_err(DiagnoseError::Dynamics)?;
+    model.hammerstein = hm;
+    model.stores = Some(st);
+    Ok(())
+}
+
+pub(super) fn fit_structure_impl(
+    s: &Structure,
+    rec: &Record,
+    opts: &FitOptions,
+    held: Option<(&Record, Range<usize>)>,
+) -> Result<ExtendedModel, DiagnoseError> {
+    // Stores start from the linear part refined on the simulation error: the subspace
+    // estimate of a slow, well-damped plant can put a lightly damped complex pair where the
+    // plant has two real poles.
+    let refined;
+    let opts = if s.dynamics.stores().is_some() && !opts.refine_poles {
+        refined = FitOptions {
+            refine_poles: true,
+            ..opts.clone()
+        };
+        &refined
+    } else {
+        opts
+    };
+    let n = rec.len();
+    let ud = delay_input(&rec.u, s.delay);
+    let mut idopts = opts.identify.clone();
+    // The subspace estimate is only the start: the poles are refined on the simulation error
+    // below and a model too slow for the record is refused there, so a slow plant's pole that
+    // the subspace step puts just outside the unit circle is taken here.
+    idopts.poles = hsid::Poles::Any;
+    if s.order.is_some() {
+        idopts.order = s.order;
+    }
+    if let Some(h) = s.horizon {
+        idopts.f = h;
+        idopts.p = h;
+    }
+    let mut additive = Additive {
+        trend: vec![0.0; s.trend_degree.map_or(0, |d| d + 1)],
+        frequencies: s.frequencies.clone(),
+        sin_cos: vec![(0.0, 0.0); s.frequencies.len()],
+        center: opts.time_center,
+        scale: opts.time_scale.max(1.0),
+    };
+    let mut map: Option<OutputMap> = None;
+    let mut flags = vec![false; n];
+    let mut lin_prev: Option<Vec<f64>> = None;
+    let rounds = s.rounds().min(opts.rounds.max(1));
+    let mut last: Option<(HostModel, Vec<f64>)> = None;
+    let mut best_round: Option<(f64, HostModel, Vec<f64>, Option<OutputMap>)> = None;
+    for _ in 0..rounds {
+        let add: Vec<f64> = rec.time.iter().map(|&t| additive.eval(t)).collect();
+        let mut target: Vec<f64> = rec.y.iter().zip(&add).map(|(y, a)| y - a).collect();
+        // Samples whose target is imputed from the previous iterate: outliers, and outputs on a
+        // flat part of the output map. The subspace step needs every sample (imputed); the
+        // least-squares refit leaves them out.
+        let mut imputed = flags.clone();
+        if let Some(lp) = &lin_prev {
+            if let Some(g) = &map {
+                let min_slope = 0.1 * g.mean_slope().max(0.0);
+                for ((tv, &l), im) in target.iter_mut().zip(lp).zip(imputed.iter_mut()) {
+                    match g.invert(*tv, min_slope).filter(|x| x.is_finite()) {
+                        Some(x) => *tv = x,
+                        None => {
+                            *tv = l;
+                            *im = true;
+                        }
+                    }
+                }
+            }
+            for (i, &f) in flags.iter().enumerate() {
+                if f {
+                    target[i] = lp[i];
+                }
+            }
+        }
+        let m = identify(&ud, &target, &idopts).map_err(DiagnoseError::Identify)?;
+        let refit = if opts.refit {
+            refit_borders(
+                &m,
+                &ud,
+                &target,
+                &imputed,
+                opts.initial,
+                idopts.static_nonlinearity,
+            )
+        } else {
+            None
+        };
+        let (m, x0) = match refit {
+            Some(r) => r,
+            None => {
+                let h = nonlinearity_output(&m, &ud);
+                let x0 = match opts.initial {
+                    InitialState::Rest => rest_state(&m),
+                    InitialState::Estimated => estimate_x0(&m, &h, &target, &imputed),
+                };
+                (m, x0)
+            }
+        };
+        let minus_add: Vec<f64> = rec.y.iter().zip(&add).map(|(y, a)| y - a).collect();
+        let (m, x0) = if opts.refit {
+            let (m2, x2, g) = refine_linear(
+                &m,
+                &x0,
+                &ud,
+                &minus_add,
+                &flags,
+                s.output_map_segments,
+                &opts.saturation,
+                opts.initial,
+                idopts.static_nonlinearity,
+            );
+            if g.is_some() {
+                map = g;
+            }
+            (m2, x2)
+        } else {
+            (m, x0)
+        };
+        let (m, x0) = if opts.refine_poles && s.output_map_segments.is_none() {
+            refine_poles(
+                &m,
+                &x0,
+                &ud,
+                &minus_add,
+                &flags,
+                opts.initial,
+                idopts.static_nonlinearity,
+            )
+            .unwrap_or((m, x0))
+        } else if opts.refine_poles && opts.refit {
+            match refine_poles_mapped(
+                &m,
+                &x0,
+                &ud,
+                &minus_add,
+                &flags,
+                s.output_map_segments,
+                &opts.saturation,
+                opts.initial,
+                idopts.static_nonlinearity,
+            ) {
+                Some((m2, x2, g)) => {
+                    if g.is_some() {
+                        map = g;
+                    }
+                    (m2, x2)
+                }
+                None => (m, x0),
+            }
+        } else {
+            (m, x0)
+        };
+        let h = nonlinearity_output(&m, &ud);
+        let lin = linear_response(&m, &h, &x0);
+        let out: Vec<f64> = lin
+            .iter()
+            .map(|&l| map.as_ref().map_or(l, |g| g.eval(l)))
+            .collect();
+        let r: Vec<f64> = rec.y.iter().zip(&out).map(|(y, o)| y - o).collect();
+        // With an output map, a later round (identified on the inverted output) is kept only if
+        // it fits better: the inversion can mislead the subspace step.
+        if s.output_map_segments.is_some() && !s.robust {
+            let sse: f64 = r
+                .iter()
+                .zip(&rec.time)
+                .map(|(v, &t)| (v - additive.eval(t)).powi(2))
+                .sum();
+            if let Some((best_sse, bm, bx, bg)) = &best_round
+                && sse.partial_cmp(best_sse) != Some(std::cmp::Ordering::Less)
+            {
+                let h = nonlinearity_output(bm, &ud);
+                lin_prev = Some(linear_response(bm, &h, bx));
+                last = Some((bm.clone(), bx.clone()));
+                map = bg.clone();
+                continue;
+            }
+            best_round = Some((sse, m.clone(), x0.clone(), map.clone()));
+        }
+        additive.fit(&r, &rec.time, &flags);
+        if s.robust {
+            let res: Vec<f64> = r
+                .iter()
+                .zip(&rec.time)
+                .map(|(v, &t)| v - additive.eval(t))
+                .collect();
+            flags = detect_outliers(&res, opts.outlier_k);
+        }
+        lin_prev = Some(lin);
+        last = Some((m, x0));
+    }
+    let Some((hammerstein, x0)) = last else {
+        return Err(DiagnoseError::TooShort {
+            samples: n,
+            need: 1,
+        });
+    };
+    let mut model = ExtendedModel {
+        structure: s.clone(),
+        hammerstein,
+        x0,
+        output_map: map,
+        additive,
+        noise: None,
+        outlier_k: opts.outlier_k,
+        flagged: flags.iter().filter(|&&f| f).count(),
+        stores: None,
+    };
+    if let Some(class) = s.dynamics.stores() {
+        match held {
+            Some((whole, block)) => {
+                let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
+                fit_stores(&mut model, whole, &skip, opts, class)?;
+            }
+            None => fit_stores(&mut model, rec, &flags, opts, class)?,
+        }
+    }
+    if let Some(p) = s.noise_ar_order {
+        let sim = model.simulate(&rec.u, &rec.time);
+        let r: Vec<f64> = rec
+            .y
+            .iter()
+            .zip(&sim)
+            .zip(&flags)
+            .map(|((y, s), &f)| if f { 0.0 } else { y - s })
+            .collect();
+        model.noise = fit_ar(&r, p);
+    }
+    Ok(model)
+}

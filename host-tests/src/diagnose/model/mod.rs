@@ -1,0 +1,47 @@
+//! The extended model: the paper's Hammerstein model plus the catalog's extensions, fitted
+//! together on the estimation data by backfitting.
+//!
+//! ```text
+//! y(t) = g( G(q) H[u(t − d)] ) + trend(t) + Σ_k (a_k cos ω_k t + b_k sin ω_k t) + v(t)
+//! v(t) = Σ_i c_i v(t − i) + e(t)                      (noise model, for prediction)
+//! ```
+//!
+//! * `d` (`input_delay`) shifts the input before the Hammerstein model,
+//! * the order of `G` (`unmodeled_dynamics`) is passed to the subspace identification,
+//! * `g` (`output_nonlinearity`) is a monotone piecewise-linear output map on knots at
+//!   quantiles of the Hammerstein output (a Hammerstein–Wiener model), fitted by non-negative
+//!   least squares on its increments,
+//! * `trend` (`offset_drift`) is a polynomial in time, the sinusoids (`periodic_disturbance`)
+//!   have fixed frequencies and least-squares amplitudes,
+//! * the AR noise model (`colored_noise`) gives one-step-ahead predictions,
+//! * `outliers`: samples flagged by the MAD rule are replaced, in the identification target,
+//!   by the model's own output (robust re-estimation), and left out of the error.
+//!
+//! Backfitting: the Hammerstein part is identified on `g⁻¹(y − additive)` (flagged samples and
+//! samples on a flat part of `g` imputed from the previous iterate), then `g` is fitted from the
+//! simulated Hammerstein output to `y − additive`, then the additive terms to `y − g(·)`, then
+//! the outliers are flagged again; three rounds.
+
+pub mod additive;
+pub mod borders;
+pub mod evaluate;
+pub mod extended;
+pub mod fit;
+pub mod fit_options;
+pub mod outliers;
+pub mod output_fit;
+pub mod poles;
+pub mod record;
+pub mod refine_linear;
+pub mod structure;
+
+pub use additive::Additive;
+pub use borders::{BorderBasis, refit_borders};
+pub use evaluate::{Evaluation, Metric, evaluate};
+pub use extended::ExtendedModel;
+pub use fit::{fit_structure, fit_structure_fold};
+pub use fit_options::{FitOptions, InitialState, Saturation};
+pub use outliers::detect_outliers;
+pub use poles::spectral_radius;
+pub use record::Record;
+pub use structure::{Dynamics, Structure};

@@ -1,0 +1,334 @@
+//! The poles refined by the simulation error (observer form, Levenberg–Marquardt), and the
+//! spectral radius.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::diagnose::optimise::{JacobianFailure, Settings, levenberg_marquardt};
+use crate::diagnose::output_map::OutputMap;
+use crate::diagnose::simulate::{
+    level_of, linear_response, nonlinearity_output, rest_state, steady_state,
+};
+use crate::diagnose::stats::lstsq;
+use crate::identify::HostModel;
+
+use super::borders::border_channels;
+use super::fit_options::{InitialState, Saturation};
+use super::refine_linear::refine_linear;
+
+/// Monic polynomial `z^n + a_1 z^{n−1} + … + a_n` with the given roots; returns `a_1 … a_n`.
+pub(super) fn poly_from_roots(roots: &[(f64, f64)]) -> Vec<f64> {
+    let mut p = vec![1.0];
+    let mut i = 0;
+    let mul = |p: &[f64], f: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; p.len() + f.len() - 1];
+        for (i, a) in p.iter().enumerate() {
+            for (j, b) in f.iter().enumerate() {
+                out[i + j] += a * b;
+            }
+        }
+        out
+    };
+    while i < roots.len() {
+        let (re, im) = roots[i];
+        if im.abs() > 1e-12 && i + 1 < roots.len() {
+            p = mul(&p, &[1.0, -2.0 * re, re * re + im * im]);
+            i += 2;
+        } else {
+            p = mul(&p, &[1.0, -re]);
+            i += 1;
+        }
+    }
+    p[1..].to_vec()
+}
+
+/// The observer canonical `A` of `z^n + a_1 z^{n−1} + … + a_n`: first column `−a`, ones on
+/// the superdiagonal.
+pub(super) fn observer_a(a: &[f64]) -> DMatrix<f64> {
+    let n = a.len();
+    DMatrix::from_fn(n, n, |i, j| {
+        if j == 0 {
+            -a[i]
+        } else if j == i + 1 {
+            1.0
+        } else {
+            0.0
+        }
+    })
+}
+
+/// The linear part in observer canonical form (`C = e₁`): the same transfer function.
+pub(super) fn to_observer(m: &HostModel) -> Option<(Vec<f64>, HostModel)> {
+    let n = m.order;
+    if n == 0 {
+        return None;
+    }
+    let poles = m.poles();
+    if poles.len() != n {
+        return None;
+    }
+    let a = poly_from_roots(&poles);
+    // Markov parameters h_k = C A^{k−1} B, k = 1…n.
+    let mut h = Vec::with_capacity(n);
+    let mut v = DVector::from_column_slice(&m.b);
+    for _ in 0..n {
+        h.push(m.c.iter().zip(v.iter()).map(|(c, x)| c * x).sum::<f64>());
+        v = &m.a * v;
+    }
+    let b: Vec<f64> = (0..n)
+        .map(|k| h[k] + (0..k).map(|i| a[i] * h[k - 1 - i]).sum::<f64>())
+        .collect();
+    let mut out = m.clone();
+    out.a = observer_a(&a);
+    out.b = b;
+    out.c = (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect();
+    Some((a, out))
+}
+
+/// Residual of the over-parameterised model with `A` fixed: the output is linear in the
+/// products `B_i v_c`, `D v_c` (and `B_i c` for an estimated initial level), which makes the
+/// residual a smooth function of `A` (the paper's eq. 7 with `A`, `C` given). `m` is in
+/// observer canonical form with characteristic polynomial `a`: the response of `y` to an input
+/// into state `i` is `q^{−i} / A(q⁻¹)`, so one filter per channel and shifts give every column.
+pub(super) fn overparameterised_residual(
+    m: &HostModel,
+    a: &[f64],
+    phi: &[Vec<f64>],
+    y: &[f64],
+    skip: &[bool],
+    initial: InitialState,
+) -> Option<Vec<f64>> {
+    let n = m.order;
+    let len = y.len();
+    let ia = DMatrix::<f64>::identity(n, n) - &m.a;
+    let ia_inv = ia.try_inverse()?;
+    // Free responses from rest, ρ_i(t) = C A^t (I − A)⁻¹ e_i.
+    let mut rho = vec![vec![0.0; len]; n];
+    for (i, r) in rho.iter_mut().enumerate() {
+        let mut x: Vec<f64> = (0..n).map(|j| ia_inv[(j, i)]).collect();
+        for v in r.iter_mut() {
+            *v = x[0];
+            x = (0..n)
+                .map(|row| (0..n).map(|k| m.a[(row, k)] * x[k]).sum())
+                .collect();
+        }
+    }
+    let mut cols: Vec<Vec<f64>> = Vec::with_capacity(phi.len() * (n + 1) + n);
+    for (c, ph) in phi.iter().enumerate() {
+        // w = φ / A(q⁻¹) from rest.
+        let mut w = vec![0.0; len];
+        for t in 0..len {
+            let mut v = ph[t];
+            for (k, ak) in a.iter().enumerate() {
+                if t > k {
+                    v -= ak * w[t - 1 - k];
+                }
+            }
+            w[t] = v;
+        }
+        for i in 1..=n {
+            let col: Vec<f64> = (0..len)
+                .map(|t| {
+                    let base = if t >= i { w[t - i] } else { 0.0 };
+                    if c == 0 && initial == InitialState::Rest {
+                        base + rho[i - 1][t]
+                    } else {
+                        base
+                    }
+                })
+                .collect();
+            cols.push(col);
+        }
+        cols.push(ph.clone());
+    }
+    if initial == InitialState::Estimated {
+        cols.extend(rho);
+    }
+    let rows: Vec<usize> = (0..len).filter(|&t| !skip[t]).collect();
+    let x = DMatrix::from_fn(rows.len(), cols.len(), |r, c| cols[c][rows[r]]);
+    let yy = DVector::from_iterator(rows.len(), rows.iter().map(|&t| y[t]));
+    let beta = lstsq(&x, &yy)?;
+    let fit = &x * beta;
+    Some((0..rows.len()).map(|r| yy[r] - fit[r]).collect())
+}
+
+/// Largest root modulus of `z^n + a_1 z^{n−1} + …`.
+pub(super) fn root_radius(a: &[f64]) -> f64 {
+    crate::sim::eigenvalues(observer_a(a)).map_or(f64::INFINITY, |ev| {
+        ev.iter().map(|(r, i)| r.hypot(*i)).fold(0.0, f64::max)
+    })
+}
+
+/// Levenberg–Marquardt on the characteristic polynomial of `A` (variable projection: the
+/// residual of the over-parameterised least squares for every `A`), kept stable with time
+/// constants below twice the record; then `B`, `D`, borders by [`refine_linear`].
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refine_poles(
+    m: &HostModel,
+    x0: &[f64],
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    initial: InitialState,
+    shared: bool,
+) -> Option<(HostModel, Vec<f64>)> {
+    let (mut a, obs) = to_observer(m)?;
+    let n = a.len();
+    let limit = 1.0 - 0.5 / u.len().max(4) as f64;
+    if root_radius(&a) >= limit {
+        // Start from the subspace poles pulled inside: |p| ≤ 0.99 · limit.
+        let poles: Vec<(f64, f64)> = m
+            .poles()
+            .into_iter()
+            .map(|(re, im)| {
+                let r = re.hypot(im);
+                let k = if r >= 0.99 * limit {
+                    0.99 * limit / r
+                } else {
+                    1.0
+                };
+                (re * k, im * k)
+            })
+            .collect();
+        a = poly_from_roots(&poles);
+    }
+    let phi = border_channels(m, u, shared)?;
+    let resid = |a: &[f64]| -> Option<Vec<f64>> {
+        let mut mm = obs.clone();
+        mm.a = observer_a(a);
+        overparameterised_residual(&mm, a, &phi, y, skip, initial)
+    };
+    let settings = Settings {
+        iterations: 12,
+        initial_damping: 1e-3,
+        tries: 5,
+        min_gain: 1e-5,
+        jacobian_failure: JacobianFailure::Fail,
+    };
+    let (a, _) = levenberg_marquardt(&a, &vec![1e-2; n], &settings, &resid, &|trial: &[f64]| {
+        root_radius(trial) < limit
+    })?;
+    let mut mm = obs;
+    mm.a = observer_a(&a);
+    let x0 = match initial {
+        InitialState::Rest => rest_state(&mm),
+        InitialState::Estimated => {
+            let c = level_of(m, x0);
+            steady_state(&mm).iter().map(|v| v * c).collect()
+        }
+    };
+    let (m2, x2, _) = refine_linear(
+        &mm,
+        &x0,
+        u,
+        y,
+        skip,
+        None,
+        &Saturation::default(),
+        initial,
+        shared,
+    );
+    Some((m2, x2))
+}
+
+/// The poles of a model with an output map refined on the simulation error: a bounded
+/// Nelder–Mead search over the characteristic polynomial of `A` (stable, time constants below
+/// twice the record), with the borders, `B`, `D`, the initial level and the map refit by
+/// [`refine_linear`] for every candidate. Returns `None` when nothing improves.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refine_poles_mapped(
+    m: &HostModel,
+    x0: &[f64],
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    map_segments: Option<usize>,
+    sat: &Saturation,
+    initial: InitialState,
+    shared: bool,
+) -> Option<(HostModel, Vec<f64>, Option<OutputMap>)> {
+    let (a0, obs) = to_observer(m)?;
+    let n = a0.len();
+    let limit = 1.0 - 0.5 / u.len().max(4) as f64;
+    let level = level_of(m, x0);
+    let eval = |a: &[f64]| -> Option<(f64, HostModel, Vec<f64>, Option<OutputMap>)> {
+        if root_radius(a) >= limit {
+            return None;
+        }
+        let mut mm = obs.clone();
+        mm.a = observer_a(a);
+        let xs = match initial {
+            InitialState::Rest => rest_state(&mm),
+            InitialState::Estimated => steady_state(&mm).iter().map(|v| v * level).collect(),
+        };
+        let (m2, x2, g) = refine_linear(&mm, &xs, u, y, skip, map_segments, sat, initial, shared);
+        let lin = linear_response(&m2, &nonlinearity_output(&m2, u), &x2);
+        let sse: f64 = lin
+            .iter()
+            .zip(y)
+            .zip(skip)
+            .filter(|(_, s)| !**s)
+            .map(|((l, y), _)| (y - g.as_ref().map_or(*l, |g| g.eval(*l))).powi(2))
+            .sum();
+        sse.is_finite().then_some((sse, m2, x2, g))
+    };
+    let start = eval(&a0)?;
+    let mut simplex: Vec<(Vec<f64>, f64)> = vec![(a0.clone(), start.0)];
+    for k in 0..n {
+        let mut v = a0.clone();
+        v[k] += 2e-3 * a0[k].abs().max(0.1);
+        let f = eval(&v).map_or(f64::INFINITY, |e| e.0);
+        simplex.push((v, f));
+    }
+    for _ in 0..40 * n {
+        simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let (best, worst) = (simplex[0].1, simplex[n].1);
+        if worst.is_finite() && worst - best <= 1e-7 * best.max(1e-300) {
+            break;
+        }
+        let centroid: Vec<f64> = (0..n)
+            .map(|k| simplex[..n].iter().map(|v| v.0[k]).sum::<f64>() / n as f64)
+            .collect();
+        let along = |t: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| centroid[k] + t * (simplex[n].0[k] - centroid[k]))
+                .collect()
+        };
+        let score = |v: &[f64]| eval(v).map_or(f64::INFINITY, |e| e.0);
+        let r = along(-1.0);
+        let fr = score(&r);
+        if fr < simplex[0].1 {
+            let e = along(-2.0);
+            let fe = score(&e);
+            simplex[n] = if fe < fr { (e, fe) } else { (r, fr) };
+        } else if fr < simplex[n - 1].1 {
+            simplex[n] = (r, fr);
+        } else {
+            let c = along(0.5);
+            let fc = score(&c);
+            if fc < simplex[n].1 {
+                simplex[n] = (c, fc);
+            } else {
+                let b = simplex[0].0.clone();
+                for v in simplex.iter_mut().skip(1) {
+                    let s: Vec<f64> = v.0.iter().zip(&b).map(|(x, b)| b + 0.5 * (x - b)).collect();
+                    let f = score(&s);
+                    *v = (s, f);
+                }
+            }
+        }
+    }
+    simplex.sort_by(|a, b| a.1.total_cmp(&b.1));
+    if simplex[0].1.partial_cmp(&start.0) != Some(std::cmp::Ordering::Less) {
+        return None;
+    }
+    let (_, m2, x2, g) = eval(&simplex[0].0)?;
+    Some((m2, x2, g))
+}
+
+/// Spectral radius of the model's `A`.
+pub fn spectral_radius(m: &HostModel) -> f64 {
+    m.poles()
+        .iter()
+        .map(|(r, i)| r.hypot(*i))
+        .fold(0.0, f64::max)
+}

@@ -1,0 +1,57 @@
+//! An input/output record with the time of each sample.
+
+use std::ops::Range;
+
+/// An input/output record with the time of each sample (sample index in the original file;
+/// time-dependent terms are evaluated at it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Input.
+    pub u: Vec<f64>,
+    /// Output.
+    pub y: Vec<f64>,
+    /// Time of each sample, in samples.
+    pub time: Vec<f64>,
+}
+
+impl Record {
+    /// A record whose time is the sample index `0, 1, …`.
+    pub fn new(u: Vec<f64>, y: Vec<f64>) -> Self {
+        let time = (0..u.len()).map(|t| t as f64).collect();
+        Self { u, y, time }
+    }
+
+    /// Samples.
+    pub fn len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// No samples.
+    pub fn is_empty(&self) -> bool {
+        self.u.is_empty()
+    }
+
+    /// A contiguous part (time kept).
+    pub fn slice(&self, r: Range<usize>) -> Record {
+        Record {
+            u: self.u[r.clone()].to_vec(),
+            y: self.y[r.clone()].to_vec(),
+            time: self.time[r].to_vec(),
+        }
+    }
+
+    /// Concatenation of parts of this record (time kept: a junction shows as a jump in time).
+    pub fn parts(&self, ranges: &[Range<usize>]) -> Record {
+        let mut out = Record {
+            u: Vec::new(),
+            y: Vec::new(),
+            time: Vec::new(),
+        };
+        for r in ranges {
+            out.u.extend_from_slice(&self.u[r.clone()]);
+            out.y.extend_from_slice(&self.y[r.clone()]);
+            out.time.extend_from_slice(&self.time[r.clone()]);
+        }
+        out
+    }
+}

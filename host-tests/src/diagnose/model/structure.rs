@@ -1,0 +1,83 @@
+//! The structure of an extended model: which effects it has and their settings.
+
+use serde::Serialize;
+
+use crate::diagnose::stores::StoresClass;
+
+/// Which extensions a model has, with their settings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Structure {
+    /// Extra input delay in samples (`input_delay`).
+    pub delay: usize,
+    /// Model order (`None`: the base option, automatic or fixed); `unmodeled_dynamics`.
+    pub order: Option<usize>,
+    /// Horizons `f = p` (`None`: the base options); raised with the order.
+    pub horizon: Option<usize>,
+    /// Degree of the polynomial output trend in time (`offset_drift`).
+    pub trend_degree: Option<usize>,
+    /// Frequencies of additive sinusoids, radians per sample (`periodic_disturbance`).
+    pub frequencies: Vec<f64>,
+    /// Segments of the monotone output map (`output_nonlinearity`).
+    pub output_map_segments: Option<usize>,
+    /// Order of the AR noise model (`colored_noise`).
+    pub noise_ar_order: Option<usize>,
+    /// Robust re-estimation with outliers flagged by the MAD rule (`outliers`).
+    pub robust: bool,
+    /// The dynamics between the input nonlinearity and the output map
+    /// (`state_dependent_dynamics`).
+    pub dynamics: Dynamics,
+}
+
+/// The dynamics between the input nonlinearity and the output map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Dynamics {
+    /// The identified linear `G` (the paper's model).
+    Linear,
+    /// Level-dependent stores ([`stores`](crate::diagnose::stores)) started from `G`, the borders refitted with
+    /// them.
+    Stores,
+    /// The same stores with linear outflows and no overflow: the linear cascade refitted as
+    /// the stores are (the reference that `Stores` must beat, not an effect of its own).
+    LinearStores,
+}
+
+impl Dynamics {
+    /// The stores class fitted, if any.
+    pub fn stores(self) -> Option<StoresClass> {
+        match self {
+            Dynamics::Linear => None,
+            Dynamics::Stores => Some(StoresClass::LevelDependent),
+            Dynamics::LinearStores => Some(StoresClass::Linear),
+        }
+    }
+}
+
+impl Structure {
+    /// The paper's model: no extension.
+    pub fn base() -> Self {
+        Self {
+            delay: 0,
+            order: None,
+            horizon: None,
+            trend_degree: None,
+            frequencies: Vec::new(),
+            output_map_segments: None,
+            noise_ar_order: None,
+            robust: false,
+            dynamics: Dynamics::Linear,
+        }
+    }
+
+    /// Backfitting rounds: 3 with an output map or outliers (the identification target is
+    /// imputed), 2 with additive terms only, 1 otherwise.
+    pub(super) fn rounds(&self) -> usize {
+        if self.output_map_segments.is_some() || self.robust {
+            3
+        } else if self.trend_degree.is_some() || !self.frequencies.is_empty() {
+            2
+        } else {
+            1
+        }
+    }
+}
