@@ -20,8 +20,8 @@ use std::time::Instant;
 
 use hsid_host::identify::{IdentifyOptions, identify};
 use hsid_host::io::write_columns;
+use hsid_host::paper::methods::Method;
 use hsid_host::paper::{Case, PaperConfig, experiment, options};
-use hsid_host::refine::methods::Method;
 use hsid_host::refine::signal::HatRegressors;
 
 fn run() -> Result<(), String> {

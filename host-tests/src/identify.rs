@@ -11,7 +11,7 @@ use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
 use nalgebra::DMatrix;
 
 use crate::model_file::{FormatTag, ModelFile, NonlinearityKind};
-use crate::sim::eigenvalues;
+use crate::numerics::poly::eigenvalues;
 
 /// Everything the desktop identification needs besides the data.
 #[derive(Clone, Debug, PartialEq)]

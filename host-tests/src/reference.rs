@@ -27,7 +27,7 @@ use std::fmt;
 
 use nalgebra::{DMatrix, DVector, RowDVector};
 
-use crate::sim::eigenvalues;
+use crate::numerics::poly::eigenvalues;
 
 /// Errors of the reference identification.
 #[derive(Debug, Clone, PartialEq)]

@@ -83,6 +83,3 @@ pub fn model_text(m: &HostModel) -> String {
     let _ = write!(s, "P_d at knots    : {}", row(&m.border_desc));
     s
 }
-
-/// The Monte Carlo table, at its former path.
-pub use crate::paper::paper_table;

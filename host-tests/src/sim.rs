@@ -28,6 +28,7 @@ use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 use crate::numerics::direction::DirectionTracker;
+use crate::numerics::poly::eigenvalues;
 
 /// A border function `H_a` or `H_d` of a switch or backlash element: any `Fn(f64) -> f64` that
 /// can be shared between threads.
@@ -505,10 +506,6 @@ impl Lti {
         sum
     }
 }
-
-/// Eigenvalues of a real square matrix, at their former path (now
-/// [`crate::numerics::poly::eigenvalues`]).
-pub use crate::numerics::poly::eigenvalues;
 
 /// The paper's plant `G(q) = q^-1 (0.1994 - 0.1804 q^-1) / (1 - 1.8858 q^-1 + 0.9048 q^-2)`.
 pub fn paper_plant() -> Lti {

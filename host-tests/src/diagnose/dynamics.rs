@@ -526,7 +526,7 @@ pub fn fit(
     };
     let radius = |t: &[f64]| -> f64 {
         let a = DMatrix::from_fn(n, n, |i, j| t[i * n + j]);
-        crate::sim::eigenvalues(a).map_or(f64::INFINITY, |ev| {
+        crate::numerics::poly::eigenvalues(a).map_or(f64::INFINITY, |ev| {
             ev.iter().map(|(r, i)| r.hypot(*i)).fold(0.0, f64::max)
         })
     };

@@ -33,16 +33,6 @@ pub mod signal;
 pub mod stochastic;
 pub mod uncertainty;
 
-/// The Cramér–Rao bound, at its former path (now [`crate::paper::crb`]).
-pub use crate::paper::crb;
-
-/// The method comparison, at its former path (now [`crate::paper::methods`] and
-/// [`crate::paper::method_figures`]).
-pub mod methods {
-    pub use crate::paper::method_figures::write_method_figures;
-    pub use crate::paper::methods::*;
-}
-
 pub use pem::{InitialState, PemFit, PemOptions, identify_pem, refine};
 pub use stochastic::NoiseOrder;
 pub use stochastic::{InnovationForm, NoiseModel};

@@ -71,7 +71,7 @@ impl NoiseModel {
         (a, k, cv)
     }
 
-    /// Writes the noise model as JSON (the sidecar of a model JSON, read by `hsid validate`).
+    /// Writes the noise model as JSON (the file `hsid validate --noise` reads).
     pub fn save(&self, path: &Path) -> Result<(), String> {
         let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
         std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
@@ -323,16 +323,6 @@ impl InnovationForm {
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
         self.plant.simulate(u)
     }
-}
-
-/// Where `hsid identify` writes the noise model of a model JSON and where `hsid validate`
-/// looks for it: `model.json` → `model.noise.json`.
-pub fn sidecar_path(model_json: &Path) -> std::path::PathBuf {
-    let stem = model_json
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    model_json.with_file_name(format!("{stem}.noise.json"))
 }
 
 /// One-line report of one-step-ahead predictions against measurements.

@@ -3,11 +3,9 @@
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
-use hsid_host::paper::{Case, PaperConfig, run_case, write_figures};
-use hsid_host::refine::methods::{
-    Method, methods_json, methods_table, run_methods, write_method_figures,
-};
-use hsid_host::report::paper_table;
+use hsid_host::paper::method_figures::write_method_figures;
+use hsid_host::paper::methods::{Method, methods_json, methods_table, run_methods};
+use hsid_host::paper::{Case, PaperConfig, paper_table, run_case, write_figures};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::args::BasisArg;
@@ -50,7 +48,7 @@ enum CaseArg {
     Both,
 }
 
-/// Identification method of `hsid paper --method` (see `hsid_host::refine::methods`).
+/// Identification method of `hsid paper --method` (see `hsid_host::paper::methods`).
 #[derive(Clone, Copy, ValueEnum)]
 enum MethodArg {
     /// The paper's weighting.

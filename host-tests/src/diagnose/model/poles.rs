@@ -153,7 +153,7 @@ pub(super) fn overparameterised_residual(
 
 /// Largest root modulus of `z^n + a_1 z^{n−1} + …`.
 pub(super) fn root_radius(a: &[f64]) -> f64 {
-    crate::sim::eigenvalues(observer_a(a)).map_or(f64::INFINITY, |ev| {
+    crate::numerics::poly::eigenvalues(observer_a(a)).map_or(f64::INFINITY, |ev| {
         ev.iter().map(|(r, i)| r.hypot(*i)).fold(0.0, f64::max)
     })
 }
