@@ -35,13 +35,13 @@
 //! order-2 `G` with real poles has this cascade form). `p1, p2, c1, c2, d, L, k` and the
 //! initial state are fitted on the simulation error.
 //!
-//! Both fits are Levenberg–Marquardt ([`super::optimise`]): a step is accepted only if its
+//! Both fits are Levenberg–Marquardt ([`crate::numerics::lm`]): a step is accepted only if its
 //! simulation is finite and the model stays stable; iterations are bounded.
 
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::optimise::{Settings, levenberg_marquardt};
+use crate::numerics::lm::{Settings, levenberg_marquardt};
 
 use crate::identify::HostModel;
 
@@ -546,7 +546,7 @@ pub fn fit(
         ..Settings::default()
     };
     let Some((theta, _)) =
-        levenberg_marquardt(&theta0, &typical, &settings, &residual, &admissible)
+        levenberg_marquardt(&theta0, &typical, &settings, &residual, &admissible).ok()
     else {
         return Err(DynamicsError::NotSimulating);
     };
@@ -732,7 +732,7 @@ pub fn fit_overflow(
             };
             let res = |t: &[f64]| residual(&fit_x0(t));
             let Some((theta, r)) =
-                levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible)
+                levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible).ok()
             else {
                 continue;
             };

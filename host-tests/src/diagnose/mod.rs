@@ -39,7 +39,6 @@ pub mod fit_plan;
 pub mod inner;
 pub mod model;
 pub mod noise;
-pub mod optimise;
 pub mod options;
 pub mod output_map;
 pub mod report;

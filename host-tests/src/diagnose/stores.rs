@@ -20,7 +20,7 @@
 //! with `α ≠ 1` where a store is empty matters.
 //!
 //! `k`, `α`, `c`, `d`, `y0`, `e`, `L`, `s`, the initial state and (if asked) the border values
-//! are fitted on the simulation error by Levenberg–Marquardt ([`super::optimise`]), the output
+//! are fitted on the simulation error by Levenberg–Marquardt ([`crate::numerics::lm`]), the output
 //! map held, from eight starts: both assignments of the linear model's poles to the stores
 //! (a complex pair `re ± j·im` taken as the real pair `re ± |im|`), `α` from 1 and from ½,
 //! and `L` at 75 % or 90 % of the highest level the first store of the linear start reaches.
@@ -33,8 +33,8 @@
 use serde::Serialize;
 
 use super::dynamics::{self, Cascade, DynamicsError, DynamicsFit};
-use super::optimise::{Settings, levenberg_marquardt};
 use crate::identify::HostModel;
+use crate::numerics::lm::{Settings, levenberg_marquardt};
 
 /// Sub-steps per sample of the store equations.
 pub const SUBSTEPS: usize = 4;
@@ -291,7 +291,7 @@ pub fn fit(
                 };
                 let res = |t: &[f64]| residual(&held(t));
                 let Some((theta, r)) =
-                    levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible)
+                    levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible).ok()
                 else {
                     continue;
                 };

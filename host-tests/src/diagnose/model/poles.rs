@@ -3,13 +3,13 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::diagnose::optimise::{JacobianFailure, Settings, levenberg_marquardt};
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::{
     level_of, linear_response, nonlinearity_output, rest_state, steady_state,
 };
 use crate::diagnose::stats::lstsq;
 use crate::identify::HostModel;
+use crate::numerics::lm::{JacobianFailure, Settings, levenberg_marquardt};
 
 use super::borders::border_channels;
 use super::fit_options::{InitialState, Saturation};
@@ -206,7 +206,8 @@ pub(super) fn refine_poles(
     };
     let (a, _) = levenberg_marquardt(&a, &vec![1e-2; n], &settings, &resid, &|trial: &[f64]| {
         root_radius(trial) < limit
-    })?;
+    })
+    .ok()?;
     let mut mm = obs;
     mm.a = observer_a(&a);
     let x0 = match initial {
