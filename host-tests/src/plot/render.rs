@@ -36,55 +36,39 @@ impl Figure {
         // Grid.
         let px = |v: f64| plot.x + x.to_unit(v) * plot.w;
         let py = |v: f64| plot.y + plot.h - y.to_unit(v) * plot.h;
-        let mut minor = String::new();
-        for &v in &x.minor {
-            let _ = write!(
-                minor,
-                "M{} {}V{}",
-                num(px(v)),
-                num(plot.y),
-                num(plot.y + plot.h)
-            );
-        }
-        for &v in &y.minor {
-            let _ = write!(
-                minor,
-                "M{} {}H{}",
-                num(plot.x),
-                num(py(v)),
-                num(plot.x + plot.w)
-            );
-        }
-        if !minor.is_empty() {
-            let _ = writeln!(
-                s,
-                r#"<path d="{minor}" stroke="{MINOR_GRID_COLOR}" stroke-width="1" fill="none"/>"#
-            );
-        }
-        let mut grid = String::new();
-        for &v in &x.major {
-            let _ = write!(
-                grid,
-                "M{} {}V{}",
-                num(px(v)),
-                num(plot.y),
-                num(plot.y + plot.h)
-            );
-        }
-        for &v in &y.major {
-            let _ = write!(
-                grid,
-                "M{} {}H{}",
-                num(plot.x),
-                num(py(v)),
-                num(plot.x + plot.w)
-            );
-        }
-        if !grid.is_empty() {
-            let _ = writeln!(
-                s,
-                r#"<path d="{grid}" stroke="{GRID_COLOR}" stroke-width="1" fill="none"/>"#
-            );
+        // One path of vertical lines at `xs` and horizontal lines at `ys`.
+        let lines = |xs: &[f64], ys: &[f64]| {
+            let mut d = String::new();
+            for &v in xs {
+                let _ = write!(
+                    d,
+                    "M{} {}V{}",
+                    num(px(v)),
+                    num(plot.y),
+                    num(plot.y + plot.h)
+                );
+            }
+            for &v in ys {
+                let _ = write!(
+                    d,
+                    "M{} {}H{}",
+                    num(plot.x),
+                    num(py(v)),
+                    num(plot.x + plot.w)
+                );
+            }
+            d
+        };
+        for (d, color) in [
+            (lines(&x.minor, &y.minor), MINOR_GRID_COLOR),
+            (lines(&x.major, &y.major), GRID_COLOR),
+        ] {
+            if !d.is_empty() {
+                let _ = writeln!(
+                    s,
+                    r#"<path d="{d}" stroke="{color}" stroke-width="1" fill="none"/>"#
+                );
+            }
         }
 
         // Data.
