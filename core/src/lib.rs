@@ -13,6 +13,7 @@ pub mod hold;
 pub mod identifier;
 mod linalg;
 pub mod model;
+pub mod play;
 pub mod regressor;
 pub mod scalar;
 pub mod subspace;
