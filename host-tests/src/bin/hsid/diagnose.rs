@@ -1,5 +1,6 @@
 //! `hsid diagnose`: arguments and the run.
 
+use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
@@ -180,7 +181,8 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
     if !(umin.is_finite() && umax.is_finite() && umin < umax) {
         return Err(format!(
             "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
-        ));
+        )
+        .into());
     }
     if a.segments == 0 {
         return Err("--segments 0: each path needs at least one segment".into());
@@ -198,9 +200,9 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
     }
     for (name, k) in [("ascending", &id.knots_asc), ("descending", &id.knots_desc)] {
         if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(format!(
-                "{name} knots must start at u_min {umin} and end at u_max {umax}"
-            ));
+            return Err(
+                format!("{name} knots must start at u_min {umin} and end at u_max {umax}").into(),
+            );
         }
     }
     id.order = a.order;
@@ -225,7 +227,8 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
         return Err(format!(
             "--inner-fraction {} must lie strictly between 0 and 1",
             a.inner_fraction
-        ));
+        )
+        .into());
     }
     opts.inner_fraction = a.inner_fraction;
     if let Some(r) = &a.select_segments {
@@ -234,7 +237,8 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
             return Err(format!(
                 "--select-segments {}..{}: need 1 <= MIN <= MAX",
                 r.start, r.end
-            ));
+            )
+            .into());
         }
         opts.select_segments = Some(r.start..=r.end);
     }
@@ -261,7 +265,7 @@ fn not_in_the_model_file(e: Effect) -> bool {
 
 /// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
 /// model file.
-pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
+pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     let csv = CsvOptions {
         delimiter: a.csv.delimiter(),
     };
@@ -291,22 +295,22 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
         (None, None) => Validation::Split(a.split),
     };
     let d = diagnose(&est, &validation, &opts).map_err(|e| format!("{}: {e}", a.data.display()))?;
-    println!("{}", report::text(&d));
+    outln!("{}", report::text(&d))?;
     if let Some(dir) = &a.out {
         for f in figures::write_figures(&d, dir, &a.prefix, &a.title).map_err(|e| e.to_string())? {
-            println!("wrote {}", f.display());
+            outln!("wrote {}", f.display())?;
         }
     }
     if let Some(path) = &a.json {
         let text = serde_json::to_string_pretty(&report::to_json(&d))
             .map_err(|e| format!("{}: {e}", path.display()))?;
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
     }
     if let Some(path) = &a.model_out {
         let summary = ModelSummary::of(&d.model, d.nonlinearity);
         summary.model.save(path).map_err(|e| e.to_string())?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         let outside: Vec<&str> = d
             .steps
             .iter()
@@ -315,11 +319,11 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), String> {
             .map(Effect::name)
             .collect();
         if !outside.is_empty() {
-            println!(
+            outln!(
                 "note: {} holds the Hammerstein part; {} only in the JSON report's model_after",
                 path.display(),
                 outside.join(", ")
-            );
+            )?;
         }
     }
     Ok(())

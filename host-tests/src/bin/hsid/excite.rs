@@ -1,5 +1,6 @@
 //! `hsid excite`: the Table I excitation as CSV on standard output.
 
+use crate::failure::Failure;
 use clap::Args;
 use hsid::Excitation;
 use hsid_host::io::write_columns_to;
@@ -27,11 +28,11 @@ pub struct ExciteArgs {
 }
 
 /// Prints `samples` values of the excitation in a column `u`.
-pub fn run(a: &ExciteArgs) -> Result<(), String> {
+pub fn run(a: &ExciteArgs) -> Result<(), Failure> {
     let u: Vec<f64> = Excitation::new(a.umin, a.umax, a.hold, Pcg32::seed_from_u64(a.seed))
         .map_err(|e| e.to_string())?
         .take(a.samples)
         .collect();
     let stdout = std::io::stdout();
-    write_columns_to("<stdout>", stdout.lock(), &["u"], &[u]).map_err(|e| e.to_string())
+    Ok(write_columns_to("<stdout>", stdout.lock(), &["u"], &[u])?)
 }

@@ -1,5 +1,6 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
+use crate::failure::{Failure, outln};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -89,9 +90,9 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
         ("--knots-desc", &opts.knots_desc),
     ] {
         if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(format!(
-                "{name} must start at --umin {umin} and end at --umax {umax}"
-            ));
+            return Err(
+                format!("{name} must start at --umin {umin} and end at --umax {umax}").into(),
+            );
         }
     }
     opts.f = a.horizons.f;
@@ -103,15 +104,18 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
 }
 
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
-pub fn run(a: &IdentifyArgs) -> Result<(), String> {
+pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let (umin, umax, hold) = (a.umin, a.umax, a.hold.hold);
     if !(umin.is_finite() && umax.is_finite() && umin < umax) {
         return Err(format!(
             "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
-        ));
+        )
+        .into());
     }
     if a.segments == SegmentCount::Fixed(0) {
-        return Err("--segments 0: each path needs at least one segment".to_string());
+        return Err("--segments 0: each path needs at least one segment"
+            .to_string()
+            .into());
     }
     let names = [
         a.columns.input_column.as_str(),
@@ -127,14 +131,15 @@ pub fn run(a: &IdentifyArgs) -> Result<(), String> {
             "{}: {} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
             a.data.display(),
             u.len()
-        ));
+        )
+        .into());
     }
     let mut opts = options(a)?;
     let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
     if a.segments == SegmentCount::Auto && !knots_given {
         let choice = select_segments(u, y, &opts, AUTO_CANDIDATES, Criterion::Bic)
             .map_err(|e| format!("{}: {e}", a.data.display()))?;
-        println!("{}", choice.report());
+        outln!("{}", choice.report())?;
         let k = uniform_knots(umin, umax, choice.segments);
         opts.knots_asc = k.clone();
         opts.knots_desc = k;
@@ -145,7 +150,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), String> {
     let (model, noise, std) = if a.refine {
         let fit =
             refine_model(u, y, &model, &pem).map_err(|e| format!("{}: {e}", a.data.display()))?;
-        println!(
+        outln!(
             "refined by the prediction-error method: {} iterations, {} parameters, D {}",
             fit.iterations,
             fit.parameters(),
@@ -154,14 +159,14 @@ pub fn run(a: &IdentifyArgs) -> Result<(), String> {
             } else {
                 "= 0 (not significant)"
             }
-        );
+        )?;
         let std = model_std(&fit);
         (fit.model, Some(fit.noise), Some(std))
     } else {
         // Remark 6 for the subspace model; without it only the simulation is reported.
         let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
         if let Err(e) = &nf {
-            println!("no noise model: {e}");
+            outln!("no noise model: {e}")?;
         }
         (model, nf.ok().map(|f| f.model), None)
     };
@@ -182,24 +187,24 @@ fn report(
     u: &[f64],
     y: &[f64],
     hold: usize,
-) -> Result<(), String> {
-    println!("{}", model_text(model));
+) -> Result<(), Failure> {
+    outln!("{}", model_text(model))?;
     let sim = model.simulate(u);
-    println!("{}", fit_report(&y[hold..], &sim[hold..])?);
+    outln!("{}", fit_report(&y[hold..], &sim[hold..])?)?;
     if let Some(noise) = noise {
-        println!("{}", noise_text(noise));
+        outln!("{}", noise_text(noise))?;
         let pred = InnovationForm::new(model, noise).predict(u, y);
-        println!(
+        outln!(
             "{}",
             prediction_report(&y[hold..], &pred[hold..], noise.sigma2)?
-        );
+        )?;
     }
     Ok(())
 }
 
-fn write(file: &ModelFile, path: &Path) -> Result<(), String> {
+fn write(file: &ModelFile, path: &Path) -> Result<(), Failure> {
     file.save(path).map_err(|e| e.to_string())?;
-    println!("wrote {}", path.display());
+    outln!("wrote {}", path.display())?;
     Ok(())
 }
 

@@ -7,6 +7,7 @@
 mod args;
 mod diagnose;
 mod excite;
+mod failure;
 mod identify;
 mod locate;
 mod paper;
@@ -56,8 +57,8 @@ fn main() -> ExitCode {
         Cmd::Validate(a) => validate::run(&a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,
+        Err(failure::Failure::Message(e)) => {
             eprintln!("hsid: {e}");
             ExitCode::FAILURE
         }

@@ -1,5 +1,6 @@
 //! `hsid paper`: the Monte Carlo of Section IV, optionally with the other methods.
 
+use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
@@ -94,7 +95,7 @@ fn progress(len: usize, unit: &str) -> Result<ProgressBar, String> {
 }
 
 /// Runs the cases, prints the tables, writes summary.json and the figures.
-pub fn run(a: &PaperArgs) -> Result<(), String> {
+pub fn run(a: &PaperArgs) -> Result<(), Failure> {
     let cfg = PaperConfig {
         runs: a.runs,
         seed: a.seed,
@@ -119,7 +120,7 @@ pub fn run(a: &PaperArgs) -> Result<(), String> {
         results.push(run_case(c, &cfg, &tick));
     }
     bar.finish_and_clear();
-    println!("{}", paper_table(&cfg, &results));
+    outln!("{}", paper_table(&cfg, &results))?;
     let mut files = Vec::new();
     for r in &results {
         files.extend(write_figures(r, out)?);
@@ -143,7 +144,7 @@ pub fn run(a: &PaperArgs) -> Result<(), String> {
             all.push(run_methods(c, &cfg, &methods, &tick).map_err(|e| e.to_string())?);
         }
         bar.finish_and_clear();
-        println!("{}", methods_table(&cfg, &all));
+        outln!("{}", methods_table(&cfg, &all))?;
         for c in &all {
             files.extend(write_method_figures(c, out)?);
             if let Some(serde_json::Value::Object(o)) = summary.get_mut(c.case.name()) {
@@ -154,9 +155,9 @@ pub fn run(a: &PaperArgs) -> Result<(), String> {
     let path = out.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-    println!("wrote {}", path.display());
+    outln!("wrote {}", path.display())?;
     for f in files {
-        println!("wrote {f}");
+        outln!("wrote {f}")?;
     }
     Ok(())
 }

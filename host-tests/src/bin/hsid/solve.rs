@@ -1,5 +1,6 @@
 //! `hsid solve`: an identifier's checkpoint solved on the host.
 
+use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
 use clap::Args;
@@ -21,7 +22,7 @@ pub struct SolveArgs {
 }
 
 /// `hsid solve --state FILE [--json OUT]`.
-pub fn run(a: &SolveArgs) -> Result<(), String> {
+pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     let state = &a.state;
     let bytes = std::fs::read(state).map_err(|e| format!("{}: {e}", state.display()))?;
     let solved = solve_checkpoint(&bytes).map_err(|e| {
@@ -34,7 +35,7 @@ pub fn run(a: &SolveArgs) -> Result<(), String> {
         format!("{} ({} bytes): {e}{hint}", state.display(), bytes.len())
     })?;
     let h = &solved.header;
-    println!(
+    outln!(
         "{}: {} checkpoint, {} bytes, {} channels, f = {}, p = {}; solved in {}",
         state.display(),
         h.scalar_name(),
@@ -43,8 +44,8 @@ pub fn run(a: &SolveArgs) -> Result<(), String> {
         h.f,
         h.p,
         h.scalar_name()
-    );
-    println!("{}", model_text(&solved.model));
+    )?;
+    outln!("{}", model_text(&solved.model))?;
     if let Some(path) = &a.out.json {
         // A checkpoint records one border (static) or two; which two-path element it is, it
         // does not record.
@@ -54,7 +55,7 @@ pub fn run(a: &SolveArgs) -> Result<(), String> {
             .to_json(kind)
             .save(path)
             .map_err(|e| e.to_string())?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
 
+use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
 use clap::Args;
@@ -36,7 +37,7 @@ pub struct ValidateArgs {
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
-pub fn run(a: &ValidateArgs) -> Result<(), String> {
+pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     let given = match &a.noise {
         Some(p) => Some(NoiseModel::load(p)?),
         None => None,
@@ -47,7 +48,8 @@ pub fn run(a: &ValidateArgs) -> Result<(), String> {
             return Err(format!(
                 "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
                 a.model.display()
-            ));
+            )
+            .into());
         }
         Some(n) => Some(NoiseModel {
             c: n.c.clone(),
@@ -69,7 +71,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), String> {
     let (u, y) = (&table.columns[0], &table.columns[1]);
     let skip = a.skip;
     if skip >= u.len() {
-        return Err(format!("--skip {skip} leaves no samples of {}", u.len()));
+        return Err(format!("--skip {skip} leaves no samples of {}", u.len()).into());
     }
     let (lo, hi) = (m.u_min(), m.u_max());
     if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| **v < lo || **v > hi) {
@@ -77,16 +79,17 @@ pub fn run(a: &ValidateArgs) -> Result<(), String> {
             "{} line {}: u = {v} lies outside the model's interval [{lo}, {hi}]",
             a.data.display(),
             table.lines[i]
-        ));
+        )
+        .into());
     }
     let sim = m.simulate(u);
-    println!("{}", fit_report(&y[skip..], &sim[skip..])?);
+    outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     if let Some(nm) = noise {
         let pred = InnovationForm::new(&m, &nm).predict(u, y);
-        println!(
+        outln!(
             "{}",
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
-        );
+        )?;
     }
     Ok(())
 }
