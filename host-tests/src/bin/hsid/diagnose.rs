@@ -181,8 +181,7 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
     if !(umin.is_finite() && umax.is_finite() && umin < umax) {
         return Err(format!(
             "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
-        )
-        .into());
+        ));
     }
     if a.segments == 0 {
         return Err("--segments 0: each path needs at least one segment".into());
@@ -200,9 +199,9 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
     }
     for (name, k) in [("ascending", &id.knots_asc), ("descending", &id.knots_desc)] {
         if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(
-                format!("{name} knots must start at u_min {umin} and end at u_max {umax}").into(),
-            );
+            return Err(format!(
+                "{name} knots must start at u_min {umin} and end at u_max {umax}"
+            ));
         }
     }
     id.order = a.order;
@@ -227,8 +226,7 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
         return Err(format!(
             "--inner-fraction {} must lie strictly between 0 and 1",
             a.inner_fraction
-        )
-        .into());
+        ));
     }
     opts.inner_fraction = a.inner_fraction;
     if let Some(r) = &a.select_segments {
@@ -237,8 +235,7 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
             return Err(format!(
                 "--select-segments {}..{}: need 1 <= MIN <= MAX",
                 r.start, r.end
-            )
-            .into());
+            ));
         }
         opts.select_segments = Some(r.start..=r.end);
     }

@@ -90,9 +90,9 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
         ("--knots-desc", &opts.knots_desc),
     ] {
         if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(
-                format!("{name} must start at --umin {umin} and end at --umax {umax}").into(),
-            );
+            return Err(format!(
+                "{name} must start at --umin {umin} and end at --umax {umax}"
+            ));
         }
     }
     opts.f = a.horizons.f;
