@@ -3,7 +3,9 @@
 //! Monte Carlo, CSV I/O, the model file, figures and reports. The `hsid` command line is the
 //! package's binary (`src/bin/hsid/`), built on this library; the library knows no command line.
 
+pub mod choose;
 pub mod diagnose;
+pub mod generality;
 pub mod identify;
 pub mod io;
 pub mod model_file;

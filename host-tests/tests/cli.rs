@@ -456,7 +456,7 @@ fn identify_rejects_bad_horizons() {
     let e = noisy();
     let data = dir.write_uy("data.csv", &e.u, &e.y);
     identify(&data, &["--f", "1"]).clean_error(&["f = 1"]);
-    identify(&data, &["--f", "90"]).clean_error(&["f + p = 100", "f + p <= 96"]);
+    identify(&data, &["--f", "90", "--p", "10"]).clean_error(&["f + p = 100", "f + p <= 96"]);
     identify(&data, &["--p", "0"]).clean_error(&["p >= 1"]);
     // Too few instrument rows (p·m = 2 < f = 3): the settings are named, not the data file.
     let line = identify(&data, &["--segments", "1", "--f", "3", "--p", "1"])

@@ -82,12 +82,29 @@ impl HoldArgs {
 /// The horizons of the Hankel matrices.
 #[derive(Args, Clone, Debug)]
 pub struct Horizons {
-    /// Future horizon f.
-    #[arg(long, default_value_t = 10)]
-    pub f: usize,
+    /// Future horizon f (default: from the data for `identify`, 10 for `diagnose`; with only
+    /// one of --f and --p given, the other equals it).
+    #[arg(long)]
+    pub f: Option<usize>,
     /// Past horizon p.
-    #[arg(long, default_value_t = 10)]
-    pub p: usize,
+    #[arg(long)]
+    pub p: Option<usize>,
+}
+
+impl Horizons {
+    /// `(f, p)` when at least one is given.
+    pub fn given(&self) -> Option<(usize, usize)> {
+        match (self.f, self.p) {
+            (Some(f), Some(p)) => Some((f, p)),
+            (Some(h), None) | (None, Some(h)) => Some((h, h)),
+            (None, None) => None,
+        }
+    }
+
+    /// `(f, p)`, the paper's 10 when neither is given.
+    pub fn or_paper(&self) -> (usize, usize) {
+        self.given().unwrap_or((10, 10))
+    }
 }
 
 /// Where a model file goes.

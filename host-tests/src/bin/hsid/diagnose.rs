@@ -205,8 +205,7 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
         }
     }
     id.order = a.order;
-    id.f = a.horizons.f;
-    id.p = a.horizons.p;
+    (id.f, id.p) = a.horizons.or_paper();
     id.settle = a.hold.settle();
     id.mu0 = a.mu0;
     Ok(id)

@@ -4,13 +4,14 @@ use crate::failure::{Failure, outln};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::identify::{HostModel, IdentifyOptions, identify};
+use hsid_host::choose::{
+    self, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
+};
+use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::io::{CsvOptions, read_table};
 use hsid_host::model_file::{ModelFile, ModelStd, NoiseFile};
-use hsid_host::reference::uniform_knots;
-use hsid_host::refine::knots::{AUTO_CANDIDATES, Criterion, SegmentCount, select_segments};
+use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 use hsid_host::refine::pem::PemFit;
-use hsid_host::refine::refine as refine_model;
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
 use hsid_host::refine::uncertainty::{border_std, fit_poles};
 use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
@@ -34,9 +35,10 @@ pub struct IdentifyArgs {
     #[arg(long, allow_hyphen_values = true)]
     umax: f64,
     /// Uniform segments per path (ignored when knots are given), or `auto` to choose the
-    /// count from the data (BIC of the refined model over 2 to 14).
-    #[arg(long, default_value = "7")]
-    segments: SegmentCount,
+    /// count from the data by BIC of the refined model over 2 to 14. Default: 7, 10 or 14 by
+    /// BIC of the refined model (7, the paper's, with --no-refine).
+    #[arg(long)]
+    segments: Option<SegmentCount>,
     #[command(flatten)]
     knots: KnotArgs,
     /// Model order (default: automatic).
@@ -61,8 +63,13 @@ pub struct IdentifyArgs {
     /// hold, μ0 is estimated with the model.
     #[arg(long, allow_hyphen_values = true)]
     mu0: Option<f64>,
-    /// Refine the subspace model by the prediction-error method: plant, μ0, borders and
-    /// noise model jointly (lower variance; see docs/beyond-the-paper.md).
+    /// Keep the subspace model as it is (the paper's estimator; with `--f 10 --p 10`, exactly
+    /// the paper's). By default it is refined by the prediction-error method (plant, μ0,
+    /// borders and noise model jointly) and, without `--order`, the order of the refined model
+    /// is chosen by BIC among the subspace order and its neighbours.
+    #[arg(long, conflicts_with = "refine")]
+    no_refine: bool,
+    /// Refine (the default; accepted for scripts written before it was).
     #[arg(long)]
     refine: bool,
     #[command(flatten)]
@@ -73,8 +80,8 @@ pub struct IdentifyArgs {
 fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
     let (umin, umax) = (a.umin, a.umax);
     let fixed = match a.segments {
-        SegmentCount::Fixed(n) => n,
-        SegmentCount::Auto => 7,
+        Some(SegmentCount::Fixed(n)) => n,
+        _ => 7,
     };
     let mut opts = IdentifyOptions::uniform(umin, umax, fixed, a.hold.hold);
     opts.mu0 = a.mu0;
@@ -95,8 +102,7 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
             ));
         }
     }
-    opts.f = a.horizons.f;
-    opts.p = a.horizons.p;
+    (opts.f, opts.p) = a.horizons.or_paper();
     opts.order = a.order;
     opts.basis = a.basis.into();
     opts.settle = a.hold.settle();
@@ -112,7 +118,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         )
         .into());
     }
-    if a.segments == SegmentCount::Fixed(0) {
+    if a.segments == Some(SegmentCount::Fixed(0)) {
         return Err("--segments 0: each path needs at least one segment"
             .to_string()
             .into());
@@ -134,22 +140,35 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         )
         .into());
     }
-    let mut opts = options(a)?;
+    let opts = options(a)?;
     let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
-    if a.segments == SegmentCount::Auto && !knots_given {
-        let choice = select_segments(u, y, &opts, AUTO_CANDIDATES, Criterion::Bic)
-            .map_err(|e| format!("{}: {e}", a.data.display()))?;
-        outln!("{}", choice.report())?;
-        let k = uniform_knots(umin, umax, choice.segments);
-        opts.knots_asc = k.clone();
-        opts.knots_desc = k;
+    let choices = Choices {
+        segments: match a.segments {
+            _ if knots_given => Segments::Given,
+            Some(SegmentCount::Fixed(_)) => Segments::Given,
+            Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
+            None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
+        },
+        horizons: match a.horizons.given() {
+            Some(_) => choose::Horizons::Given,
+            None => choose::Horizons::FromData,
+        },
+        estimator: if a.no_refine {
+            Estimator::Subspace
+        } else {
+            Estimator::Refined
+        },
+        ..Choices::default()
+    };
+    let best = best_model(u, y, &opts, &choices).map_err(|e| match e {
+        ChooseError::Identify(e) => locate::sample_error(&a.data, &table.lines, &e),
+        e => format!("{}: {e}", a.data.display()),
+    })?;
+    for line in best.report() {
+        outln!("{line}")?;
     }
-    let model =
-        identify(u, y, &opts).map_err(|e| locate::sample_error(&a.data, &table.lines, &e))?;
-    let pem = PemOptions::for_identify(&opts);
-    let (model, noise, std) = if a.refine {
-        let fit =
-            refine_model(u, y, &model, &pem).map_err(|e| format!("{}: {e}", a.data.display()))?;
+    let pem = PemOptions::for_identify(&best.options);
+    let (model, noise, std) = if let Some(fit) = best.fit {
         outln!(
             "refined by the prediction-error method: {} iterations, {} parameters, D {}",
             fit.iterations,
@@ -163,6 +182,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         let std = model_std(&fit);
         (fit.model, Some(fit.noise), Some(std))
     } else {
+        let model = best.model;
         // Remark 6 for the subspace model; without it only the simulation is reported.
         let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
         if let Err(e) = &nf {

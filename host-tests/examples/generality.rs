@@ -1,0 +1,29 @@
+//! The generality benchmark: `cargo run --release -p hsid-host --example generality -- [PLANTS]
+//! [SEED]` (default 40 plants, seed 1) prints, per plant, the true order, the chosen order and
+//! the validation NRMSE over the noise floor for the paper's estimator (PI-MOESP, 7 segments
+//! per path, f = p = 10, the subspace order) and the desktop default (`hsid identify` without
+//! options: segments and horizons from the data, refined, the order by BIC), then a summary.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use hsid_host::generality::{Row, default_estimate, paper_estimate, run_case, table};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let plants: usize = args
+        .get(1)
+        .map_or(40, |a| a.parse().expect("PLANTS: a number"));
+    let seed: u64 = args
+        .get(2)
+        .map_or(1, |a| a.parse().expect("SEED: a number"));
+    let rows: Vec<Row> = (0..plants)
+        .map(|i| {
+            let row = run_case(seed, i, &[paper_estimate, default_estimate]).expect("case");
+            eprintln!(
+                "plant {i}: {:?}",
+                row.scores.iter().map(|s| s.ratio()).collect::<Vec<_>>()
+            );
+            row
+        })
+        .collect();
+    println!("{}", table(&rows, &["paper", "default"]));
+}

@@ -1,0 +1,303 @@
+//! The desktop's choices from the data: the horizons when the user gives none, the refinement
+//! by the prediction-error method, and the refined model's order by an information criterion.
+//! The paper's estimator (PI-MOESP at the given horizons, no refinement) stays one setting away.
+
+mod horizons;
+mod order;
+
+pub use horizons::{
+    COLUMNS_PER_ROW, HorizonChoice, MAX_HORIZON, MEMORY_LEVEL, MIN_HORIZON, choose_horizons,
+};
+pub use order::{OrderChoice, choose_order, neighbours};
+
+use std::fmt;
+
+use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
+use crate::numerics::select::Criterion;
+use crate::reference::uniform_knots;
+use crate::refine::pem::{PemFit, PemOptions};
+
+/// Why [`best_model`] gave no model.
+#[derive(Debug)]
+pub enum ChooseError {
+    /// The subspace identification failed (at the paper's horizons or at the chosen ones).
+    Identify(IdentifyError),
+    /// No candidate order could be refined; the reasons per order.
+    Refine(Vec<(usize, String)>),
+}
+
+impl fmt::Display for ChooseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ChooseError::Identify(e) => write!(f, "{e}"),
+            ChooseError::Refine(why) => {
+                f.write_str("the refinement failed at every candidate order (")?;
+                for (i, (n, e)) in why.iter().enumerate() {
+                    let sep = if i == 0 { "" } else { "; " };
+                    write!(f, "{sep}order {n}: {e}")?;
+                }
+                f.write_str(
+                    "): identify without refinement (--no-refine) to see the subspace model",
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for ChooseError {}
+
+impl From<IdentifyError> for ChooseError {
+    fn from(e: IdentifyError) -> Self {
+        ChooseError::Identify(e)
+    }
+}
+
+/// How the horizons are set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Horizons {
+    /// As given in the identification options.
+    Given,
+    /// From the data ([`choose_horizons`]).
+    FromData,
+}
+
+/// How the knots are set.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Segments {
+    /// As given in the identification options.
+    Given,
+    /// Uniform, this many segments per path, the count with the smallest criterion of the
+    /// refined model ([`Estimator::Refined`] only; the subspace estimator keeps the given knots).
+    FromData(Vec<usize>),
+}
+
+/// The segment counts tried by default: the paper's 7, and 10 and 14 for borders that bend
+/// more than seven chords follow at a high SNR (the chords' error is part of the prediction
+/// error, so BIC adds segments only when the data resolve them).
+pub const SEGMENT_CANDIDATES: [usize; 3] = [7, 10, 14];
+
+/// The estimator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Estimator {
+    /// The paper's: the subspace model as it is.
+    Subspace,
+    /// The subspace model refined by the prediction-error method; without a fixed order, the
+    /// order of the refined model by [`choose_order`].
+    Refined,
+}
+
+/// The choices of [`best_model`].
+#[derive(Clone, Debug)]
+pub struct Choices {
+    /// Knots given or from the data.
+    pub segments: Segments,
+    /// Horizons given or from the data.
+    pub horizons: Horizons,
+    /// Subspace only, or refined.
+    pub estimator: Estimator,
+    /// The criterion of the order choice.
+    pub criterion: Criterion,
+}
+
+impl Default for Choices {
+    /// The desktop default: segments among [`SEGMENT_CANDIDATES`] and horizons from the data,
+    /// refined, BIC.
+    fn default() -> Self {
+        Self {
+            segments: Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
+            horizons: Horizons::FromData,
+            estimator: Estimator::Refined,
+            criterion: Criterion::Bic,
+        }
+    }
+}
+
+impl Choices {
+    /// The paper's estimator at the given horizons.
+    pub fn paper() -> Self {
+        Self {
+            segments: Segments::Given,
+            horizons: Horizons::Given,
+            estimator: Estimator::Subspace,
+            criterion: Criterion::Bic,
+        }
+    }
+}
+
+/// The model and what was chosen on the way.
+#[derive(Clone, Debug)]
+pub struct Best {
+    /// The model.
+    pub model: HostModel,
+    /// The options the final subspace model was identified with (horizons included).
+    pub options: IdentifyOptions,
+    /// The refinement, when refined.
+    pub fit: Option<PemFit>,
+    /// The segments' choice, when from the data: `(segments, score)` of every candidate.
+    pub segments: Option<SegmentChoice>,
+    /// The horizons' choice, when from the data.
+    pub horizons: Option<HorizonChoice>,
+    /// The order's choice, when refined without a fixed order.
+    pub order: Option<OrderChoice>,
+}
+
+impl Best {
+    /// The lines that say what was chosen and why.
+    pub fn report(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let Some(s) = &self.segments {
+            lines.push(s.report());
+        }
+        if let Some(h) = &self.horizons {
+            lines.push(h.report());
+        }
+        if let Some(o) = &self.order {
+            lines.push(o.report());
+        }
+        lines
+    }
+}
+
+/// The segment count chosen and the score of every candidate.
+#[derive(Clone, Debug)]
+pub struct SegmentChoice {
+    /// Segments per path kept.
+    pub segments: usize,
+    /// The criterion.
+    pub criterion: Criterion,
+    /// `(segments, score)` of every candidate that could be identified and refined.
+    pub scores: Vec<(usize, f64)>,
+    /// `(segments, reason)` of the candidates that failed.
+    pub failures: Vec<(usize, String)>,
+}
+
+impl SegmentChoice {
+    /// One line for a report.
+    pub fn report(&self) -> String {
+        let best = self
+            .scores
+            .iter()
+            .find(|(n, _)| *n == self.segments)
+            .map_or(f64::NAN, |s| s.1);
+        let scores: Vec<String> = self
+            .scores
+            .iter()
+            .map(|(n, v)| format!("{n}: {:+.1}", v - best))
+            .collect();
+        format!(
+            "segments per path: {} chosen by {} of the refined models ({} relative to the best: {})",
+            self.segments,
+            self.criterion.name(),
+            self.criterion.name(),
+            scores.join(", ")
+        )
+    }
+}
+
+/// Identifies `(u, y)` with `base` (interval, knots, hold, order, method) and `choices`.
+pub fn best_model(
+    u: &[f64],
+    y: &[f64],
+    base: &IdentifyOptions,
+    choices: &Choices,
+) -> Result<Best, ChooseError> {
+    let candidates = match &choices.segments {
+        Segments::FromData(c) if choices.estimator == Estimator::Refined && !c.is_empty() => c,
+        _ => return at_knots(u, y, base, choices),
+    };
+    let (lo, hi) = (base.u_min(), base.u_max());
+    let mut kept: Option<(f64, Best)> = None;
+    let mut scores = Vec::new();
+    let mut failures = Vec::new();
+    let mut first_error = None;
+    for &s in candidates {
+        let mut opts = base.clone();
+        opts.knots_asc = uniform_knots(lo, hi, s);
+        opts.knots_desc = opts.knots_asc.clone();
+        match at_knots(u, y, &opts, choices) {
+            Ok(b) => {
+                let score = b.fit.as_ref().map_or(f64::INFINITY, |f| {
+                    choices
+                        .criterion
+                        .score(f.samples as f64, f.mse, f.parameters() as f64)
+                });
+                scores.push((s, score));
+                if kept.as_ref().is_none_or(|(k, _)| score < *k) {
+                    kept = Some((score, b));
+                }
+            }
+            Err(e) => {
+                failures.push((s, e.to_string()));
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    match (kept, first_error) {
+        (Some((_, mut b)), _) => {
+            b.segments = Some(SegmentChoice {
+                segments: b.options.knots_asc.len() - 1,
+                criterion: choices.criterion,
+                scores,
+                failures,
+            });
+            Ok(b)
+        }
+        (None, Some(e)) => Err(e),
+        (None, None) => at_knots(u, y, base, choices),
+    }
+}
+
+/// [`best_model`] at the knots of `base`.
+fn at_knots(
+    u: &[f64],
+    y: &[f64],
+    base: &IdentifyOptions,
+    choices: &Choices,
+) -> Result<Best, ChooseError> {
+    let mut opts = base.clone();
+    let first = identify(u, y, &opts)?;
+    let mut horizons = None;
+    if choices.horizons == Horizons::FromData {
+        let h = choose_horizons(&first, &opts, u.len().saturating_sub(opts.hold));
+        opts.f = h.f;
+        opts.p = h.p;
+        horizons = Some(h);
+    }
+    let model = if (opts.f, opts.p) == (base.f, base.p) {
+        first
+    } else {
+        identify(u, y, &opts)?
+    };
+    if choices.estimator == Estimator::Subspace {
+        return Ok(Best {
+            model,
+            options: opts,
+            fit: None,
+            segments: None,
+            horizons,
+            order: None,
+        });
+    }
+    let pem = PemOptions::for_identify(&opts);
+    let candidates = match base.order {
+        Some(n) => vec![n],
+        None => neighbours(model.order, opts.f),
+    };
+    let (fit, order) = choose_order(
+        u,
+        y,
+        &opts,
+        &pem,
+        model.order,
+        &candidates,
+        choices.criterion,
+    )?;
+    Ok(Best {
+        model: fit.model.clone(),
+        options: opts,
+        fit: Some(fit),
+        segments: None,
+        horizons,
+        order: (base.order.is_none()).then_some(order),
+    })
+}

@@ -1,0 +1,107 @@
+//! The final order of the refined model, by an information criterion on the estimation data.
+//!
+//! The subspace step's order choice reads a gap in the singular values; a weak but real state
+//! (a slow pole with little gain) can sit below that gap, and at low SNR a noise direction can
+//! sit above it. So the neighbours of the subspace order are refined too, each from its own
+//! subspace model, and the order whose refined model has the smallest BIC
+//! (`N ln(Σε²/N) + d ln N` on the prediction errors) is kept: a state is kept only when it
+//! lowers the prediction error by more than its parameters cost.
+
+use super::ChooseError;
+use crate::identify::{IdentifyOptions, identify};
+use crate::numerics::select::{Criterion, best};
+use crate::refine::pem::{PemFit, PemOptions, refine};
+
+/// The order chosen and the score of every candidate.
+#[derive(Clone, Debug)]
+pub struct OrderChoice {
+    /// The order kept.
+    pub order: usize,
+    /// The subspace step's own choice.
+    pub subspace: usize,
+    /// The criterion.
+    pub criterion: Criterion,
+    /// `(order, score)` of every candidate refined.
+    pub scores: Vec<(usize, f64)>,
+    /// `(order, reason)` of the candidates that failed.
+    pub failures: Vec<(usize, String)>,
+}
+
+impl OrderChoice {
+    /// One line for a report.
+    pub fn report(&self) -> String {
+        let best = self
+            .scores
+            .iter()
+            .find(|(n, _)| *n == self.order)
+            .map_or(f64::NAN, |s| s.1);
+        let scores: Vec<String> = self
+            .scores
+            .iter()
+            .map(|(n, v)| format!("{n}: {:+.1}", v - best))
+            .collect();
+        format!(
+            "order {} chosen by {} of the refined models (the singular values suggested {}; {} relative to the best: {})",
+            self.order,
+            self.criterion.name(),
+            self.subspace,
+            self.criterion.name(),
+            scores.join(", ")
+        )
+    }
+}
+
+/// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order) and
+/// keeps the best by `criterion`; the fit of the kept order is returned with the choice.
+pub fn choose_order(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+    pem: &PemOptions,
+    subspace: usize,
+    candidates: &[usize],
+    criterion: Criterion,
+) -> Result<(PemFit, OrderChoice), ChooseError> {
+    let mut fits = Vec::new();
+    let mut scores = Vec::new();
+    let mut failures = Vec::new();
+    for &n in candidates {
+        let mut o = opts.clone();
+        o.order = Some(n);
+        let fit = identify(u, y, &o)
+            .map_err(|e| e.to_string())
+            .and_then(|m| refine(u, y, &m, pem).map_err(|e| e.to_string()));
+        match fit {
+            Ok(f) => {
+                scores.push((
+                    n,
+                    criterion.score(f.samples as f64, f.mse, f.parameters() as f64),
+                ));
+                fits.push((n, f));
+            }
+            Err(e) => failures.push((n, e)),
+        }
+    }
+    let Some(order) = best(&scores) else {
+        return Err(ChooseError::Refine(failures));
+    };
+    let Some(fit) = fits.into_iter().find(|(n, _)| *n == order).map(|(_, f)| f) else {
+        return Err(ChooseError::Refine(failures));
+    };
+    Ok((
+        fit,
+        OrderChoice {
+            order,
+            subspace,
+            criterion,
+            scores,
+            failures,
+        },
+    ))
+}
+
+/// The candidate orders around the subspace order `n`: `n − 1, n, n + 1`, at least 1 and below
+/// the future horizon `f`.
+pub fn neighbours(n: usize, f: usize) -> Vec<usize> {
+    (n.saturating_sub(1).max(1)..=(n + 1).min(f.saturating_sub(1))).collect()
+}

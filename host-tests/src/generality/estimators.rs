@@ -1,0 +1,52 @@
+//! The two estimators the benchmark compares, and one case run through them.
+
+use super::BenchError;
+use super::case::{Case, HOLD};
+use super::score::{Estimate, Row, score};
+use crate::choose::{Choices, best_model};
+use crate::identify::{IdentifyOptions, identify};
+
+/// Samples of each record after the hold.
+pub const SAMPLES: usize = 6000;
+
+/// An estimator: the case (for its interval) and the estimation record's `(u, y)`.
+pub type Estimator = fn(&Case, &[f64], &[f64]) -> Result<Estimate, String>;
+
+/// The paper's estimator: PI-MOESP, 7 uniform segments per path, `f = p = 10`, the order from
+/// the singular values.
+pub fn paper_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, String> {
+    let e = &case.element;
+    let opts = IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD);
+    let model = identify(u, y, &opts).map_err(|e| e.to_string())?;
+    Ok(Estimate {
+        model,
+        note: "f = p = 10, 7 segments".into(),
+    })
+}
+
+/// The desktop default of `hsid identify` ([`Choices::default`]).
+pub fn default_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, String> {
+    let e = &case.element;
+    let opts = IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD);
+    let best = best_model(u, y, &opts, &Choices::default()).map_err(|e| e.to_string())?;
+    Ok(Estimate {
+        note: format!(
+            "f = p = {}, {} segments",
+            best.options.f,
+            best.options.knots_asc.len() - 1
+        ),
+        model: best.model,
+    })
+}
+
+/// Case `index` of the family `seed`, scored for every estimator on its validation record.
+pub fn run_case(seed: u64, index: usize, estimators: &[Estimator]) -> Result<Row, BenchError> {
+    let case = Case::draw(seed, index, SAMPLES)?;
+    let est = case.record(0)?;
+    let val = case.record(1)?;
+    let scores = estimators
+        .iter()
+        .map(|f| score(&val, f(&case, &est.u, &est.y)))
+        .collect();
+    Ok(Row { case, scores })
+}

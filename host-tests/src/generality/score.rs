@@ -1,0 +1,144 @@
+//! Scoring a model on the validation record against the noise floor, and the table.
+
+use std::fmt::Write as _;
+
+use super::case::{Case, HOLD, Record};
+use crate::identify::HostModel;
+
+/// Normalised RMS error `‖y − ŷ‖ / ‖y − ȳ‖`.
+pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
+    let n = y.len().max(1) as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let err: f64 = y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum();
+    let var: f64 = y.iter().map(|a| (a - mean) * (a - mean)).sum();
+    (err / var).sqrt()
+}
+
+/// What an estimator returned for a case.
+#[derive(Clone, Debug)]
+pub struct Estimate {
+    /// The model.
+    pub model: HostModel,
+    /// What the estimator says it chose (horizons, order), for the table.
+    pub note: String,
+}
+
+/// One estimator's score on one case.
+#[derive(Clone, Debug)]
+pub enum Score {
+    /// The model's order and its validation NRMSE over the noise floor's.
+    Scored {
+        /// Order of the model.
+        order: usize,
+        /// Validation NRMSE / noise floor NRMSE.
+        ratio: f64,
+        /// The estimator's note.
+        note: String,
+    },
+    /// The estimator failed.
+    Failed(String),
+}
+
+impl Score {
+    /// The ratio, infinite for a failure.
+    pub fn ratio(&self) -> f64 {
+        match self {
+            Score::Scored { ratio, .. } => *ratio,
+            Score::Failed(_) => f64::INFINITY,
+        }
+    }
+}
+
+/// Scores `estimate` (a model from the estimation record, or an error) on the validation record.
+pub fn score(validation: &Record, estimate: Result<Estimate, String>) -> Score {
+    let floor = nrmse(&validation.y[HOLD..], &validation.y_clean[HOLD..]);
+    match estimate {
+        Ok(e) => {
+            let sim = e.model.simulate(&validation.u);
+            let ratio = nrmse(&validation.y[HOLD..], &sim[HOLD..]) / floor;
+            if ratio.is_finite() {
+                Score::Scored {
+                    order: e.model.order,
+                    ratio,
+                    note: e.note,
+                }
+            } else {
+                Score::Failed("the model's simulation is not finite".into())
+            }
+        }
+        Err(e) => Score::Failed(e),
+    }
+}
+
+/// One row of the table: a case and its scores, one per estimator.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// The case.
+    pub case: Case,
+    /// The scores, in the order of the estimators.
+    pub scores: Vec<Score>,
+}
+
+/// The table in Markdown, with a summary line per estimator: how many cases land within
+/// 1.15× and 1.5× the floor, the worst ratio, and the order confusion.
+pub fn table(rows: &[Row], names: &[&str]) -> String {
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "| case | element | order | poles (slowest) | SNR | noise |"
+    );
+    for n in names {
+        let _ = write!(s, " {n}: order | {n}: ratio |");
+    }
+    s.push('\n');
+    s.push_str("|---|---|---|---|---|---|");
+    for _ in names {
+        s.push_str("---|---|");
+    }
+    s.push('\n');
+    for r in rows {
+        let c = &r.case;
+        let _ = write!(
+            s,
+            "| {} | {:?} | {} | {:.3} | {} dB | {:?} |",
+            c.index,
+            c.element.kind,
+            c.plant.order(),
+            c.plant.slowest(),
+            c.snr_db,
+            c.colour
+        );
+        for sc in &r.scores {
+            match sc {
+                Score::Scored { order, ratio, .. } => {
+                    let _ = write!(s, " {order} | {ratio:.3} |");
+                }
+                Score::Failed(e) => {
+                    let _ = write!(s, " – | failed: {e} |");
+                }
+            }
+        }
+        s.push('\n');
+    }
+    s.push('\n');
+    for (k, n) in names.iter().enumerate() {
+        let ratios: Vec<f64> = rows.iter().map(|r| r.scores[k].ratio()).collect();
+        let within = |t: f64| ratios.iter().filter(|&&x| x <= t).count();
+        let worst = ratios.iter().copied().fold(0.0, f64::max);
+        let right = rows
+            .iter()
+            .filter(|r| matches!(r.scores[k], Score::Scored { order, .. } if order == r.case.plant.order()))
+            .count();
+        let _ = writeln!(
+            s,
+            "- {n}: within 1.15× the floor {}/{}, within 1.5× {}/{}, worst {worst:.2}×, true order {}/{}",
+            within(1.15),
+            rows.len(),
+            within(1.5),
+            rows.len(),
+            right,
+            rows.len()
+        );
+    }
+    s
+}
