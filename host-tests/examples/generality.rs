@@ -5,7 +5,7 @@
 //! options: segments and horizons from the data, refined, the order by BIC), then a summary.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::generality::{Row, default_estimate, paper_estimate, run_case, table};
+use hsid_host::generality::{Row, confusion, default_estimate, paper_estimate, run_case, table};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -26,4 +26,6 @@ fn main() {
         })
         .collect();
     println!("{}", table(&rows, &["paper", "default"]));
+    println!("{}", confusion(&rows, 0, "paper"));
+    println!("{}", confusion(&rows, 1, "default"));
 }

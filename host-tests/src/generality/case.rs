@@ -25,6 +25,16 @@ pub enum Colour {
     Ma1(f64),
 }
 
+impl std::fmt::Display for Colour {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Colour::White => f.write_str("white"),
+            Colour::Ar1(a) => write!(f, "AR(1) {a:.2}"),
+            Colour::Ma1(c) => write!(f, "MA(1) {c:.2}"),
+        }
+    }
+}
+
 impl Colour {
     /// The noise filter.
     pub fn filter(&self) -> Result<Lti, SimError> {
@@ -73,7 +83,7 @@ impl Case {
     pub fn draw(seed: u64, index: usize, samples: usize) -> Result<Self, BenchError> {
         let mut rng = Pcg64::seed_from_u64(seed.wrapping_mul(1_000_003).wrapping_add(index as u64));
         let order = 1 + index % 4;
-        let kind = if (index / 4) % 2 == 0 {
+        let kind = if (index / 4).is_multiple_of(2) {
             Kind::Backlash
         } else {
             Kind::Switch

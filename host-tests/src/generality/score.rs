@@ -85,7 +85,7 @@ pub fn table(rows: &[Row], names: &[&str]) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
-        "| case | element | order | poles (slowest) | SNR | noise |"
+        "| plant | element | order | slowest pole | SNR | noise |"
     );
     for n in names {
         let _ = write!(s, " {n}: order | {n}: ratio |");
@@ -100,7 +100,7 @@ pub fn table(rows: &[Row], names: &[&str]) -> String {
         let c = &r.case;
         let _ = write!(
             s,
-            "| {} | {:?} | {} | {:.3} | {} dB | {:?} |",
+            "| {} | {:?} | {} | {:.3} | {} dB | {} |",
             c.index,
             c.element.kind,
             c.plant.order(),
@@ -131,7 +131,7 @@ pub fn table(rows: &[Row], names: &[&str]) -> String {
             .count();
         let _ = writeln!(
             s,
-            "- {n}: within 1.15× the floor {}/{}, within 1.5× {}/{}, worst {worst:.2}×, true order {}/{}",
+            "- {n}: within 1.15× the noise floor {}/{}, within 1.5× {}/{}, worst {worst:.2}×, true order {}/{}",
             within(1.15),
             rows.len(),
             within(1.5),
@@ -139,6 +139,32 @@ pub fn table(rows: &[Row], names: &[&str]) -> String {
             right,
             rows.len()
         );
+    }
+    s
+}
+
+/// The order confusion of estimator `k`: rows the true order 1–4, columns the chosen order
+/// 1–6 (a failure counts in no column), in Markdown.
+pub fn confusion(rows: &[Row], k: usize, name: &str) -> String {
+    let mut counts = [[0usize; 6]; 4];
+    for r in rows {
+        let truth = r.case.plant.order();
+        if let Score::Scored { order, .. } = &r.scores[k]
+            && (1..=4).contains(&truth)
+            && (1..=6).contains(order)
+        {
+            counts[truth - 1][order - 1] += 1;
+        }
+    }
+    let mut s = format!(
+        "| {name}: true order ↓ chosen → | 1 | 2 | 3 | 4 | 5 | 6 |\n|---|---|---|---|---|---|---|\n"
+    );
+    for (t, row) in counts.iter().enumerate() {
+        let _ = write!(s, "| {} |", t + 1);
+        for c in row {
+            let _ = write!(s, " {c} |");
+        }
+        s.push('\n');
     }
     s
 }
