@@ -10,6 +10,7 @@ mod excite;
 mod identify;
 mod locate;
 mod paper;
+mod simulate;
 mod solve;
 mod validate;
 
@@ -44,6 +45,9 @@ enum Cmd {
     Solve(solve::SolveArgs),
     /// Simulate a model on a CSV file with columns `u,y` and print the fit.
     Validate(validate::ValidateArgs),
+    /// Drive a true plant (a specification) or an identified model by an input record and
+    /// print the record with the output `y` as CSV (see docs/simulate.md).
+    Simulate(Box<simulate::SimulateArgs>),
 }
 
 fn main() -> ExitCode {
@@ -54,6 +58,7 @@ fn main() -> ExitCode {
         Cmd::Diagnose(a) => diagnose::run(&a),
         Cmd::Solve(a) => solve::run(&a),
         Cmd::Validate(a) => validate::run(&a),
+        Cmd::Simulate(a) => simulate::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
