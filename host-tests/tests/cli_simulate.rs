@@ -74,7 +74,16 @@ fn the_pipe_recovers_the_servo_poles_and_gap() {
     let knots = "-1,-0.8,-0.4,0,0.4,0.8,1";
     let spec = servo_spec();
     pipe(
-        &["--umin", "-1", "--umax", "1", "--samples", "6300", "--hold", "300"],
+        &[
+            "--umin",
+            "-1",
+            "--umax",
+            "1",
+            "--samples",
+            "6300",
+            "--hold",
+            "300",
+        ],
         &["--plant", p(&spec), "--input", "-"],
         &[
             "--data",
@@ -96,12 +105,19 @@ fn the_pipe_recovers_the_servo_poles_and_gap() {
     // Truth, analytically: poles of wn²/(s² + 2ζwn s + wn²) sampled at ts lie at radius
     // exp(−ζ wn ts) and angle ±wn √(1 − ζ²) ts.
     let (wn, zeta, ts) = (2.0 * PI * 3.0, 0.4, 0.01);
-    let (r, th) = ((-zeta * wn * ts).exp(), wn * (1.0 - zeta * zeta).sqrt() * ts);
+    let (r, th) = (
+        (-zeta * wn * ts).exp(),
+        wn * (1.0 - zeta * zeta).sqrt() * ts,
+    );
     let poles = m["poles"].as_array().unwrap();
     assert_eq!(poles.len(), 2, "{poles:?}");
     for pole in poles {
         let (re, im) = (pole[0].as_f64().unwrap(), pole[1].as_f64().unwrap());
-        assert!((re.hypot(im) - r).abs() < 0.005, "radius {} vs {r}", re.hypot(im));
+        assert!(
+            (re.hypot(im) - r).abs() < 0.005,
+            "radius {} vs {r}",
+            re.hypot(im)
+        );
         assert!((im.abs().atan2(re) - th).abs() < 0.005, "angle vs {th}");
     }
     // The gap P_d − P_a at the knots where neither path is flat ([−0.8, 0.8]).
@@ -135,21 +151,55 @@ const SWITCH: &str = r#"{
 fn a_model_from_noise_free_data_reproduces_them() {
     let s = Scratch::new("sim-model");
     let spec = s.write("switch.json", SWITCH);
-    let u = hsid(&["excite", "--umin", "-1", "--umax", "1", "--samples", "2300", "--hold", "300"]).success();
+    let u = hsid(&[
+        "excite",
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--samples",
+        "2300",
+        "--hold",
+        "300",
+    ])
+    .success();
     let u_csv = s.write("u.csv", &u.stdout);
     let plant = hsid(&["simulate", "--plant", p(&spec), "--input", p(&u_csv)]).success();
-    assert!(plant.stdout.starts_with("# ts = 0.01 s\n"), "{}", &plant.stdout[..40]);
+    assert!(
+        plant.stdout.starts_with("# ts = 0.01 s\n"),
+        "{}",
+        &plant.stdout[..40]
+    );
     let data = s.write("y.csv", &plant.stdout);
     let model = s.join("m.json");
     hsid(&[
-        "identify", "--data", p(&data), "--umin", "-1", "--umax", "1", "--hold", "300",
-        "--segments", "2", "--nonlinearity", "switch", "--order", "2", "--json", p(&model),
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        "300",
+        "--segments",
+        "2",
+        "--nonlinearity",
+        "switch",
+        "--order",
+        "2",
+        "--json",
+        p(&model),
     ])
     .success();
     let sim = hsid(&["simulate", "--model", p(&model), "--input", p(&data)]).success();
     let (y, ys) = (column(&plant.stdout, "y"), column(&sim.stdout, "y"));
     assert_eq!(y.len(), 2300);
-    let worst = y.iter().zip(&ys).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let worst = y
+        .iter()
+        .zip(&ys)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
     assert!(worst < 1e-9, "largest difference {worst}");
     assert_eq!(column(&sim.stdout, "u"), column(&plant.stdout, "u"));
 }
@@ -161,14 +211,31 @@ fn the_noise_meets_its_snr_and_the_time_column_passes_through() {
         .map(|i| format!("{},{}\n", i as f64 * 0.01, (i as f64 * 0.05).sin()))
         .collect();
     let u = s.write("u.csv", &format!("t,u\n{rows}"));
-    let run = hsid(&["simulate", "--plant", p(&servo_spec()), "--input", p(&u), "--clean"]).success();
+    let run = hsid(&[
+        "simulate",
+        "--plant",
+        p(&servo_spec()),
+        "--input",
+        p(&u),
+        "--clean",
+    ])
+    .success();
     let (y, yc) = (column(&run.stdout, "y"), column(&run.stdout, "y_clean"));
     let v: Vec<f64> = y.iter().zip(&yc).map(|(a, b)| a - b).collect();
     let snr = 10.0 * (variance(&yc) / variance(&v)).log10();
     assert!((snr - 20.0).abs() < 1e-9, "SNR {snr}");
     assert_eq!(column(&run.stdout, "t")[399], 3.99);
     // Another seed gives another record with the same SNR.
-    let other = hsid(&["simulate", "--plant", p(&servo_spec()), "--input", p(&u), "--seed", "7"]).success();
+    let other = hsid(&[
+        "simulate",
+        "--plant",
+        p(&servo_spec()),
+        "--input",
+        p(&u),
+        "--seed",
+        "7",
+    ])
+    .success();
     assert_ne!(column(&other.stdout, "y"), y);
 }
 
@@ -206,19 +273,61 @@ fn bad_specifications_are_one_line_errors_naming_the_field() {
 fn a_model_refuses_inputs_outside_its_interval_unless_told_to_extrapolate() {
     let s = Scratch::new("sim-range");
     let spec = s.write("switch.json", SWITCH);
-    let u = hsid(&["excite", "--umin", "-1", "--umax", "1", "--samples", "1300", "--hold", "300"]).success();
+    let u = hsid(&[
+        "excite",
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--samples",
+        "1300",
+        "--hold",
+        "300",
+    ])
+    .success();
     let u_csv = s.write("u.csv", &u.stdout);
-    let data = s.write("y.csv", &hsid(&["simulate", "--plant", p(&spec), "--input", p(&u_csv)]).success().stdout);
+    let data = s.write(
+        "y.csv",
+        &hsid(&["simulate", "--plant", p(&spec), "--input", p(&u_csv)])
+            .success()
+            .stdout,
+    );
     let model = s.join("m.json");
     hsid(&[
-        "identify", "--data", p(&data), "--umin", "-1", "--umax", "1", "--hold", "300",
-        "--segments", "2", "--nonlinearity", "switch", "--order", "2", "--json", p(&model),
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        "300",
+        "--segments",
+        "2",
+        "--nonlinearity",
+        "switch",
+        "--order",
+        "2",
+        "--json",
+        p(&model),
     ])
     .success();
     let wide = s.write("wide.csv", "u\n-1\n0.5\n1.5\n-1\n");
-    hsid(&["simulate", "--model", p(&model), "--input", p(&wide)])
-        .clean_error(&["line 4", "1.5", "--extrapolate"]);
-    let run = hsid(&["simulate", "--model", p(&model), "--input", p(&wide), "--extrapolate"]).success();
+    hsid(&["simulate", "--model", p(&model), "--input", p(&wide)]).clean_error(&[
+        "line 4",
+        "1.5",
+        "--extrapolate",
+    ]);
+    let run = hsid(&[
+        "simulate",
+        "--model",
+        p(&model),
+        "--input",
+        p(&wide),
+        "--extrapolate",
+    ])
+    .success();
     assert_eq!(column(&run.stdout, "y").len(), 4);
     let t = s.write("t.csv", "t,u\n0,-1\n0.01,0\n0.01,0.5\n");
     hsid(&["simulate", "--model", p(&model), "--input", p(&t)])

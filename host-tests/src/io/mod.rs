@@ -25,7 +25,7 @@ mod write;
 
 pub use error::IoError;
 pub use read::{
-    CsvOptions, Delimiter, STDIN_NAME, STDIN_PATH, Table, parse_columns, parse_table,
-    read_columns, read_source, read_table, read_table_from,
+    CsvOptions, Delimiter, STDIN_NAME, STDIN_PATH, Table, parse_columns, parse_table, read_columns,
+    read_source, read_table, read_table_from,
 };
 pub use write::{write_columns, write_columns_to};

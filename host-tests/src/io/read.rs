@@ -397,3 +397,24 @@ fn row(
 fn clean(s: &str) -> &str {
     s.trim().trim_matches('"').trim()
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn a_reader_is_read_like_a_file_and_named_in_errors() {
+        let text = "# ts = 0.01 s\nu,y\n1,2\n3,4\n";
+        let t = read_table_from(STDIN_NAME, text.as_bytes(), &["y"], &CsvOptions::default());
+        let t = t.unwrap();
+        assert_eq!(t.columns, vec![vec![2.0, 4.0]]);
+        assert_eq!(t.lines, vec![3, 4]);
+        let bad = "u,y\n1,2\n3,x\n";
+        let e = read_table_from(STDIN_NAME, bad.as_bytes(), &["y"], &CsvOptions::default());
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "<stdin> line 3: column \"y\": \"x\" is not a number"
+        );
+    }
+}

@@ -122,7 +122,10 @@ fn shape(e: &ElementSpec, s: Shape) -> Result<(Border, Border), SimulateError> {
             unused(e, &["gap", "slope"], "the shape backlash")?;
             let half = param(e.gap, "element.gap", None)? / 2.0;
             let k = param(e.slope, "element.slope", Some(1.0))?;
-            Ok((border(move |u| k * (u - half)), border(move |u| k * (u + half))))
+            Ok((
+                border(move |u| k * (u - half)),
+                border(move |u| k * (u + half)),
+            ))
         }
         Shape::PaperBacklash => {
             unused(e, &[], "the shape paper-backlash")?;
@@ -144,13 +147,23 @@ fn two_borders(e: &ElementSpec) -> Result<(Border, Border), SimulateError> {
     if let Some(s) = e.shape {
         return shape(e, s);
     }
-    unused(e, &["ascending", "descending"], "a backlash or switch given by knots")?;
+    unused(
+        e,
+        &["ascending", "descending"],
+        "a backlash or switch given by knots",
+    )?;
     let missing = |field: &str| SimulateError::Missing {
         field: field.to_string(),
         why: "a backlash or switch needs a shape, or ascending and descending knots",
     };
-    let a = e.ascending.as_ref().ok_or_else(|| missing("element.ascending"))?;
-    let d = e.descending.as_ref().ok_or_else(|| missing("element.descending"))?;
+    let a = e
+        .ascending
+        .as_ref()
+        .ok_or_else(|| missing("element.ascending"))?;
+    let d = e
+        .descending
+        .as_ref()
+        .ok_or_else(|| missing("element.descending"))?;
     Ok((
         curve(a, "element.ascending")?,
         curve(d, "element.descending")?,
@@ -163,7 +176,10 @@ fn one_border(e: &ElementSpec) -> Result<Border, SimulateError> {
         Some(Shape::Deadband) => Ok(shape(e, Shape::Deadband)?.0),
         Some(s) => Err(SimulateError::Conflict {
             field: "element.shape".into(),
-            why: format!("the shape {s:?} has two borders; a static element has one (use deadband or border)"),
+            why: format!(
+                "the shape {} has two borders; a static element has one (use deadband or border)",
+                s.name()
+            ),
         }),
         None => {
             unused(e, &["border"], "a static element given by knots")?;
@@ -178,7 +194,11 @@ fn one_border(e: &ElementSpec) -> Result<Border, SimulateError> {
 
 /// Checks `H_a <= H_d` of a backlash at the knots of both borders (the play operator needs it).
 fn check_order(e: &ElementSpec, a: &Border, d: &Border) -> Result<(), SimulateError> {
-    let knots = e.ascending.iter().chain(&e.descending).flat_map(|c| c.u.iter());
+    let knots = e
+        .ascending
+        .iter()
+        .chain(&e.descending)
+        .flat_map(|c| c.u.iter());
     match knots.copied().find(|&u| a(u) > d(u)) {
         Some(u) => Err(SimulateError::Knots {
             field: "element.ascending".into(),

@@ -12,6 +12,11 @@ use crate::io::IoError;
 /// `plant.zeta`) or the line of the input file, what is wrong, and what to do.
 #[derive(Debug)]
 pub enum SimulateError {
+    /// The specification is not valid JSON.
+    Json {
+        /// The parser's message (with line and column).
+        reason: String,
+    },
     /// The specification is not valid JSON or does not fit the format (an unknown field, a
     /// wrong type, a missing field).
     Format {
@@ -101,6 +106,7 @@ pub enum SimulateError {
 impl fmt::Display for SimulateError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::Json { reason } => write!(f, "not valid JSON: {reason}"),
             Self::Format { field, reason } => write!(f, "field \"{field}\": {reason}"),
             Self::OutOfRange { field, value, must } => write!(
                 f,

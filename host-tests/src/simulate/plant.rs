@@ -45,7 +45,8 @@ impl StateSpace {
         let mut a = DMatrix::zeros(n1 + n2, n1 + n2);
         a.view_mut((0, 0), (n1, n1)).copy_from(&self.a);
         a.view_mut((n1, n1), (n2, n2)).copy_from(&next.a);
-        a.view_mut((n1, 0), (n2, n1)).copy_from(&(&next.b * &self.c));
+        a.view_mut((n1, 0), (n2, n1))
+            .copy_from(&(&next.b * &self.c));
         let mut b = DMatrix::zeros(n1 + n2, 1);
         b.view_mut((0, 0), (n1, 1)).copy_from(&self.b);
         let mut c = DMatrix::zeros(1, n1 + n2);
@@ -93,7 +94,11 @@ fn positive(field: String, v: f64) -> Result<f64, SimulateError> {
 fn section(s: &SectionSpec, at: &str) -> Result<StateSpace, SimulateError> {
     let f = |name: &str| format!("{at}.{name}");
     if let Some(tau) = s.tau {
-        for (name, given) in [("wn", s.wn.is_some()), ("fn_hz", s.fn_hz.is_some()), ("zeta", s.zeta.is_some())] {
+        for (name, given) in [
+            ("wn", s.wn.is_some()),
+            ("fn_hz", s.fn_hz.is_some()),
+            ("zeta", s.zeta.is_some()),
+        ] {
             if given {
                 return Err(SimulateError::Conflict {
                     field: f(name),
@@ -202,7 +207,12 @@ pub fn linear_part(spec: &LinearSpec, ts: Option<f64>) -> Result<Lti, SimulateEr
         }
         (None, None, _) | (None, _, None) => {
             return Err(SimulateError::Missing {
-                field: if spec.num.is_some() { "plant.den" } else { "plant.num" }.into(),
+                field: if spec.num.is_some() {
+                    "plant.den"
+                } else {
+                    "plant.num"
+                }
+                .into(),
                 why: "a plant is num and den (discrete), or wn/fn_hz with zeta, tau, or a cascade of them (continuous, with ts)",
             });
         }

@@ -199,7 +199,10 @@ pub struct NoiseSpec {
 
 /// The colour of the output noise.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "\"white\" or a filter {\"num\": [...], \"den\": [...]}"
+)]
 pub enum ColourSpec {
     /// `"white"`.
     Named(ColourName),
@@ -215,13 +218,33 @@ pub enum ColourName {
     White,
 }
 
+impl Shape {
+    /// The name used in the specification.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Deadband => "deadband",
+            Self::Backlash => "backlash",
+            Self::PaperBacklash => "paper-backlash",
+            Self::PaperSwitch => "paper-switch",
+        }
+    }
+}
+
 impl PlantSpec {
     /// Parses a specification from JSON text; an error names the offending field.
     pub fn from_json_str(text: &str) -> Result<Self, SimulateError> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(de).map_err(|e| SimulateError::Format {
-            field: e.path().to_string(),
-            reason: e.inner().to_string(),
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            if e.inner().is_syntax() || e.inner().is_eof() {
+                SimulateError::Json {
+                    reason: e.inner().to_string(),
+                }
+            } else {
+                SimulateError::Format {
+                    field: e.path().to_string(),
+                    reason: e.inner().to_string(),
+                }
+            }
         })
     }
 }

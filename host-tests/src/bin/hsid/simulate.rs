@@ -37,7 +37,12 @@ pub struct SimulateArgs {
     #[command(flatten)]
     csv: CsvArgs,
     /// Model only: output noise at this SNR (dB) over the record.
-    #[arg(long, requires = "model", conflicts_with = "noise_std", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        requires = "model",
+        conflicts_with = "noise_std",
+        allow_hyphen_values = true
+    )]
     noise_snr: Option<f64>,
     /// Model only: output noise with this standard deviation of the white noise e.
     #[arg(long, requires = "model")]
@@ -86,8 +91,10 @@ type Run = ((InputRecord, Output), Vec<String>);
 fn plant(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, String> {
     let (name, text) = read_source(path).map_err(|e| e.to_string())?;
     let spec = PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", name.display()))?;
-    let input = read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
-    let out = simulate_plant(&spec, &input.u, a.seed).map_err(|e| format!("{}: {e}", name.display()))?;
+    let input =
+        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let out =
+        simulate_plant(&spec, &input.u, a.seed).map_err(|e| format!("{}: {e}", name.display()))?;
     let units = spec.units.as_ref();
     let lines = header(
         spec.ts,
@@ -122,7 +129,8 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         extrapolate: a.extrapolate,
         noise,
     };
-    let input = read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let input =
+        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
     let out = simulate_model(&model, noise_model.as_ref(), &input, &opts)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     let units = file.units.as_ref();
@@ -136,7 +144,12 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
 
 /// Writes the header comments and the columns `t` (when read), `u`, `y` and `y_clean` (on
 /// request) to standard output.
-fn print(input: &InputRecord, out: &Output, comments: &[String], clean: bool) -> Result<(), String> {
+fn print(
+    input: &InputRecord,
+    out: &Output,
+    comments: &[String],
+    clean: bool,
+) -> Result<(), String> {
     let mut text = Vec::new();
     for c in comments {
         writeln!(text, "# {c}").map_err(|e| e.to_string())?;
@@ -154,8 +167,9 @@ fn print(input: &InputRecord, out: &Output, comments: &[String], clean: bool) ->
         columns.push(&out.y_clean);
     }
     write_columns_to("<stdout>", &mut text, &names, &columns).map_err(|e| e.to_string())?;
-    std::io::stdout()
-        .lock()
-        .write_all(&text)
-        .map_err(|e| format!("<stdout>: {e}"))
+    match std::io::stdout().lock().write_all(&text) {
+        // The reader closed the pipe (e.g. `| head`): nothing more is wanted.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.map_err(|e| format!("<stdout>: {e}")),
+    }
 }
