@@ -2,7 +2,7 @@
 //! simulator's borders, and the element built on them (the simulator's play operator and
 //! relay, or a memoryless border).
 
-use super::SimulateError;
+use super::error::SimulateError;
 use super::spec::{Curve, ElementKind, ElementSpec, Shape};
 use crate::sim::{Backlash, Border, Nonlinearity, Switch, border, paper_backlash, paper_switch};
 

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::SimulateError;
+use super::error::SimulateError;
 use crate::io::{CsvOptions, IoError, parse_table, read_source};
 
 /// An input record.

@@ -13,6 +13,7 @@ mod error;
 mod input;
 mod model;
 mod noise;
+mod output;
 mod plant;
 mod spec;
 
@@ -21,6 +22,7 @@ pub use error::SimulateError;
 pub use input::{InputRecord, read_input};
 pub use model::{Colour, ModelNoise, ModelOptions, extended, simulate_model};
 pub use noise::{Level, Noise, output_noise};
+pub use output::Output;
 pub use plant::{StateSpace, linear_part, sample_time};
 pub use spec::{
     ColourName, ColourSpec, Curve, ElementKind, ElementSpec, LinearSpec, NoiseSpec, PlantSpec,
@@ -28,38 +30,6 @@ pub use spec::{
 };
 
 use crate::sim::Lti;
-
-/// A simulated output.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Output {
-    /// The output, noise included.
-    pub y: Vec<f64>,
-    /// The noise-free output.
-    pub y_clean: Vec<f64>,
-    /// Standard deviation of the white noise `e` behind the output noise (0 without noise).
-    pub e_std: f64,
-}
-
-impl Output {
-    /// A noise-free output.
-    pub fn clean(y_clean: Vec<f64>) -> Self {
-        Self {
-            y: y_clean.clone(),
-            y_clean,
-            e_std: 0.0,
-        }
-    }
-
-    /// `y_clean` with the noise added.
-    pub fn noisy(y_clean: Vec<f64>, noise: &Noise) -> Result<Self, SimulateError> {
-        let (v, e_std) = output_noise(&y_clean, noise)?;
-        Ok(Self {
-            y: y_clean.iter().zip(&v).map(|(a, b)| a + b).collect(),
-            y_clean,
-            e_std,
-        })
-    }
-}
 
 /// `G` driven by `h` from rest at `h[0]`: `G(1) h[0] + G (h − h[0])` from zero state (exact by
 /// superposition).

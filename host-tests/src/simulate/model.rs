@@ -2,10 +2,11 @@
 //! linear part and, on request, output noise — white, or coloured by the model's own noise
 //! model `C(q)/D(q)` (its innovation form), at the stored `σ_e²` or a given level.
 
+use super::error::SimulateError;
 use super::input::InputRecord;
 use super::noise::{Level, Noise, white};
+use super::output::Output;
 use super::plant::transfer;
-use super::{Output, SimulateError};
 use crate::identify::HostModel;
 use crate::refine::NoiseModel;
 

@@ -5,7 +5,7 @@ use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;
 
-use super::SimulateError;
+use super::error::SimulateError;
 use super::plant::transfer;
 use super::spec::{ColourSpec, NoiseSpec};
 use crate::sim::{Lti, variance};

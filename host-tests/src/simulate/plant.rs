@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 
-use super::SimulateError;
+use super::error::SimulateError;
 use super::spec::{LinearSpec, SectionSpec};
 use crate::numerics::poly::{spectral_radius, tf_from_ss};
 use crate::sim::Lti;

@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use super::SimulateError;
+use super::error::SimulateError;
 
 /// A true plant: input element, linear part, output noise, sample time and units.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
