@@ -313,6 +313,25 @@ fn a_model_refuses_inputs_outside_its_interval_unless_told_to_extrapolate() {
         p(&model),
     ])
     .success();
+    // `validate --data -` reads the record from standard input.
+    let out = bin()
+        .args([
+            "validate",
+            "--model",
+            p(&model),
+            "--data",
+            "-",
+            "--skip",
+            "300",
+        ])
+        .stdin(Stdio::from(std::fs::File::open(&data).unwrap()))
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        out.status.success() && text.contains("fit 100.00 %"),
+        "{text}"
+    );
     let wide = s.write("wide.csv", "u\n-1\n0.5\n1.5\n-1\n");
     hsid(&["simulate", "--model", p(&model), "--input", p(&wide)]).clean_error(&[
         "line 4",

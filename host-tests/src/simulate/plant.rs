@@ -69,7 +69,7 @@ impl StateSpace {
     }
 
     /// The discrete transfer function `(num, den)` in `q⁻¹` of the zero-order-hold model, with
-    /// the static gain `gain` (num[0] = 0: one sample of delay, as a sampled plant has).
+    /// the static gain `gain` (`num[0] = 0`: one sample of delay, as a sampled plant has).
     pub fn discrete(&self, ts: f64, gain: f64) -> (Vec<f64>, Vec<f64>) {
         let (ad, bd) = self.zoh(ts);
         let c: Vec<f64> = self.c.iter().map(|v| v * gain).collect();
