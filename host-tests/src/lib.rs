@@ -16,3 +16,4 @@ pub mod reference;
 pub mod refine;
 pub mod report;
 pub mod sim;
+pub mod simulate;

@@ -1,4 +1,4 @@
-//! CSV columns in and out.
+//! CSV columns in and out. A path `-` reads standard input (named `<stdin>` in errors).
 //!
 //! The CSV reader (on the `csv` crate) is deliberately strict: every problem is reported as an
 //! [`IoError`] that names the file, the 1-based line and, where it applies, the column; nothing
@@ -25,6 +25,7 @@ mod write;
 
 pub use error::IoError;
 pub use read::{
-    CsvOptions, Delimiter, Table, parse_columns, parse_table, read_columns, read_table,
+    CsvOptions, Delimiter, STDIN_NAME, STDIN_PATH, Table, parse_columns, parse_table, read_columns,
+    read_source, read_table, read_table_from,
 };
 pub use write::{write_columns, write_columns_to};

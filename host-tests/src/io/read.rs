@@ -2,7 +2,8 @@
 //! every sample.
 
 use std::fs;
-use std::path::Path;
+use std::io::Read;
+use std::path::{Path, PathBuf};
 
 use super::IoError;
 
@@ -77,32 +78,72 @@ pub fn parse_columns(
     parse_table(source, text, names, &CsvOptions::default()).map(|t| t.columns)
 }
 
-/// [`read_columns`] with options, keeping the line of each row.
+/// The name standing for standard input: a path `-` is read from standard input, and errors
+/// name it `<stdin>`.
+pub const STDIN_PATH: &str = "-";
+
+/// The name errors give to standard input.
+pub const STDIN_NAME: &str = "<stdin>";
+
+/// [`read_columns`] with options, keeping the line of each row. The path `-`
+/// ([`STDIN_PATH`]) reads standard input (see [`read_source`]).
 pub fn read_table(
     path: impl AsRef<Path>,
     names: &[&str],
     options: &CsvOptions,
 ) -> Result<Table, IoError> {
+    let (name, text) = read_source(path)?;
+    parse_table(name, &text, names, options)
+}
+
+/// [`read_table`] over any reader (a pipe, a socket, a buffer); `source` names it in errors.
+pub fn read_table_from<R: Read>(
+    source: impl AsRef<Path>,
+    reader: R,
+    names: &[&str],
+    options: &CsvOptions,
+) -> Result<Table, IoError> {
+    let source = source.as_ref();
+    let text = read_text(source, reader)?;
+    parse_table(source, &text, names, options)
+}
+
+/// The whole text of a file, or of standard input for the path `-`, with the name errors
+/// should give it (the path, or `<stdin>`).
+pub fn read_source(path: impl AsRef<Path>) -> Result<(PathBuf, String), IoError> {
     let path = path.as_ref();
-    let bytes = fs::read(path).map_err(|source| IoError::Open {
+    if path == Path::new(STDIN_PATH) {
+        let name = PathBuf::from(STDIN_NAME);
+        let text = read_text(&name, std::io::stdin().lock())?;
+        return Ok((name, text));
+    }
+    let file = fs::File::open(path).map_err(|source| IoError::Open {
         path: path.to_path_buf(),
         source,
     })?;
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(e) => {
-            let valid = e.utf8_error().valid_up_to();
-            let line = 1 + e.as_bytes()[..valid]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count();
-            return Err(IoError::NotUtf8 {
-                path: path.to_path_buf(),
-                line,
-            });
+    Ok((path.to_path_buf(), read_text(path, file)?))
+}
+
+/// All bytes of a reader as UTF-8 text; an invalid byte is reported with its line.
+fn read_text<R: Read>(path: &Path, mut reader: R) -> Result<String, IoError> {
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|source| IoError::Open {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..valid]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        IoError::NotUtf8 {
+            path: path.to_path_buf(),
+            line,
         }
-    };
-    parse_table(path, &text, names, options)
+    })
 }
 
 /// What the lines of the text are, before the CSV parser sees them.
@@ -355,4 +396,25 @@ fn row(
 /// Trims surrounding whitespace and double quotes.
 fn clean(s: &str) -> &str {
     s.trim().trim_matches('"').trim()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn a_reader_is_read_like_a_file_and_named_in_errors() {
+        let text = "# ts = 0.01 s\nu,y\n1,2\n3,4\n";
+        let t = read_table_from(STDIN_NAME, text.as_bytes(), &["y"], &CsvOptions::default());
+        let t = t.unwrap();
+        assert_eq!(t.columns, vec![vec![2.0, 4.0]]);
+        assert_eq!(t.lines, vec![3, 4]);
+        let bad = "u,y\n1,2\n3,x\n";
+        let e = read_table_from(STDIN_NAME, bad.as_bytes(), &["y"], &CsvOptions::default());
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "<stdin> line 3: column \"y\": \"x\" is not a number"
+        );
+    }
 }

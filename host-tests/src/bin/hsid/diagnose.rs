@@ -37,7 +37,7 @@ pub enum RefineArg {
 /// Arguments of `hsid diagnose`.
 #[derive(Args, Clone, Debug)]
 pub struct DiagnoseArgs {
-    /// Estimation data: CSV file with a header.
+    /// Estimation data: CSV file with a header (`-`: standard input).
     #[arg(long)]
     pub data: PathBuf,
     /// Validation data (CSV); without it the estimation file is split (see --split, --holdout).

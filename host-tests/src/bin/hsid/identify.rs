@@ -25,7 +25,7 @@ use crate::locate;
 /// Arguments of `hsid identify`.
 #[derive(Args)]
 pub struct IdentifyArgs {
-    /// CSV file with a header.
+    /// CSV file with a header (`-`: standard input).
     #[arg(long)]
     data: PathBuf,
     /// Lower end of the input interval.

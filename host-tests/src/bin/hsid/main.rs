@@ -11,6 +11,7 @@ mod failure;
 mod identify;
 mod locate;
 mod paper;
+mod simulate;
 mod solve;
 mod validate;
 
@@ -45,6 +46,9 @@ enum Cmd {
     Solve(solve::SolveArgs),
     /// Simulate a model on a CSV file with columns `u,y` and print the fit.
     Validate(validate::ValidateArgs),
+    /// Drive a true plant (a specification) or an identified model by an input record and
+    /// print the record with the output `y` as CSV (see docs/simulate.md).
+    Simulate(Box<simulate::SimulateArgs>),
 }
 
 fn main() -> ExitCode {
@@ -55,6 +59,7 @@ fn main() -> ExitCode {
         Cmd::Diagnose(a) => diagnose::run(&a),
         Cmd::Solve(a) => solve::run(&a),
         Cmd::Validate(a) => validate::run(&a),
+        Cmd::Simulate(a) => simulate::run(&a),
     };
     match result {
         Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,

@@ -20,7 +20,7 @@ pub struct ValidateArgs {
     /// Model file written by `hsid identify --json` (format hsid-model/1).
     #[arg(long)]
     model: PathBuf,
-    /// CSV file with a header.
+    /// CSV file with a header (`-`: standard input).
     #[arg(long)]
     data: PathBuf,
     /// Samples at the start left out of the fit (e.g. the hold).

@@ -1,0 +1,175 @@
+//! `hsid simulate`: a true plant from a specification, or an identified model, driven by an
+//! input record; the record with the simulated output as CSV on standard output.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+use hsid_host::identify::HostModel;
+use hsid_host::io::{CsvOptions, read_source, write_columns_to};
+use hsid_host::model_file::ModelFile;
+use hsid_host::refine::NoiseModel;
+use hsid_host::simulate::{
+    Colour, InputRecord, Level, ModelNoise, ModelOptions, Output, PlantSpec, header, read_input,
+    simulate_model, simulate_plant,
+};
+
+use crate::args::CsvArgs;
+
+/// Arguments of `hsid simulate`.
+#[derive(Args)]
+pub struct SimulateArgs {
+    /// Model file (format hsid-model/1) to simulate.
+    #[arg(long, required_unless_present = "plant", conflicts_with = "plant")]
+    model: Option<PathBuf>,
+    /// Plant specification (JSON, see docs/simulate.md) to simulate.
+    #[arg(long)]
+    plant: Option<PathBuf>,
+    /// CSV file with the input column (and optionally a time column); `-`: standard input.
+    #[arg(long)]
+    input: PathBuf,
+    /// Input column name.
+    #[arg(long, default_value = "u")]
+    input_column: String,
+    /// Time column name, passed through and checked increasing when the file has it.
+    #[arg(long, default_value = "t")]
+    time_column: String,
+    #[command(flatten)]
+    csv: CsvArgs,
+    /// Model only: output noise at this SNR (dB) over the record.
+    #[arg(
+        long,
+        requires = "model",
+        conflicts_with = "noise_std",
+        allow_hyphen_values = true
+    )]
+    noise_snr: Option<f64>,
+    /// Model only: output noise with this standard deviation of the white noise e.
+    #[arg(long, requires = "model")]
+    noise_std: Option<f64>,
+    /// Model only: white noise, or coloured by the model file's noise model (at its stored
+    /// variance unless --noise-snr or --noise-std is given).
+    #[arg(long, value_enum, requires = "model")]
+    noise_colour: Option<ColourArg>,
+    /// Seed of the noise generator (with --plant: replaces the specification's seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Model only: inputs outside the model's [u_min, u_max] continue the end segments of both
+    /// borders linearly (default: an error).
+    #[arg(long, requires = "model")]
+    extrapolate: bool,
+    /// Also write the noise-free output as a column `y_clean`.
+    #[arg(long)]
+    clean: bool,
+}
+
+/// The colour of a model's output noise.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ColourArg {
+    /// White noise.
+    White,
+    /// The model file's noise model.
+    Model,
+}
+
+/// Simulates and prints the record.
+pub fn run(a: &SimulateArgs) -> Result<(), String> {
+    let csv = CsvOptions {
+        delimiter: a.csv.delimiter(),
+    };
+    let (output, lines) = match (&a.plant, &a.model) {
+        (Some(spec), _) => plant(a, spec, &csv)?,
+        (None, Some(model)) => model_run(a, model, &csv)?,
+        (None, None) => return Err("give --plant SPEC or --model MODEL.json".to_string()),
+    };
+    let (input, out) = output;
+    print(&input, &out, &lines, a.clean)
+}
+
+type Run = ((InputRecord, Output), Vec<String>);
+
+fn plant(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, String> {
+    let (name, text) = read_source(path).map_err(|e| e.to_string())?;
+    let spec = PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", name.display()))?;
+    let input =
+        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let out =
+        simulate_plant(&spec, &input.u, a.seed).map_err(|e| format!("{}: {e}", name.display()))?;
+    let units = spec.units.as_ref();
+    let lines = header(
+        spec.ts,
+        units.and_then(|u| u.input.as_deref()),
+        units.and_then(|u| u.output.as_deref()),
+    );
+    Ok(((input, out), lines))
+}
+
+fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, String> {
+    let file = ModelFile::load(path).map_err(|e| e.to_string())?;
+    let model = HostModel::from_json(&file);
+    let noise_model = file.noise.as_ref().map(|n| NoiseModel {
+        c: n.c.clone(),
+        d: n.d.clone(),
+        sigma2: n.sigma2,
+    });
+    let level = match (a.noise_snr, a.noise_std) {
+        (Some(db), _) => Some(Level::SnrDb(db)),
+        (None, Some(s)) => Some(Level::Std(s)),
+        (None, None) => None,
+    };
+    let noise = (level.is_some() || a.noise_colour.is_some()).then(|| ModelNoise {
+        colour: match a.noise_colour {
+            Some(ColourArg::Model) => Colour::Model,
+            Some(ColourArg::White) | None => Colour::White,
+        },
+        level,
+        seed: a.seed.unwrap_or(1),
+    });
+    let opts = ModelOptions {
+        extrapolate: a.extrapolate,
+        noise,
+    };
+    let input =
+        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let out = simulate_model(&model, noise_model.as_ref(), &input, &opts)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let units = file.units.as_ref();
+    let lines = header(
+        file.sample_time,
+        units.map(|u| u.input.as_str()),
+        units.map(|u| u.output.as_str()),
+    );
+    Ok(((input, out), lines))
+}
+
+/// Writes the header comments and the columns `t` (when read), `u`, `y` and `y_clean` (on
+/// request) to standard output.
+fn print(
+    input: &InputRecord,
+    out: &Output,
+    comments: &[String],
+    clean: bool,
+) -> Result<(), String> {
+    let mut text = Vec::new();
+    for c in comments {
+        writeln!(text, "# {c}").map_err(|e| e.to_string())?;
+    }
+    let mut names = Vec::new();
+    let mut columns: Vec<&[f64]> = Vec::new();
+    if let Some(t) = &input.t {
+        names.push("t");
+        columns.push(t);
+    }
+    names.extend(["u", "y"]);
+    columns.extend([input.u.as_slice(), out.y.as_slice()]);
+    if clean {
+        names.push("y_clean");
+        columns.push(&out.y_clean);
+    }
+    write_columns_to("<stdout>", &mut text, &names, &columns).map_err(|e| e.to_string())?;
+    match std::io::stdout().lock().write_all(&text) {
+        // The reader closed the pipe (e.g. `| head`): nothing more is wanted.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => r.map_err(|e| format!("<stdout>: {e}")),
+    }
+}

@@ -1,0 +1,158 @@
+//! An identified model driven by any input: the two-path element with memory (δ(t)), the
+//! linear part and, on request, output noise — white, or coloured by the model's own noise
+//! model `C(q)/D(q)` (its innovation form), at the stored `σ_e²` or a given level.
+
+use super::error::SimulateError;
+use super::input::InputRecord;
+use super::noise::{Level, Noise, white};
+use super::output::Output;
+use super::plant::transfer;
+use crate::identify::HostModel;
+use crate::refine::NoiseModel;
+
+/// The colour of the noise added to a model's output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Colour {
+    /// White.
+    White,
+    /// The model file's noise model `C(q)/D(q)`.
+    Model,
+}
+
+/// Noise added to a model's output.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelNoise {
+    /// The colour.
+    pub colour: Colour,
+    /// The level; `None` uses the noise model's stored `σ_e²` (colour [`Colour::Model`] only).
+    pub level: Option<Level>,
+    /// Seed of the PCG32 generator.
+    pub seed: u64,
+}
+
+/// How a model is simulated.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ModelOptions {
+    /// Inputs outside `[u_min, u_max]` continue the end segments of both borders linearly;
+    /// without it they are an error.
+    pub extrapolate: bool,
+    /// Output noise; none when `None`.
+    pub noise: Option<ModelNoise>,
+}
+
+/// Border value at `u` on the line through knots `i` and `j`.
+fn line_at(k: &[f64], v: &[f64], i: usize, j: usize, u: f64) -> f64 {
+    v[i] + (v[j] - v[i]) * (u - k[i]) / (k[j] - k[i])
+}
+
+/// The model with a knot added below `lo` and above `hi` where the input leaves its interval,
+/// on the end segments' lines, so the borders extend linearly.
+pub fn extended(model: &HostModel, lo: f64, hi: f64) -> HostModel {
+    let mut m = model.clone();
+    for (k, v) in [
+        (&mut m.knots_asc, &mut m.border_asc),
+        (&mut m.knots_desc, &mut m.border_desc),
+    ] {
+        let n = k.len().min(v.len());
+        if n < 2 {
+            continue;
+        }
+        if hi > k[n - 1] {
+            let y = line_at(k, v, n - 2, n - 1, hi);
+            k.push(hi);
+            v.push(y);
+        }
+        if lo < k[0] {
+            let y = line_at(k, v, 0, 1, lo);
+            k.insert(0, lo);
+            v.insert(0, y);
+        }
+    }
+    m
+}
+
+/// The first input outside the model's interval, as an error.
+fn check_range(model: &HostModel, input: &InputRecord) -> Result<(), SimulateError> {
+    let (lo, hi) = (model.u_min(), model.u_max());
+    match input.u.iter().position(|v| !(lo..=hi).contains(v)) {
+        Some(i) => Err(SimulateError::InputOutsideModel {
+            source: input.source.clone(),
+            line: input.lines[i],
+            value: input.u[i],
+            lo,
+            hi,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Simulates `model` on the input record (see [`HostModel::simulate`]: the model starts at rest
+/// at μ0 with the previous input at its lowest knot) and adds the requested noise.
+pub fn simulate_model(
+    model: &HostModel,
+    noise_model: Option<&NoiseModel>,
+    input: &InputRecord,
+    opts: &ModelOptions,
+) -> Result<Output, SimulateError> {
+    let y_clean = if opts.extrapolate {
+        let lo = input.u.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = input.u.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        extended(model, lo, hi).simulate(&input.u)
+    } else {
+        check_range(model, input)?;
+        model.simulate(&input.u)
+    };
+    let Some(n) = opts.noise else {
+        return Ok(Output::clean(y_clean));
+    };
+    let (filter, level) = match (n.colour, n.level) {
+        (Colour::White, None) => return Err(SimulateError::NoNoiseLevel),
+        (Colour::White, Some(l)) => (white(), l),
+        (Colour::Model, l) => {
+            let nm = noise_model.ok_or(SimulateError::NoNoiseModel)?;
+            let filter = transfer(nm.c.clone(), nm.d.clone(), "noise")?;
+            (filter, l.unwrap_or(Level::Std(nm.sigma2.sqrt())))
+        }
+    };
+    let noise = Noise {
+        filter,
+        level,
+        seed: n.seed,
+    };
+    Output::noisy(y_clean, &noise)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn extension_continues_the_end_segments() {
+        let k = vec![-1.0, 0.0, 1.0];
+        let m = HostModel {
+            order: 0,
+            a: nalgebra::DMatrix::zeros(0, 0),
+            b: vec![],
+            c: vec![],
+            d: 1.0,
+            mu0: 0.0,
+            knots_asc: k.clone(),
+            knots_desc: k,
+            border_asc: vec![-1.0, 0.0, 2.0],
+            border_desc: vec![0.0, 1.0, 1.5],
+            singular_values: vec![],
+            whitened_singular_values: vec![],
+            f: 1,
+            p: 1,
+            samples: 0,
+        };
+        let e = extended(&m, -2.0, 3.0);
+        assert_eq!(e.border_asc_at(3.0), 6.0);
+        assert_eq!(e.border_asc_at(-2.0), -2.0);
+        assert_eq!(e.border_desc_at(3.0), 2.5);
+        assert_eq!(e.border_desc_at(-2.0), -1.0);
+        // Inside the interval nothing changes.
+        assert_eq!(e.border_asc_at(0.5), m.border_asc_at(0.5));
+    }
+}
