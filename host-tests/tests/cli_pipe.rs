@@ -90,6 +90,7 @@ fn every_verb_ends_quietly_when_its_reader_closes_the_pipe() {
     closed_reader(&["identify", "--data", data, "--umin", "-3", "--umax", "3"]);
     closed_reader(&["validate", "--model", p(&model), "--data", data]);
     closed_reader(&["solve", "--state", p(&state)]);
+    closed_reader(&["simulate", "--model", p(&model), "--input", data]);
     closed_reader(&[
         "diagnose",
         "--data",

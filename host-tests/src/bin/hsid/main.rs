@@ -59,7 +59,7 @@ fn main() -> ExitCode {
         Cmd::Diagnose(a) => diagnose::run(&a),
         Cmd::Solve(a) => solve::run(&a),
         Cmd::Validate(a) => validate::run(&a),
-        Cmd::Simulate(a) => simulate::run(&a),
+        Cmd::Simulate(a) => simulate::run(&a).map_err(failure::Failure::from),
     };
     match result {
         Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,
