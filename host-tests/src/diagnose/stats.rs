@@ -361,18 +361,8 @@ pub fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVec
         }
         let k = idx.len();
         let gs = DMatrix::from_fn(k, k, |r, c| g[(idx[r], idx[c])]);
-        let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
-        let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
         let bs = DVector::from_fn(k, |r, _| b[idx[r]]);
-        let qtb = eig.eigenvectors.tr_mul(&bs);
-        let mut z = DVector::zeros(k);
-        for i in 0..k {
-            let l = eig.eigenvalues[i];
-            if l > 1e-13 * max {
-                z[i] = qtb[i] / l;
-            }
-        }
-        let sol = &eig.eigenvectors * z;
+        let sol = crate::numerics::lstsq::solve_min_norm(gs, &bs)?;
         for (r, &i) in idx.iter().enumerate() {
             beta[i] = sol[r];
         }

@@ -158,4 +158,25 @@ mod tests {
         assert!(fit_ar(&[1.0, 2.0, 3.0], 0).is_none());
         assert!(fit_ar_bic(&[], 3).is_none());
     }
+    #[test]
+    fn both_solvers_agree_and_the_sample_rule_is_kept() {
+        let r = ar2(5_000, 3);
+        let chol = fit_ar(&r, 3).map(|a| a.d).unwrap_or_default();
+        let settings = ArSettings {
+            solver: ArSolver::MinimumNorm,
+            per_order: 3,
+            extra: 10,
+        };
+        let mn = fit_ar_with(&r, 3, &settings)
+            .map(|a| a.d)
+            .unwrap_or_default();
+        assert_eq!(chol.len(), 3);
+        assert!(
+            chol.iter().zip(&mn).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{chol:?} {mn:?}"
+        );
+        // 3 · 3 + 10 = 19 samples are not enough, 20 are.
+        assert!(fit_ar_with(&r[..19], 3, &settings).is_none());
+        assert!(fit_ar_with(&r[..20], 3, &settings).is_some());
+    }
 }

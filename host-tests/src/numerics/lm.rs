@@ -467,4 +467,82 @@ mod tests {
             Err(LmFailure::StartDoesNotSimulate)
         );
     }
+    #[test]
+    fn an_analytic_jacobian_with_the_prediction_error_settings_reaches_the_known_minimum() -> Outcome
+    {
+        // y = 2 exp(−0.3 t); J = [exp(−b t), −a t exp(−b t)].
+        let t: Vec<f64> = (0..30).map(f64::from).collect();
+        let y: Vec<f64> = t.iter().map(|t| 2.0 * (-0.3 * t).exp()).collect();
+        let residual = |th: &[f64]| -> Option<Vec<f64>> {
+            Some(
+                t.iter()
+                    .zip(&y)
+                    .map(|(t, y)| th[0] * (-th[1] * t).exp() - y)
+                    .collect(),
+            )
+        };
+        let jacobian = |th: &[f64]| {
+            DMatrix::from_fn(t.len(), 2, |i, j| {
+                let e = (-th[1] * t[i]).exp();
+                if j == 0 { e } else { -th[0] * t[i] * e }
+            })
+        };
+        let problem = Problem {
+            residual: &residual,
+            admissible: &|_| true,
+            jacobian: Jacobian::Analytic(&jacobian),
+        };
+        let min = minimise(
+            &problem,
+            &[1.0, 0.1],
+            &Settings::prediction_error(100, 1e-12),
+        )?;
+        assert!(
+            (min.theta[0] - 2.0).abs() < 1e-8 && (min.theta[1] - 0.3).abs() < 1e-8,
+            "{:?}",
+            min.theta
+        );
+        assert!(
+            min.iterations > 1 && min.iterations < 100,
+            "{}",
+            min.iterations
+        );
+        // One iteration is not enough: with the budget failing, no result.
+        let short = Settings::prediction_error(1, 1e-12);
+        assert!(matches!(
+            minimise(&problem, &[1.0, 0.1], &short),
+            Err(LmFailure::NoConvergence { iterations: 1, .. })
+        ));
+        Ok(())
+    }
+
+    #[test]
+    fn parameters_running_away_diverge_only_when_asked() {
+        // r = 1/θ: each Gauss–Newton step doubles θ, the error falls towards 0 at infinity.
+        let residual = |th: &[f64]| -> Option<Vec<f64>> { Some(vec![1.0 / th[0]]) };
+        let jacobian = |th: &[f64]| DMatrix::from_element(1, 1, -1.0 / (th[0] * th[0]));
+        let problem = Problem {
+            residual: &residual,
+            admissible: &|_| true,
+            jacobian: Jacobian::Analytic(&jacobian),
+        };
+        // Bound 10 (1 + 1) = 20: θ ≈ 1, 2, 4, 8, 16, 32 passes it at the fifth step.
+        let bounded = Settings {
+            divergence: Divergence::Fail { growth: 10.0 },
+            ..Settings::prediction_error(50, 1e-9)
+        };
+        assert_eq!(
+            minimise(&problem, &[1.0], &bounded),
+            Err(LmFailure::Diverged { iteration: 5 })
+        );
+        // Without the bound the budget ends with the best θ so far (≈ 2¹⁰ after 10 steps).
+        let free = Settings {
+            iterations: 10,
+            divergence: Divergence::Ignore,
+            exhausted: Exhausted::ReturnBest,
+            ..bounded
+        };
+        let min = minimise(&problem, &[1.0], &free).map(|m| m.theta[0]);
+        assert!(min.is_ok_and(|th| th > 500.0 && th < 2048.0), "{min:?}");
+    }
 }

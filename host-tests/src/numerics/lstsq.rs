@@ -100,13 +100,22 @@ pub fn lstsq_min_norm(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>
         .collect();
     let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
     let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
-    let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
+    let beta = solve_min_norm(gs, &bs)?;
+    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
+}
+
+/// The minimum-norm solution of `G x = b` for a symmetric positive semi-definite `G`, by a
+/// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out; zero
+/// when `G` has no positive eigenvalue, `None` if the decomposition does not converge.
+pub fn solve_min_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    let k = g.nrows();
+    let eig = nalgebra::SymmetricEigen::try_new(g, f64::EPSILON, 10_000)?;
     let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
     let positive = max > 0.0;
     if !positive {
         return Some(DVector::zeros(k));
     }
-    let qtb = eig.eigenvectors.tr_mul(&bs);
+    let qtb = eig.eigenvectors.tr_mul(b);
     let mut z = DVector::zeros(k);
     for i in 0..k {
         let l = eig.eigenvalues[i];
@@ -114,8 +123,7 @@ pub fn lstsq_min_norm(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>
             z[i] = qtb[i] / l;
         }
     }
-    let beta = &eig.eigenvectors * z;
-    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
+    Some(&eig.eigenvectors * z)
 }
 
 #[cfg(test)]
@@ -188,5 +196,27 @@ mod tests {
         assert!(lstsq(&x, &y, Scaling::UnitDiagonal).is_none());
         let cols = vec![vec![1.0; 5], vec![0.0; 5]];
         assert!(lstsq_columns(&cols, &[1.0; 5], Scaling::UnitDiagonal).is_none());
+    }
+    #[test]
+    fn the_minimum_norm_solution_splits_a_repeated_column_evenly() {
+        // y = 2 t from the columns (t, t): every (a, 2 − a) fits; the smallest is (1, 1).
+        let x = DMatrix::from_fn(20, 2, |t, _| t as f64 + 1.0);
+        let y = DVector::from_fn(20, |t, _| 2.0 * (t as f64 + 1.0));
+        let b = lstsq_min_norm(&x, &y).unwrap_or_else(|| DVector::zeros(2));
+        assert!(
+            (b[0] - 1.0).abs() < 1e-9 && (b[1] - 1.0).abs() < 1e-9,
+            "{b}"
+        );
+        // A full-rank system: the one solution.
+        let (x, y, theta) = system();
+        let b = lstsq_min_norm(&x, &y).unwrap_or_else(|| DVector::zeros(3));
+        for (g, t) in b.iter().zip(theta) {
+            assert!((g - t).abs() < 1e-8 * (1.0 + t.abs()), "{b}");
+        }
+        // Nothing to fit: zero.
+        assert_eq!(
+            lstsq_min_norm(&DMatrix::zeros(5, 2), &DVector::zeros(5)),
+            Some(DVector::zeros(2))
+        );
     }
 }

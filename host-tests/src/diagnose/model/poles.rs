@@ -10,6 +10,7 @@ use crate::diagnose::simulate::{
 use crate::identify::HostModel;
 use crate::numerics::lm::{Damping, DampingLimit, JacobianFailure, Settings, levenberg_marquardt};
 use crate::numerics::lstsq::lstsq_min_norm;
+use crate::numerics::poly::observer_a;
 
 use super::borders::border_channels;
 use super::fit_options::{InitialState, Saturation};
@@ -39,21 +40,6 @@ pub(super) fn poly_from_roots(roots: &[(f64, f64)]) -> Vec<f64> {
         }
     }
     p[1..].to_vec()
-}
-
-/// The observer canonical `A` of `z^n + a_1 z^{n−1} + … + a_n`: first column `−a`, ones on
-/// the superdiagonal.
-pub(super) fn observer_a(a: &[f64]) -> DMatrix<f64> {
-    let n = a.len();
-    DMatrix::from_fn(n, n, |i, j| {
-        if j == 0 {
-            -a[i]
-        } else if j == i + 1 {
-            1.0
-        } else {
-            0.0
-        }
-    })
 }
 
 /// The linear part in observer canonical form (`C = e₁`): the same transfer function.
