@@ -13,8 +13,10 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
 use super::residual::LEVEL;
-use super::stats::{chi2_sf, lstsq};
+use super::stats::chi2_sf;
 use crate::identify::HostModel;
+use crate::numerics::lstsq::lstsq_min_norm;
+use crate::numerics::select::{Criterion, best};
 
 /// The dead time found in the data.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -46,7 +48,7 @@ fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
     }
     let x = DMatrix::from_fn(n, k, |r, c| cols[c][rows[r]]);
     let yy = DVector::from_iterator(n, rows.iter().map(|&t| y[t]));
-    let beta = lstsq(&x, &yy)?;
+    let beta = lstsq_min_norm(&x, &yy)?;
     let e = &yy - &x * beta;
     Some(e.norm_squared())
 }
@@ -103,17 +105,14 @@ pub fn dead_time(
         c
     };
     // ARX output order by BIC (1…6), with every input lag.
-    let mut best: Option<(f64, usize, f64)> = None;
-    for na in 1..=6 {
-        let cols = cols_for(na, 0);
-        if let Some(r) = rss(&cols, y, &rows) {
-            let bic = n * (r / n).max(1e-300).ln() + cols.len() as f64 * n.ln();
-            if best.is_none_or(|(b, _, _)| bic < b) {
-                best = Some((bic, na, r));
-            }
-        }
-    }
-    let Some((_, na, full)) = best else {
+    let scores: Vec<((usize, f64), f64)> = (1..=6)
+        .filter_map(|na| {
+            let cols = cols_for(na, 0);
+            let r = rss(&cols, y, &rows)?;
+            Some(((na, r), Criterion::Bic.score(n, r / n, cols.len() as f64)))
+        })
+        .collect();
+    let Some((na, full)) = best(&scores) else {
         return DeadTime {
             lag: None,
             p_values: Vec::new(),

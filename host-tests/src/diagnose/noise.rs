@@ -1,9 +1,9 @@
 //! The AR noise model of the residual: its least-squares fit and its order by BIC.
 
-use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::stats::lstsq;
+use crate::numerics::ar::{ArSettings, ArSolver, fit_ar_with};
+use crate::numerics::select::{Criterion, best};
 
 /// An AR noise model `v(t) = Σ_i a_i v(t − i) + e(t)`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -14,33 +14,29 @@ pub struct ArNoise {
     pub sigma: f64,
 }
 
+/// How the diagnosis fits: the minimum-norm solution, and more than `3p + 10` samples.
+const SETTINGS: ArSettings = ArSettings {
+    solver: ArSolver::MinimumNorm,
+    per_order: 3,
+    extra: 10,
+};
+
 /// Fits an AR(`p`) model to `r` by least squares; `None` when there are too few samples.
 pub fn fit_ar(r: &[f64], p: usize) -> Option<ArNoise> {
-    let n = r.len();
-    if p == 0 || n <= 3 * p + 10 {
-        return None;
-    }
-    let rows = n - p;
-    let x = DMatrix::from_fn(rows, p, |i, k| r[i + p - 1 - k]);
-    let y = DVector::from_iterator(rows, (p..n).map(|t| r[t]));
-    let a = lstsq(&x, &y)?;
-    let e = &y - &x * &a;
-    Some(ArNoise {
-        a: a.iter().copied().collect(),
-        sigma: (e.norm_squared() / rows as f64).sqrt(),
+    fit_ar_with(r, p, &SETTINGS).map(|ar| ArNoise {
+        a: ar.d.iter().map(|d| -d).collect(),
+        sigma: ar.sigma2.sqrt(),
     })
 }
 
 /// AR order by BIC on the residual, `1 … max`.
 pub fn ar_order_bic(r: &[f64], max: usize) -> Option<usize> {
     let n = r.len() as f64;
-    let mut best: Option<(f64, usize)> = None;
-    for p in 1..=max.min(r.len() / 50) {
-        let Some(ar) = fit_ar(r, p) else { continue };
-        let bic = n * (ar.sigma * ar.sigma).max(1e-300).ln() + p as f64 * n.ln();
-        if best.is_none_or(|(b, _)| bic < b) {
-            best = Some((bic, p));
-        }
-    }
-    best.map(|(_, p)| p)
+    let scores: Vec<(usize, f64)> = (1..=max.min(r.len() / 50))
+        .filter_map(|p| {
+            let ar = fit_ar_with(r, p, &SETTINGS)?;
+            Some((p, Criterion::Bic.score(n, ar.sigma2, p as f64)))
+        })
+        .collect();
+    best(&scores)
 }

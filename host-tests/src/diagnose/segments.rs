@@ -6,6 +6,7 @@ use std::ops::RangeInclusive;
 use super::model::{self, FitOptions, InitialState, Metric, Record, Saturation, Structure};
 use super::options::{DiagnoseOptions, PoleRefinement};
 use crate::identify::IdentifyOptions;
+use crate::numerics::select::{Criterion, best};
 
 /// Sets `id`'s knots to the best uniform segment count in `range` and says so in words (empty
 /// when no count could be fitted: `id` is then left alone). `shared`: one border for both
@@ -24,7 +25,7 @@ pub fn select_segments(
         InitialState::Estimated
     });
     let ne = est.len();
-    let mut best: Option<(f64, usize)> = None;
+    let mut scores: Vec<(usize, f64)> = Vec::new();
     let mut tried = Vec::new();
     for segs in range.clone() {
         let trial = IdentifyOptions::uniform(u_min, u_max, segs, hold);
@@ -49,15 +50,13 @@ pub fn select_segments(
         let borders = if shared { segs + 1 } else { 2 * segs + 1 };
         let k = (borders + 2 * m.hammerstein.order + 2) as f64;
         let nn = (ne - hold) as f64;
-        let bic = nn * (e.rmse * e.rmse).max(1e-300).ln() + k * nn.ln();
+        let bic = Criterion::Bic.score(nn, e.rmse * e.rmse, k);
         if bic.is_finite() {
             tried.push(format!("{segs}: {bic:.1}"));
-            if best.is_none_or(|(b, _)| bic < b) {
-                best = Some((bic, segs));
-            }
+            scores.push((segs, bic));
         }
     }
-    let Some((_, segs)) = best else {
+    let Some(segs) = best(&scores) else {
         return String::new();
     };
     let u = IdentifyOptions::uniform(u_min, u_max, segs, hold);

@@ -3,7 +3,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use hsid::Direction;
+
 use crate::identify::HostModel;
+use crate::numerics::direction::directions;
 
 /// The input delayed by `d` samples, the first value repeated in front.
 pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
@@ -19,21 +22,11 @@ pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
 /// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
 /// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
 pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
-    let mut up = false;
-    let mut prev = m.u_min();
     u.iter()
-        .map(|&ui| {
-            if ui > prev {
-                up = true;
-            } else if ui < prev {
-                up = false;
-            }
-            prev = ui;
-            if up {
-                m.border_asc_at(ui)
-            } else {
-                m.border_desc_at(ui)
-            }
+        .zip(directions(u, m.u_min()))
+        .map(|(&ui, dir)| match dir {
+            Direction::Ascending => m.border_asc_at(ui),
+            Direction::Descending => m.border_desc_at(ui),
         })
         .collect()
 }

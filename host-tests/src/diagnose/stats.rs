@@ -337,76 +337,6 @@ pub fn newey_west_var_of_mean(x: &[f64], lags: usize) -> f64 {
     s.max(gamma(0) * 1e-3) / n as f64
 }
 
-/// Dot product with four accumulators (vectorises).
-pub fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len());
-    let (a, b) = (&a[..n], &b[..n]);
-    let mut s = [0.0f64; 4];
-    let chunks = n / 4;
-    for c in 0..chunks {
-        let i = 4 * c;
-        s[0] += a[i] * b[i];
-        s[1] += a[i + 1] * b[i + 1];
-        s[2] += a[i + 2] * b[i + 2];
-        s[3] += a[i + 3] * b[i + 3];
-    }
-    let mut tail = 0.0;
-    for i in 4 * chunks..n {
-        tail += a[i] * b[i];
-    }
-    (s[0] + s[1]) + (s[2] + s[3]) + tail
-}
-
-/// Least squares `min ‖X β − y‖` through the equilibrated normal equations, solved by a
-/// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out
-/// (a minimum-norm solution for rank-deficient `X`); `None` if not solvable. `O(N k²)` for
-/// `N × k` data, which is what the diagnosis needs (tall, small `k`).
-pub fn lstsq(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
-    let (n, k) = (x.nrows(), x.ncols());
-    if n == 0 || k == 0 || n != y.len() {
-        return None;
-    }
-    if x.iter().chain(y.iter()).any(|v| !v.is_finite()) {
-        return None;
-    }
-    // Column-major storage: column i is data[i n .. (i + 1) n].
-    let data = x.as_slice();
-    let col = |i: usize| &data[i * n..(i + 1) * n];
-    let mut g = DMatrix::<f64>::zeros(k, k);
-    for i in 0..k {
-        for j in i..k {
-            let v = dot(col(i), col(j));
-            g[(i, j)] = v;
-            g[(j, i)] = v;
-        }
-    }
-    let b = DVector::from_fn(k, |i, _| dot(col(i), y.as_slice()));
-    let scale: Vec<f64> = (0..k)
-        .map(|i| {
-            let d = g[(i, i)].sqrt();
-            if d > 0.0 { 1.0 / d } else { 0.0 }
-        })
-        .collect();
-    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
-    let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
-    let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
-    let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
-    let positive = max > 0.0;
-    if !positive {
-        return Some(DVector::zeros(k));
-    }
-    let qtb = eig.eigenvectors.tr_mul(&bs);
-    let mut z = DVector::zeros(k);
-    for i in 0..k {
-        let l = eig.eigenvalues[i];
-        if l > 1e-13 * max {
-            z[i] = qtb[i] / l;
-        }
-    }
-    let beta = &eig.eigenvectors * z;
-    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
-}
-
 /// Non-negative least squares `min ‖X β − y‖, β_i ≥ 0 for i ≥ free` (the first `free`
 /// coefficients are unconstrained): Lawson–Hanson active set on the normal equations.
 pub fn nnls(x: &DMatrix<f64>, y: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
@@ -431,18 +361,8 @@ pub fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVec
         }
         let k = idx.len();
         let gs = DMatrix::from_fn(k, k, |r, c| g[(idx[r], idx[c])]);
-        let eig = nalgebra::SymmetricEigen::try_new(gs, f64::EPSILON, 10_000)?;
-        let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
         let bs = DVector::from_fn(k, |r, _| b[idx[r]]);
-        let qtb = eig.eigenvectors.tr_mul(&bs);
-        let mut z = DVector::zeros(k);
-        for i in 0..k {
-            let l = eig.eigenvalues[i];
-            if l > 1e-13 * max {
-                z[i] = qtb[i] / l;
-            }
-        }
-        let sol = &eig.eigenvectors * z;
+        let sol = crate::numerics::lstsq::solve_min_norm(gs, &bs)?;
         for (r, &i) in idx.iter().enumerate() {
             beta[i] = sol[r];
         }

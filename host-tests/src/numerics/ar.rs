@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::lstsq::{Scaling, lstsq};
+use super::lstsq::{Scaling, lstsq, lstsq_min_norm};
 use super::select::{Criterion, best};
 
 /// A fitted AR(p) model.
@@ -33,24 +33,65 @@ impl Ar {
     }
 }
 
+/// How [`fit_ar_with`] solves the least-squares problem.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArSolver {
+    /// The normal equations by Cholesky ([`lstsq`] without scaling): no result if the lagged
+    /// record is rank deficient.
+    Cholesky,
+    /// The minimum-norm solution of the equilibrated normal equations ([`lstsq_min_norm`]).
+    MinimumNorm,
+}
+
+/// Settings of [`fit_ar_with`]: the solver, and the samples an order `p` needs (more than
+/// `per_order · p + extra`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArSettings {
+    /// The least-squares solver.
+    pub solver: ArSolver,
+    /// Samples needed per coefficient.
+    pub per_order: usize,
+    /// Samples needed beyond `per_order · p`.
+    pub extra: usize,
+}
+
+impl Default for ArSettings {
+    /// Cholesky, any record longer than `p`.
+    fn default() -> Self {
+        Self {
+            solver: ArSolver::Cholesky,
+            per_order: 1,
+            extra: 0,
+        }
+    }
+}
+
 /// Fits an AR(`p`) model to `r` (zero mean) by least squares over `t = p … N − 1`; `None` if
 /// `p` is 0, the record is not longer than `p`, or the lagged record is rank deficient.
 pub fn fit_ar(r: &[f64], p: usize) -> Option<Ar> {
+    fit_ar_with(r, p, &ArSettings::default())
+}
+
+/// [`fit_ar`] with `settings`: `None` if `p` is 0, the record has no more than
+/// `per_order · p + extra` samples, or the solver finds no solution.
+pub fn fit_ar_with(r: &[f64], p: usize, settings: &ArSettings) -> Option<Ar> {
     let n = r.len();
-    if p == 0 || n <= p {
+    if p == 0 || n <= settings.per_order * p + settings.extra {
         return None;
     }
     let rows = n - p;
     let x = DMatrix::from_fn(rows, p, |t, i| -r[t + p - 1 - i]);
     let y = DVector::from_iterator(rows, r[p..].iter().copied());
-    let d = lstsq(&x, &y, Scaling::None)?;
-    let mut ar = Ar {
-        d: d.iter().copied().collect(),
-        sigma2: 0.0,
+    let d = match settings.solver {
+        ArSolver::Cholesky => lstsq(&x, &y, Scaling::None)?,
+        ArSolver::MinimumNorm => lstsq_min_norm(&x, &y)?,
     };
-    let e = ar.innovations(r);
-    ar.sigma2 = e[p..].iter().map(|v| v * v).sum::<f64>() / rows as f64;
-    Some(ar)
+    // The innovations e(t) = r(t) + Σ d_i r(t − i), t ≥ p.
+    let e = &y - &x * &d;
+    Some(Ar {
+        d: d.iter().copied().collect(),
+        sigma2: e.norm_squared() / rows as f64,
+    })
 }
 
 /// The AR model of order `1 … max` with the smallest BIC (`N ln σ̂² + p ln N`, `N = r.len()`);
@@ -116,5 +157,26 @@ mod tests {
         assert!(fit_ar(&[1.0, 2.0], 2).is_none());
         assert!(fit_ar(&[1.0, 2.0, 3.0], 0).is_none());
         assert!(fit_ar_bic(&[], 3).is_none());
+    }
+    #[test]
+    fn both_solvers_agree_and_the_sample_rule_is_kept() {
+        let r = ar2(5_000, 3);
+        let chol = fit_ar(&r, 3).map(|a| a.d).unwrap_or_default();
+        let settings = ArSettings {
+            solver: ArSolver::MinimumNorm,
+            per_order: 3,
+            extra: 10,
+        };
+        let mn = fit_ar_with(&r, 3, &settings)
+            .map(|a| a.d)
+            .unwrap_or_default();
+        assert_eq!(chol.len(), 3);
+        assert!(
+            chol.iter().zip(&mn).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{chol:?} {mn:?}"
+        );
+        // 3 · 3 + 10 = 19 samples are not enough, 20 are.
+        assert!(fit_ar_with(&r[..19], 3, &settings).is_none());
+        assert!(fit_ar_with(&r[..20], 3, &settings).is_some());
     }
 }

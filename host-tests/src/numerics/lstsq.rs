@@ -1,5 +1,7 @@
-//! Linear least squares `min ‖X θ − y‖` through the normal equations `XᵀX θ = Xᵀy`, solved by
-//! Cholesky, optionally equilibrated (scaled to a unit diagonal) first.
+//! Linear least squares `min ‖X θ − y‖` through the normal equations `XᵀX θ = Xᵀy`: solved by
+//! Cholesky, optionally equilibrated (scaled to a unit diagonal) first ([`lstsq`]), or
+//! equilibrated and solved by a symmetric eigendecomposition for the minimum-norm solution of a
+//! rank-deficient `X` ([`lstsq_min_norm`]).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -44,6 +46,84 @@ pub fn lstsq_columns(cols: &[Vec<f64>], y: &[f64], scaling: Scaling) -> Option<V
     let g = DMatrix::from_fn(k, k, |i, j| dot(&cols[i], &cols[j]));
     let r = DVector::from_fn(k, |i, _| dot(&cols[i], y));
     solve_normal(&g, &r, scaling).map(|x| x.iter().copied().collect())
+}
+
+/// Dot product with four accumulators (vectorises).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut s = [0.0f64; 4];
+    let chunks = n / 4;
+    for c in 0..chunks {
+        let i = 4 * c;
+        s[0] += a[i] * b[i];
+        s[1] += a[i + 1] * b[i + 1];
+        s[2] += a[i + 2] * b[i + 2];
+        s[3] += a[i + 3] * b[i + 3];
+    }
+    let mut tail = 0.0;
+    for i in 4 * chunks..n {
+        tail += a[i] * b[i];
+    }
+    (s[0] + s[1]) + (s[2] + s[3]) + tail
+}
+
+/// Least squares `min ‖X β − y‖` through the equilibrated normal equations, solved by a
+/// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out
+/// (a minimum-norm solution for rank-deficient `X`); `None` if not solvable. `O(N k²)` for
+/// `N × k` data, which is what the diagnosis needs (tall, small `k`).
+pub fn lstsq_min_norm(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>> {
+    let (n, k) = (x.nrows(), x.ncols());
+    if n == 0 || k == 0 || n != y.len() {
+        return None;
+    }
+    if x.iter().chain(y.iter()).any(|v| !v.is_finite()) {
+        return None;
+    }
+    // Column-major storage: column i is data[i n .. (i + 1) n].
+    let data = x.as_slice();
+    let col = |i: usize| &data[i * n..(i + 1) * n];
+    let mut g = DMatrix::<f64>::zeros(k, k);
+    for i in 0..k {
+        for j in i..k {
+            let v = dot(col(i), col(j));
+            g[(i, j)] = v;
+            g[(j, i)] = v;
+        }
+    }
+    let b = DVector::from_fn(k, |i, _| dot(col(i), y.as_slice()));
+    let scale: Vec<f64> = (0..k)
+        .map(|i| {
+            let d = g[(i, i)].sqrt();
+            if d > 0.0 { 1.0 / d } else { 0.0 }
+        })
+        .collect();
+    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
+    let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
+    let beta = solve_min_norm(gs, &bs)?;
+    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
+}
+
+/// The minimum-norm solution of `G x = b` for a symmetric positive semi-definite `G`, by a
+/// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out; zero
+/// when `G` has no positive eigenvalue, `None` if the decomposition does not converge.
+pub fn solve_min_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    let k = g.nrows();
+    let eig = nalgebra::SymmetricEigen::try_new(g, f64::EPSILON, 10_000)?;
+    let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));
+    let positive = max > 0.0;
+    if !positive {
+        return Some(DVector::zeros(k));
+    }
+    let qtb = eig.eigenvectors.tr_mul(b);
+    let mut z = DVector::zeros(k);
+    for i in 0..k {
+        let l = eig.eigenvalues[i];
+        if l > 1e-13 * max {
+            z[i] = qtb[i] / l;
+        }
+    }
+    Some(&eig.eigenvectors * z)
 }
 
 #[cfg(test)]
@@ -116,5 +196,27 @@ mod tests {
         assert!(lstsq(&x, &y, Scaling::UnitDiagonal).is_none());
         let cols = vec![vec![1.0; 5], vec![0.0; 5]];
         assert!(lstsq_columns(&cols, &[1.0; 5], Scaling::UnitDiagonal).is_none());
+    }
+    #[test]
+    fn the_minimum_norm_solution_splits_a_repeated_column_evenly() {
+        // y = 2 t from the columns (t, t): every (a, 2 − a) fits; the smallest is (1, 1).
+        let x = DMatrix::from_fn(20, 2, |t, _| t as f64 + 1.0);
+        let y = DVector::from_fn(20, |t, _| 2.0 * (t as f64 + 1.0));
+        let b = lstsq_min_norm(&x, &y).unwrap_or_else(|| DVector::zeros(2));
+        assert!(
+            (b[0] - 1.0).abs() < 1e-9 && (b[1] - 1.0).abs() < 1e-9,
+            "{b}"
+        );
+        // A full-rank system: the one solution.
+        let (x, y, theta) = system();
+        let b = lstsq_min_norm(&x, &y).unwrap_or_else(|| DVector::zeros(3));
+        for (g, t) in b.iter().zip(theta) {
+            assert!((g - t).abs() < 1e-8 * (1.0 + t.abs()), "{b}");
+        }
+        // Nothing to fit: zero.
+        assert_eq!(
+            lstsq_min_norm(&DMatrix::zeros(5, 2), &DVector::zeros(5)),
+            Some(DVector::zeros(2))
+        );
     }
 }

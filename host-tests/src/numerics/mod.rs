@@ -6,10 +6,12 @@
 //! * [`ar`]: autoregressive noise models and their order by BIC;
 //! * [`select`]: the information criteria and the choice of the best candidate;
 //! * [`poly`]: polynomials in `q⁻¹`, their roots, and the observer form;
-//! * [`direction`]: the paper's direction signal δ(t) through the core's [`hsid::Direction`].
+//! * [`direction`]: the paper's direction signal δ(t) through the core's [`hsid::Direction`];
+//! * [`hat`]: the hat basis on a knot sequence (segment and weights of an input).
 
 pub mod ar;
 pub mod direction;
+pub mod hat;
 pub mod lm;
 pub mod lstsq;
 pub mod poly;

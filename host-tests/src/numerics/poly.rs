@@ -53,18 +53,27 @@ pub fn tf_from_ss(a: &DMatrix<f64>, b: &[f64], c: &[f64], d: f64) -> (Vec<f64>, 
     (num, den)
 }
 
+/// The observer canonical `A` of the monic `zⁿ + p₁ zⁿ⁻¹ + … + p_n`, given `p₁ … p_n`: first
+/// column `−p`, ones on the superdiagonal.
+pub fn observer_a(p: &[f64]) -> DMatrix<f64> {
+    let n = p.len();
+    DMatrix::from_fn(n, n, |i, j| {
+        if j == 0 {
+            -p[i]
+        } else if j == i + 1 {
+            1.0
+        } else {
+            0.0
+        }
+    })
+}
+
 /// Observer canonical form of `num/den` (`den` monic, both of length `n + 1`):
-/// `A = [−p | I; −p_n 0]`, `B_i = b_i − p_i b₀`, `C = e₁`, `D = b₀`.
+/// `A = [−p | I; −p_n 0]` ([`observer_a`]), `B_i = b_i − p_i b₀`, `C = e₁`, `D = b₀`.
 pub fn observer_form(num: &[f64], den: &[f64]) -> (DMatrix<f64>, Vec<f64>, Vec<f64>, f64) {
     let n = den.len().saturating_sub(1);
     let b0 = num.first().copied().unwrap_or(0.0);
-    let mut a = DMatrix::zeros(n, n);
-    for i in 0..n {
-        a[(i, 0)] = -den[i + 1];
-        if i + 1 < n {
-            a[(i, i + 1)] = 1.0;
-        }
-    }
+    let a = observer_a(den.get(1..).unwrap_or(&[]));
     let b = (0..n)
         .map(|i| num.get(i + 1).copied().unwrap_or(0.0) - den[i + 1] * b0)
         .collect();

@@ -29,6 +29,7 @@
 //! `σ̂² (JᵀJ)⁻¹` ([`PemFit::covariance`]), from which [`uncertainty`](super::uncertainty)
 //! derives the standard deviations of the poles, the Bode magnitude and the borders.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use nalgebra::DMatrix;
@@ -38,6 +39,7 @@ use super::signal::{HatRegressors, delay, filter};
 use super::stochastic::{NoiseModel, fit_noise};
 use super::{RefineError, Unstable};
 use crate::identify::{HostModel, IdentifyOptions, identify};
+use crate::numerics::lm::{self, Jacobian, LmFailure, Settings};
 
 pub use super::stochastic::NoiseOrder;
 
@@ -601,18 +603,9 @@ impl PemFit {
     }
 }
 
-/// Solves `(H + λ diag H) δ = −g`.
-fn lm_step(h: &DMatrix<f64>, g: &nalgebra::DVector<f64>, lambda: f64) -> Option<Vec<f64>> {
-    let mut m = h.clone();
-    for i in 0..m.nrows() {
-        let d = h[(i, i)].max(1e-12 * (1.0 + h[(i, i)].abs()));
-        m[(i, i)] += lambda * d;
-    }
-    m.cholesky()
-        .map(|c| (-c.solve(g)).iter().copied().collect())
-}
-
-/// Minimises the prediction-error cost of `problem` from `theta0`.
+/// Minimises the prediction-error cost of `problem` from `theta0` by
+/// [`numerics::lm`](crate::numerics::lm) with the analytic Jacobian and
+/// [`Settings::prediction_error`].
 ///
 /// Returns `(θ, evaluation at θ, iterations)`.
 pub fn minimise(
@@ -622,57 +615,48 @@ pub fn minimise(
     tol: f64,
 ) -> Result<(Vec<f64>, Evaluation, usize), RefineError> {
     problem.check_stable(&theta0)?;
-    let mut th = theta0;
-    let mut ev = problem.evaluate(&th);
-    if !ev.cost.is_finite() {
+    // The last evaluation, kept for the result when it is at the optimum.
+    let last: RefCell<Option<(Vec<f64>, Evaluation)>> = RefCell::new(None);
+    let residual = |th: &[f64]| Some(problem.errors(th));
+    let admissible = |th: &[f64]| problem.check_stable(th).is_ok();
+    let jacobian = |th: &[f64]| {
+        let ev = problem.evaluate(th);
+        let jac = ev.jac.clone();
+        *last.borrow_mut() = Some((th.to_vec(), ev));
+        jac
+    };
+    let lm = lm::Problem {
+        residual: &residual,
+        admissible: &admissible,
+        jacobian: Jacobian::Analytic(&jacobian),
+    };
+    let cost0 = problem.errors(&theta0).iter().map(|e| e * e).sum::<f64>();
+    if !cost0.is_finite() {
         return Err(RefineError::Diverged { iteration: 0 });
     }
-    let scale0 = 1.0 + th.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let mut lambda = 1e-3;
-    let mut last_decrease = f64::INFINITY;
-    for it in 1..=max_iter {
-        let h = ev.jac.tr_mul(&ev.jac);
-        let g = ev
-            .jac
-            .tr_mul(&nalgebra::DVector::from_column_slice(&ev.eps));
-        let mut accepted = false;
-        while lambda < 1e12 {
-            let Some(step) = lm_step(&h, &g, lambda) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let trial: Vec<f64> = th.iter().zip(&step).map(|(a, b)| a + b).collect();
-            if trial.iter().any(|v| !v.is_finite()) {
-                return Err(RefineError::Diverged { iteration: it });
-            }
-            if problem.check_stable(&trial).is_err() {
-                lambda *= 10.0;
-                continue;
-            }
-            let cost = problem.errors(&trial).iter().map(|e| e * e).sum::<f64>();
-            if cost.is_finite() && cost < ev.cost {
-                last_decrease = (ev.cost - cost) / ev.cost;
-                th = trial;
-                ev = problem.evaluate(&th);
-                lambda = (lambda / 10.0).max(1e-12);
-                accepted = true;
-                break;
-            }
-            lambda *= 10.0;
+    let settings = Settings::prediction_error(max_iter, tol);
+    let min = match lm::minimise(&lm, &theta0, &settings) {
+        Ok(min) => min,
+        Err(LmFailure::Diverged { iteration }) => return Err(RefineError::Diverged { iteration }),
+        Err(LmFailure::NoConvergence {
+            iterations,
+            last_gain,
+        }) => {
+            return Err(RefineError::NoConvergence {
+                iterations,
+                last_decrease: last_gain,
+            });
         }
-        let norm = th.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !ev.cost.is_finite() || norm > 1e8 * scale0 {
-            return Err(RefineError::Diverged { iteration: it });
+        // Every prediction error is computed, and the Jacobian is analytic.
+        Err(LmFailure::StartDoesNotSimulate | LmFailure::DifferenceStepFailed { .. }) => {
+            return Err(RefineError::Diverged { iteration: 0 });
         }
-        // No decrease possible at any damping: a minimum to working precision.
-        if !accepted || last_decrease < tol {
-            return Ok((th, ev, it));
-        }
-    }
-    Err(RefineError::NoConvergence {
-        iterations: max_iter,
-        last_decrease,
-    })
+    };
+    let ev = match last.into_inner() {
+        Some((th, ev)) if th == min.theta => ev,
+        _ => problem.evaluate(&min.theta),
+    };
+    Ok((min.theta, ev, min.iterations))
 }
 
 /// `σ̂² (JᵀJ)⁻¹` at an evaluation.

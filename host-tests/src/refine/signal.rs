@@ -14,6 +14,7 @@ use hsid::Direction;
 
 use super::RefineError;
 use crate::numerics::direction::directions;
+use crate::numerics::hat::hat_weights;
 
 /// Filters `x` through `b(q⁻¹) / a(q⁻¹)` from zero initial state; `a[0]` must be 1.
 ///
@@ -85,21 +86,6 @@ pub struct HatRegressors {
     w: Vec<[f64; 2]>,
 }
 
-fn locate(k: &[f64], u: f64) -> (usize, f64) {
-    let segs = k.len() - 1;
-    let (mut lo, mut hi) = (0usize, segs);
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        if k[mid] <= u {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let theta = ((u - k[lo]) / (k[lo + 1] - k[lo])).clamp(0.0, 1.0);
-    (lo, theta)
-}
-
 impl HatRegressors {
     /// Builds the regressors of `u` on the given knots (both paths from `u_min` to `u_max`).
     pub fn new(u: &[f64], knots_asc: &[f64], knots_desc: &[f64]) -> Result<Self, RefineError> {
@@ -144,7 +130,7 @@ impl HatRegressors {
             } else {
                 (knots_desc, n_asc)
             };
-            let (s, th) = locate(k, ut);
+            let (s, th) = hat_weights(k, ut);
             // φ_s with weight 1 − θ, φ_{s+1} with weight θ; φ_0 is channel 0 on both paths.
             let ch = |i: usize| if i == 0 { 0 } else { off + i };
             idx.push([ch(s), ch(s + 1)]);

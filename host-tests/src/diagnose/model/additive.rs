@@ -3,7 +3,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::diagnose::stats::lstsq;
+use crate::numerics::lstsq::lstsq_min_norm;
 
 /// Additive output terms: a polynomial trend in normalised time and sinusoids.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -70,7 +70,7 @@ impl Additive {
             }
         }
         let y = DVector::from_iterator(rows.len(), rows.iter().map(|&i| r[i]));
-        if let Some(beta) = lstsq(&x, &y) {
+        if let Some(beta) = lstsq_min_norm(&x, &y) {
             let nt = self.trend.len();
             for (c, v) in self.trend.iter_mut().enumerate() {
                 *v = beta[c];

@@ -1,13 +1,16 @@
 //! The border values refitted by least squares for a given linear part, with the initial
 //! state at rest.
 
+use hsid::Direction;
 use nalgebra::{DMatrix, DVector};
 
 use crate::diagnose::simulate::{
     level_of, linear_response, nonlinearity_output, rest_state, steady_state,
 };
-use crate::diagnose::stats::lstsq;
 use crate::identify::HostModel;
+use crate::numerics::direction::directions;
+use crate::numerics::hat::hat_weights;
+use crate::numerics::lstsq::lstsq_min_norm;
 
 use super::fit_options::InitialState;
 
@@ -118,7 +121,7 @@ impl BorderBasis {
             }
         }
         let y = DVector::from_iterator(rows.len(), rows.iter().map(|&t| rhs[t]));
-        let beta = lstsq(&x, &y)?;
+        let beta = lstsq_min_norm(&x, &y)?;
         beta.iter()
             .all(|v| v.is_finite())
             .then(|| beta.iter().copied().collect())
@@ -235,7 +238,7 @@ impl BdBasis {
             weight.map_or(1.0, |w| w[rows[r]]) * self.cols[c][rows[r]]
         });
         let y = DVector::from_iterator(rows.len(), rows.iter().map(|&t| rhs[t]));
-        let beta = lstsq(&x, &y)?;
+        let beta = lstsq_min_norm(&x, &y)?;
         beta.iter()
             .all(|v| v.is_finite())
             .then(|| beta.iter().copied().collect())
@@ -286,23 +289,13 @@ pub(super) fn border_channels(m: &HostModel, u: &[f64], shared: bool) -> Option<
     }
     let borders = 1 + na + if shared { 0 } else { nd };
     let mut phi = vec![vec![0.0; u.len()]; borders];
-    let mut up = false;
-    let mut prev = m.u_min();
-    for (t, &ui) in u.iter().enumerate() {
-        if ui > prev {
-            up = true;
-        } else if ui < prev {
-            up = false;
-        }
-        prev = ui;
-        let (k, off) = if up || shared {
+    for (t, (&ui, dir)) in u.iter().zip(directions(u, m.u_min())).enumerate() {
+        let (k, off) = if dir == Direction::Ascending || shared {
             (&m.knots_asc, 0)
         } else {
             (&m.knots_desc, na)
         };
-        let segs = k.len() - 1;
-        let s = k.iter().rposition(|&x| x <= ui).unwrap_or(0).min(segs - 1);
-        let th = ((ui - k[s]) / (k[s + 1] - k[s])).clamp(0.0, 1.0);
+        let (s, th) = hat_weights(k, ui);
         let col = |j: usize| if j == 0 { 0 } else { off + j };
         phi[col(s)][t] += 1.0 - th;
         phi[col(s + 1)][t] += th;

@@ -17,7 +17,7 @@ use super::fit_options::{FitOptions, InitialState};
 use super::outliers::detect_outliers;
 use super::poles::{refine_poles, refine_poles_mapped};
 use super::record::Record;
-use super::refine_linear::refine_linear;
+use super::refine_linear::{LinearFitParams, refine_linear};
 use super::structure::Structure;
 
 /// Fits a structure on a record.
@@ -178,18 +178,17 @@ pub(super) fn fit_structure_impl(
             }
         };
         let minus_add: Vec<f64> = rec.y.iter().zip(&add).map(|(y, a)| y - a).collect();
+        let params = LinearFitParams {
+            u: &ud,
+            y: &minus_add,
+            skip: &flags,
+            map_segments: s.output_map_segments,
+            sat: &opts.saturation,
+            initial: opts.initial,
+            shared: idopts.static_nonlinearity,
+        };
         let (m, x0) = if opts.refit {
-            let (m2, x2, g) = refine_linear(
-                &m,
-                &x0,
-                &ud,
-                &minus_add,
-                &flags,
-                s.output_map_segments,
-                &opts.saturation,
-                opts.initial,
-                idopts.static_nonlinearity,
-            );
+            let (m2, x2, g) = refine_linear(&m, &x0, &params);
             if g.is_some() {
                 map = g;
             }
@@ -198,28 +197,9 @@ pub(super) fn fit_structure_impl(
             (m, x0)
         };
         let (m, x0) = if opts.refine_poles && s.output_map_segments.is_none() {
-            refine_poles(
-                &m,
-                &x0,
-                &ud,
-                &minus_add,
-                &flags,
-                opts.initial,
-                idopts.static_nonlinearity,
-            )
-            .unwrap_or((m, x0))
+            refine_poles(&m, &x0, &params).unwrap_or((m, x0))
         } else if opts.refine_poles && opts.refit {
-            match refine_poles_mapped(
-                &m,
-                &x0,
-                &ud,
-                &minus_add,
-                &flags,
-                s.output_map_segments,
-                &opts.saturation,
-                opts.initial,
-                idopts.static_nonlinearity,
-            ) {
+            match refine_poles_mapped(&m, &x0, &params) {
                 Some((m2, x2, g)) => {
                     if g.is_some() {
                         map = g;

@@ -7,13 +7,14 @@ use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::{
     level_of, linear_response, nonlinearity_output, rest_state, steady_state,
 };
-use crate::diagnose::stats::lstsq;
 use crate::identify::HostModel;
-use crate::numerics::lm::{JacobianFailure, Settings, levenberg_marquardt};
+use crate::numerics::lm::{Damping, DampingLimit, JacobianFailure, Settings, levenberg_marquardt};
+use crate::numerics::lstsq::lstsq_min_norm;
+use crate::numerics::poly::observer_a;
 
 use super::borders::border_channels;
 use super::fit_options::{InitialState, Saturation};
-use super::refine_linear::refine_linear;
+use super::refine_linear::{LinearFitParams, refine_linear};
 
 /// Monic polynomial `z^n + a_1 z^{n−1} + … + a_n` with the given roots; returns `a_1 … a_n`.
 pub(super) fn poly_from_roots(roots: &[(f64, f64)]) -> Vec<f64> {
@@ -39,21 +40,6 @@ pub(super) fn poly_from_roots(roots: &[(f64, f64)]) -> Vec<f64> {
         }
     }
     p[1..].to_vec()
-}
-
-/// The observer canonical `A` of `z^n + a_1 z^{n−1} + … + a_n`: first column `−a`, ones on
-/// the superdiagonal.
-pub(super) fn observer_a(a: &[f64]) -> DMatrix<f64> {
-    let n = a.len();
-    DMatrix::from_fn(n, n, |i, j| {
-        if j == 0 {
-            -a[i]
-        } else if j == i + 1 {
-            1.0
-        } else {
-            0.0
-        }
-    })
 }
 
 /// The linear part in observer canonical form (`C = e₁`): the same transfer function.
@@ -146,7 +132,7 @@ pub(super) fn overparameterised_residual(
     let rows: Vec<usize> = (0..len).filter(|&t| !skip[t]).collect();
     let x = DMatrix::from_fn(rows.len(), cols.len(), |r, c| cols[c][rows[r]]);
     let yy = DVector::from_iterator(rows.len(), rows.iter().map(|&t| y[t]));
-    let beta = lstsq(&x, &yy)?;
+    let beta = lstsq_min_norm(&x, &yy)?;
     let fit = &x * beta;
     Some((0..rows.len()).map(|r| yy[r] - fit[r]).collect())
 }
@@ -161,16 +147,13 @@ pub(super) fn root_radius(a: &[f64]) -> f64 {
 /// Levenberg–Marquardt on the characteristic polynomial of `A` (variable projection: the
 /// residual of the over-parameterised least squares for every `A`), kept stable with time
 /// constants below twice the record; then `B`, `D`, borders by [`refine_linear`].
-#[allow(clippy::too_many_arguments)]
+/// The output map's segments and saturation in `p` are not used.
 pub(super) fn refine_poles(
     m: &HostModel,
     x0: &[f64],
-    u: &[f64],
-    y: &[f64],
-    skip: &[bool],
-    initial: InitialState,
-    shared: bool,
+    p: &LinearFitParams<'_>,
 ) -> Option<(HostModel, Vec<f64>)> {
+    let (u, y, skip, initial) = (p.u, p.y, p.skip, p.initial);
     let (mut a, obs) = to_observer(m)?;
     let n = a.len();
     let limit = 1.0 - 0.5 / u.len().max(4) as f64;
@@ -191,18 +174,23 @@ pub(super) fn refine_poles(
             .collect();
         a = poly_from_roots(&poles);
     }
-    let phi = border_channels(m, u, shared)?;
+    let phi = border_channels(m, u, p.shared)?;
     let resid = |a: &[f64]| -> Option<Vec<f64>> {
         let mut mm = obs.clone();
         mm.a = observer_a(a);
         overparameterised_residual(&mm, a, &phi, y, skip, initial)
     };
+    let defaults = Settings::default();
     let settings = Settings {
         iterations: 12,
-        initial_damping: 1e-3,
-        tries: 5,
+        damping: Damping {
+            initial: 1e-3,
+            limit: DampingLimit::Tries(5),
+            ..defaults.damping
+        },
         min_gain: 1e-5,
         jacobian_failure: JacobianFailure::Fail,
+        ..defaults
     };
     let (a, _) = levenberg_marquardt(&a, &vec![1e-2; n], &settings, &resid, &|trial: &[f64]| {
         root_radius(trial) < limit
@@ -217,17 +205,13 @@ pub(super) fn refine_poles(
             steady_state(&mm).iter().map(|v| v * c).collect()
         }
     };
-    let (m2, x2, _) = refine_linear(
-        &mm,
-        &x0,
-        u,
-        y,
-        skip,
-        None,
-        &Saturation::default(),
-        initial,
-        shared,
-    );
+    let sat = Saturation::default();
+    let unmapped = LinearFitParams {
+        map_segments: None,
+        sat: &sat,
+        ..*p
+    };
+    let (m2, x2, _) = refine_linear(&mm, &x0, &unmapped);
     Some((m2, x2))
 }
 
@@ -235,18 +219,12 @@ pub(super) fn refine_poles(
 /// Nelder–Mead search over the characteristic polynomial of `A` (stable, time constants below
 /// twice the record), with the borders, `B`, `D`, the initial level and the map refit by
 /// [`refine_linear`] for every candidate. Returns `None` when nothing improves.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn refine_poles_mapped(
     m: &HostModel,
     x0: &[f64],
-    u: &[f64],
-    y: &[f64],
-    skip: &[bool],
-    map_segments: Option<usize>,
-    sat: &Saturation,
-    initial: InitialState,
-    shared: bool,
+    p: &LinearFitParams<'_>,
 ) -> Option<(HostModel, Vec<f64>, Option<OutputMap>)> {
+    let (u, y, skip, initial) = (p.u, p.y, p.skip, p.initial);
     let (a0, obs) = to_observer(m)?;
     let n = a0.len();
     let limit = 1.0 - 0.5 / u.len().max(4) as f64;
@@ -261,7 +239,7 @@ pub(super) fn refine_poles_mapped(
             InitialState::Rest => rest_state(&mm),
             InitialState::Estimated => steady_state(&mm).iter().map(|v| v * level).collect(),
         };
-        let (m2, x2, g) = refine_linear(&mm, &xs, u, y, skip, map_segments, sat, initial, shared);
+        let (m2, x2, g) = refine_linear(&mm, &xs, p);
         let lin = linear_response(&m2, &nonlinearity_output(&m2, u), &x2);
         let sse: f64 = lin
             .iter()

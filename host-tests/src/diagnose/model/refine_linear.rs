@@ -8,6 +8,25 @@ use super::borders::{BdBasis, BorderBasis};
 use super::fit_options::{InitialState, Saturation};
 use super::output_fit::fit_output_map;
 
+/// The record and the settings the linear part is refined on.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LinearFitParams<'a> {
+    /// The (delayed) input.
+    pub u: &'a [f64],
+    /// The target output.
+    pub y: &'a [f64],
+    /// Samples left out of the squared error.
+    pub skip: &'a [bool],
+    /// Segments of a monotone output map fitted with the linear part, if any.
+    pub map_segments: Option<usize>,
+    /// The output map's saturation.
+    pub sat: &'a Saturation,
+    /// How the initial state is set.
+    pub initial: InitialState,
+    /// One border for both directions (a static nonlinearity).
+    pub shared: bool,
+}
+
 /// Least-squares refinement with `A` and `C` fixed (the paper's Remark 5: `B` and `μ`
 /// separately once `A` and `C` are known): alternately the border values (with μ0 and an
 /// estimated initial state) and `[B; D]`, each a linear least squares; with an output map `g`,
@@ -15,18 +34,20 @@ use super::output_fit::fit_output_map;
 /// of the borders and of `[B; D]` through the map (`ŷ = g(ℓ)`, Jacobian `g'(ℓ) ∂ℓ`: samples on a
 /// flat part of `g` do not pull the linear part). Every step is kept only if it lowers the
 /// squared error over the samples not skipped.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn refine_linear(
     m: &HostModel,
     x0: &[f64],
-    u: &[f64],
-    y: &[f64],
-    skip: &[bool],
-    map_segments: Option<usize>,
-    sat: &Saturation,
-    initial: InitialState,
-    shared: bool,
+    p: &LinearFitParams<'_>,
 ) -> (HostModel, Vec<f64>, Option<OutputMap>) {
+    let LinearFitParams {
+        u,
+        y,
+        skip,
+        map_segments,
+        sat,
+        initial,
+        shared,
+    } = *p;
     let lin_of = |m: &HostModel, x0: &[f64]| linear_response(m, &nonlinearity_output(m, u), x0);
     let fit_map = |lin: &[f64]| map_segments.and_then(|k| fit_output_map(lin, y, skip, k, sat));
     let sse = |lin: &[f64], g: &Option<OutputMap>| -> f64 {

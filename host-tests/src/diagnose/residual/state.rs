@@ -45,7 +45,7 @@ pub fn level_times_increment(sim: &[f64]) -> Option<Vec<f64>> {
         _ => d[t],
     });
     let y = nalgebra::DVector::from_column_slice(&w);
-    let beta = crate::diagnose::stats::lstsq(&x, &y)?;
+    let beta = crate::numerics::lstsq::lstsq_min_norm(&x, &y)?;
     let e = &y - &x * beta;
     let out: Vec<f64> = e.iter().copied().collect();
     (crate::diagnose::stats::variance(&out) > 0.0 && out.iter().all(|v| v.is_finite()))
