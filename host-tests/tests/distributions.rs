@@ -17,14 +17,20 @@ fn normal_tail_and_quantile_match_reference_values() {
         (-1.0, 0.841_344_746_068_542_9),
     ] {
         let got = normal_sf(x);
-        assert!(close(got, want, 1e-9), "normal_sf({x}) = {got:e}, want {want:e}");
+        assert!(
+            close(got, want, 1e-9),
+            "normal_sf({x}) = {got:e}, want {want:e}"
+        );
     }
     for (p, want) in [
         (0.995, 2.575_829_303_548_900_5),
         (1e-6, -4.753_424_308_822_899),
     ] {
         let got = normal_quantile(p);
-        assert!(close(got, want, 1e-13), "normal_quantile({p}) = {got}, want {want}");
+        assert!(
+            close(got, want, 1e-13),
+            "normal_quantile({p}) = {got}, want {want}"
+        );
     }
 }
 
@@ -36,14 +42,20 @@ fn chi_square_tail_and_quantile_match_reference_values() {
         (0.99, 1.0, 6.634_896_601_021_214),
     ] {
         let got = chi2_quantile(p, k);
-        assert!(close(got, want, 1e-9), "chi2_quantile({p}, {k}) = {got}, want {want}");
+        assert!(
+            close(got, want, 1e-9),
+            "chi2_quantile({p}, {k}) = {got}, want {want}"
+        );
     }
     for (x, k, want) in [
         (30.0, 10.0, 8.566_412_107_753_004e-4),
         (200.0, 40.0, 3.764_893_576_001_475e-23),
     ] {
         let got = chi2_sf(x, k);
-        assert!(close(got, want, 1e-11), "chi2_sf({x}, {k}) = {got:e}, want {want:e}");
+        assert!(
+            close(got, want, 1e-11),
+            "chi2_sf({x}, {k}) = {got:e}, want {want:e}"
+        );
     }
 }
 
