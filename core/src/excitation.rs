@@ -20,7 +20,7 @@
 //! # Ok::<(), hsid::Error>(())
 //! ```
 
-use rand_core::RngCore;
+use rand_core::Rng;
 
 use crate::error::Error;
 use crate::scalar::Real;
@@ -36,7 +36,7 @@ pub struct Excitation<T, R> {
     rng: R,
 }
 
-impl<T: Real, R: RngCore> Excitation<T, R> {
+impl<T: Real, R: Rng> Excitation<T, R> {
     /// A generator over `[u_min, u_max]` that first holds `u_min` for `hold` samples.
     /// With `hold = 0` the sequence starts with the paper's `u(0) = u_min` and step 1.
     pub fn new(u_min: T, u_max: T, hold: usize, rng: R) -> Result<Self, Error> {
@@ -72,7 +72,7 @@ impl<T: Real, R: RngCore> Excitation<T, R> {
     }
 }
 
-impl<T: Real, R: RngCore> Iterator for Excitation<T, R> {
+impl<T: Real, R: Rng> Iterator for Excitation<T, R> {
     type Item = T;
 
     fn next(&mut self) -> Option<T> {

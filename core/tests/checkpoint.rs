@@ -6,7 +6,7 @@ use hsid::{
     CheckpointError, Compensated, Error, Excitation, Identifier, Knots, MuZero, Plain, Settings,
     Summation, checkpoint_capacity, compensated_checkpoint_capacity,
 };
-use rand_core::{RngCore, SeedableRng};
+use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
 fn settings<T: hsid::Real>(mu0: MuZero<T>) -> Settings<T, 14> {

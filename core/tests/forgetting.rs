@@ -6,7 +6,7 @@ use hsid::{
     Compensated, Direction, Excitation, Forgetting, Identifier, Knots, MuZero, Plain, Real,
     Settings, Summation,
 };
-use rand_core::{RngCore, SeedableRng};
+use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
 const CHANGE: usize = 20_000;

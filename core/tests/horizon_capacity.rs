@@ -7,7 +7,7 @@ use hsid::{
     Basis, Direction, Error, Excitation, Identifier, Knots, Method, Model, MuZero, Order, Plain,
     Real, Settings,
 };
-use rand_core::{RngCore, SeedableRng};
+use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
 /// A backlash + second-order plant (poles `0.9512 e^{±j·0.1}`, unit static gain) with a

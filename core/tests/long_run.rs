@@ -24,7 +24,7 @@ use hsid::{
     AUTO_ORDER_MARGIN, Compensated, Direction, Excitation, Identifier, Knots, Model, MuZero, Order,
     Settings,
 };
-use rand_core::{RngCore, SeedableRng};
+use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
 const HOLD: usize = 300;

@@ -155,7 +155,7 @@ fn mu0_estimated_without_hold() {
 /// transient.
 #[test]
 fn static_nonlinearity_with_shared_knots() {
-    use rand_core::RngCore;
+    use rand_core::Rng;
     let x = [-3.0, -1.5, 0.0, 1.5, 3.0];
     let v = [-1.0, -0.8, 0.1, 0.7, 0.9];
     let knots = Knots::<f64, 5>::shared(&x).unwrap();

@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 use hsid::Direction;
 use nalgebra::DMatrix;
-use rand::Rng;
+use rand::{Rng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
 
 use crate::numerics::direction::DirectionTracker;

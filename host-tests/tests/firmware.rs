@@ -568,7 +568,7 @@ fn backlash_record(samples: usize, hold: usize, seed: u64) -> (Vec<f64>, Vec<f64
             w = w.max((u - 1.0).atan()).min((u + 1.0).atan());
             let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
             (w2, w1, y2, y1) = (w1, w, y1, y);
-            let r = |g: &mut Pcg32| f64::from(rand_core::RngCore::next_u32(g)) / 4_294_967_296.0;
+            let r = |g: &mut Pcg32| f64::from(rand_core::Rng::next_u32(g)) / 4_294_967_296.0;
             y + 0.02 * (r(&mut noise) + r(&mut noise) - 1.0)
         })
         .collect();

@@ -7,7 +7,7 @@
 //! the board's peripherals and change [`plant`] (the one place that picks the plant).
 
 use libm::atanf;
-use rand_core::{RngCore, SeedableRng};
+use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 
 /// An actuator driven by `u` whose response `y` is measured once per sample period.

@@ -21,7 +21,7 @@
 //! constant (12 for the paper's G, 10 for the first-order lag); the record (hold of 300
 //! samples and 5000 excitation samples) is split 70/30 into estimation and validation.
 
-use rand::Rng;
+use rand::RngExt;
 use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;

@@ -1,9 +1,12 @@
-//! Small statistics kit of the diagnosis: moments, correlations, the normal and chi-square
-//! distributions (quantiles computed here, no statistics crate), the FFT and periodogram,
-//! robust scale, heteroscedasticity-and-autocorrelation-consistent variances and small least
-//! squares problems.
+//! Small statistics kit of the diagnosis: moments, correlations, the tails and quantiles of
+//! the normal, chi-square and Poisson distributions (thin wrappers over the `statrs` crate that
+//! answer out-of-range arguments with 0, 1, ±∞ or NaN instead of a panic), the FFT and
+//! periodogram, robust scale, heteroscedasticity-and-autocorrelation-consistent variances and
+//! small least squares problems.
 
 use nalgebra::{DMatrix, DVector};
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+use statrs::function::{erf, gamma};
 
 /// Mean (0 for an empty slice).
 pub fn mean(x: &[f64]) -> f64 {
@@ -115,205 +118,59 @@ pub fn ccf_sigma(ra: &[f64], rb: &[f64], n: usize) -> f64 {
     ((1.0 + 2.0 * s).max(0.2) / n.max(1) as f64).sqrt()
 }
 
-/// Standard normal cumulative distribution function.
-pub fn normal_cdf(x: f64) -> f64 {
-    0.5 * erfc(-x / std::f64::consts::SQRT_2)
-}
-
 /// Upper tail `P(Z > x)` of the standard normal.
 pub fn normal_sf(x: f64) -> f64 {
-    0.5 * erfc(x / std::f64::consts::SQRT_2)
+    0.5 * erf::erfc(x / std::f64::consts::SQRT_2)
 }
 
-/// Complementary error function (Numerical Recipes' Chebyshev fit, relative error < 1.2e-7),
-/// refined for the tails by the continued fraction of `gamma_q(1/2, x²)`.
-pub fn erfc(x: f64) -> f64 {
+/// Quantile of the standard normal: `−∞` for `p ≤ 0`, `+∞` for `p ≥ 1`, NaN for NaN.
+pub fn normal_quantile(p: f64) -> f64 {
+    if p.is_nan() {
+        return f64::NAN;
+    }
+    if p <= 0.0 {
+        return f64::NEG_INFINITY;
+    }
+    if p >= 1.0 {
+        return f64::INFINITY;
+    }
+    -std::f64::consts::SQRT_2 * erf::erfc_inv(2.0 * p)
+}
+
+/// Upper tail `P(χ²_k > x)`: 1 for `x ≤ 0`, NaN for an invalid `k` or a NaN argument.
+pub fn chi2_sf(x: f64, k: f64) -> f64 {
     if x.is_nan() {
         return f64::NAN;
     }
-    let q = gamma_q(0.5, x * x);
-    if x >= 0.0 { q } else { 2.0 - q }
-}
-
-/// Quantile of the standard normal (Acklam's rational approximation, refined by one Halley
-/// step).
-pub fn normal_quantile(p: f64) -> f64 {
-    if !(p > 0.0 && p < 1.0) {
-        return if p <= 0.0 {
-            f64::NEG_INFINITY
-        } else {
-            f64::INFINITY
-        };
-    }
-    const A: [f64; 6] = [
-        -3.969_683_028_665_376e1,
-        2.209_460_984_245_205e2,
-        -2.759_285_104_469_687e2,
-        1.383_577_518_672_69e2,
-        -3.066_479_806_614_716e1,
-        2.506_628_277_459_239,
-    ];
-    const B: [f64; 5] = [
-        -5.447_609_879_822_406e1,
-        1.615_858_368_580_409e2,
-        -1.556_989_798_598_866e2,
-        6.680_131_188_771_972e1,
-        -1.328_068_155_288_572e1,
-    ];
-    const C: [f64; 6] = [
-        -7.784_894_002_430_293e-3,
-        -3.223_964_580_411_365e-1,
-        -2.400_758_277_161_838,
-        -2.549_732_539_343_734,
-        4.374_664_141_464_968,
-        2.938_163_982_698_783,
-    ];
-    const D: [f64; 4] = [
-        7.784_695_709_041_462e-3,
-        3.224_671_290_700_398e-1,
-        2.445_134_137_142_996,
-        3.754_408_661_907_416,
-    ];
-    let pl = 0.02425;
-    let x = if p < pl {
-        let q = (-2.0 * p.ln()).sqrt();
-        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
-            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
-    } else if p <= 1.0 - pl {
-        let q = p - 0.5;
-        let r = q * q;
-        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
-            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
-    } else {
-        let q = (-2.0 * (1.0 - p).ln()).sqrt();
-        -(((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
-            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
-    };
-    // One Halley step on Φ(x) − p.
-    let e = normal_cdf(x) - p;
-    let u = e * (2.0 * std::f64::consts::PI).sqrt() * (x * x / 2.0).exp();
-    x - u / (1.0 + x * u / 2.0)
-}
-
-/// `ln Γ(x)` for `x > 0` (Lanczos, g = 7, 9 terms).
-pub fn ln_gamma(x: f64) -> f64 {
-    const G: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        let pi = std::f64::consts::PI;
-        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut a = G[0];
-    let t = x + 7.5;
-    for (i, g) in G.iter().enumerate().skip(1) {
-        a += g / (x + i as f64);
-    }
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
-}
-
-/// Regularised lower incomplete gamma `P(a, x)`.
-pub fn gamma_p(a: f64, x: f64) -> f64 {
-    1.0 - gamma_q(a, x)
-}
-
-/// Regularised upper incomplete gamma `Q(a, x)` (series below `a + 1`, continued fraction
-/// above; Numerical Recipes §6.2).
-pub fn gamma_q(a: f64, x: f64) -> f64 {
     if x <= 0.0 {
         return 1.0;
     }
-    if !x.is_finite() {
+    if x == f64::INFINITY {
         return 0.0;
     }
-    let gln = ln_gamma(a);
-    if x < a + 1.0 {
-        let mut ap = a;
-        let mut sum = 1.0 / a;
-        let mut del = sum;
-        for _ in 0..1000 {
-            ap += 1.0;
-            del *= x / ap;
-            sum += del;
-            if del.abs() < sum.abs() * 1e-16 {
-                break;
-            }
-        }
-        1.0 - sum * (-x + a * x.ln() - gln).exp()
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..1000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let del = d * c;
-            h *= del;
-            if (del - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        (-x + a * x.ln() - gln).exp() * h
-    }
+    gamma::checked_gamma_ur(0.5 * k, 0.5 * x).unwrap_or(f64::NAN)
 }
 
-/// Upper tail `P(χ²_k > x)`.
-pub fn chi2_sf(x: f64, k: f64) -> f64 {
-    gamma_q(0.5 * k, 0.5 * x)
-}
-
-/// Quantile of the chi-square distribution with `k` degrees of freedom: the Wilson–Hilferty
-/// cube-root normal approximation, polished by Newton steps on the exact distribution function.
+/// Quantile of the chi-square distribution with `k` degrees of freedom (NaN for `p` outside
+/// `[0, 1]` or an invalid `k`).
 pub fn chi2_quantile(p: f64, k: f64) -> f64 {
-    let z = normal_quantile(p);
-    let h = 2.0 / (9.0 * k);
-    let mut x = (k * (1.0 - h + z * h.sqrt()).powi(3)).max(1e-8);
-    for _ in 0..50 {
-        let f = gamma_p(0.5 * k, 0.5 * x) - p;
-        // Density of χ²_k at x.
-        let ln_pdf = (0.5 * k - 1.0) * x.ln() - 0.5 * x - 0.5 * k * 2f64.ln() - ln_gamma(0.5 * k);
-        let pdf = ln_pdf.exp();
-        if !(pdf.is_finite() && pdf > 0.0) {
-            break;
-        }
-        let step = f / pdf;
-        let next = (x - step).max(0.5 * x);
-        if (next - x).abs() <= 1e-12 * x.max(1.0) {
-            x = next;
-            break;
-        }
-        x = next;
+    match ChiSquared::new(k) {
+        Ok(d) if (0.0..=1.0).contains(&p) => d.inverse_cdf(p),
+        _ => f64::NAN,
     }
-    x
 }
 
 /// Upper tail `P(X ≥ k)` of a Poisson count with mean `lambda` (the binomial count of rare
-/// events): `P(k, λ)` of the incomplete gamma.
+/// events): the regularised lower incomplete gamma `P(k, λ)`; 1 for `k = 0` or `λ = ∞`, 0 for
+/// `λ = 0`, NaN for a negative or NaN `lambda`.
 pub fn poisson_sf(k: usize, lambda: f64) -> f64 {
-    if k == 0 {
+    if k == 0 || lambda == f64::INFINITY {
         return 1.0;
     }
-    gamma_p(k as f64, lambda)
+    if lambda == 0.0 {
+        return 0.0;
+    }
+    gamma::checked_gamma_lr(k as f64, lambda).unwrap_or(f64::NAN)
 }
 
 /// Long-run variance of the mean of `x` (Newey–West, Bartlett weights up to `lags`):
