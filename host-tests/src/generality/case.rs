@@ -2,7 +2,7 @@
 //! estimation and validation records (Table I excitation, each with its own seed).
 
 use hsid::Excitation;
-use rand::Rng;
+use rand::RngExt;
 use rand_core::SeedableRng;
 use rand_pcg::{Pcg32, Pcg64};
 

@@ -1,7 +1,7 @@
 //! Random input elements unlike the paper's: a backlash (play operator) whose centre line is a
 //! cubic, or a switch whose borders open into a lens between `u_min` and `u_max`.
 
-use rand::Rng;
+use rand::{Rng, RngExt};
 
 use crate::sim::{Backlash, Nonlinearity, Switch};
 

@@ -1,7 +1,7 @@
 //! Random stable plants of orders 1 to 4: real and complex poles, sometimes a zero, unit static
 //! gain.
 
-use rand::Rng;
+use rand::{Rng, RngExt};
 
 use crate::sim::{Lti, SimError};
 
