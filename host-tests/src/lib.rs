@@ -1,7 +1,7 @@
 //! Desktop side of `hsid`: a simulator of the true systems, a reference implementation written
 //! straight from the paper's equations, the desktop identification front end, the paper's
 //! Monte Carlo, CSV I/O, the model file, figures and reports. The `hsid` command line is the
-//! package's binary (`src/bin/hsid/`), built on this library; the library knows no command line.
+//! package's binary (`cli/`), built on this library; the library knows no command line.
 
 pub mod choose;
 pub mod diagnose;
