@@ -13,7 +13,7 @@ pub use order::{OrderChoice, choose_order, neighbours};
 use std::fmt;
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
-use crate::numerics::select::Criterion;
+use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
 use crate::refine::pem::{PemFit, PemOptions};
 
@@ -174,22 +174,12 @@ pub struct SegmentChoice {
 impl SegmentChoice {
     /// One line for a report.
     pub fn report(&self) -> String {
-        let best = self
-            .scores
-            .iter()
-            .find(|(n, _)| *n == self.segments)
-            .map_or(f64::NAN, |s| s.1);
-        let scores: Vec<String> = self
-            .scores
-            .iter()
-            .map(|(n, v)| format!("{n}: {:+.1}", v - best))
-            .collect();
         format!(
             "segments per path: {} chosen by {} of the refined models ({} relative to the best: {})",
             self.segments,
             self.criterion.name(),
             self.criterion.name(),
-            scores.join(", ")
+            relative_scores(&self.scores, self.segments)
         )
     }
 }

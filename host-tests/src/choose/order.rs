@@ -9,7 +9,7 @@
 
 use super::ChooseError;
 use crate::identify::{IdentifyOptions, identify};
-use crate::numerics::select::{Criterion, best};
+use crate::numerics::select::{Criterion, best, relative_scores};
 use crate::refine::pem::{PemFit, PemOptions, refine};
 
 /// The order chosen and the score of every candidate.
@@ -30,23 +30,13 @@ pub struct OrderChoice {
 impl OrderChoice {
     /// One line for a report.
     pub fn report(&self) -> String {
-        let best = self
-            .scores
-            .iter()
-            .find(|(n, _)| *n == self.order)
-            .map_or(f64::NAN, |s| s.1);
-        let scores: Vec<String> = self
-            .scores
-            .iter()
-            .map(|(n, v)| format!("{n}: {:+.1}", v - best))
-            .collect();
         format!(
             "order {} chosen by {} of the refined models (the singular values suggested {}; {} relative to the best: {})",
             self.order,
             self.criterion.name(),
             self.subspace,
             self.criterion.name(),
-            scores.join(", ")
+            relative_scores(&self.scores, self.order)
         )
     }
 }

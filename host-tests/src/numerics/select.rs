@@ -38,6 +38,23 @@ pub fn best<T: Copy>(scores: &[(T, f64)]) -> Option<T> {
         .map(|(c, _)| *c)
 }
 
+/// `candidate: score − score of chosen` for every candidate, comma separated (`7: +0.0, 10:
+/// −12.3`), for a report line.
+pub fn relative_scores<T: Copy + PartialEq + std::fmt::Display>(
+    scores: &[(T, f64)],
+    chosen: T,
+) -> String {
+    let base = scores
+        .iter()
+        .find(|(c, _)| *c == chosen)
+        .map_or(f64::NAN, |s| s.1);
+    scores
+        .iter()
+        .map(|(c, v)| format!("{c}: {:+.1}", v - base))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -52,6 +69,14 @@ mod tests {
         assert!((aic - (-69.314_718_055_994_53 + 6.0)).abs() < 1e-9);
         // A zero mean square is floored, not −∞.
         assert!(Criterion::Bic.score(n, 0.0, d).is_finite());
+    }
+
+    #[test]
+    fn relative_scores_are_differences_to_the_chosen() {
+        assert_eq!(
+            relative_scores(&[(7, 10.0), (10, 4.5)], 10),
+            "7: +5.5, 10: +0.0"
+        );
     }
 
     #[test]
