@@ -66,8 +66,10 @@ fn every_command_writes_the_one_model_file() {
         "diagnose-model.json",
     ]
     .map(|f| dir.join(f));
-    identify(&data, &["--json", p(&plain)]).success();
-    identify(&data, &["--refine", "--json", p(&refined)]).success();
+    // The paper's estimator (the settings of the checkpoint below), and the desktop default.
+    let paper = ["--no-refine", "--segments", "7", "--f", "10", "--p", "10"];
+    identify(&data, &[&paper[..], &["--json", p(&plain)]].concat()).success();
+    identify(&data, &["--json", p(&refined)]).success();
     hsid(&["solve", "--state", p(&state), "--json", p(&solved)]).success();
     let report = dir.join("diagnose.json");
     let args = [
@@ -84,8 +86,8 @@ fn every_command_writes_the_one_model_file() {
     let out = ["--json", p(&report), "--model-out", p(&diagnosed)];
     hsid(&[&args[..], &out[..]].concat()).success();
 
-    let plain = check("identify", &read(&plain));
-    let refined = check("identify --refine", &read(&refined));
+    let plain = check("identify --no-refine", &read(&plain));
+    let refined = check("identify", &read(&refined));
     let solved = check("solve", &read(&solved));
     let diagnosed = check("diagnose --model-out", &read(&diagnosed));
     let r: Value = serde_json::from_str(&read(&report)).unwrap();
