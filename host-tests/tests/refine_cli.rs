@@ -188,7 +188,7 @@ fn identify_without_refine_has_the_remark6_noise_model() {
     let dir = Scratch::new("remark6");
     let est = data(&dir, Case::Switch, 2);
     let model = dir.join("m.json");
-    let r = identify(&est, &["--json", p(&model)]);
+    let r = identify(&est, &["--no-refine", "--json", p(&model)]);
     assert!(r.ok, "{}", r.stderr);
     assert!(!r.stdout.contains("refined"), "{}", r.stdout);
     let sim = fit_of(&r.stdout, "simulation fit on ");
