@@ -11,6 +11,7 @@ use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
 use nalgebra::DMatrix;
 
 use crate::model_file::{FormatTag, ModelFile, NonlinearityKind};
+use crate::numerics::direction::directions;
 use crate::numerics::poly::eigenvalues;
 
 /// Everything the desktop identification needs besides the data.
@@ -459,20 +460,12 @@ impl HostModel {
             .lu()
             .solve(&bvec)
             .unwrap_or_else(|| nalgebra::DVector::zeros(n));
-        let mut up = false;
-        let mut prev = self.knots_asc.first().copied().unwrap_or(0.0);
+        let u_start = self.knots_asc.first().copied().unwrap_or(0.0);
         let mut out = Vec::with_capacity(u.len());
-        for &ui in u {
-            if ui > prev {
-                up = true;
-            } else if ui < prev {
-                up = false;
-            }
-            prev = ui;
-            let h = if up {
-                self.border_asc_at(ui)
-            } else {
-                self.border_desc_at(ui)
+        for (&ui, dir) in u.iter().zip(directions(u, u_start)) {
+            let h = match dir {
+                Direction::Ascending => self.border_asc_at(ui),
+                Direction::Descending => self.border_desc_at(ui),
             };
             let y = self.d * h + self.c.iter().zip(x.iter()).map(|(c, x)| c * x).sum::<f64>();
             let mut next = &self.a * &x;
