@@ -4,7 +4,7 @@
 use std::fmt;
 use std::io::{self, ErrorKind};
 
-use hsid_host::io::IoError;
+use hsid_host::io::{FileAction, FileError, IoError};
 
 /// A subcommand's failure.
 #[derive(Debug)]
@@ -44,9 +44,11 @@ impl From<io::Error> for Failure {
 impl From<IoError> for Failure {
     fn from(e: IoError) -> Self {
         match e {
-            IoError::Write { source, .. } if source.kind() == ErrorKind::BrokenPipe => {
-                Failure::OutputClosed
-            }
+            IoError::File(FileError {
+                action: FileAction::Write,
+                source,
+                ..
+            }) if source.kind() == ErrorKind::BrokenPipe => Failure::OutputClosed,
             e => Failure::Message(e.to_string()),
         }
     }

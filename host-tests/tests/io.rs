@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use hsid_host::io::{
-    CsvOptions, Delimiter, IoError, parse_columns, parse_table, read_columns, write_columns,
-    write_columns_to,
+    CsvOptions, Delimiter, FileAction, FileError, IoError, parse_columns, parse_table,
+    read_columns, write_columns, write_columns_to,
 };
 
 const TANKS: &str = concat!(
@@ -141,7 +141,16 @@ fn missing_column_lists_the_columns() {
 #[test]
 fn file_not_found() {
     let err = read_columns("/nonexistent/dir/data.csv", &["a"]).unwrap_err();
-    assert!(matches!(err, IoError::Open { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            IoError::File(FileError {
+                action: FileAction::Read,
+                ..
+            })
+        ),
+        "{err:?}"
+    );
     let msg = err.to_string();
     assert!(
         msg.starts_with("/nonexistent/dir/data.csv: cannot read file"),
@@ -394,7 +403,16 @@ fn write_errors() {
         "o.csv line 3: column \"b\": NaN is not a finite number"
     );
     let err = write_columns("/nonexistent/dir/o.csv", &["a"], &[vec![1.0]]).unwrap_err();
-    assert!(matches!(err, IoError::Write { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            IoError::File(FileError {
+                action: FileAction::Write,
+                ..
+            })
+        ),
+        "{err:?}"
+    );
 }
 
 // ----- delimiters and comments --------------------------------------------------------------

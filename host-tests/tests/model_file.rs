@@ -2,6 +2,7 @@
 //! JSON Schema in `docs/`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use hsid_host::io::{FileAction, FileError};
 use hsid_host::model_file::{
     FORMAT, FormatTag, ModelFile, ModelFileError, ModelStd, NoiseFile, NonlinearityKind, Units,
 };
@@ -212,7 +213,16 @@ fn json_non_finite_is_refused_on_save() {
 #[test]
 fn json_load_missing_file() {
     let err = ModelFile::load("/nonexistent/model.json").unwrap_err();
-    assert!(matches!(err, ModelFileError::Open { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            ModelFileError::File(FileError {
+                action: FileAction::Read,
+                ..
+            })
+        ),
+        "{err:?}"
+    );
 }
 
 #[test]

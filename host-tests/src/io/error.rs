@@ -3,26 +3,17 @@
 use std::fmt;
 use std::path::PathBuf;
 
+use super::FileError;
+
 /// Everything that can go wrong while reading or writing CSV files.
 ///
 /// `Display` gives one line that starts with the file name (and the 1-based line number where it
 /// applies), e.g. `data.csv line 17: column "y": "1.2.3" is not a number`.
 #[derive(Debug)]
 pub enum IoError {
-    /// The file could not be opened or read (not found, permission denied, ...).
-    Open {
-        /// File that was being read.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
-    /// The file could not be created or written.
-    Write {
-        /// File that was being written.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    /// The file could not be opened, read, created or written (not found, permission denied,
+    /// ...).
+    File(FileError),
     /// The file is not valid UTF-8 text.
     NotUtf8 {
         /// File that was being read.
@@ -142,12 +133,7 @@ pub enum IoError {
 impl fmt::Display for IoError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            IoError::Open { path, source } => {
-                write!(f, "{}: cannot read file: {source}", path.display())
-            }
-            IoError::Write { path, source } => {
-                write!(f, "{}: cannot write file: {source}", path.display())
-            }
+            IoError::File(e) => e.fmt(f),
             IoError::NotUtf8 { path, line } => {
                 write!(f, "{} line {line}: not valid UTF-8 text", path.display())
             }
@@ -248,8 +234,14 @@ impl fmt::Display for IoError {
 impl std::error::Error for IoError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            IoError::Open { source, .. } | IoError::Write { source, .. } => Some(source),
+            IoError::File(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl From<FileError> for IoError {
+    fn from(e: FileError) -> Self {
+        IoError::File(e)
     }
 }

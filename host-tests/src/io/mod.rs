@@ -20,10 +20,12 @@
 //! concatenated or a row was lost.
 
 mod error;
+mod file_error;
 mod read;
 mod write;
 
 pub use error::IoError;
+pub use file_error::{FileAction, FileError};
 pub use read::{
     CsvOptions, Delimiter, STDIN_NAME, STDIN_PATH, Table, parse_columns, parse_table, read_columns,
     read_source, read_table, read_table_from,

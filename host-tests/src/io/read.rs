@@ -5,7 +5,7 @@ use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use super::IoError;
+use super::{FileError, IoError};
 
 /// A CSV field delimiter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,10 +117,7 @@ pub fn read_source(path: impl AsRef<Path>) -> Result<(PathBuf, String), IoError>
         let text = read_text(&name, std::io::stdin().lock())?;
         return Ok((name, text));
     }
-    let file = fs::File::open(path).map_err(|source| IoError::Open {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let file = fs::File::open(path).map_err(|source| FileError::read(path, source))?;
     Ok((path.to_path_buf(), read_text(path, file)?))
 }
 
@@ -129,10 +126,7 @@ fn read_text<R: Read>(path: &Path, mut reader: R) -> Result<String, IoError> {
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)
-        .map_err(|source| IoError::Open {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        .map_err(|source| FileError::read(path, source))?;
     String::from_utf8(bytes).map_err(|e| {
         let valid = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..valid]

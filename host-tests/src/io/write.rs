@@ -4,7 +4,7 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
-use super::IoError;
+use super::{FileError, IoError};
 
 /// Writes columns to a CSV file with a header row.
 ///
@@ -21,10 +21,7 @@ pub fn write_columns<C: AsRef<[f64]>>(
     let path = path.as_ref();
     let mut text = Vec::new();
     write_columns_to(path, &mut text, names, columns)?;
-    fs::write(path, text).map_err(|source| IoError::Write {
-        path: path.to_path_buf(),
-        source,
-    })
+    fs::write(path, text).map_err(|source| FileError::write(path, source).into())
 }
 
 /// Same as [`write_columns`] but into any writer; `source` is only used in error messages.
@@ -106,10 +103,7 @@ pub fn write_columns_to<W: Write, C: AsRef<[f64]>>(
     writer
         .write_all(out.as_bytes())
         .and_then(|()| writer.flush())
-        .map_err(|source| IoError::Write {
-            path: path.to_path_buf(),
-            source,
-        })
+        .map_err(|source| FileError::write(path, source).into())
 }
 
 /// Shortest round-tripping text of a finite `f64`, with an exponent for extreme magnitudes.

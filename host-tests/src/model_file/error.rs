@@ -4,6 +4,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use super::FORMAT;
+use crate::io::FileError;
 
 /// A model file that could not be read or written.
 ///
@@ -11,20 +12,9 @@ use super::FORMAT;
 /// `m.json: field "B": has 1 entries, expected order = 2`.
 #[derive(Debug)]
 pub enum ModelFileError {
-    /// The file could not be opened or read (not found, permission denied, ...).
-    Open {
-        /// File that was being read.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
-    /// The file could not be created or written.
-    Write {
-        /// File that was being written.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    /// The file could not be opened, read, created or written (not found, permission denied,
+    /// ...).
+    File(FileError),
     /// The file has no `format` key, or names another format or version than [`FORMAT`].
     Version {
         /// File that was being read.
@@ -57,12 +47,7 @@ pub enum ModelFileError {
 impl fmt::Display for ModelFileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Open { path, source } => {
-                write!(f, "{}: cannot read file: {source}", path.display())
-            }
-            Self::Write { path, source } => {
-                write!(f, "{}: cannot write file: {source}", path.display())
-            }
+            Self::File(e) => e.fmt(f),
             Self::Version { path, found: None } => write!(
                 f,
                 "{}: no \"format\" key: the file is of the unversioned model layout, this hsid \
@@ -101,9 +86,15 @@ impl fmt::Display for ModelFileError {
 impl std::error::Error for ModelFileError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            Self::Open { source, .. } | Self::Write { source, .. } => Some(source),
+            Self::File(e) => Some(e),
             Self::Json { source, .. } => Some(source),
             Self::Version { .. } | Self::Invalid { .. } => None,
         }
+    }
+}
+
+impl From<FileError> for ModelFileError {
+    fn from(e: FileError) -> Self {
+        Self::File(e)
     }
 }

@@ -22,6 +22,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::io::FileError;
+
 pub use error::ModelFileError;
 pub use parts::{FormatTag, ModelStd, NoiseFile, NonlinearityKind, Units};
 
@@ -137,19 +139,13 @@ impl ModelFile {
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), ModelFileError> {
         let path = path.as_ref();
         let text = self.to_json_string(path)?;
-        fs::write(path, text).map_err(|source| ModelFileError::Write {
-            path: path.to_path_buf(),
-            source,
-        })
+        fs::write(path, text).map_err(|source| FileError::write(path, source).into())
     }
 
     /// Reads a model file ([`from_json_str`](Self::from_json_str)).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, ModelFileError> {
         let path = path.as_ref();
-        let text = fs::read_to_string(path).map_err(|source| ModelFileError::Open {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = fs::read_to_string(path).map_err(|source| FileError::read(path, source))?;
         Self::from_json_str(path, &text)
     }
 }
