@@ -1,11 +1,11 @@
 //! Argument groups shared by several subcommands (`#[command(flatten)]`) and the value enums.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use hsid::Basis;
 use hsid_host::diagnose::Nonlinearity;
-use hsid_host::io::Delimiter;
+use hsid_host::io::{CsvOptions, Delimiter, Table, read_table};
 use hsid_host::model_file::NonlinearityKind;
 
 /// How the CSV files are read.
@@ -162,4 +162,16 @@ impl From<NonlinearityArg> for Nonlinearity {
             NonlinearityArg::Static => Nonlinearity::Static,
         }
     }
+}
+
+/// Reads the columns `u, y` named by `columns` from `data` (a file, or `-` for standard input).
+pub fn read_uy(data: &Path, columns: &Columns, csv: &CsvArgs) -> Result<Table, String> {
+    let names = [
+        columns.input_column.as_str(),
+        columns.output_column.as_str(),
+    ];
+    let options = CsvOptions {
+        delimiter: csv.delimiter(),
+    };
+    read_table(data, &names, &options).map_err(|e| e.to_string())
 }

@@ -8,7 +8,6 @@ use hsid_host::choose::{
     self, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
 };
 use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::io::{CsvOptions, read_table};
 use hsid_host::model_file::{ModelFile, ModelStd, NoiseFile};
 use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 use hsid_host::refine::pem::PemFit;
@@ -18,7 +17,7 @@ use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
 use hsid_host::report::{fit_report, model_text};
 
 use crate::args::{
-    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg,
+    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, read_uy,
 };
 use crate::locate;
 
@@ -123,14 +122,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             .to_string()
             .into());
     }
-    let names = [
-        a.columns.input_column.as_str(),
-        a.columns.output_column.as_str(),
-    ];
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
-    let table = read_table(&a.data, &names, &csv).map_err(|e| e.to_string())?;
+    let table = read_uy(&a.data, &a.columns, &a.csv)?;
     let (u, y) = (&table.columns[0], &table.columns[1]);
     if hold >= u.len() {
         return Err(format!(

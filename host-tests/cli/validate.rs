@@ -5,14 +5,13 @@ use std::path::PathBuf;
 
 use clap::Args;
 use hsid_host::identify::HostModel;
-use hsid_host::io::{CsvOptions, read_table};
 use hsid_host::model_file::ModelFile;
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
 
-use crate::args::{Columns, CsvArgs};
+use crate::args::{Columns, CsvArgs, read_uy};
 
 /// Arguments of `hsid validate`.
 #[derive(Args)]
@@ -60,14 +59,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     };
     let noise = given.or(own);
     let m = HostModel::from_json(&file);
-    let names = [
-        a.columns.input_column.as_str(),
-        a.columns.output_column.as_str(),
-    ];
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
-    let table = read_table(&a.data, &names, &csv).map_err(|e| e.to_string())?;
+    let table = read_uy(&a.data, &a.columns, &a.csv)?;
     let (u, y) = (&table.columns[0], &table.columns[1]);
     let skip = a.skip;
     if skip >= u.len() {

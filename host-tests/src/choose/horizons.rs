@@ -77,7 +77,8 @@ pub fn choose_horizons(first: &HostModel, opts: &IdentifyOptions, samples: usize
     // 2h rows, j ≈ samples columns: j ≥ COLUMNS_PER_ROW · 2h · rows_per_lag.
     let record_bound = samples / (COLUMNS_PER_ROW * 2 * rows_per_lag);
     let hi = MAX_HORIZON.min(record_bound).max(MIN_HORIZON);
-    let h = (memory.ceil().min(hi as f64) as usize).clamp(MIN_HORIZON, hi);
+    // `as` saturates: an unbounded memory gives `hi`.
+    let h = (memory.ceil() as usize).clamp(MIN_HORIZON, hi);
     HorizonChoice {
         f: h,
         p: h,

@@ -4,15 +4,7 @@ use std::fmt::Write as _;
 
 use super::case::{Case, HOLD, Record};
 use crate::identify::HostModel;
-
-/// Normalised RMS error `‖y − ŷ‖ / ‖y − ȳ‖`.
-pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
-    let n = y.len().max(1) as f64;
-    let mean = y.iter().sum::<f64>() / n;
-    let err: f64 = y.iter().zip(yhat).map(|(a, b)| (a - b) * (a - b)).sum();
-    let var: f64 = y.iter().map(|a| (a - mean) * (a - mean)).sum();
-    (err / var).sqrt()
-}
+use crate::report::fit;
 
 /// What an estimator returned for a case.
 #[derive(Clone, Debug)]
@@ -51,11 +43,11 @@ impl Score {
 
 /// Scores `estimate` (a model from the estimation record, or an error) on the validation record.
 pub fn score(validation: &Record, estimate: Result<Estimate, String>) -> Score {
-    let floor = nrmse(&validation.y[HOLD..], &validation.y_clean[HOLD..]);
+    let floor = fit(&validation.y[HOLD..], &validation.y_clean[HOLD..]).nrmse;
     match estimate {
         Ok(e) => {
             let sim = e.model.simulate(&validation.u);
-            let ratio = nrmse(&validation.y[HOLD..], &sim[HOLD..]) / floor;
+            let ratio = fit(&validation.y[HOLD..], &sim[HOLD..]).nrmse / floor;
             if ratio.is_finite() {
                 Score::Scored {
                     order: e.model.order,
