@@ -405,6 +405,14 @@ impl HostModel {
         interpolate(&self.knots_desc, &self.border_desc, u)
     }
 
+    /// Spectral radius of `A`: the largest pole modulus (0 for order 0).
+    pub fn spectral_radius(&self) -> f64 {
+        self.poles()
+            .iter()
+            .map(|(r, i)| r.hypot(*i))
+            .fold(0.0, f64::max)
+    }
+
     /// Eigenvalues of `A` as `(re, im)`.
     pub fn poles(&self) -> Vec<(f64, f64)> {
         if self.order == 0 {

@@ -56,11 +56,7 @@ impl HorizonChoice {
 /// The horizons for a record of `samples` samples (after the hold) whose first model is
 /// `first`, for the channels of `opts`.
 pub fn choose_horizons(first: &HostModel, opts: &IdentifyOptions, samples: usize) -> HorizonChoice {
-    let slowest = first
-        .poles()
-        .iter()
-        .map(|p| p.0.hypot(p.1))
-        .fold(0.0, f64::max);
+    let slowest = first.spectral_radius();
     let memory = if slowest > 0.0 && slowest < 1.0 {
         MEMORY_LEVEL.ln() / slowest.ln()
     } else {

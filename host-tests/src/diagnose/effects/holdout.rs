@@ -4,7 +4,7 @@
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::{
     Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, evaluate, fit_structure,
-    fit_structure_fold, spectral_radius,
+    fit_structure_fold,
 };
 
 /// One fold of the inner validation: the estimation record without a block (joined at the
@@ -233,5 +233,5 @@ impl<'a> Holdout<'a> {
 /// validate, and extrapolates wildly.
 pub fn too_slow(m: &ExtendedModel, n: usize) -> bool {
     // Stores replace the linear part's simulation and drain by construction.
-    m.stores.is_none() && spectral_radius(&m.hammerstein) >= 1.0 - 0.5 / n.max(4) as f64
+    m.stores.is_none() && m.hammerstein.spectral_radius() >= 1.0 - 0.5 / n.max(4) as f64
 }

@@ -42,6 +42,5 @@ pub use extended::ExtendedModel;
 pub use fit::{fit_structure, fit_structure_fold};
 pub use fit_options::{FitOptions, InitialState, Saturation};
 pub use outliers::detect_outliers;
-pub use poles::spectral_radius;
 pub use record::Record;
 pub use structure::{Dynamics, Structure};

@@ -303,11 +303,3 @@ pub(super) fn refine_poles_mapped(
     let (_, m2, x2, g) = eval(&simplex[0].0)?;
     Some((m2, x2, g))
 }
-
-/// Spectral radius of the model's `A`.
-pub fn spectral_radius(m: &HostModel) -> f64 {
-    m.poles()
-        .iter()
-        .map(|(r, i)| r.hypot(*i))
-        .fold(0.0, f64::max)
-}
