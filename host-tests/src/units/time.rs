@@ -173,7 +173,7 @@ pub fn resolve_ts(stated: &[(Origin, f64)]) -> Result<Option<f64>, TimeError> {
     };
     match stated
         .iter()
-        .find(|(_, v)| (v - ts).abs() > TS_TOLERANCE * ts)
+        .find(|(_, v)| (v - ts).abs() > TS_TOLERANCE * ts.abs())
     {
         Some(other) => Err(TimeError::Disagree {
             first: (origin.clone(), *ts),
