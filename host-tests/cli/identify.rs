@@ -28,10 +28,11 @@ use records::Records;
 #[derive(Args)]
 pub struct IdentifyArgs {
     /// CSV file with a header (`-`: standard input). Repeat it for several experiments on the
-    /// same plant (`--data a.csv --data b.csv`): they are identified together as one record in
-    /// the order given, the hold (--hold) at the start of the first only; the Hankel columns
-    /// and the refinement's simulation run across each junction, so an experiment after the
-    /// first should start at rest (e.g. with its own hold at u_min, kept as data).
+    /// same plant (`--data a.csv --data b.csv`): they are joined in the order given and
+    /// identified as one record (--hold is the hold at the start of the first; later holds are
+    /// data). Joining is exact for a record split into files, and for experiments that each
+    /// end with a hold at u_min of at least --settle samples before the next starts at rest
+    /// there; a record that starts at u_min after one that does not end there is refused.
     #[arg(long, required = true)]
     data: Vec<PathBuf>,
     /// Lower end of the input interval.
@@ -146,6 +147,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     let units = a.units.units()?;
     let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
+    records.check_junctions(umin, a.hold.settle())?;
     let first = records.parts().first().map_or(0, |p| p.0.len());
     if hold >= first {
         return Err(format!(

@@ -58,6 +58,33 @@ impl Records {
         Ok(r)
     }
 
+    /// Checks that the records join without mixing: a record that starts at `u_min` (with a
+    /// hold, the plant at rest) must follow one that ends with at least `settle` samples (at
+    /// least one) at `u_min`, where the plant has come to rest too; otherwise the settling at
+    /// the end of the one would be read as the rest of the other. A record that starts
+    /// elsewhere is taken as the continuation of the one before (a record split into files).
+    pub fn check_junctions(&self, u_min: f64, settle: usize) -> Result<(), String> {
+        let parts = self.parts();
+        for (k, pair) in parts.windows(2).enumerate() {
+            let (before, after) = (pair[0].0, pair[1].0);
+            if after.first() != Some(&u_min) {
+                continue;
+            }
+            let tail = settle.max(1).min(before.len());
+            if before[before.len() - tail..].iter().any(|&v| v != u_min) {
+                return Err(format!(
+                    "{} starts at rest at u_min = {u_min} but {} does not end with {tail} samples \
+                     (the settling, --settle) at u_min: joined, the plant's settling after the one \
+                     would be read as the rest of the other; end each experiment with a hold at \
+                     u_min or record them in one file",
+                    self.paths[k + 1].display(),
+                    self.paths[k].display()
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The samples of each record, `(u, y)`.
     pub fn parts(&self) -> Vec<(&[f64], &[f64])> {
         let ends = self.starts.iter().skip(1).copied().chain([self.u.len()]);

@@ -108,10 +108,12 @@ impl fmt::Display for TimeError {
                 ts,
             } => write!(
                 f,
-                "{} line {line}: time step {step} differs from the mean step {ts} by more than \
+                "{} line {line}: time step {} differs from the mean step {} by more than \
                  {} %; the method needs uniform sampling (resample the record, or split it \
                  at the gap into several --data files)",
                 source.display(),
+                significant(*step),
+                significant(*ts),
                 TS_TOLERANCE * 100.0
             ),
             Self::Disagree { first, second } => write!(
@@ -124,6 +126,12 @@ impl fmt::Display for TimeError {
 }
 
 impl std::error::Error for TimeError {}
+
+/// `v` with six significant digits (a time step read from text carries rounding noise).
+fn significant(v: f64) -> String {
+    let digits = 5 - v.abs().log10().floor().clamp(-300.0, 300.0) as i32;
+    format!("{:.*}", digits.max(0) as usize, v)
+}
 
 /// `ts` if it is a positive finite number.
 pub fn checked_ts(ts: f64, origin: Origin) -> Result<f64, TimeError> {
