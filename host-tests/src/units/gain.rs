@@ -45,6 +45,7 @@ pub fn bandwidth(m: &HostModel) -> Option<f64> {
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 pub(crate) mod tests {
     use super::*;
     use nalgebra::DMatrix;
