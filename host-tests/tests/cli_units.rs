@@ -197,6 +197,26 @@ fn a_servo_identified_with_ts_reports_wn_zeta_and_gap_in_units() {
         .collect();
     let mean = gaps.iter().sum::<f64>() / 3.0;
     assert!((mean / GAP - 1.0).abs() < 0.10, "gap {gaps:?} vs {GAP}");
+    // validate reads the sample time and units from the model file and reports the same.
+    let val = hsid(&[
+        "validate",
+        "--model",
+        p(&model),
+        "--data",
+        p(&data),
+        "--skip",
+        "300",
+    ])
+    .success()
+    .stdout;
+    assert!(
+        val.contains("sample time 0.01 s") && val.contains("deg per V"),
+        "{val}"
+    );
+    assert!(
+        (number_after(&val, "natural frequency") / wn_text - 1.0).abs() < 1e-9,
+        "{val}"
+    );
     let reported = number_after(text, "mean gap");
     assert!(
         (reported / GAP - 1.0).abs() < 0.10,
