@@ -358,6 +358,10 @@ fn bad_sample_times_and_units_are_one_line_errors() {
         &rows(&|i| 0.01 * i as f64 + if i == 350 { 0.005 } else { 0.0 }),
     );
     identify(&[&late], &[]).clean_error(&["late.csv line 352", "time step", "uniform"]);
+    // diagnose checks the same before it diagnoses.
+    hsid(&["diagnose", "--data", p(&uniform), "--ts", "-1"]).clean_error(&["--ts", "positive"]);
+    hsid(&["diagnose", "--data", p(&uniform), "--ts", "0.02"])
+        .clean_error(&["--ts gives a sample time of 0.02 s", "t.csv gives 0.01 s"]);
     let back = s.write(
         "back.csv",
         &rows(&|i| if i == 200 { 0.0 } else { 0.01 * i as f64 }),
