@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 use hsid::Basis;
 use hsid_host::diagnose::Nonlinearity;
-use hsid_host::io::{CsvOptions, Delimiter, Table, read_table};
-use hsid_host::model_file::NonlinearityKind;
+use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
+use hsid_host::model_file::{NonlinearityKind, Units};
+use hsid_host::units::{Origin, checked_ts, ts_from_column};
 
 /// How the CSV files are read.
 #[derive(Args, Clone, Debug)]
@@ -164,14 +165,133 @@ impl From<NonlinearityArg> for Nonlinearity {
     }
 }
 
-/// Reads the columns `u, y` named by `columns` from `data` (a file, or `-` for standard input).
-pub fn read_uy(data: &Path, columns: &Columns, csv: &CsvArgs) -> Result<Table, String> {
+/// The sample time and the units of the signals.
+#[derive(Args, Clone, Debug)]
+pub struct UnitArgs {
+    /// Sample time in seconds (> 0). Without it, the step of the record's time column when it
+    /// has one (it must then agree within 0.1 %); with neither, times are in samples and
+    /// frequencies in rad/sample.
+    #[arg(long, allow_hyphen_values = true)]
+    pub ts: Option<f64>,
+    /// Unit of the input u (free text, e.g. `V`), for the reports and the model file.
+    #[arg(long, requires = "output_unit")]
+    pub input_unit: Option<String>,
+    /// Unit of the output y (free text, e.g. `deg`).
+    #[arg(long, requires = "input_unit")]
+    pub output_unit: Option<String>,
+    /// Time column: when the record has it, it must increase with a uniform step (within
+    /// 0.1 %), which is the sample time [default: `t`, used only when present].
+    #[arg(long)]
+    pub time_column: Option<String>,
+}
+
+impl UnitArgs {
+    /// `--ts`, checked positive.
+    pub fn ts(&self) -> Result<Option<f64>, String> {
+        self.ts
+            .map(|v| checked_ts(v, Origin::Flag))
+            .transpose()
+            .map_err(|e| e.to_string())
+    }
+
+    /// `--input-unit` and `--output-unit`, checked non-empty.
+    pub fn units(&self) -> Result<Option<Units>, String> {
+        let (Some(input), Some(output)) = (&self.input_unit, &self.output_unit) else {
+            return Ok(None);
+        };
+        for (flag, v) in [("--input-unit", input), ("--output-unit", output)] {
+            if v.trim().is_empty() {
+                return Err(format!(
+                    "{flag} is empty: give the unit's name, e.g. V or deg"
+                ));
+            }
+        }
+        Ok(Some(Units {
+            input: input.trim().to_string(),
+            output: output.trim().to_string(),
+        }))
+    }
+
+    /// The time column's name and whether it was named explicitly (then it must be there).
+    pub fn time_column(&self) -> (&str, bool) {
+        self.time_column
+            .as_deref()
+            .map_or(("t", false), |name| (name, true))
+    }
+
+    /// The units: the flags' or `stored` (of a model file or plant specification at `source`);
+    /// both given and different is an error.
+    pub fn units_with(
+        &self,
+        stored: Option<Units>,
+        source: &Path,
+    ) -> Result<Option<Units>, String> {
+        match (self.units()?, stored) {
+            (Some(f), Some(s)) if f != s => Err(format!(
+                "--input-unit {} --output-unit {} disagree with the units {} and {} of {}; \
+                 drop the flags or make them agree",
+                f.input,
+                f.output,
+                s.input,
+                s.output,
+                source.display()
+            )),
+            (f, s) => Ok(f.or(s)),
+        }
+    }
+}
+
+/// A record read from CSV: the requested columns and, when the file has a time column, its
+/// sample time.
+pub struct Record {
+    /// The requested columns and the line of each row.
+    pub table: Table,
+    /// The sample time from the time column, with where it came from.
+    pub ts: Option<(Origin, f64)>,
+}
+
+/// Reads the columns `names` from `data` (a file, or `-` for standard input) and the time
+/// column of `units` when the file has it (or it was named), checked uniform.
+pub fn read_record(
+    data: &Path,
+    names: &[&str],
+    csv: &CsvArgs,
+    units: &UnitArgs,
+) -> Result<Record, String> {
+    let options = CsvOptions {
+        delimiter: csv.delimiter(),
+    };
+    let (source, text) = read_source(data).map_err(|e| e.to_string())?;
+    let (time, named) = units.time_column();
+    let mut all = names.to_vec();
+    all.push(time);
+    let mut table = match parse_table(&source, &text, &all, &options) {
+        Err(IoError::MissingColumn { column, .. }) if !named && column == time.trim() => {
+            return parse_table(&source, &text, names, &options)
+                .map(|table| Record { table, ts: None })
+                .map_err(|e| e.to_string());
+        }
+        r => r.map_err(|e| e.to_string())?,
+    };
+    let t = table.columns.pop().unwrap_or_default();
+    let ts = ts_from_column(source.clone(), &t, &table.lines).map_err(|e| e.to_string())?;
+    Ok(Record {
+        table,
+        ts: Some((Origin::TimeColumn(source), ts)),
+    })
+}
+
+/// Reads the columns `u, y` named by `columns` from `data` (a file, or `-` for standard input),
+/// with the sample time of its time column (see [`read_record`]).
+pub fn read_uy(
+    data: &Path,
+    columns: &Columns,
+    csv: &CsvArgs,
+    units: &UnitArgs,
+) -> Result<Record, String> {
     let names = [
         columns.input_column.as_str(),
         columns.output_column.as_str(),
     ];
-    let options = CsvOptions {
-        delimiter: csv.delimiter(),
-    };
-    read_table(data, &names, &options).map_err(|e| e.to_string())
+    read_record(data, &names, csv, units)
 }

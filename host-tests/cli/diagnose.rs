@@ -10,9 +10,9 @@ use hsid_host::diagnose::{
     report,
 };
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::io::{CsvOptions, read_table};
+use hsid_host::units::{Origin, resolve_ts};
 
-use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg};
+use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, read_record};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -135,6 +135,10 @@ pub struct DiagnoseArgs {
     pub model_out: Option<PathBuf>,
     #[command(flatten)]
     pub csv: CsvArgs,
+    /// Sample time and units (checked against the records' time columns), stored in the
+    /// model file of --model-out.
+    #[command(flatten)]
+    pub units: UnitArgs,
 }
 
 fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
@@ -150,14 +154,20 @@ fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
     Ok(p(a)?..p(b)?)
 }
 
-/// Reads the two columns of a CSV file as a record.
-fn record(path: &std::path::Path, names: [&str; 2], csv: &CsvOptions) -> Result<Record, String> {
-    let t = read_table(path, &names, csv).map_err(|e| e.to_string())?;
-    let [u, y]: [Vec<f64>; 2] = t
+/// Reads the two columns of a CSV file as a record, with the sample time of its time column.
+fn record(
+    path: &std::path::Path,
+    names: [&str; 2],
+    csv: &CsvArgs,
+    units: &UnitArgs,
+) -> Result<(Record, Option<(Origin, f64)>), String> {
+    let r = read_record(path, &names, csv, units)?;
+    let [u, y]: [Vec<f64>; 2] = r
+        .table
         .columns
         .try_into()
         .map_err(|_| "internal: two columns expected".to_string())?;
-    Ok(Record::new(u, y))
+    Ok((Record::new(u, y), r.ts))
 }
 
 /// The identification settings: the interval (given, from the knots or from the data), the
@@ -262,10 +272,20 @@ fn not_in_the_model_file(e: Effect) -> bool {
 /// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
 /// model file.
 pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
-    let est = record(&a.data, [&a.input_column, &a.output_column], &csv)?;
+    let units = a.units.units()?;
+    let (est, est_ts) = record(
+        &a.data,
+        [&a.input_column, &a.output_column],
+        &a.csv,
+        &a.units,
+    )?;
+    let mut stated: Vec<(Origin, f64)> = a
+        .units
+        .ts()?
+        .map(|v| (Origin::Flag, v))
+        .into_iter()
+        .collect();
+    stated.extend(est_ts);
     let val = match &a.validation {
         Some(path) => {
             let ic = a
@@ -276,10 +296,13 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
                 .validation_output_column
                 .as_ref()
                 .unwrap_or(&a.output_column);
-            Some(record(path, [ic, oc], &csv)?)
+            let (r, ts) = record(path, [ic, oc], &a.csv, &a.units)?;
+            stated.extend(ts);
+            Some(r)
         }
         None => None,
     };
+    let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
     let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
     let opts = options(a, identify_options(a, &records)?)?;
     let validation = match (val, &a.holdout) {
@@ -304,8 +327,10 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         outln!("wrote {}", path.display())?;
     }
     if let Some(path) = &a.model_out {
-        let summary = ModelSummary::of(&d.model, d.nonlinearity);
-        summary.model.save(path).map_err(|e| e.to_string())?;
+        let mut file = ModelSummary::of(&d.model, d.nonlinearity).model;
+        file.sample_time = ts;
+        file.units = units;
+        file.save(path).map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         let outside: Vec<&str> = d
             .steps

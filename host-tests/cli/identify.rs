@@ -1,5 +1,7 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
+mod records;
+
 use crate::failure::{Failure, outln};
 use std::path::{Path, PathBuf};
 
@@ -14,19 +16,25 @@ use hsid_host::refine::pem::PemFit;
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
 use hsid_host::refine::uncertainty::{border_std, fit_poles};
 use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
-use hsid_host::report::{fit_report, model_text};
+use hsid_host::report::{fit_report, model_text, std_text};
+use hsid_host::units::unit_report;
 
 use crate::args::{
-    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, read_uy,
+    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, UnitArgs,
 };
-use crate::locate;
+use records::Records;
 
 /// Arguments of `hsid identify`.
 #[derive(Args)]
 pub struct IdentifyArgs {
-    /// CSV file with a header (`-`: standard input).
-    #[arg(long)]
-    data: PathBuf,
+    /// CSV file with a header (`-`: standard input). Repeat it for several experiments on the
+    /// same plant (`--data a.csv --data b.csv`): they are joined in the order given and
+    /// identified as one record (--hold is the hold at the start of the first; later holds are
+    /// data). Joining is exact for a record split into files, and for experiments that each
+    /// end with a hold at u_min of at least --settle samples before the next starts at rest
+    /// there; a record that starts at u_min after one that does not end there is refused.
+    #[arg(long, required = true)]
+    data: Vec<PathBuf>,
     /// Lower end of the input interval.
     #[arg(long, allow_hyphen_values = true)]
     umin: f64,
@@ -60,8 +68,16 @@ pub struct IdentifyArgs {
     nonlinearity: NonlinearityArg,
     /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
     /// hold, μ0 is estimated with the model.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "detrend")]
     mu0: Option<f64>,
+    /// For data without a hold (`--hold 0`) whose output sits on an offset: subtract the mean
+    /// of y over all records before identifying (the mean is printed). The model then
+    /// describes y − mean(y): μ0 and the border values are shifted by −mean(y)/G(1) and the
+    /// poles are unchanged. With a hold, μ0 is measured by the hold and --detrend is refused.
+    #[arg(long)]
+    detrend: bool,
+    #[command(flatten)]
+    units: UnitArgs,
     /// Keep the subspace model as it is (the paper's estimator; with `--f 10 --p 10`, exactly
     /// the paper's). By default it is refined by the prediction-error method (plant, μ0,
     /// borders and noise model jointly) and, without `--order`, the order of the refined model
@@ -122,16 +138,30 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             .to_string()
             .into());
     }
-    let table = read_uy(&a.data, &a.columns, &a.csv)?;
-    let (u, y) = (&table.columns[0], &table.columns[1]);
-    if hold >= u.len() {
+    if a.detrend && hold > 0 {
         return Err(format!(
-            "{}: {} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
-            a.data.display(),
-            u.len()
+            "--detrend applies to data without a hold (--hold 0); with --hold {hold} μ0 is \
+             measured by the hold: drop --detrend or give --hold 0"
         )
         .into());
     }
+    let units = a.units.units()?;
+    let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
+    records.check_junctions(umin, a.hold.settle())?;
+    let first = records.parts().first().map_or(0, |p| p.0.len());
+    if hold >= first {
+        return Err(format!(
+            "{}: {first} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
+            records.first().display(),
+        )
+        .into());
+    }
+    if a.detrend {
+        let mean = records.y.iter().sum::<f64>() / records.y.len() as f64;
+        records.y.iter_mut().for_each(|v| *v -= mean);
+        outln!("detrended: subtracted the mean output {mean:.6} from y")?;
+    }
+    let (u, y) = (&records.u, &records.y);
     let opts = options(a)?;
     let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
     let choices = Choices {
@@ -153,8 +183,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         ..Choices::default()
     };
     let best = best_model(u, y, &opts, &choices).map_err(|e| match e {
-        ChooseError::Identify(e) => locate::sample_error(&a.data, &table.lines, &e),
-        e => format!("{}: {e}", a.data.display()),
+        ChooseError::Identify(e) => records.sample_error(&e),
+        e => format!("{}: {e}", records.first().display()),
     })?;
     for line in best.report() {
         outln!("{line}")?;
@@ -171,8 +201,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
                 "= 0 (not significant)"
             }
         )?;
-        let std = model_std(&fit);
-        (fit.model, Some(fit.noise), Some(std))
+        let (std, cov) = model_std(&fit);
+        (fit.model, Some(fit.noise), Some((std, cov)))
     } else {
         let model = best.model;
         // Remark 6 for the subspace model; without it only the simulation is reported.
@@ -182,30 +212,43 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         }
         (model, nf.ok().map(|f| f.model), None)
     };
-    report(&model, noise.as_ref(), u, y, hold)?;
+    report(&model, noise.as_ref(), &records.parts(), hold)?;
+    if let Some((s, _)) = &std {
+        outln!("{}", std_text(s))?;
+    }
+    let two_path = a.nonlinearity != NonlinearityArg::Static;
+    let cov = std.as_ref().map(|(_, c)| c.as_slice());
+    for line in unit_report(&model, records.ts, units.clone(), cov, two_path).lines() {
+        outln!("{line}")?;
+    }
     if let Some(path) = &a.out.json {
         let mut file = model.to_json(Some(a.nonlinearity.into()));
         file.noise = noise.as_ref().map(noise_file);
-        file.std = std;
+        file.std = std.map(|(s, _)| s);
+        file.sample_time = records.ts;
+        file.units = units;
         write(&file, path)?;
     }
     Ok(())
 }
 
-/// Prints the model, its simulation fit and, with a noise model, its prediction fit.
+/// Prints the model, its simulation fit and, with a noise model, its prediction fit; each
+/// record (`(u, y)` in `parts`) is simulated and predicted from rest on its own, the hold of
+/// the first left out of the fits.
 fn report(
     model: &HostModel,
     noise: Option<&NoiseModel>,
-    u: &[f64],
-    y: &[f64],
+    parts: &[(&[f64], &[f64])],
     hold: usize,
 ) -> Result<(), Failure> {
     outln!("{}", model_text(model))?;
-    let sim = model.simulate(u);
+    let y: Vec<f64> = parts.iter().flat_map(|p| p.1.iter().copied()).collect();
+    let sim: Vec<f64> = parts.iter().flat_map(|p| model.simulate(p.0)).collect();
     outln!("{}", fit_report(&y[hold..], &sim[hold..])?)?;
     if let Some(noise) = noise {
         outln!("{}", noise_text(noise))?;
-        let pred = InnovationForm::new(model, noise).predict(u, y);
+        let form = InnovationForm::new(model, noise);
+        let pred: Vec<f64> = parts.iter().flat_map(|p| form.predict(p.0, p.1)).collect();
         outln!(
             "{}",
             prediction_report(&y[hold..], &pred[hold..], noise.sigma2)?
@@ -229,29 +272,35 @@ pub fn noise_file(n: &NoiseModel) -> NoiseFile {
     }
 }
 
-/// Standard deviations of a refined model: each pole of the model paired with the nearest
-/// root of the refined denominator.
-fn model_std(fit: &PemFit) -> ModelStd {
+/// Standard deviations of a refined model, and the covariance of each pole's `(re, im)`: each
+/// pole of the model paired with the nearest root of the refined denominator.
+fn model_std(fit: &PemFit) -> (ModelStd, Vec<[[f64; 2]; 2]>) {
     let roots = fit_poles(fit);
-    let poles = fit
+    let nearest: Vec<_> = fit
         .model
         .poles()
         .into_iter()
         .map(|(re, im)| {
-            roots
-                .iter()
-                .min_by(|a, b| {
-                    let d = |p: (f64, f64)| (p.0 - re).hypot(p.1 - im);
-                    d(a.pole).total_cmp(&d(b.pole))
-                })
-                .map_or([f64::NAN; 2], |r| [r.std.0, r.std.1])
+            roots.iter().min_by(|a, b| {
+                let d = |p: (f64, f64)| (p.0 - re).hypot(p.1 - im);
+                d(a.pole).total_cmp(&d(b.pole))
+            })
         })
         .collect();
+    let poles = nearest
+        .iter()
+        .map(|r| r.map_or([f64::NAN; 2], |r| [r.std.0, r.std.1]))
+        .collect();
+    let cov = nearest
+        .iter()
+        .map(|r| r.map_or([[f64::NAN; 2]; 2], |r| r.cov))
+        .collect();
     let (asc, desc) = border_std(fit);
-    ModelStd {
+    let std = ModelStd {
         poles,
         mu0: asc.first().copied().unwrap_or(f64::NAN),
         border_asc: asc,
         border_desc: desc,
-    }
+    };
+    (std, cov)
 }

@@ -7,14 +7,15 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use hsid_host::identify::HostModel;
 use hsid_host::io::{CsvOptions, read_source, write_columns_to};
-use hsid_host::model_file::ModelFile;
+use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::NoiseModel;
 use hsid_host::simulate::{
     Colour, InputRecord, Level, ModelNoise, ModelOptions, Output, PlantSpec, header, read_input,
     simulate_model, simulate_plant,
 };
+use hsid_host::units::{Origin, resolve_ts, ts_from_column};
 
-use crate::args::CsvArgs;
+use crate::args::{CsvArgs, UnitArgs};
 
 /// Arguments of `hsid simulate`.
 #[derive(Args)]
@@ -31,11 +32,14 @@ pub struct SimulateArgs {
     /// Input column name.
     #[arg(long, default_value = "u")]
     input_column: String,
-    /// Time column name, passed through and checked increasing when the file has it.
-    #[arg(long, default_value = "t")]
-    time_column: String,
     #[command(flatten)]
     csv: CsvArgs,
+    /// Sample time and units, written to the output's header. With --plant, --ts is the
+    /// specification's `ts` when it has none and must agree with it when it has one; with
+    /// --model, they must agree with the model file's. A time column of the input is passed
+    /// through and must be uniform with the same step.
+    #[command(flatten)]
+    units: UnitArgs,
     /// Model only: output noise at this SNR (dB) over the record.
     #[arg(
         long,
@@ -90,17 +94,38 @@ type Run = ((InputRecord, Output), Vec<String>);
 
 fn plant(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, String> {
     let (name, text) = read_source(path).map_err(|e| e.to_string())?;
-    let spec = PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", name.display()))?;
-    let input =
-        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let mut spec =
+        PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", name.display()))?;
+    let input = input(a, csv)?;
+    // The specification's own check names its field when `ts` is not positive.
+    let stored = spec.ts.map(|v| (Origin::PlantSpec(name.clone()), v));
+    spec.ts = sample_time(a, stored, &input)?;
+    let given = a.units.units()?;
+    let spec_units = spec.units.as_ref();
+    let (ui, uo) = match (&given, spec_units) {
+        (Some(g), Some(s)) => {
+            for (flag, f, v) in [
+                ("--input-unit", &g.input, &s.input),
+                ("--output-unit", &g.output, &s.output),
+            ] {
+                if v.as_ref().is_some_and(|v| v != f) {
+                    return Err(format!(
+                        "{flag} {f} disagrees with the units of {}; drop the flag or make them agree",
+                        name.display()
+                    ));
+                }
+            }
+            (Some(g.input.clone()), Some(g.output.clone()))
+        }
+        (Some(g), None) => (Some(g.input.clone()), Some(g.output.clone())),
+        (None, s) => (
+            s.and_then(|u| u.input.clone()),
+            s.and_then(|u| u.output.clone()),
+        ),
+    };
     let out =
         simulate_plant(&spec, &input.u, a.seed).map_err(|e| format!("{}: {e}", name.display()))?;
-    let units = spec.units.as_ref();
-    let lines = header(
-        spec.ts,
-        units.and_then(|u| u.input.as_deref()),
-        units.and_then(|u| u.output.as_deref()),
-    );
+    let lines = header(spec.ts, ui.as_deref(), uo.as_deref());
     Ok(((input, out), lines))
 }
 
@@ -129,17 +154,59 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         extrapolate: a.extrapolate,
         noise,
     };
-    let input =
-        read_input(&a.input, &a.input_column, &a.time_column, csv).map_err(|e| e.to_string())?;
+    let input = input(a, csv)?;
+    let stored = file
+        .sample_time
+        .map(|v| (Origin::ModelFile(path.clone()), v));
+    let ts = sample_time(a, stored, &input)?;
+    let units: Option<Units> = a.units.units_with(file.units.clone(), path)?;
     let out = simulate_model(&model, noise_model.as_ref(), &input, &opts)
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let units = file.units.as_ref();
+    let units = units.as_ref();
     let lines = header(
-        file.sample_time,
+        ts,
         units.map(|u| u.input.as_str()),
         units.map(|u| u.output.as_str()),
     );
     Ok(((input, out), lines))
+}
+
+/// The input record, with its time column when it has one (or it was named: then it must).
+fn input(a: &SimulateArgs, csv: &CsvOptions) -> Result<InputRecord, String> {
+    let (time, named) = a.units.time_column();
+    let input = read_input(&a.input, &a.input_column, time, csv).map_err(|e| e.to_string())?;
+    if named && input.t.is_none() {
+        return Err(format!(
+            "{}: no time column {time} (--time-column); drop the flag or name the column",
+            input.source.display()
+        ));
+    }
+    Ok(input)
+}
+
+/// The one sample time of `--ts`, the specification or model file (`stored`) and the input's
+/// time column (checked uniform).
+fn sample_time(
+    a: &SimulateArgs,
+    stored: Option<(Origin, f64)>,
+    input: &InputRecord,
+) -> Result<Option<f64>, String> {
+    let column = match &input.t {
+        Some(t) => Some((
+            Origin::TimeColumn(input.source.clone()),
+            ts_from_column(input.source.clone(), t, &input.lines).map_err(|e| e.to_string())?,
+        )),
+        None => None,
+    };
+    let stated: Vec<(Origin, f64)> = a
+        .units
+        .ts()?
+        .map(|v| (Origin::Flag, v))
+        .into_iter()
+        .chain(stored)
+        .chain(column)
+        .collect();
+    resolve_ts(&stated).map_err(|e| e.to_string())
 }
 
 /// Writes the header comments and the columns `t` (when read), `u`, `y` and `y_clean` (on

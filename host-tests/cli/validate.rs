@@ -6,12 +6,14 @@ use std::path::PathBuf;
 use clap::Args;
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::ModelFile;
+use hsid_host::model_file::NonlinearityKind;
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
+use hsid_host::units::{Origin, resolve_ts, unit_report};
 
-use crate::args::{Columns, CsvArgs, read_uy};
+use crate::args::{Columns, CsvArgs, UnitArgs, read_uy};
 
 /// Arguments of `hsid validate`.
 #[derive(Args)]
@@ -33,6 +35,10 @@ pub struct ValidateArgs {
     /// model file's own `noise` (default: the model file's, when it has one).
     #[arg(long)]
     noise: Option<PathBuf>,
+    /// Sample time and units: taken from the model file; a flag given as well must agree
+    /// with it (and with the record's time column).
+    #[command(flatten)]
+    units: UnitArgs,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
@@ -59,7 +65,21 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     };
     let noise = given.or(own);
     let m = HostModel::from_json(&file);
-    let table = read_uy(&a.data, &a.columns, &a.csv)?;
+    let units = a.units.units_with(file.units.clone(), &a.model)?;
+    let record = read_uy(&a.data, &a.columns, &a.csv, &a.units)?;
+    let stated: Vec<(Origin, f64)> = a
+        .units
+        .ts()?
+        .map(|v| (Origin::Flag, v))
+        .into_iter()
+        .chain(
+            file.sample_time
+                .map(|v| (Origin::ModelFile(a.model.clone()), v)),
+        )
+        .chain(record.ts)
+        .collect();
+    let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
+    let table = record.table;
     let (u, y) = (&table.columns[0], &table.columns[1]);
     let skip = a.skip;
     if skip >= u.len() {
@@ -82,6 +102,21 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
             "{}",
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
         )?;
+    }
+    // The file keeps the standard deviations of re and im of each pole, not their
+    // correlation: taken as uncorrelated.
+    let cov: Option<Vec<[[f64; 2]; 2]>> = file.std.as_ref().map(|s| {
+        s.poles
+            .iter()
+            .map(|[a, b]| [[a * a, 0.0], [0.0, b * b]])
+            .collect()
+    });
+    if cov.is_some() {
+        outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
+    }
+    let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
+    for line in unit_report(&m, ts, units, cov.as_deref(), two_path).lines() {
+        outln!("{line}")?;
     }
     Ok(())
 }

@@ -17,3 +17,4 @@ pub mod refine;
 pub mod report;
 pub mod sim;
 pub mod simulate;
+pub mod units;

@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use crate::identify::HostModel;
+use crate::model_file::ModelStd;
 
 /// Normalised RMSE and fit in percent of a simulation against measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,4 +83,14 @@ pub fn model_text(m: &HostModel) -> String {
     let _ = writeln!(s, "descending knots: {}", row(&m.knots_desc));
     let _ = write!(s, "P_d at knots    : {}", row(&m.border_desc));
     s
+}
+
+/// The standard deviations of a refined model's μ0 and border values, as text.
+pub fn std_text(s: &ModelStd) -> String {
+    format!(
+        "std of mu0 = {:.6}\nstd of P_a at knots: {}\nstd of P_d at knots: {}",
+        s.mu0,
+        row(&s.border_asc),
+        row(&s.border_desc)
+    )
 }

@@ -306,9 +306,12 @@ fn identify_reads_other_column_names() {
     let dir = Scratch::new("columns");
     let e = noisy();
     let path = dir.join("data.csv");
-    write_columns(&path, &["t", "cmd", "meas"], &[&e.u, &e.u, &e.y]).unwrap();
+    // A time column `t` is read too (uniform, so it gives the sample time).
+    let t: Vec<f64> = (0..e.u.len()).map(|k| 0.5 * k as f64).collect();
+    write_columns(&path, &["t", "cmd", "meas"], &[&t, &e.u, &e.y]).unwrap();
     let run = identify(&path, &["--input-column", "cmd", "--output-column", "meas"]).success();
     assert!(run.stdout.contains("order n = 2"), "{}", run.stdout);
+    assert!(run.stdout.contains("sample time 0.5 s"), "{}", run.stdout);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -342,3 +342,12 @@ fn the_schema_accepts_the_file_and_refuses_what_the_reader_refuses() {
         assert!(ModelFile::from_json_str("m.json", &text).is_err(), "{text}");
     }
 }
+
+#[test]
+fn an_empty_unit_name_is_refused_naming_the_field() {
+    let text = json_with(|m| drop(m.insert("units".into(), json!({"input": "", "output": "deg"}))));
+    let e = ModelFile::from_json_str("m.json", &text)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("units") && e.contains("empty unit name"), "{e}");
+}

@@ -21,6 +21,14 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
     {
         return Err(bad("sample_time", format!("{t} is not a positive number")));
     }
+    if let Some(u) = &m.units
+        && (u.input.trim().is_empty() || u.output.trim().is_empty())
+    {
+        return Err(bad(
+            "units",
+            "an empty unit name; give both (e.g. \"V\") or null".to_string(),
+        ));
+    }
     noise(m, &bad)?;
     std(m, &bad)
 }

@@ -1,0 +1,124 @@
+//! Several experiments read for one identification: each record's columns, their sample
+//! time checked against `--ts` and each other, and sample positions mapped back to files.
+
+use std::path::{Path, PathBuf};
+
+use hsid::Error;
+use hsid_host::identify::IdentifyError;
+use hsid_host::units::{Origin, resolve_ts};
+
+use crate::args::{Columns, CsvArgs, UnitArgs, read_uy};
+use crate::locate;
+
+/// The records of one identification, concatenated in the order given.
+pub struct Records {
+    /// The files.
+    pub paths: Vec<PathBuf>,
+    /// Index of each record's first sample in `u` and `y`.
+    pub starts: Vec<usize>,
+    /// The 1-based line of each record's rows in its file.
+    pub lines: Vec<Vec<usize>>,
+    /// All inputs.
+    pub u: Vec<f64>,
+    /// All outputs.
+    pub y: Vec<f64>,
+    /// The sample time, from `--ts` and the records' time columns, when known.
+    pub ts: Option<f64>,
+}
+
+impl Records {
+    /// Reads every file of `paths`; the sample times stated by `--ts` and by the time columns
+    /// must agree.
+    pub fn read(
+        paths: &[PathBuf],
+        columns: &Columns,
+        csv: &CsvArgs,
+        units: &UnitArgs,
+    ) -> Result<Self, String> {
+        let mut stated: Vec<(Origin, f64)> =
+            units.ts()?.map(|v| (Origin::Flag, v)).into_iter().collect();
+        let mut r = Records {
+            paths: paths.to_vec(),
+            starts: Vec::new(),
+            lines: Vec::new(),
+            u: Vec::new(),
+            y: Vec::new(),
+            ts: None,
+        };
+        for path in paths {
+            let rec = read_uy(path, columns, csv, units)?;
+            stated.extend(rec.ts);
+            let mut cols = rec.table.columns.into_iter();
+            r.starts.push(r.u.len());
+            r.u.extend(cols.next().unwrap_or_default());
+            r.y.extend(cols.next().unwrap_or_default());
+            r.lines.push(rec.table.lines);
+        }
+        r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
+        Ok(r)
+    }
+
+    /// Checks that the records join without mixing: a record that starts at `u_min` (with a
+    /// hold, the plant at rest) must follow one that ends with at least `settle` samples (at
+    /// least one) at `u_min`, where the plant has come to rest too; otherwise the settling at
+    /// the end of the one would be read as the rest of the other. A record that starts
+    /// elsewhere is taken as the continuation of the one before (a record split into files).
+    pub fn check_junctions(&self, u_min: f64, settle: usize) -> Result<(), String> {
+        let parts = self.parts();
+        for (k, pair) in parts.windows(2).enumerate() {
+            let (before, after) = (pair[0].0, pair[1].0);
+            if after.first() != Some(&u_min) {
+                continue;
+            }
+            let tail = settle.max(1).min(before.len());
+            if before[before.len() - tail..].iter().any(|&v| v != u_min) {
+                return Err(format!(
+                    "{} starts at rest at u_min = {u_min} but {} does not end with {tail} samples \
+                     (the settling, --settle) at u_min: joined, the plant's settling after the one \
+                     would be read as the rest of the other; end each experiment with a hold at \
+                     u_min or record them in one file",
+                    self.paths[k + 1].display(),
+                    self.paths[k].display()
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The samples of each record, `(u, y)`.
+    pub fn parts(&self) -> Vec<(&[f64], &[f64])> {
+        let ends = self.starts.iter().skip(1).copied().chain([self.u.len()]);
+        self.starts
+            .iter()
+            .zip(ends)
+            .map(|(&a, b)| (&self.u[a..b], &self.y[a..b]))
+            .collect()
+    }
+
+    /// The record holding sample `index` of the concatenation.
+    fn record_of(&self, index: usize) -> usize {
+        self.starts.iter().rposition(|&s| s <= index).unwrap_or(0)
+    }
+
+    /// The first file's name, for errors about the records as a whole.
+    pub fn first(&self) -> &Path {
+        self.paths.first().map_or(Path::new("-"), PathBuf::as_path)
+    }
+
+    /// A core error about one sample as a position in the file it came from.
+    pub fn sample_error(&self, e: &IdentifyError) -> String {
+        let index = match e {
+            IdentifyError::Core(
+                Error::NonFinite { index, .. }
+                | Error::InputOutOfRange { index, .. }
+                | Error::HoldNotAtMin { index, .. },
+            ) => usize::try_from(*index).unwrap_or(usize::MAX),
+            _ => 0,
+        };
+        let k = self.record_of(index);
+        // Lines of the record k placed at its offset in the concatenation.
+        let mut lines = vec![0; self.starts[k]];
+        lines.extend(&self.lines[k]);
+        locate::sample_error(&self.paths[k], &lines, e)
+    }
+}

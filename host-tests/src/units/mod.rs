@@ -1,0 +1,22 @@
+//! The sample time and units of a record, and the identified model read in them.
+//!
+//! * [`time`]: the sample time from `--ts`, a time column, a model file or a plant
+//!   specification, checked positive, uniform and consistent between its sources.
+//! * [`poles`]: each discrete pole's continuous-time equivalent `s = ln(z)/ts` (time constant,
+//!   natural frequency and damping), with first-order standard deviations.
+//! * [`gain`]: the static gains and the −3 dB bandwidth of the linear part.
+//! * [`gap`]: the backlash gap (play) and the loop height of a two-path element as functions of
+//!   u, by the definitions of the firmware's `Model::gap_at` and `Model::loop_height`.
+//! * [`report`]: all of it as one [`UnitReport`], printed by `identify` and `validate`.
+//!
+//! Without a sample time the same numbers are given per sample (time constants in samples,
+//! frequencies in rad/sample), and labelled so.
+
+pub mod gain;
+pub mod gap;
+pub mod poles;
+pub mod report;
+pub mod time;
+
+pub use report::{GapAt, UnitReport, unit_report};
+pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column};

@@ -1,0 +1,249 @@
+//! The model read in the record's sample time and units: one [`UnitReport`], as text lines
+//! and as JSON.
+
+use std::f64::consts::PI;
+use std::fmt::Write;
+
+use hsid::Direction;
+use serde::Serialize;
+
+use super::gain::{bandwidth, cascade_gain, lti_gain};
+use super::gap::{gap_at, loop_height};
+use super::poles::{ContinuousPole, Estimate, Mode, continuous_pole};
+use crate::identify::HostModel;
+use crate::model_file::Units;
+
+/// Interior points (of `GAP_POINTS + 1` equal parts of `[u_min, u_max]`) at which the gap is
+/// reported.
+pub const GAP_POINTS: usize = 5;
+
+/// The gap and loop height at one input value.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GapAt {
+    /// The input value.
+    pub u: f64,
+    /// The play after arriving at `u` on the descending path (input units).
+    pub after_descent: Option<f64>,
+    /// The play after arriving at `u` on the ascending path (input units).
+    pub after_ascent: Option<f64>,
+    /// `G(1) (P_d(u) − P_a(u))`: the steady-state output difference between the two paths
+    /// (output units).
+    pub loop_height: f64,
+}
+
+/// The model in the record's sample time and units.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct UnitReport {
+    /// Sample time in seconds; `None`: the numbers are per sample.
+    pub ts: Option<f64>,
+    /// Units of the input and output, when known.
+    pub units: Option<Units>,
+    /// Each pole's continuous-time reading (time constants in s, frequencies in rad/s; per
+    /// sample without a sample time), one entry per complex pair.
+    pub poles: Vec<ContinuousPole>,
+    /// −3 dB bandwidth of the linear part in rad/s (rad/sample without a sample time).
+    pub bandwidth: Option<f64>,
+    /// Static gain of the linear part, `G(1)`.
+    pub lti_gain: f64,
+    /// Static gain of the cascade, output units per input unit.
+    pub cascade_gain: f64,
+    /// The gap at [`GAP_POINTS`] inputs across the interval (two-path elements only).
+    pub gap: Vec<GapAt>,
+    /// The mean of the defined gaps in `gap`, both directions (input units).
+    pub mean_gap: Option<f64>,
+}
+
+/// The report of model `m`; `pole_cov` holds the covariance of `(re, im)` of each pole of
+/// `m.poles()` when the model was refined; `two_path` is false for a static element (no gap).
+pub fn unit_report(
+    m: &HostModel,
+    ts: Option<f64>,
+    units: Option<Units>,
+    pole_cov: Option<&[[[f64; 2]; 2]]>,
+    two_path: bool,
+) -> UnitReport {
+    let scale = ts.unwrap_or(1.0);
+    let poles = m
+        .poles()
+        .into_iter()
+        .enumerate()
+        .filter_map(|(i, z)| continuous_pole(z, pole_cov.and_then(|c| c.get(i).copied()), scale))
+        .collect();
+    let g = lti_gain(m);
+    let (lo, hi) = (m.u_min(), m.u_max());
+    let gap: Vec<GapAt> = if two_path {
+        (1..=GAP_POINTS)
+            .map(|k| {
+                let u = lo + (hi - lo) * k as f64 / (GAP_POINTS + 1) as f64;
+                GapAt {
+                    u,
+                    after_descent: gap_at(m, Direction::Descending, u),
+                    after_ascent: gap_at(m, Direction::Ascending, u),
+                    loop_height: g * loop_height(m, u),
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let defined: Vec<f64> = gap
+        .iter()
+        .flat_map(|g| [g.after_descent, g.after_ascent])
+        .flatten()
+        .collect();
+    UnitReport {
+        ts,
+        units,
+        poles,
+        bandwidth: bandwidth(m).map(|w| w / scale),
+        lti_gain: g,
+        cascade_gain: cascade_gain(m),
+        mean_gap: (!defined.is_empty()).then(|| defined.iter().sum::<f64>() / defined.len() as f64),
+        gap,
+    }
+}
+
+fn pm(e: &Estimate) -> String {
+    match e.std {
+        Some(s) => format!("{:.5} ± {s:.5}", e.value),
+        None => format!("{:.5}", e.value),
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or_else(|| "none".to_string(), |v| format!("{v:.5}"))
+}
+
+impl UnitReport {
+    /// The report as text lines.
+    pub fn lines(&self) -> Vec<String> {
+        let (time, freq) = if self.ts.is_some() {
+            ("s", "rad/s")
+        } else {
+            ("samples", "rad/sample")
+        };
+        let (u_unit, y_unit) = self
+            .units
+            .as_ref()
+            .map_or(("input unit", "output unit"), |u| {
+                (u.input.as_str(), u.output.as_str())
+            });
+        let mut out = vec![match self.ts {
+            Some(ts) => format!("sample time {ts} s ({:.6} Hz)", 1.0 / ts),
+            None => "no sample time (give --ts or a time column): time constants in samples, frequencies in rad/sample".to_string(),
+        }];
+        let hz = |w: f64| {
+            self.ts
+                .map(|_| format!(" = {:.5} Hz", w / (2.0 * PI)))
+                .unwrap_or_default()
+        };
+        for p in &self.poles {
+            let mut s = format!("pole {:.5}{:+.5}j: ", p.z.0, p.z.1);
+            let _ = match &p.mode {
+                Mode::Real { tau } => write!(s, "time constant {} {time}", pm(tau)),
+                Mode::Complex { wn, zeta } => write!(
+                    s,
+                    "pair with natural frequency {} {freq}{}, damping {}",
+                    pm(wn),
+                    hz(wn.value),
+                    pm(zeta)
+                ),
+                Mode::NoEquivalent => {
+                    write!(s, "real and not positive: no continuous-time equivalent")
+                }
+                Mode::NotDecaying => {
+                    write!(s, "on or outside the unit circle: not a decaying mode")
+                }
+            };
+            out.push(s);
+        }
+        if self.poles.iter().any(has_std) {
+            out.push("± : standard deviations to first order (delta method) from the refinement's pole covariance".to_string());
+        }
+        out.push(match self.bandwidth {
+            Some(w) => format!(
+                "bandwidth (-3 dB) of the linear part: {w:.5} {freq}{}",
+                hz(w)
+            ),
+            None => "bandwidth (-3 dB) of the linear part: above the Nyquist frequency".to_string(),
+        });
+        out.push(format!(
+            "static gain: linear part {:.5}, cascade {:.5} {y_unit} per {u_unit}",
+            self.lti_gain, self.cascade_gain
+        ));
+        for g in &self.gap {
+            out.push(format!(
+                "gap at u = {:.5} {u_unit}: {} after a descent, {} after an ascent ({u_unit}); loop height {:.5} {y_unit}",
+                g.u,
+                opt(g.after_descent),
+                opt(g.after_ascent),
+                g.loop_height
+            ));
+        }
+        if let Some(m) = self.mean_gap {
+            out.push(format!("mean gap {m:.5} {u_unit}"));
+        }
+        out
+    }
+}
+
+fn has_std(p: &ContinuousPole) -> bool {
+    match &p.mode {
+        Mode::Real { tau } => tau.std.is_some(),
+        Mode::Complex { wn, .. } => wn.std.is_some(),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::units::gain::tests::first_order;
+
+    #[test]
+    fn a_first_order_backlash_model_in_seconds_and_volts() {
+        // z = 0.9 at ts = 0.01 s: τ = −0.01/ln 0.9 = 0.0949122 s. Borders on knots −1, 0, 1:
+        // P_a = (−2.5, −0.5, 1.5), P_d = (−1.5, 0.5, 2.5): gap 0.5 wherever both are defined.
+        let m = first_order(0.9, 0.1, vec![-2.5, -0.5, 1.5], vec![-1.5, 0.5, 2.5]);
+        let units = Units {
+            input: "V".into(),
+            output: "deg".into(),
+        };
+        let r = unit_report(&m, Some(0.01), Some(units), None, true);
+        let Mode::Real { tau } = r.poles[0].mode else {
+            unreachable!()
+        };
+        assert!((tau.value - 0.094_912_2).abs() < 1e-7, "{tau:?}");
+        // Bandwidth ω = acos(1.79/1.8) rad/sample = 10.5458 rad/s.
+        assert!((r.bandwidth.unwrap() - (1.79f64 / 1.8).acos() / 0.01).abs() < 1e-6);
+        assert!((r.mean_gap.unwrap() - 0.5).abs() < 1e-12);
+        assert_eq!(r.gap.len(), GAP_POINTS);
+        // Loop height 1 in element units times G(1) = 1; cascade gain: slope 2 times 1.
+        assert!((r.gap[2].loop_height - 1.0).abs() < 1e-12);
+        assert!((r.cascade_gain - 2.0).abs() < 1e-12);
+        let text = r.lines().join("\n");
+        assert!(text.contains("time constant 0.09491 s"), "{text}");
+        assert!(
+            text.contains("deg per V") && text.contains("mean gap 0.50000 V"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn without_a_sample_time_the_numbers_are_per_sample() {
+        let m = first_order(0.9, 0.1, vec![-1.0, 1.0], vec![-1.0, 1.0]);
+        // dτ/dz = 1/(0.9 ln²0.9) = 100.0921 samples per unit of z; σ_z = 1e-3.
+        let r = unit_report(&m, None, None, Some(&[[[1e-6, 0.0], [0.0, 0.0]]]), false);
+        let text = r.lines().join("\n");
+        assert!(
+            text.contains("time constant 9.49122 ± 0.10009 samples"),
+            "{text}"
+        );
+        assert!(
+            text.contains("rad/sample") && !text.contains("Hz"),
+            "{text}"
+        );
+        assert!(r.gap.is_empty() && r.mean_gap.is_none());
+    }
+}
