@@ -73,6 +73,8 @@ pub struct IdentifyArgs {
     refine: bool,
     #[command(flatten)]
     out: ModelOut,
+    #[command(flatten)]
+    figures: crate::figures::FigureArgs,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -156,6 +158,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         ChooseError::Identify(e) => locate::sample_error(&a.data, &table.lines, &e),
         e => format!("{}: {e}", a.data.display()),
     })?;
+    crate::figures::identify(&a.figures, &best, u, y, hold)?;
     for line in best.report() {
         outln!("{line}")?;
     }

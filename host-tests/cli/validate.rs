@@ -33,6 +33,8 @@ pub struct ValidateArgs {
     /// model file's own `noise` (default: the model file's, when it has one).
     #[arg(long)]
     noise: Option<PathBuf>,
+    #[command(flatten)]
+    figures: crate::figures::FigureArgs,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
@@ -74,6 +76,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         )
         .into());
     }
+    crate::figures::validate(&a.figures, &file, &m, u, y, skip)?;
     let sim = m.simulate(u);
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     if let Some(nm) = noise {
