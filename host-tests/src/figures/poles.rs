@@ -1,6 +1,8 @@
 //! Poles of the LTI part in the z-plane with the unit circle and, when the uncertainty is
 //! known, the 2σ ellipse of each pole: `{p + 2 L (cos φ, sin φ)}` with `L Lᵀ` the 2 × 2
-//! covariance of `(re, im)` (a segment along the real axis for a real pole).
+//! covariance of `(re, im)` (a segment along the real axis for a real pole). Ellipses are
+//! usually far smaller than the unit circle, so each pole on or above the real axis (the
+//! others are their mirror images) also gets a zoomed figure, `poles-zoom-K.svg`, K from 1.
 
 use super::csv::{Table, save_svg};
 use super::error::FigureError;
@@ -89,6 +91,7 @@ pub(super) fn write(cx: &Context, out: &mut Written) -> Result<(), FigureError> 
         e.col("pole (0-based row of poles.csv)", idx);
         e.col("re", ex).col("im", ey);
         out.files.push(e.save(cx.dir, "poles-ellipses")?);
+        zooms(cx, &poles, covs, out)?;
     }
     let r = 1.1 * extent;
     fig = fig.x_range(-r, r).y_range(-r, r);
@@ -102,6 +105,69 @@ pub(super) fn write(cx: &Context, out: &mut Written) -> Result<(), FigureError> 
     );
     out.files.push(table.save(cx.dir, "poles")?);
     out.files.push(save_svg(&fig, cx.dir, "poles")?);
+    Ok(())
+}
+
+/// One zoomed figure per pole with `im >= 0`: the pole, its ellipse, and the unit circle
+/// when it passes by.
+fn zooms(
+    cx: &Context,
+    poles: &[(f64, f64)],
+    covs: &[[[f64; 2]; 2]],
+    out: &mut Written,
+) -> Result<(), FigureError> {
+    let upper = poles.iter().zip(covs).filter(|(p, _)| p.1 >= 0.0);
+    for (k, (p, cov)) in upper.enumerate() {
+        let pts = ellipse(*p, *cov);
+        let half = pts.iter().fold(0.0f64, |m, q| {
+            m.max((q.0 - p.0).abs()).max((q.1 - p.1).abs())
+        });
+        let r = if half > 0.0 { 1.6 * half } else { 0.01 };
+        let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
+        let arc: Vec<(f64, f64)> = (0..=2000)
+            .map(|i| {
+                let phi = 2.0 * std::f64::consts::PI * i as f64 / 2000.0;
+                (phi.cos(), phi.sin())
+            })
+            .filter(|q| (q.0 - p.0).abs() < 2.0 * r && (q.1 - p.1).abs() < 2.0 * r)
+            .collect();
+        let (ax, ay): (Vec<f64>, Vec<f64>) = arc.into_iter().unzip();
+        let fig = Figure::new(format!(
+            "Pole {:.4} {} {:.4}j with its 2σ ellipse",
+            p.0,
+            if p.1 < 0.0 { '−' } else { '+' },
+            p.1.abs()
+        ))
+        .x_label("Re z")
+        .y_label("Im z")
+        .equal_aspect(true)
+        .x_range(p.0 - r, p.0 + r)
+        .y_range(p.1 - r, p.1 + r)
+        .with(
+            Series::line(&ax, &ay)
+                .color("#888888")
+                .width(1.0)
+                .class("unit-circle")
+                .label("|z| = 1"),
+        )
+        .with(
+            Series::line(&x, &y)
+                .color(PALETTE[1])
+                .width(1.6)
+                .class("ellipse")
+                .label("2σ ellipse"),
+        )
+        .with(
+            Series::scatter(&[p.0], &[p.1], Marker::Cross)
+                .color(PALETTE[0])
+                .size(6.0)
+                .width(2.2)
+                .class("poles")
+                .label("pole"),
+        );
+        out.files
+            .push(save_svg(&fig, cx.dir, &format!("poles-zoom-{}", k + 1))?);
+    }
     Ok(())
 }
 

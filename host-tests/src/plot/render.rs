@@ -114,8 +114,7 @@ impl Figure {
                         }
                     }
                     if !d.is_empty() {
-                        let _ =
-                            writeln!(
+                        let _ = writeln!(
                             s,
                             "{}",
                             marker_element(&d, *marker, &color, series.width, &class)
