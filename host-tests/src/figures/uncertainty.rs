@@ -9,6 +9,9 @@ use crate::numerics::poly::eval_w;
 use crate::refine::pem::PemFit;
 use crate::refine::uncertainty::{border_std_on_grid, fit_poles};
 
+/// Covariance of `(re, im)` of a pole.
+pub type Cov2 = [[f64; 2]; 2];
+
 /// The source of a model's uncertainty.
 #[derive(Debug, Clone, Copy)]
 pub enum Uncertainty<'a> {
@@ -58,8 +61,8 @@ impl<'a> Uncertainty<'a> {
 
     /// The 2 × 2 covariance of `(re, im)` of each pole in `poles` (each paired with the
     /// nearest pole of the source).
-    pub fn pole_covariances(&self, poles: &[(f64, f64)]) -> Option<Vec<[[f64; 2]; 2]>> {
-        let known: Vec<((f64, f64), [[f64; 2]; 2])> = match self {
+    pub fn pole_covariances(&self, poles: &[(f64, f64)]) -> Option<Vec<Cov2>> {
+        let known: Vec<((f64, f64), Cov2)> = match self {
             Self::Refined(fit) => fit_poles(fit).iter().map(|p| (p.pole, p.cov)).collect(),
             Self::Stored(file) => {
                 let std = file.std.as_ref()?;
