@@ -34,7 +34,7 @@ mod uncertainty;
 use std::path::{Path, PathBuf};
 
 pub use error::FigureError;
-pub use partial::{departures, impulse_response};
+pub use partial::{MIN_ENERGY, departures, impulse_response};
 pub use settings::{FigureSettings, TrueBorders};
 pub use uncertainty::Uncertainty;
 
