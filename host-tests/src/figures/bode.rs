@@ -2,7 +2,7 @@
 //! uncertainty source has the parameter covariance. The first row of the CSV is `ω = 0`, the
 //! static gain (left out of the log-frequency figures).
 
-use super::csv::{Table, save_svg};
+use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
 use super::{Context, Written};
 use crate::plot::{Figure, PALETTE, Series};
@@ -75,7 +75,7 @@ pub(super) fn write(cx: &Context, out: &mut Written) -> Result<(), FigureError> 
                     .color(PALETTE[0])
                     .opacity(0.3)
                     .class("band")
-                    .label("±2σ"),
+                    .label(band_label("", &sd, if pick == 0 { " dB" } else { "°" })),
             );
             table.col(format!("{col} - 2sd"), lo);
             table.col(format!("{col} + 2sd"), hi);

@@ -6,7 +6,7 @@
 
 use hsid::Direction;
 
-use super::csv::{Table, save_svg};
+use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
 use super::partial::{departures, impulse_response};
 use super::{Context, Record, Written};
@@ -89,7 +89,7 @@ pub(super) fn write(cx: &Context, out: &mut Written) -> Result<(), FigureError> 
                     .color(color)
                     .opacity(0.3)
                     .class(name)
-                    .label(format!("{col} ±2σ")),
+                    .label(band_label(col, sd, "")),
             );
             table.col(s.output(&format!("{col} - 2sd")), lo);
             table.col(s.output(&format!("{col} + 2sd")), hi);
