@@ -58,6 +58,13 @@ fn two_digits(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
+/// Writes `DIR/STEM.svg`.
+pub(super) fn save_svg(fig: &Figure, dir: &Path, stem: &str) -> Result<PathBuf, FigureError> {
+    let path = dir.join(format!("{stem}.svg"));
+    fig.save(&path)?;
+    Ok(path)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -75,11 +82,4 @@ mod tests {
         assert_eq!(band_label("P_d", &[0.0], ""), "P_d ±2σ");
         assert_eq!(band_label("", &[1e-14, 0.5], "°"), "±2σ: 1.0 to 1.0°");
     }
-}
-
-/// Writes `DIR/STEM.svg`.
-pub(super) fn save_svg(fig: &Figure, dir: &Path, stem: &str) -> Result<PathBuf, FigureError> {
-    let path = dir.join(format!("{stem}.svg"));
-    fig.save(&path)?;
-    Ok(path)
 }
