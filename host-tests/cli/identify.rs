@@ -89,6 +89,8 @@ pub struct IdentifyArgs {
     refine: bool,
     #[command(flatten)]
     out: ModelOut,
+    #[command(flatten)]
+    figures: crate::figures::FigureArgs,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -186,6 +188,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         ChooseError::Identify(e) => records.sample_error(&e),
         e => format!("{}: {e}", records.first().display()),
     })?;
+    let record = hsid_host::figures::Record { u, y, skip: hold };
+    let figures = crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?;
     for line in best.report() {
         outln!("{line}")?;
     }
@@ -228,6 +232,9 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         file.sample_time = records.ts;
         file.units = units;
         write(&file, path)?;
+    }
+    for line in figures {
+        outln!("{line}")?;
     }
     Ok(())
 }

@@ -8,6 +8,7 @@ mod args;
 mod diagnose;
 mod excite;
 mod failure;
+mod figures;
 mod identify;
 mod locate;
 mod paper;

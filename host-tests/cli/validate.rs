@@ -39,6 +39,8 @@ pub struct ValidateArgs {
     /// with it (and with the record's time column).
     #[command(flatten)]
     units: UnitArgs,
+    #[command(flatten)]
+    figures: crate::figures::FigureArgs,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
@@ -118,5 +120,6 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     for line in unit_report(&m, ts, units, cov.as_deref(), two_path).lines() {
         outln!("{line}")?;
     }
+    crate::figures::validate(&a.figures, &file, &m, u, y, skip)?;
     Ok(())
 }

@@ -5,6 +5,7 @@
 
 pub mod choose;
 pub mod diagnose;
+pub mod figures;
 pub mod generality;
 pub mod identify;
 pub mod io;

@@ -127,7 +127,11 @@ impl Figure {
                     let mut d = String::new();
                     let r = series.size.min(0.5 * row);
                     marker_path(&mut d, *marker, x0 + 0.5 * swatch, cy, r);
-                    let _ = writeln!(s, "{}", marker_element(&d, *marker, &color, series.width));
+                    let _ = writeln!(
+                        s,
+                        "{}",
+                        marker_element(&d, *marker, &color, series.width, "")
+                    );
                 }
                 Kind::Band { .. } => {
                     let _ = writeln!(

@@ -83,13 +83,17 @@ impl Figure {
         let _ = writeln!(s, r#"<g clip-path="url(#plot-area)">"#);
         for (i, series) in self.series.iter().enumerate() {
             let color = escape(&series_color(series, i));
+            let class = series
+                .class
+                .as_ref()
+                .map_or_else(String::new, |c| format!(r#" class="{}""#, escape(c)));
             match &series.kind {
                 Kind::Line { x: xs, y: ys } => {
                     let d = polyline(xs.iter().zip(ys).map(|(&a, &b)| to_px(a, b)));
                     if !d.is_empty() {
                         let _ = writeln!(
                             s,
-                            r#"<path d="{d}" fill="none" stroke="{color}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round"{}/>"#,
+                            r#"<path{class} d="{d}" fill="none" stroke="{color}" stroke-width="{}" stroke-linejoin="round" stroke-linecap="round"{}/>"#,
                             num(series.width),
                             dash_attr(series.dash, series.width)
                         );
@@ -110,8 +114,11 @@ impl Figure {
                         }
                     }
                     if !d.is_empty() {
-                        let _ =
-                            writeln!(s, "{}", marker_element(&d, *marker, &color, series.width));
+                        let _ = writeln!(
+                            s,
+                            "{}",
+                            marker_element(&d, *marker, &color, series.width, &class)
+                        );
                     }
                 }
                 Kind::Band {
@@ -123,7 +130,7 @@ impl Figure {
                     if !d.is_empty() {
                         let _ = writeln!(
                             s,
-                            r#"<path d="{d}" fill="{color}" fill-opacity="{}" stroke="none"/>"#,
+                            r#"<path{class} d="{d}" fill="{color}" fill-opacity="{}" stroke="none"/>"#,
                             num(series.opacity.clamp(0.0, 1.0))
                         );
                     }

@@ -34,6 +34,7 @@ pub struct Series {
     pub(super) dash: Dash,
     pub(super) size: f64,
     pub(super) opacity: f64,
+    pub(super) class: Option<String>,
 }
 
 impl Series {
@@ -46,6 +47,7 @@ impl Series {
             dash: Dash::Solid,
             size: 4.0,
             opacity: 0.25,
+            class: None,
         }
     }
 
@@ -117,6 +119,13 @@ impl Series {
     /// Fill opacity of a band, 0 to 1.
     pub fn opacity(mut self, opacity: f64) -> Self {
         self.opacity = opacity;
+        self
+    }
+
+    /// A name written as the `class` attribute of the series' SVG element, so that programs
+    /// reading the figure can find the series (e.g. `"border-asc"`).
+    pub fn class(mut self, class: impl Into<String>) -> Self {
+        self.class = Some(class.into());
         self
     }
 

@@ -164,11 +164,18 @@ pub(super) fn marker_path(d: &mut String, marker: Marker, x: f64, y: f64, r: f64
     }
 }
 
-pub(super) fn marker_element(d: &str, marker: Marker, color: &str, width: f64) -> String {
+/// `class` is empty or a ` class="…"` attribute.
+pub(super) fn marker_element(
+    d: &str,
+    marker: Marker,
+    color: &str,
+    width: f64,
+    class: &str,
+) -> String {
     match marker {
-        Marker::Dot => format!(r#"<path d="{d}" fill="{color}" stroke="none"/>"#),
+        Marker::Dot => format!(r#"<path{class} d="{d}" fill="{color}" stroke="none"/>"#),
         _ => format!(
-            r#"<path d="{d}" fill="none" stroke="{color}" stroke-width="{}" stroke-linecap="round"/>"#,
+            r#"<path{class} d="{d}" fill="none" stroke="{color}" stroke-width="{}" stroke-linecap="round"/>"#,
             num(width)
         ),
     }

@@ -1,0 +1,98 @@
+//! `--out DIR` of `hsid identify` and `hsid validate`: the figures of the model and of its fit
+//! to the record, as SVG with a CSV of every plotted curve (see docs/figures.md).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use hsid_host::choose::Best;
+use hsid_host::figures::{FigureSettings, Record, Uncertainty, Written, write_figures};
+use hsid_host::identify::HostModel;
+use hsid_host::model_file::{ModelFile, Units};
+
+use crate::failure::{Failure, outln};
+
+/// Where the figures go.
+#[derive(Args)]
+pub struct FigureArgs {
+    /// Write SVG figures of the model (borders, Bode magnitude and phase, poles) and of its fit
+    /// to this record (output, residual, residual autocorrelation), each with a CSV of its
+    /// curves, into this directory (created if missing).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+/// The figures of an identified model on its estimation record; `hold` samples at the start
+/// are left out of the residual and the measured border points. Axes are in seconds/Hz and
+/// in units when the sample time and units are known. Returns the lines to print after the
+/// model report (none without `--out`).
+pub fn identify(
+    a: &FigureArgs,
+    best: &Best,
+    record: &Record<'_>,
+    ts: Option<f64>,
+    units: Option<&Units>,
+) -> Result<Vec<String>, Failure> {
+    let Some(dir) = &a.out else {
+        return Ok(Vec::new());
+    };
+    let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
+    let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
+    let settings = FigureSettings {
+        ts,
+        units: units.map(|u| (u.input.clone(), u.output.clone())),
+        truth: None,
+    };
+    lines(
+        dir,
+        write_figures(dir, model, record, uncertainty, &settings),
+    )
+}
+
+/// The figures of a model file on a validation record; `skip` samples at the start are left
+/// out of the residual and the measured border points. Sample time and units come from the
+/// file when it has them.
+pub fn validate(
+    a: &FigureArgs,
+    file: &ModelFile,
+    model: &HostModel,
+    u: &[f64],
+    y: &[f64],
+    skip: usize,
+) -> Result<(), Failure> {
+    let Some(dir) = &a.out else {
+        return Ok(());
+    };
+    let settings = FigureSettings {
+        ts: file.sample_time,
+        units: file
+            .units
+            .as_ref()
+            .map(|u| (u.input.clone(), u.output.clone())),
+        truth: None,
+    };
+    let record = Record { u, y, skip };
+    let written = write_figures(dir, model, &record, Uncertainty::from_file(file), &settings);
+    for line in lines(dir, written)? {
+        outln!("{line}")?;
+    }
+    Ok(())
+}
+
+/// What was written, as lines: the notes, then the count and the directory.
+fn lines(
+    dir: &Path,
+    written: Result<Written, hsid_host::figures::FigureError>,
+) -> Result<Vec<String>, Failure> {
+    let written = written.map_err(|e| e.to_string())?;
+    let mut out: Vec<String> = written
+        .notes
+        .iter()
+        .map(|n| format!("figures: {n}"))
+        .collect();
+    out.push(format!(
+        "wrote {} figure files (SVG and CSV) to {}",
+        written.files.len(),
+        dir.display()
+    ));
+    Ok(out)
+}

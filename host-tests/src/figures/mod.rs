@@ -1,0 +1,107 @@
+//! Pictures of an identified model and of how it fits a record, each an SVG with a CSV of
+//! every plotted curve (header naming the series and their units):
+//!
+//! | files | what |
+//! |---|---|
+//! | `borders.svg`, `borders.csv`, `borders-points.csv` | `P_a`, `P_d` against `u`, ±2σ bands, the true loop when known, and the measured points: partial residuals of the record given the LTI part |
+//! | `bode-magnitude.svg`, `bode-phase.svg`, `bode.csv` | `G(e^{jω})` in dB and degrees, in Hz when the sample time is known, ±2σ bands |
+//! | `poles.svg`, `poles.csv`, `poles-ellipses.csv` | poles in the z-plane with the unit circle and 2σ ellipses |
+//! | `output.svg`, `output.csv` | measured and simulated output over time |
+//! | `residual.svg`, `residual.csv`, `residual-acf.svg`, `residual-acf.csv` | measured − simulated over time and its autocorrelation with the ±1.96/√N bounds |
+//!
+//! ```no_run
+//! # fn demo(model: &hsid_host::identify::HostModel, u: &[f64], y: &[f64])
+//! #     -> Result<(), hsid_host::figures::FigureError> {
+//! use hsid_host::figures::{FigureSettings, Record, write_figures};
+//! let settings = FigureSettings { ts: Some(0.01), ..FigureSettings::default() };
+//! let record = Record { u, y, skip: 300 };
+//! let written = write_figures("figs".as_ref(), model, &record, None, &settings)?;
+//! println!("{} files", written.files.len());
+//! # Ok(()) }
+//! ```
+
+mod bode;
+mod borders;
+mod csv;
+mod error;
+mod output;
+mod partial;
+mod poles;
+mod residual;
+mod settings;
+mod uncertainty;
+
+use std::path::{Path, PathBuf};
+
+pub use error::FigureError;
+pub use partial::{MIN_ENERGY, departures, impulse_response};
+pub use settings::{FigureSettings, TrueBorders};
+pub use uncertainty::Uncertainty;
+
+use crate::identify::HostModel;
+
+/// A measured record: input, output, and how many samples at the start (the hold) are left
+/// out of the residual, its autocorrelation and the measured border points.
+#[derive(Debug, Clone, Copy)]
+pub struct Record<'a> {
+    /// Input samples.
+    pub u: &'a [f64],
+    /// Output samples.
+    pub y: &'a [f64],
+    /// Samples left out at the start.
+    pub skip: usize,
+}
+
+/// What [`write_figures`] wrote, and what it could not draw and why.
+#[derive(Debug, Default)]
+pub struct Written {
+    /// Every file written, in order.
+    pub files: Vec<PathBuf>,
+    /// One line per part of a figure left out (e.g. measured border points of a plant whose
+    /// inverse is unstable).
+    pub notes: Vec<String>,
+}
+
+/// Everything a figure draws from (state, not settings).
+struct Context<'a> {
+    dir: &'a Path,
+    model: &'a HostModel,
+    record: Record<'a>,
+    simulated: Vec<f64>,
+    settings: &'a FigureSettings,
+    uncertainty: Option<Uncertainty<'a>>,
+}
+
+/// Writes every figure of `model` on `record` into `dir` (created if missing).
+pub fn write_figures(
+    dir: &Path,
+    model: &HostModel,
+    record: &Record<'_>,
+    uncertainty: Option<Uncertainty<'_>>,
+    settings: &FigureSettings,
+) -> Result<Written, FigureError> {
+    settings.check()?;
+    let (nu, ny, skip) = (record.u.len(), record.y.len(), record.skip);
+    if nu != ny || skip + 2 > nu {
+        return Err(FigureError::InvalidRecord { u: nu, y: ny, skip });
+    }
+    std::fs::create_dir_all(dir).map_err(|source| FigureError::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let cx = Context {
+        dir,
+        model,
+        record: *record,
+        simulated: model.simulate(record.u),
+        settings,
+        uncertainty,
+    };
+    let mut out = Written::default();
+    borders::write(&cx, &mut out)?;
+    bode::write(&cx, &mut out)?;
+    poles::write(&cx, &mut out)?;
+    output::write(&cx, &mut out)?;
+    residual::write(&cx, &mut out)?;
+    Ok(out)
+}
