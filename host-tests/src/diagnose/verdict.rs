@@ -1,15 +1,12 @@
-//! Typed outcomes in words: the findings, the evidence of an effect, the dead time and the
-//! one-paragraph verdict. The loop decides on the types; the prose is made here.
+//! Typed outcomes in words: the findings and the one-paragraph verdict. The loop decides on
+//! the types; the prose is made here (the evidence in [`super::evidence`], the dead time in
+//! [`super::delay`]).
 
 use std::fmt;
 
-use super::checks::{Check, Warning};
-use super::delay::DeadTime;
 use super::diagnosis::Step;
-use super::effects::Effect;
 use super::findings::Finding;
 use super::model::Metric;
-use super::residual::TestSet;
 
 const OUTSIDE: &str = "found, not in the catalog: ";
 
@@ -100,49 +97,6 @@ impl fmt::Display for Finding {
             ),
         }
     }
-}
-
-/// The dead-time test's finding, in words.
-pub fn dead_time_text(d: &DeadTime) -> String {
-    match d.lag {
-        Some(l) => format!(
-            "dead_time: the output first responds to the input at lag {l} (ARX({}) likelihood-ratio tests of no response at lags 0…j: p = {} for j = 0…{l}), the model at lag {}: {} extra samples",
-            d.ar_order,
-            d.p_values
-                .iter()
-                .take(l + 1)
-                .map(|p| format!("{p:.2e}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            d.model_lag,
-            d.extra()
-        ),
-        None => "dead_time: no lag tested is significant".into(),
-    }
-}
-
-/// The evidence of an effect in words: its tests that fired, the dead-time test for a delay,
-/// the saturation check for an output nonlinearity.
-pub fn evidence(e: Effect, tests: &TestSet, dead: &DeadTime, warnings: &[Warning]) -> Vec<String> {
-    let mut v: Vec<String> = e
-        .evidence_tests()
-        .iter()
-        .filter_map(|&t| tests.get(t))
-        .filter(|t| t.fired)
-        .map(|t| format!("{}: {} (p = {:.2e})", t.name, t.detail, t.p_value))
-        .collect();
-    if e == Effect::InputDelay && dead.extra() > 0 {
-        v.push(dead_time_text(dead));
-    }
-    if e == Effect::OutputNonlinearity {
-        v.extend(
-            warnings
-                .iter()
-                .filter(|w| w.check == Check::OutputSaturation)
-                .map(|w| format!("data check output_saturation: {}", w.message)),
-        );
-    }
-    v
 }
 
 /// How the loop ended, for the verdict.
