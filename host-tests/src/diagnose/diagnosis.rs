@@ -14,6 +14,7 @@ use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
 use super::options::Nonlinearity;
 use super::residual::TestSet;
+use super::verdict::Verdict;
 
 /// One effect added.
 #[derive(Clone, Debug)]
@@ -87,7 +88,7 @@ pub struct Diagnosis {
     /// explained.
     pub unexplained: Vec<Finding>,
     /// One-paragraph conclusion.
-    pub verdict: String,
+    pub verdict: Verdict,
     /// Validation simulation of the paper's estimate alone (subspace identification, borders
     /// from the rank-1 split, no least-squares refit), when it could be computed.
     pub paper: Option<Evaluation>,

@@ -185,10 +185,11 @@ fn diagnose_inner(
         shared,
         stores,
     ));
-    let verdict = verdict::verdict(
-        &p.steps,
+    let verdict = verdict::Verdict::new(
+        p.steps.iter().map(|s| s.effect).collect(),
+        p.steps.last().map(|s| (s.metric, s.error_after)),
         &unexplained,
-        &final_tests.fired_names(),
+        final_tests.fired_names(),
         p.ending,
         before.rmse,
         after.rmse,

@@ -204,7 +204,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         prediction_error_after: d.after_prediction.as_ref().map(|e| e.rmse),
         effects,
         unexplained: d.unexplained.iter().map(ToString::to_string).collect(),
-        verdict: d.verdict.clone(),
+        verdict: d.verdict.to_string(),
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
         tests_estimation: d.tests_estimation.clone(),
