@@ -1,10 +1,11 @@
 //! Tests of the example's model classes against plants of their class.
 
 use hsid_host::diagnose::dynamics::{Borders, DynamicsFit};
+use hsid_host::diagnose::simulate::linear_response;
 use hsid_host::diagnose::simulate::nonlinearity_output;
 
 use crate::error::ClassError;
-use crate::fixtures::{levels, linear_output, model, rms};
+use crate::fixtures::{levels, model, rms};
 use crate::overflow::{Overflow, fit_overflow};
 use crate::poly::{StatePoly, monomials, simulate, unique_steady_states};
 use crate::poly_fit::fit;
@@ -56,10 +57,7 @@ fn polynomial_term_fits_a_plant_of_its_class() -> Outcome {
     let y = quadratic_plant(&h);
     let skip = vec![false; h.len()];
     let data = exact(&h, &y, &skip, 50, None);
-    let before = rms(
-        &linear_output(&lin, &h, &[0.0, 0.0]).ok_or("not simulated")?,
-        &y,
-    );
+    let before = rms(&linear_response(&lin, &h, &[0.0, 0.0]), &y);
     let (m, poly, x0) = fit(&lin, &[0.0, 0.0], 2, &data)?;
     let after = rms(
         &simulate(&m, Some(&poly), &h, &x0).ok_or("not simulated")?,
@@ -68,10 +66,7 @@ fn polynomial_term_fits_a_plant_of_its_class() -> Outcome {
     // On another input of the same range (not fitted).
     let h2 = levels(1500, 99);
     let y2 = quadratic_plant(&h2);
-    let before2 = rms(
-        &linear_output(&lin, &h2, &[0.0, 0.0]).ok_or("not simulated")?,
-        &y2,
-    );
+    let before2 = rms(&linear_response(&lin, &h2, &[0.0, 0.0]), &y2);
     let after2 = rms(
         &simulate(&m, Some(&poly), &h2, &x0).ok_or("not simulated")?,
         &y2,

@@ -1,5 +1,5 @@
 //! Fixtures of the tests of dynamics beyond the linear `G`: a small order-2 model, a staircase
-//! input, the linear model's simulation from a state and the RMS of a difference. Shared with
+//! input and the RMS of a difference. Shared with
 //! the tests of the example `tanks_dynamics`, which includes this file (the parent module
 //! brings `HostModel` into scope).
 
@@ -48,28 +48,4 @@ pub(crate) fn levels(n: usize, seed: u64) -> Vec<f64> {
 /// RMS of the difference of two signals.
 pub(crate) fn rms(a: &[f64], b: &[f64]) -> f64 {
     (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt()
-}
-
-/// The linear part's output `C x + D h` of a model along `h`, from `x0`; `None` once it is
-/// not finite.
-pub(crate) fn linear_output(m: &HostModel, h: &[f64], x0: &[f64]) -> Option<Vec<f64>> {
-    let n = m.order;
-    let mut x: Vec<f64> = x0
-        .iter()
-        .copied()
-        .chain(std::iter::repeat(0.0))
-        .take(n)
-        .collect();
-    let mut out = Vec::with_capacity(h.len());
-    for &hi in h {
-        let y = m.d * hi + m.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
-        if !y.is_finite() {
-            return None;
-        }
-        out.push(y);
-        x = (0..n)
-            .map(|i| m.b[i] * hi + (0..n).map(|j| m.a[(i, j)] * x[j]).sum::<f64>())
-            .collect();
-    }
-    Some(out)
 }
