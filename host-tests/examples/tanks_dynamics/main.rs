@@ -41,6 +41,7 @@ use hsid_host::diagnose::model::{
     self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure,
 };
 use hsid_host::diagnose::{checks, residual, simulate};
+// The shared test fixtures name the model through their parent module.
 #[cfg(test)]
 use hsid_host::identify::HostModel;
 use hsid_host::identify::IdentifyOptions;
