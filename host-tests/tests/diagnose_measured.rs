@@ -4,8 +4,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use hsid_host::diagnose::model::Record;
+use hsid_host::diagnose::verdict::End;
 use hsid_host::diagnose::{
-    Check, DiagnoseOptions, Effect, Finding, Nonlinearity, Validation, diagnose,
+    Check, DiagnoseOptions, Effect, Evidence, Finding, Nonlinearity, Test, Tried, Validation,
+    diagnose,
 };
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
@@ -60,7 +62,9 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
         first
             .evidence
             .iter()
-            .any(|e| e.starts_with("state_dependence"))
+            .any(|e| matches!(e, Evidence::Test(t) if t.name == Test::StateDependence)),
+        "{:?}",
+        first.evidence
     );
     let stores = first.model.stores.as_ref().expect("stores");
     // The measured (lower) tank drains slower than linearly in its level, towards a square
@@ -151,7 +155,7 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         delay
             .tried
             .iter()
-            .any(|(l, _)| l.contains("dead-time test"))
+            .any(|t| matches!(t, Tried::DeadTime { delay, .. } if *delay == d.dead_time.extra()))
             && delay.tried.len() >= 2,
         "{:?}",
         delay.tried
@@ -165,12 +169,18 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         .collect();
     assert!(found.contains(&&Finding::DirectionDependence), "{found:?}");
     assert!(found.contains(&&Finding::Quantised), "{found:?}");
-    // The verdict names them as found outside the catalog, not as tests no effect explains.
+    // The verdict names them as found outside the catalog (after the effects added), not as
+    // tests no effect explains.
+    for f in [Finding::DirectionDependence, Finding::Quantised] {
+        assert!(d.verdict.outside.contains(&f), "{:?}", d.verdict);
+    }
     assert!(
-        d.verdict
-            .contains("found, not in the catalog: the residual depends on the direction")
-            && d.verdict.contains("the output is quantised"),
-        "{}",
+        d.verdict.added.contains(&Effect::InputDelay)
+            && !matches!(
+                d.verdict.end,
+                End::Unscorable | End::Consistent | End::NotIdentified
+            ),
+        "{:?}",
         d.verdict
     );
     // Quantisation and the staircase input are reported by the data checks.

@@ -39,6 +39,29 @@ impl DeadTime {
     }
 }
 
+/// The dead-time test's finding, in words.
+impl std::fmt::Display for DeadTime {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let d = self;
+        match d.lag {
+            Some(l) => write!(
+                f,
+                "dead_time: the output first responds to the input at lag {l} (ARX({}) likelihood-ratio tests of no response at lags 0…j: p = {} for j = 0…{l}), the model at lag {}: {} extra samples",
+                d.ar_order,
+                d.p_values
+                    .iter()
+                    .take(l + 1)
+                    .map(|p| format!("{p:.2e}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                d.model_lag,
+                d.extra()
+            ),
+            None => f.write_str("dead_time: no lag tested is significant"),
+        }
+    }
+}
+
 /// Residual sum of squares of `y` on the columns `cols` over the rows `rows`.
 fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
     let n = rows.len();

@@ -8,11 +8,13 @@ use serde::Serialize;
 use super::checks::Warning;
 use super::delay;
 use super::effects::Effect;
+use super::evidence::{Evidence, Tried};
 use super::findings::Finding;
 use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
 use super::options::Nonlinearity;
 use super::residual::TestSet;
+use super::verdict::Verdict;
 
 /// One effect added.
 #[derive(Clone, Debug)]
@@ -20,7 +22,7 @@ pub struct Step {
     /// The effect.
     pub effect: Effect,
     /// The tests that pointed at it, with their findings.
-    pub evidence: Vec<String>,
+    pub evidence: Vec<Evidence>,
     /// Its setting.
     pub setting: String,
     /// Relative reduction of the inner hold-out MSE.
@@ -28,7 +30,7 @@ pub struct Step {
     /// Diebold–Mariano p-value of that reduction.
     pub inner_p: f64,
     /// Settings tried with their inner hold-out RMSE.
-    pub tried: Vec<(String, f64)>,
+    pub tried: Vec<Tried>,
     /// Other effects evaluated at this step: `(effect, gain, p)`.
     pub competitors: Vec<(Effect, f64, f64)>,
     /// Metric of the errors below.
@@ -54,7 +56,7 @@ pub struct Rejected {
     /// The effect.
     pub effect: Effect,
     /// Tests that pointed at it.
-    pub evidence: Vec<String>,
+    pub evidence: Vec<Evidence>,
     /// Relative inner hold-out MSE reduction of its extension.
     pub inner_gain: f64,
     /// Its Diebold–Mariano p-value.
@@ -86,7 +88,7 @@ pub struct Diagnosis {
     /// explained.
     pub unexplained: Vec<Finding>,
     /// One-paragraph conclusion.
-    pub verdict: String,
+    pub verdict: Verdict,
     /// Validation simulation of the paper's estimate alone (subspace identification, borders
     /// from the rank-1 split, no least-squares refit), when it could be computed.
     pub paper: Option<Evaluation>,

@@ -33,6 +33,7 @@ pub mod diagnosis;
 pub mod dynamics;
 pub mod effects;
 pub mod error;
+pub mod evidence;
 pub mod figures;
 pub mod findings;
 pub mod fit_plan;
@@ -57,12 +58,12 @@ pub use checks::{Check, Warning};
 pub use diagnosis::{Diagnosis, Rejected, Step};
 pub use effects::Effect;
 pub use error::DiagnoseError;
+pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
 pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
 pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation};
 pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
-pub use verdict::dead_time_text;
 
 /// Runs the whole loop. `record` is the estimation record (or the whole record, for
 /// [`Validation::Split`] and [`Validation::Holdout`]).
@@ -184,10 +185,11 @@ fn diagnose_inner(
         shared,
         stores,
     ));
-    let verdict = verdict::verdict(
-        &p.steps,
+    let verdict = verdict::Verdict::new(
+        p.steps.iter().map(|s| s.effect).collect(),
+        p.steps.last().map(|s| (s.metric, s.error_after)),
         &unexplained,
-        &final_tests.fired_names(),
+        final_tests.fired_names(),
         p.ending,
         before.rmse,
         after.rmse,

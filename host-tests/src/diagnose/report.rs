@@ -8,11 +8,11 @@ use serde::Serialize;
 use super::checks::Warning;
 use super::diagnosis::Diagnosis;
 use super::effects::{Effect, has_evidence};
+use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::options::Nonlinearity;
 use super::output_map::OutputMap;
 use super::residual::TestSet;
-use super::verdict::dead_time_text;
 use crate::model_file::{ModelFile, NoiseFile, NonlinearityKind};
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
@@ -21,7 +21,7 @@ pub struct EffectJson {
     /// Catalog name.
     pub name: String,
     /// The tests that pointed at it, with their findings.
-    pub evidence: Vec<String>,
+    pub evidence: Vec<Evidence>,
     /// Whether it was added.
     pub added: bool,
     /// Its setting (added effects).
@@ -33,7 +33,7 @@ pub struct EffectJson {
     /// One-sided Diebold–Mariano p-value of that reduction.
     pub inner_p: f64,
     /// Settings tried on the inner hold-out with their RMSE.
-    pub tried: Vec<(String, f64)>,
+    pub tried: Vec<Tried>,
     /// Metric of `error_before` / `error_after`.
     pub metric: Option<Metric>,
     /// Validation error of the model before this effect, output units.
@@ -204,7 +204,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
         prediction_error_after: d.after_prediction.as_ref().map(|e| e.rmse),
         effects,
         unexplained: d.unexplained.iter().map(ToString::to_string).collect(),
-        verdict: d.verdict.clone(),
+        verdict: d.verdict.to_string(),
         tests_before: d.tests_before.clone(),
         tests_after: d.tests_after.clone(),
         tests_estimation: d.tests_estimation.clone(),
@@ -289,7 +289,7 @@ pub fn text(d: &Diagnosis) -> String {
         let tried: Vec<String> = st
             .tried
             .iter()
-            .map(|(l, r)| format!("{l}: {r:.5}"))
+            .map(|t| format!("{t}: {:.5}", t.rmse()))
             .collect();
         let _ = writeln!(
             s,
@@ -336,7 +336,7 @@ pub fn text(d: &Diagnosis) -> String {
     for u in &d.unexplained {
         let _ = writeln!(s, "not identified: {u}");
     }
-    let _ = writeln!(s, "{}", dead_time_text(&d.dead_time));
+    let _ = writeln!(s, "{}", d.dead_time);
     let _ = writeln!(s);
     let _ = writeln!(
         s,

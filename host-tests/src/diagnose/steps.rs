@@ -10,12 +10,13 @@ use super::delay::DeadTime;
 use super::diagnosis::{Rejected, Step};
 use super::effects::{self, Candidate, Effect, Holdout, Proposal};
 use super::error::DiagnoseError;
+use super::evidence::{Tried, evidence};
 use super::findings::Finding;
 use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
 use super::options::DiagnoseOptions;
 use super::residual::{LEVEL, TestSet};
 use super::scoring::residual_tests;
-use super::verdict::{Ending, evidence};
+use super::verdict::Ending;
 
 /// What the loop works with; nothing here changes while it runs.
 pub struct Context<'a> {
@@ -225,10 +226,10 @@ impl Context<'_> {
         if let Some(i) = cands.iter().position(|c| c.effect == Effect::InputDelay) {
             tried = cands.remove(i).tried;
         }
-        tried.push((
-            format!("d = {} (dead-time test)", self.dead.extra()),
-            ev.rmse,
-        ));
+        tried.push(Tried::DeadTime {
+            delay: self.dead.extra(),
+            rmse: ev.rmse,
+        });
         cands.push(Candidate {
             effect: Effect::InputDelay,
             structure: s,

@@ -1,15 +1,12 @@
-//! Typed outcomes in words: the findings, the evidence of an effect, the dead time and the
-//! one-paragraph verdict. The loop decides on the types; the prose is made here.
+//! Typed outcomes in words: the findings and the one-paragraph verdict. The loop decides on
+//! the types; the prose is made here (the evidence in [`super::evidence`], the dead time in
+//! [`super::delay`]).
 
 use std::fmt;
 
-use super::checks::{Check, Warning};
-use super::delay::DeadTime;
-use super::diagnosis::Step;
 use super::effects::Effect;
 use super::findings::Finding;
 use super::model::Metric;
-use super::residual::TestSet;
 
 const OUTSIDE: &str = "found, not in the catalog: ";
 
@@ -102,49 +99,6 @@ impl fmt::Display for Finding {
     }
 }
 
-/// The dead-time test's finding, in words.
-pub fn dead_time_text(d: &DeadTime) -> String {
-    match d.lag {
-        Some(l) => format!(
-            "dead_time: the output first responds to the input at lag {l} (ARX({}) likelihood-ratio tests of no response at lags 0…j: p = {} for j = 0…{l}), the model at lag {}: {} extra samples",
-            d.ar_order,
-            d.p_values
-                .iter()
-                .take(l + 1)
-                .map(|p| format!("{p:.2e}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            d.model_lag,
-            d.extra()
-        ),
-        None => "dead_time: no lag tested is significant".into(),
-    }
-}
-
-/// The evidence of an effect in words: its tests that fired, the dead-time test for a delay,
-/// the saturation check for an output nonlinearity.
-pub fn evidence(e: Effect, tests: &TestSet, dead: &DeadTime, warnings: &[Warning]) -> Vec<String> {
-    let mut v: Vec<String> = e
-        .evidence_tests()
-        .iter()
-        .filter_map(|&t| tests.get(t))
-        .filter(|t| t.fired)
-        .map(|t| format!("{}: {} (p = {:.2e})", t.name, t.detail, t.p_value))
-        .collect();
-    if e == Effect::InputDelay && dead.extra() > 0 {
-        v.push(dead_time_text(dead));
-    }
-    if e == Effect::OutputNonlinearity {
-        v.extend(
-            warnings
-                .iter()
-                .filter(|w| w.check == Check::OutputSaturation)
-                .map(|w| format!("data check output_saturation: {}", w.message)),
-        );
-    }
-    v
-}
-
 /// How the loop ended, for the verdict.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Ending {
@@ -154,73 +108,149 @@ pub enum Ending {
     Other,
 }
 
-/// The one-paragraph conclusion: what was added and what the final tests still find.
-/// `before_rmse`: the validation error before; `after_rmse`: the final model's.
-pub fn verdict(
-    steps: &[Step],
-    findings: &[Finding],
-    fired: &[String],
-    ending: Ending,
-    before_rmse: f64,
-    after_rmse: f64,
-) -> String {
-    let unscorable = findings.iter().any(Finding::unscorable);
-    if steps.is_empty() && unscorable {
-        return format!(
-            "The estimation data cannot score any extension (the inner hold-out block holds behaviour the rest of the record does not show): nothing is added, and the tests that fire ({}) are reported without a diagnosis.",
-            fired.join(", ")
-        );
+/// How the diagnosis ends, for the verdict.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum End {
+    /// Nothing added: the estimation data cannot score any extension.
+    Unscorable,
+    /// Nothing added: no test fires on the estimation residual.
+    Consistent,
+    /// Nothing added: tests fire but no catalog effect explains them.
+    NotIdentified,
+    /// Effects added; the final residual is consistent with the extended model.
+    Explained,
+    /// Effects added, then the estimation data could not score further extensions.
+    UnscorableAfter,
+    /// Effects added, the noise model last; tests still fire on the simulation residual.
+    NoiseLast,
+    /// Effects added; tests still fire and no further catalog effect explains them.
+    NoFurther,
+    /// Effects added until the step limit, tests still firing.
+    StepLimit,
+}
+
+/// The one-paragraph conclusion: what was added and what the final tests still find, in
+/// words by `Display`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verdict {
+    /// Effects added, in order.
+    pub added: Vec<Effect>,
+    /// How it ends.
+    pub end: End,
+    /// Tests that fire on the final estimation residual.
+    pub fired: Vec<String>,
+    /// Effects found outside the catalog (named, not counted as unexplained tests; listed
+    /// when an effect was added).
+    pub outside: Vec<Finding>,
+    /// Validation error before.
+    pub error_before: f64,
+    /// Validation error after the last step.
+    pub error_after: f64,
+    /// Metric of the last step's error.
+    pub last_metric: Metric,
+}
+
+impl Verdict {
+    /// The verdict of the effects added and the findings. `last`: the metric and the
+    /// validation error of the last step; `fired`: the tests that fire on the final
+    /// estimation residual; `before_rmse`: the validation error before; `after_rmse`: the
+    /// final model's.
+    pub fn new(
+        added: Vec<Effect>,
+        last: Option<(Metric, f64)>,
+        findings: &[Finding],
+        fired: Vec<String>,
+        ending: Ending,
+        before_rmse: f64,
+        after_rmse: f64,
+    ) -> Self {
+        let unscorable = findings.iter().any(Finding::unscorable);
+        let end = match added.last() {
+            None if unscorable => End::Unscorable,
+            None if fired.is_empty() => End::Consistent,
+            None => End::NotIdentified,
+            Some(_) if fired.is_empty() => End::Explained,
+            Some(_) if unscorable => End::UnscorableAfter,
+            Some(e) if !e.deterministic() => End::NoiseLast,
+            Some(_) if ending == Ending::NoCandidate => End::NoFurther,
+            Some(_) => End::StepLimit,
+        };
+        Verdict {
+            added,
+            end,
+            fired,
+            outside: findings
+                .iter()
+                .filter(|f| f.outside_catalog())
+                .cloned()
+                .collect(),
+            error_before: before_rmse,
+            error_after: last.map_or(after_rmse, |l| l.1),
+            last_metric: last.map_or(Metric::Simulation, |l| l.0),
+        }
     }
-    if steps.is_empty() && fired.is_empty() {
-        return "No test fires on the estimation residual: the residual is consistent with the model, nothing is added.".to_string();
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let fired = self.fired.join(", ");
+        let rest = match self.end {
+            End::Unscorable => {
+                return write!(
+                    f,
+                    "The estimation data cannot score any extension (the inner hold-out block holds behaviour the rest of the record does not show): nothing is added, and the tests that fire ({fired}) are reported without a diagnosis."
+                );
+            }
+            End::Consistent => {
+                return f.write_str(
+                    "No test fires on the estimation residual: the residual is consistent with the model, nothing is added.",
+                );
+            }
+            End::NotIdentified => {
+                return write!(
+                    f,
+                    "Tests fire ({fired}) but no catalog effect explains them: the missing effect is not identified; the model is left as identified."
+                );
+            }
+            End::Explained => {
+                "the final residual is consistent with the extended model".to_string()
+            }
+            End::UnscorableAfter => format!(
+                "then the estimation data could not score further extensions; tests still fire ({fired})"
+            ),
+            End::NoiseLast => format!(
+                "the noise model is the last step; on the simulation residual tests still fire ({fired}) that no deterministic catalog effect explained"
+            ),
+            End::NoFurther => {
+                format!("tests still fire ({fired}) and no further catalog effect explains them")
+            }
+            End::StepLimit => {
+                format!("the step limit was reached with tests still firing ({fired})")
+            }
+        };
+        let names: Vec<&str> = self.added.iter().map(|e| e.name()).collect();
+        let outside: Vec<&str> = self
+            .outside
+            .iter()
+            .filter_map(Finding::outside_name)
+            .collect();
+        let rest = if outside.is_empty() {
+            rest
+        } else {
+            format!("{rest}; {OUTSIDE}{}", outside.join("; "))
+        };
+        let last_metric = match self.last_metric {
+            Metric::Prediction => " (the last in one-step prediction)",
+            Metric::Simulation => "",
+        };
+        write!(
+            f,
+            "Added {} (in this order); validation error {:.4} → {:.4}{last_metric}; {rest}.",
+            names.join(", "),
+            self.error_before,
+            self.error_after
+        )
     }
-    if steps.is_empty() {
-        return format!(
-            "Tests fire ({}) but no catalog effect explains them: the missing effect is not identified; the model is left as identified.",
-            fired.join(", ")
-        );
-    }
-    let names: Vec<&str> = steps.iter().map(|s| s.effect.name()).collect();
-    let rest = if fired.is_empty() {
-        "the final residual is consistent with the extended model".to_string()
-    } else if unscorable {
-        format!(
-            "then the estimation data could not score further extensions; tests still fire ({})",
-            fired.join(", ")
-        )
-    } else if steps.last().is_some_and(|s| !s.effect.deterministic()) {
-        format!(
-            "the noise model is the last step; on the simulation residual tests still fire ({}) that no deterministic catalog effect explained",
-            fired.join(", ")
-        )
-    } else if ending == Ending::NoCandidate {
-        format!(
-            "tests still fire ({}) and no further catalog effect explains them",
-            fired.join(", ")
-        )
-    } else {
-        format!(
-            "the step limit was reached with tests still firing ({})",
-            fired.join(", ")
-        )
-    };
-    // Effects found outside the catalog are named, not counted as unexplained tests.
-    let outside: Vec<&str> = findings.iter().filter_map(Finding::outside_name).collect();
-    let rest = if outside.is_empty() {
-        rest
-    } else {
-        format!("{rest}; {OUTSIDE}{}", outside.join("; "))
-    };
-    let last_metric = match steps.last().map(|s| s.metric) {
-        Some(Metric::Prediction) => " (the last in one-step prediction)",
-        _ => "",
-    };
-    format!(
-        "Added {} (in this order); validation error {:.4} → {:.4}{last_metric}; {rest}.",
-        names.join(", "),
-        before_rmse,
-        steps.last().map_or(after_rmse, |s| s.error_after)
-    )
 }
 
 #[cfg(test)]

@@ -113,19 +113,33 @@ pub fn is_stable(p: &[f64], r: f64) -> bool {
     spectral_radius(p) < r
 }
 
-/// Monic polynomial with the given roots (complex ones in conjugate pairs).
+/// Monic polynomial `[1, p₁, …, p_n]` with the given roots, in real arithmetic: a real root
+/// (`|im| ≤ 10⁻¹²`) as the factor `z − re`, a complex one and the next root, its conjugate
+/// (as [`roots`] and [`eigenvalues`] sort them), as the quadratic `z² − 2 re z + re² + im²`.
+/// Real roots give the exact products of their factors, with no imaginary rounding left over.
 pub fn from_roots(r: &[(f64, f64)]) -> Vec<f64> {
-    let mut c = vec![Complex::new(1.0, 0.0)];
-    for &(re, im) in r {
-        let z = Complex::new(re, im);
-        let mut next = vec![Complex::new(0.0, 0.0); c.len() + 1];
-        for (k, ck) in c.iter().enumerate() {
-            next[k] += ck;
-            next[k + 1] -= ck * z;
+    let mul = |p: &[f64], f: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; p.len() + f.len() - 1];
+        for (i, a) in p.iter().enumerate() {
+            for (j, b) in f.iter().enumerate() {
+                out[i + j] += a * b;
+            }
         }
-        c = next;
+        out
+    };
+    let mut p = vec![1.0];
+    let mut i = 0;
+    while i < r.len() {
+        let (re, im) = r[i];
+        if im.abs() > 1e-12 && i + 1 < r.len() {
+            p = mul(&p, &[1.0, -2.0 * re, re * re + im * im]);
+            i += 2;
+        } else {
+            p = mul(&p, &[1.0, -re]);
+            i += 1;
+        }
     }
-    c.iter().map(|v| v.re).collect()
+    p
 }
 
 /// `p(z) = zⁿ + p₁ zⁿ⁻¹ + … + p_n` at a complex `z`.
@@ -178,6 +192,17 @@ mod tests {
         assert!(back.iter().zip(p).all(|(a, b)| close(*a, b)), "{back:?}");
         assert!(close(spectral_radius(&p), 0.89f64.sqrt()));
         assert!(is_stable(&p, 1.0) && !is_stable(&p, 0.9));
+    }
+
+    #[test]
+    fn real_roots_multiply_exactly() {
+        // (z − 0.5)(z − 0.25)(z + 0.125) = z³ − 0.625 z² + 0.03125 z + 0.015625, every
+        // coefficient a binary fraction: the real factors give it without rounding.
+        let p = from_roots(&[(0.5, 0.0), (0.25, 0.0), (-0.125, 0.0)]);
+        assert_eq!(p, vec![1.0, -0.625, 0.03125, 0.015625]);
+        // A conjugate pair as one real quadratic: (z² − 1.6 z + 0.89).
+        let q = from_roots(&[(0.8, 0.5), (0.8, -0.5)]);
+        assert_eq!(q, vec![1.0, -1.6, 0.8 * 0.8 + 0.5 * 0.5]);
     }
 
     #[test]

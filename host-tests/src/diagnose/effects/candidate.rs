@@ -1,6 +1,7 @@
 //! A proposed extension with its inner hold-out score; the comparison of two scores and the
 //! choice among candidates.
 
+use crate::diagnose::evidence::Tried;
 use crate::diagnose::model::{Evaluation, ExtendedModel, Structure};
 use crate::diagnose::residual::LEVEL;
 use crate::diagnose::stats::{newey_west_var_of_mean, normal_sf};
@@ -50,7 +51,7 @@ pub struct Candidate {
     /// Complexity (parameters added), for ties.
     pub complexity: f64,
     /// Settings tried, with their inner hold-out RMSE.
-    pub tried: Vec<(String, f64)>,
+    pub tried: Vec<Tried>,
 }
 
 /// Picks the effect to add among candidates: significant at 1 % and at least `min_gain`; the

@@ -5,6 +5,7 @@ use super::candidate::{Candidate, compare};
 use super::catalog::Effect;
 use super::holdout::Holdout;
 use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::evidence::{Tried, Unscored};
 use crate::diagnose::model::{Evaluation, ExtendedModel, Metric, Structure};
 use crate::diagnose::residual::TestSet;
 
@@ -54,20 +55,32 @@ impl Proposal<'_> {
             let (m, ev) = match self.holdout.score(&s, metric) {
                 Ok(Some(v)) => v,
                 Ok(None) => {
-                    tried.push((format!("{label} (mode too slow)"), f64::NAN));
+                    tried.push(Tried::Unscored {
+                        label,
+                        why: Unscored::TooSlow,
+                    });
                     continue;
                 }
                 Err(DiagnoseError::Identify(e)) => {
-                    tried.push((format!("{label} (identification failed: {e})"), f64::NAN));
+                    tried.push(Tried::Unscored {
+                        label,
+                        why: Unscored::Identify(e),
+                    });
                     continue;
                 }
                 Err(DiagnoseError::Dynamics(e)) => {
-                    tried.push((format!("{label} (not fitted: {e})"), f64::NAN));
+                    tried.push(Tried::Unscored {
+                        label,
+                        why: Unscored::Dynamics(e),
+                    });
                     continue;
                 }
                 Err(e) => return Err(e),
             };
-            tried.push((label, ev.rmse));
+            tried.push(Tried::Scored {
+                label,
+                rmse: ev.rmse,
+            });
             if ev.rmse.is_finite() {
                 scored.push((s, m, ev));
             }

@@ -6,6 +6,7 @@ use super::candidate::compare;
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::evidence::Tried;
 use crate::diagnose::model::{Dynamics, Metric};
 
 impl Proposal<'_> {
@@ -41,16 +42,12 @@ impl Proposal<'_> {
         match self.holdout.score(&reference, Metric::Simulation) {
             Ok(Some((_, ev))) if ev.rmse.is_finite() => {
                 let (gain, p_value) = compare(&ev, &c.evaluation);
-                c.tried
-                    .push(("linear stores (the reference)".to_string(), ev.rmse));
+                c.tried.push(Tried::LinearStores(Some(ev.rmse)));
                 c.gain = c.gain.min(gain);
                 c.p_value = c.p_value.max(p_value);
             }
             Ok(_) | Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => {
-                c.tried.push((
-                    "linear stores (the reference): not fitted".to_string(),
-                    f64::NAN,
-                ));
+                c.tried.push(Tried::LinearStores(None));
             }
             Err(e) => return Err(e),
         }

@@ -10,37 +10,11 @@ use crate::diagnose::simulate::{
 use crate::identify::HostModel;
 use crate::numerics::lm::{Damping, DampingLimit, JacobianFailure, Settings, levenberg_marquardt};
 use crate::numerics::lstsq::lstsq_min_norm;
-use crate::numerics::poly::observer_a;
+use crate::numerics::poly::{from_roots, observer_a};
 
 use super::borders::border_channels;
 use super::fit_options::{InitialState, Saturation};
 use super::refine_linear::{LinearFitParams, refine_linear};
-
-/// Monic polynomial `z^n + a_1 z^{n−1} + … + a_n` with the given roots; returns `a_1 … a_n`.
-pub(super) fn poly_from_roots(roots: &[(f64, f64)]) -> Vec<f64> {
-    let mut p = vec![1.0];
-    let mut i = 0;
-    let mul = |p: &[f64], f: &[f64]| -> Vec<f64> {
-        let mut out = vec![0.0; p.len() + f.len() - 1];
-        for (i, a) in p.iter().enumerate() {
-            for (j, b) in f.iter().enumerate() {
-                out[i + j] += a * b;
-            }
-        }
-        out
-    };
-    while i < roots.len() {
-        let (re, im) = roots[i];
-        if im.abs() > 1e-12 && i + 1 < roots.len() {
-            p = mul(&p, &[1.0, -2.0 * re, re * re + im * im]);
-            i += 2;
-        } else {
-            p = mul(&p, &[1.0, -re]);
-            i += 1;
-        }
-    }
-    p[1..].to_vec()
-}
 
 /// The linear part in observer canonical form (`C = e₁`): the same transfer function.
 pub(super) fn to_observer(m: &HostModel) -> Option<(Vec<f64>, HostModel)> {
@@ -52,7 +26,7 @@ pub(super) fn to_observer(m: &HostModel) -> Option<(Vec<f64>, HostModel)> {
     if poles.len() != n {
         return None;
     }
-    let a = poly_from_roots(&poles);
+    let a = from_roots(&poles)[1..].to_vec();
     // Markov parameters h_k = C A^{k−1} B, k = 1…n.
     let mut h = Vec::with_capacity(n);
     let mut v = DVector::from_column_slice(&m.b);
@@ -172,7 +146,7 @@ pub(super) fn refine_poles(
                 (re * k, im * k)
             })
             .collect();
-        a = poly_from_roots(&poles);
+        a = from_roots(&poles)[1..].to_vec();
     }
     let phi = border_channels(m, u, p.shared)?;
     let resid = |a: &[f64]| -> Option<Vec<f64>> {

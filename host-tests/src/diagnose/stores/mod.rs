@@ -1,6 +1,7 @@
 //! Level-dependent stores: state-dependent dynamics with one steady state by construction.
 //!
-//! An order-2 model with real poles is a cascade of two stores ([`dynamics::cascade_forms`]).
+//! An order-2 model with real poles is a cascade of two stores
+//! ([`super::dynamics::cascade_forms_with`]).
 //! Here each store drains through a monotone power-law outflow instead of a linear one, and
 //! the first one may overflow into the second above a level:
 //!
@@ -15,7 +16,8 @@
 //! this is the linear cascade (poles `1 − k_i`), which is where the fit starts. Because every
 //! outflow is increasing in its level, a constant inflow has exactly one steady state
 //! (`q1(x1) = h + e` below the overflow, then `q2(x2) = q1(x1) + s · spill`): the class cannot
-//! produce the spurious equilibria a polynomial state term can ([`dynamics::unique_steady_states`]).
+//! produce the spurious equilibria a polynomial state term can (the example `tanks_dynamics`
+//! measures one that does).
 //! The level `e` where the first store is empty and the output offset `y0` are fitted too:
 //! with `α ≠ 1` where a store is empty matters.
 //!
@@ -32,7 +34,7 @@
 
 use serde::Serialize;
 
-use super::dynamics::{self, Cascade, DynamicsError, DynamicsFit};
+use super::dynamics::{Cascade, DynamicsError, DynamicsFit, cascade_forms_with};
 use crate::identify::HostModel;
 use crate::numerics::lm::{Settings, levenberg_marquardt};
 
@@ -194,13 +196,9 @@ pub fn start_cascades(m: &HostModel) -> Result<[Cascade; 2], DynamicsError> {
     }
     let (re, im) = poles[0];
     if im == 0.0 {
-        return Ok(dynamics::cascade_forms_with(m, re, poles[1].0));
+        return Ok(cascade_forms_with(m, re, poles[1].0));
     }
-    Ok(dynamics::cascade_forms_with(
-        m,
-        re + im.abs(),
-        re - im.abs(),
-    ))
+    Ok(cascade_forms_with(m, re + im.abs(), re - im.abs()))
 }
 
 /// Fits the level-dependent stores to an order-2 model with real poles (`A`, `B`, `C`, `D`
@@ -356,112 +354,6 @@ fn linear_start(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::diagnose::dynamics::tests::{levels, model, rms};
-
-    type Outcome = Result<(), Box<dyn std::error::Error>>;
-
-    /// Two tanks: square-root outflows, the upper one overflowing at 1.2 with half the excess
-    /// reaching the lower one; the output is the lower level.
-    fn tanks() -> Stores {
-        Stores {
-            k: [0.08, 0.06],
-            alpha: [0.5, 0.5],
-            c: [0.0, 1.0],
-            d: 0.0,
-            offset: 0.0,
-            inflow_offset: 0.0,
-            level: 1.2,
-            spill: 0.5,
-            x0: [0.5, 0.5],
-        }
-    }
-
-    /// Inflow levels in [0.02, 0.12], 20 samples each (the upper tank overflows above 0.088).
-    fn inflow(n: usize, seed: u64) -> Vec<f64> {
-        levels(n, seed).iter().map(|v| 0.02 + 0.1 * v).collect()
-    }
-
-    #[test]
-    fn steady_output_is_where_the_simulation_settles() -> Outcome {
-        let t = tanks();
-        // Below the overflow (0.05 < 0.08 · √1.2 = 0.0876) and above it.
-        for h in [0.05, 0.11] {
-            let y = t.simulate(&vec![h; 4000]).ok_or("not simulated")?;
-            let last = y.last().copied().ok_or("empty")?;
-            assert!(
-                (last - t.steady_output(h)).abs() < 1e-6,
-                "h = {h}: settles at {last}, steady_output {}",
-                t.steady_output(h)
-            );
-        }
-        Ok(())
-    }
-
-    #[test]
-    fn linear_start_simulates_like_the_linear_model() -> Outcome {
-        // The cascade x1⁺ = 0.95 x1 + h, x2⁺ = 0.9 x2 + x1, y = 0.1 x1 + 0.05 x2 as a model.
-        let lin = model([[0.95, 0.0], [1.0, 0.9]], [1.0, 0.0], [0.1, 0.05], 0.0);
-        let h = levels(2000, 3);
-        let y = dynamics::simulate(&lin, None, &h, &[0.0, 0.0]).ok_or("not simulated")?;
-        let [cascade, _] = start_cascades(&lin)?;
-        let start = linear_start(&cascade, 0.0, 0.0, 0.0, 1.0).ok_or("no start")?;
-        let ys = start.simulate(&h).ok_or("not simulated")?;
-        // Sub-steps discretise the cascade's coupling differently: a small mismatch only.
-        let spread = rms(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
-        let e = rms(&y, &ys);
-        assert!(e < 0.05 * spread, "start error {e}, output spread {spread}");
-        Ok(())
-    }
-
-    #[test]
-    fn fit_recovers_two_tanks() -> Outcome {
-        let truth = tanks();
-        let h = inflow(3000, 11);
-        let y = truth.simulate(&h).ok_or("not simulated")?;
-        // The start: the cascade form of the tanks linearised at a mid level, the static
-        // gain matched there (dq/dx = k α x^(α−1), dy/dh = 2 h / k2²).
-        let (h_mid, x1, x2): (f64, f64, f64) =
-            (0.07, (0.07f64 / 0.08).powi(2), (0.07f64 / 0.06).powi(2));
-        let p1 = 1.0 - 0.08 * 0.5 / x1.sqrt();
-        let p2 = 1.0 - 0.06 * 0.5 / x2.sqrt();
-        let c2 = 2.0 * h_mid / (0.06 * 0.06) * (1.0 - p1) * (1.0 - p2);
-        let lin = model([[p1, 0.0], [1.0, p2]], [1.0, 0.0], [0.0, c2], 0.0);
-        let skip = vec![false; h.len()];
-        let data = DynamicsFit {
-            h: &h,
-            y: &y,
-            skip: &skip,
-            map: None,
-            fit_x0: true,
-            radius_limit: 1.0,
-            iterations: ITERATIONS,
-            borders: None,
-        };
-        let x0 = [x1 / (1.0 - p2), 0.0];
-        let before = rms(
-            &dynamics::simulate(&lin, None, &h, &x0).ok_or("not simulated")?,
-            &y,
-        );
-        let (fit, _) = fit(&lin, &x0, &data, StoresClass::LevelDependent)?;
-        let after = rms(&fit.simulate(&h).ok_or("not simulated")?, &y);
-        assert!(
-            after < 0.01 * before,
-            "before {before}, after {after}: {fit:?}"
-        );
-        // On a new input too, and with the tanks' own steady states.
-        let h2 = inflow(3000, 12);
-        let y2 = truth.simulate(&h2).ok_or("not simulated")?;
-        let new = rms(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
-        assert!(new < 0.02 * before, "new input: {new} (before {before})");
-        for h in [0.03, 0.06, 0.11] {
-            let (a, b) = (fit.steady_output(h), truth.steady_output(h));
-            assert!(
-                (a - b).abs() < 0.02 * b,
-                "steady output at h = {h}: {a} vs {b}"
-            );
-        }
-        Ok(())
-    }
-}
+mod fixtures;
+#[cfg(test)]
+mod tests;

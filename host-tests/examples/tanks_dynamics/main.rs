@@ -1,5 +1,6 @@
-//! What the model classes beyond the catalog ([`hsid_host::diagnose::dynamics`]) can do on the
-//! cascaded tanks benchmark, and whether the estimation data could choose them.
+//! What model classes beyond the catalog can do on the cascaded tanks benchmark, and whether
+//! the estimation data could choose them: a polynomial state term ([`poly`], fitted by
+//! [`poly_fit`]) and an internal overflow ([`overflow`]).
 //!
 //! Settings as `hsid diagnose` uses them in README ("Closing the loop on measured data"):
 //! static input border with 7 uniform segments (its BIC choice), order 2, no hold, poles
@@ -24,14 +25,29 @@
 
 use std::ops::Range;
 
-use hsid_host::diagnose::dynamics::{self, Borders, DynamicsError, DynamicsFit};
+mod error;
+#[cfg(test)]
+#[path = "../../src/diagnose/stores/fixtures.rs"]
+mod fixtures;
+mod overflow;
+mod poly;
+mod poly_fit;
+#[cfg(test)]
+mod tests;
+
+use hsid_host::diagnose::dynamics::{Borders, DynamicsFit};
 use hsid_host::diagnose::effects::Holdout;
 use hsid_host::diagnose::model::{
     self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure,
 };
 use hsid_host::diagnose::{checks, residual, simulate};
+// The shared test fixtures name the model through their parent module.
+#[cfg(test)]
+use hsid_host::identify::HostModel;
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
+
+use crate::error::ClassError;
 
 /// A model class on top of a fitted model.
 #[derive(Clone, Copy)]
@@ -113,11 +129,11 @@ fn extend(
         }
         Class::Polynomial(degree, _) => {
             let (m, poly, x0) =
-                dynamics::fit(&hm, &base.x0, degree, &data).map_err(|e| e.to_string())?;
+                poly_fit::fit(&hm, &base.x0, degree, &data).map_err(|e| e.to_string())?;
             let h_fit = simulate::nonlinearity_output(&m, &ud);
-            let steady = match dynamics::unique_steady_states(&m, &poly, &h_fit, &x0) {
+            let steady = match poly::unique_steady_states(&m, &poly, &h_fit, &x0) {
                 Ok(()) => "one".to_string(),
-                Err(DynamicsError::Multistable { level, outputs }) => format!(
+                Err(ClassError::Multistable { level, outputs }) => format!(
                     "more than one: at h = {level:.2} ({:.2} V and {:.2} V)",
                     outputs.0, outputs.1
                 ),
@@ -126,13 +142,13 @@ fn extend(
             Fitted {
                 simulate: Box::new(move |r: &Record| {
                     let h = simulate::nonlinearity_output(&m, &simulate::delay_input(&r.u, delay));
-                    finish(dynamics::simulate(&m, Some(&poly), &h, &x0), r)
+                    finish(poly::simulate(&m, Some(&poly), &h, &x0), r)
                 }),
                 steady,
             }
         }
         Class::Overflow => {
-            let o = dynamics::fit_overflow(&hm, &base.x0, &data).map_err(|e| e.to_string())?;
+            let o = overflow::fit_overflow(&hm, &base.x0, &data).map_err(|e| e.to_string())?;
             Fitted {
                 simulate: Box::new(move |r: &Record| {
                     let h = simulate::nonlinearity_output(&hm, &simulate::delay_input(&r.u, delay));
