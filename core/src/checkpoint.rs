@@ -258,7 +258,9 @@ fn read_settings<T: Real, const M: usize>(
     } else {
         Forgetting::Exponential { lambda }
     };
-    let (asc, desc) = (&knots[0][..lens[0]], &knots[1][..lens[1]]);
+    // `lens` were checked against `M` above; `get` keeps that visible to the panic proof.
+    let path = |i: usize| knots[i].get(..lens[i]).unwrap_or(&[]);
+    let (asc, desc) = (path(0), path(1));
     let knots = if flags & 1 != 0 {
         Knots::shared(asc)
     } else {

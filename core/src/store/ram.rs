@@ -179,6 +179,7 @@ impl<const N: usize, const PAGE: usize, const WRITE: usize> Flash for RamFlash<N
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
 
