@@ -39,7 +39,7 @@ pub enum Fault {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Geometry {
-    /// The program unit must be a power of two up to [`MAX_WRITE`](super::MAX_WRITE).
+    /// The program unit must be a power of two up to [`MAX_WRITE`](super::flash::MAX_WRITE).
     WriteUnit {
         /// `Flash::WRITE`.
         write: usize,
@@ -70,7 +70,7 @@ pub enum StoreError<E> {
     /// The region does not fit the flash's page and program unit.
     Geometry(Geometry),
     /// The payload is larger than a slot holds: give the region more pages per slot
-    /// ([`Region::for_payload`](super::Region::for_payload)).
+    /// ([`Region::for_payload`](super::layout::Region::for_payload)).
     TooLarge {
         /// Bytes given.
         len: usize,
@@ -128,7 +128,7 @@ impl<E: fmt::Debug> fmt::Display for StoreError<E> {
                 Geometry::WriteUnit { write } => write!(
                     f,
                     "program unit of {write} bytes: must be a power of two up to {}",
-                    super::MAX_WRITE
+                    super::flash::MAX_WRITE
                 ),
                 Geometry::PageSize { page, write } => write!(
                     f,

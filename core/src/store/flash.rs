@@ -16,7 +16,7 @@ pub const MAX_WRITE: usize = 256;
 /// - writes and erases take effect in the order they are issued; a power loss can leave the
 ///   operation in progress partly done (a torn write or erase), never an earlier one undone.
 ///
-/// [`RamFlash`](super::RamFlash) implements it in RAM, with simulated power cuts.
+/// [`RamFlash`](super::ram::RamFlash) implements it in RAM, with simulated power cuts.
 pub trait Flash {
     /// Erase unit in bytes (a multiple of [`WRITE`](Self::WRITE)).
     const PAGE: usize;
@@ -35,4 +35,21 @@ pub trait Flash {
 
     /// Reads `buf.len()` bytes from `offset` (any offset and length).
     fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), Self::Error>;
+}
+
+/// A flash borrowed: a store can work on a board's flash it does not own.
+impl<F: Flash> Flash for &mut F {
+    const PAGE: usize = F::PAGE;
+    const WRITE: usize = F::WRITE;
+    type Error = F::Error;
+
+    fn erase(&mut self, page: usize) -> Result<(), Self::Error> {
+        (**self).erase(page)
+    }
+    fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), Self::Error> {
+        (**self).write(offset, data)
+    }
+    fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), Self::Error> {
+        (**self).read(offset, buf)
+    }
 }

@@ -1,9 +1,9 @@
 //! Reading a slot back: is it unwritten, valid, or corrupt, and why.
 
-use super::Store;
 use super::error::{Fault, Slot, StoreError};
 use super::flash::Flash;
 use super::layout::{HEADER_FIELDS, Header, Parsed, newer};
+use super::two_slots::Store;
 use crate::checkpoint::crc32_update;
 
 /// Bytes read at a time to checksum a payload on the flash.

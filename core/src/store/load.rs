@@ -1,9 +1,9 @@
 //! Loading the newest valid checkpoint.
 
-use super::Store;
 use super::error::{Fault, Slot, StoreError};
 use super::flash::Flash;
 use super::inspect::newest;
+use super::two_slots::Store;
 use crate::checkpoint::crc32;
 
 /// What [`Store::load`] found.

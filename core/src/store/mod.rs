@@ -61,6 +61,7 @@ mod layout;
 mod load;
 mod ram;
 mod save;
+mod two_slots;
 
 pub use error::{Fault, Geometry, Slot, StoreError};
 pub use flash::{Flash, MAX_WRITE};
@@ -68,67 +69,4 @@ pub use layout::{HEADER_FIELDS, Region, STORE_VERSION, header_len};
 pub use load::Loaded;
 pub use ram::{PowerCut, RamFlash, RamFlashError, Wear};
 pub use save::Saved;
-
-use layout::Slots;
-
-/// Two checkpoint slots on a flash (see the [module docs](self)).
-#[derive(Debug)]
-pub struct Store<F: Flash> {
-    flash: F,
-    region: Region,
-    geometry: Slots,
-}
-
-impl<F: Flash> Store<F> {
-    /// A store on `region` of `flash`; checks the geometry, reads nothing.
-    pub fn new(flash: F, region: Region) -> Result<Self, StoreError<F::Error>> {
-        let geometry = Slots::of::<F>(region)?;
-        Ok(Self {
-            flash,
-            region,
-            geometry,
-        })
-    }
-
-    /// Largest payload a slot holds, in bytes.
-    pub fn capacity(&self) -> usize {
-        self.geometry.capacity()
-    }
-
-    /// The region the store uses.
-    pub fn region(&self) -> Region {
-        self.region
-    }
-
-    /// The flash.
-    pub fn flash(&self) -> &F {
-        &self.flash
-    }
-
-    /// The flash, mutably (a board's other uses of it; writing into the region voids the
-    /// store's guarantees for the slot written).
-    pub fn flash_mut(&mut self) -> &mut F {
-        &mut self.flash
-    }
-
-    /// Gives the flash back.
-    pub fn into_inner(self) -> F {
-        self.flash
-    }
-}
-
-impl<F: Flash> Flash for &mut F {
-    const PAGE: usize = F::PAGE;
-    const WRITE: usize = F::WRITE;
-    type Error = F::Error;
-
-    fn erase(&mut self, page: usize) -> Result<(), Self::Error> {
-        (**self).erase(page)
-    }
-    fn write(&mut self, offset: usize, data: &[u8]) -> Result<(), Self::Error> {
-        (**self).write(offset, data)
-    }
-    fn read(&mut self, offset: usize, buf: &mut [u8]) -> Result<(), Self::Error> {
-        (**self).read(offset, buf)
-    }
-}
+pub use two_slots::Store;

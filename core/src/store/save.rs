@@ -1,10 +1,10 @@
 //! Saving a checkpoint into the slot that does not hold the newest one.
 
-use super::Store;
 use super::error::{Slot, StoreError};
 use super::flash::{Flash, MAX_WRITE};
 use super::inspect::newest;
 use super::layout::Header;
+use super::two_slots::Store;
 use crate::checkpoint::crc32;
 
 /// Where [`Store::save`] put a checkpoint.
