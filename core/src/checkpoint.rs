@@ -43,7 +43,7 @@ pub fn crc32(bytes: &[u8]) -> u32 {
     !crc32_update(0xFFFF_FFFF, bytes)
 }
 
-fn crc32_update(mut crc: u32, bytes: &[u8]) -> u32 {
+pub(crate) fn crc32_update(mut crc: u32, bytes: &[u8]) -> u32 {
     for &b in bytes {
         crc ^= u32::from(b);
         for _ in 0..8 {
@@ -258,7 +258,9 @@ fn read_settings<T: Real, const M: usize>(
     } else {
         Forgetting::Exponential { lambda }
     };
-    let (asc, desc) = (&knots[0][..lens[0]], &knots[1][..lens[1]]);
+    // `lens` were checked against `M` above; `get` keeps that visible to the panic proof.
+    let path = |i: usize| knots[i].get(..lens[i]).unwrap_or(&[]);
+    let (asc, desc) = (path(0), path(1));
     let knots = if flags & 1 != 0 {
         Knots::shared(asc)
     } else {

@@ -16,6 +16,7 @@ pub mod model;
 pub mod play;
 pub mod regressor;
 pub mod scalar;
+pub mod store;
 pub mod subspace;
 
 pub use accumulation::{

@@ -15,17 +15,24 @@ mod cost;
 mod hostfile;
 mod plant;
 mod report;
+#[cfg(feature = "store")]
+mod resume;
 mod stack;
 
 use core::panic::PanicInfo;
 
 use cortex_m_rt::{ExceptionFrame, entry, exception};
 use cortex_m_semihosting::debug;
-use hsid::{Excitation, Identifier, Knots, Model, MuZero, Settings, workspace_len};
+#[cfg(not(feature = "store"))]
+use hsid::Excitation;
+use hsid::{Identifier, Knots, Model, MuZero, Settings, workspace_len};
+#[cfg(not(feature = "store"))]
 use rand_core::SeedableRng;
+#[cfg(not(feature = "store"))]
 use rand_pcg::Pcg32;
 use static_cell::ConstStaticCell;
 
+#[cfg(not(feature = "store"))]
 use plant::Plant;
 use report::out;
 
@@ -169,6 +176,7 @@ fn main() -> ! {
     calibrate();
 
     let id = identifier();
+    #[cfg(not(feature = "store"))]
     let mut excitation = Excitation::new(
         U_MIN,
         U_MAX,
@@ -176,6 +184,7 @@ fn main() -> ! {
         Pcg32::seed_from_u64(EXCITATION_SEED),
     )
     .unwrap_or_else(|e| fail_with("excitation", &e));
+    #[cfg(not(feature = "store"))]
     let mut servo = plant::plant();
 
     report::config(&report::Config {
@@ -195,6 +204,7 @@ fn main() -> ! {
 
     // The experiment: one sample per period, apply u(t), read y(t), accumulate.
     let mut push = report::PushCost::default();
+    #[cfg(not(feature = "store"))]
     for t in 0..HOLD_LEN + EXCITATION_LEN {
         let u = excitation.next().unwrap_or(U_MIN); // endless iterator: never None
         servo.apply(u);
@@ -207,6 +217,10 @@ fn main() -> ! {
             push.add(ticks, overhead);
         }
     }
+    // With the `store` feature: the same experiment, checkpointed into the store, interrupted
+    // by a power loss and resumed from the store.
+    #[cfg(feature = "store")]
+    let ws = resume::experiment(id, &mut push, WORKSPACE.take());
     if let Some(e) = id.fault() {
         fail_with("push", &e);
     }
@@ -215,6 +229,7 @@ fn main() -> ! {
 
     // Export the accumulated state (checkpoint) to the host, then the final solve with the
     // static workspace; the solve's stack peak is measured on its own.
+    #[cfg(not(feature = "store"))]
     let ws = WORKSPACE.take();
     export_state(id, ws);
     stack::repaint();

@@ -13,6 +13,11 @@
 //!   `f64`, with every choice of the settings (method, order, basis, μ0, forgetting, `f`, `p`)
 //!   and the workspace length hidden from the optimiser, so that every branch is kept.
 //!
+//! - `cargo build --release --features store`: the per-sample path, plus a checkpoint saved
+//!   (`Identifier::save`) into the power-loss-safe store (`Store::save` on a RAM flash), the
+//!   store's pages damaged at an unseen byte, `Store::load` and `Identifier::restore_with`,
+//!   with the region and every length hidden from the optimiser.
+//!
 //! What is proven is the code after `Identifier::new`/`reset` has validated the settings
 //! (those return `Err` for bad settings, which parks the core here). A third build with
 //! `--features control` adds one unchecked index and must fail to link, which shows the proof
@@ -54,6 +59,9 @@ static mut WS: [f32; WS_LEN] = [0.0; WS_LEN];
 #[cfg(feature = "solve")]
 static mut WS_F64: [f64; WS_LEN] = [0.0; WS_LEN];
 
+#[cfg(feature = "store")]
+mod store;
+
 #[entry]
 fn main() -> ! {
     // Configuration (validated, fallible) happens once, outside the per-sample path: a
@@ -71,6 +79,8 @@ fn main() -> ! {
     let (mut ex_c, mut ex_64) = (configure(id_c), configure(id_64));
     loop {
         step(id, &mut excitation);
+        #[cfg(feature = "store")]
+        store::save_load_restore(id);
         #[cfg(feature = "solve")]
         {
             step(id_c, &mut ex_c);
