@@ -7,10 +7,9 @@
 
 mod common;
 
-use std::collections::BTreeSet;
 use std::path::Path;
 
-use common::{Scratch, hsid, identify, p};
+use common::{Scratch, classes, has, hsid, identify, p};
 use hsid_host::choose::{self, Best, Choices, Estimator, Segments, best_model};
 use hsid_host::figures::{
     FigureError, FigureSettings, Record, TrueBorders, Uncertainty, write_figures,
@@ -23,8 +22,6 @@ use hsid_host::sim::{
     Lti, TruePaths, paper_backlash, paper_plant, simulate, table1_excitation, with_hold,
 };
 use nalgebra::{DMatrix, DVector};
-use quick_xml::Reader;
-use quick_xml::events::Event;
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 
@@ -63,43 +60,6 @@ fn refined(u: &[f64], y: &[f64]) -> Best {
         ..Choices::default()
     };
     best_model(u, y, &opts, &choices).unwrap()
-}
-
-/// The `class` attribute of every element of an SVG file, after checking it parses as XML.
-fn classes(path: &Path) -> BTreeSet<String> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut reader = Reader::from_str(&text);
-    let mut out = BTreeSet::new();
-    let mut root = None;
-    loop {
-        match reader.read_event() {
-            Ok(Event::Eof) => break,
-            Ok(Event::Start(e) | Event::Empty(e)) => {
-                root.get_or_insert_with(|| AsRef::<str>::as_ref(&e.name()).to_string());
-                for a in e.attributes() {
-                    let a = a.unwrap();
-                    if AsRef::<str>::as_ref(&a.key) == "class" {
-                        out.insert(a.value.to_string());
-                    }
-                }
-            }
-            Ok(_) => {}
-            Err(e) => panic!("{}: not XML: {e}", path.display()),
-        }
-    }
-    assert_eq!(root.as_deref(), Some("svg"), "{}", path.display());
-    out
-}
-
-fn has(path: &Path, expected: &[&str]) {
-    let found = classes(path);
-    for c in expected {
-        assert!(
-            found.contains(*c),
-            "{}: no series {c:?} in {found:?}",
-            path.display()
-        );
-    }
 }
 
 fn columns(path: &Path, names: &[&str]) -> Vec<Vec<f64>> {

@@ -7,6 +7,9 @@ use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hsid_host::io::write_columns;
+use quick_xml::Reader;
+use quick_xml::events::Event;
+use std::collections::BTreeSet;
 
 /// A fresh scratch folder under the system temp dir, unique per test, removed on drop.
 pub struct Scratch(PathBuf);
@@ -150,4 +153,41 @@ pub fn schema_errors(instance: &serde_json::Value) -> Vec<String> {
         .iter_errors(instance)
         .map(|e| format!("{}: {e}", e.instance_path()))
         .collect()
+}
+
+/// The `class` attribute of every element of an SVG file, after checking it parses as XML.
+pub fn classes(path: &Path) -> BTreeSet<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut reader = Reader::from_str(&text);
+    let mut out = BTreeSet::new();
+    let mut root = None;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Eof) => break,
+            Ok(Event::Start(e) | Event::Empty(e)) => {
+                root.get_or_insert_with(|| AsRef::<str>::as_ref(&e.name()).to_string());
+                for a in e.attributes() {
+                    let a = a.unwrap();
+                    if AsRef::<str>::as_ref(&a.key) == "class" {
+                        out.insert(a.value.to_string());
+                    }
+                }
+            }
+            Ok(_) => {}
+            Err(e) => panic!("{}: not XML: {e}", path.display()),
+        }
+    }
+    assert_eq!(root.as_deref(), Some("svg"), "{}", path.display());
+    out
+}
+
+pub fn has(path: &Path, expected: &[&str]) {
+    let found = classes(path);
+    for c in expected {
+        assert!(
+            found.contains(*c),
+            "{}: no series {c:?} in {found:?}",
+            path.display()
+        );
+    }
 }

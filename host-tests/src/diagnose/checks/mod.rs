@@ -22,7 +22,12 @@ pub fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
     }
     let ex = &u[s.hold.min(n)..];
     let mut out = Vec::new();
-    out.extend(table1::table1_structure(ex, s));
+    // The first run after the hold starts at the hold's last sample, not at the first sample
+    // after it.
+    out.extend(table1::table1_structure(
+        &u[s.hold.min(n).saturating_sub(1)..],
+        s,
+    ));
     out.extend(coverage::path_coverage(ex, s));
     out.extend(excitation::persistent_excitation(ex, s));
     out.extend(hold::hold(y, s));
