@@ -33,7 +33,7 @@ impl Finding {
                 "direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed"
             }
             Finding::StateDependenceBeyondStores => {
-                "state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); `diagnose::dynamics` has further model classes, measured by the example `tanks_dynamics`"
+                "state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); the example `tanks_dynamics` measures further model classes (a polynomial state term, an internal overflow)"
             }
             Finding::StateDependence => {
                 "state_dependence fires: the residual follows the level times the increment of the simulated output, a speed or gain that changes with the level); the level-dependent stores (`state_dependent_dynamics`) were not added: they start from an order-2 model, and the hold-out must confirm them"
