@@ -7,11 +7,13 @@
 //! * [`gain`]: the static gains and the −3 dB bandwidth of the linear part.
 //! * [`gap`]: the backlash gap (play) and the loop height of a two-path element as functions of
 //!   u, by the definitions of the firmware's `Model::gap_at` and `Model::loop_height`.
+//! * [`dead_band`]: the widest flat interval of a static element's border.
 //! * [`report`]: all of it as one [`UnitReport`], printed by `identify` and `validate`.
 //!
 //! Without a sample time the same numbers are given per sample (time constants in samples,
 //! frequencies in rad/sample), and labelled so.
 
+pub mod dead_band;
 pub mod gain;
 pub mod gap;
 pub mod poles;

@@ -7,6 +7,7 @@ use std::fmt::Write;
 use hsid::Direction;
 use serde::Serialize;
 
+use super::dead_band::{DeadBand, dead_band};
 use super::gain::{bandwidth, cascade_gain, lti_gain};
 use super::gap::{gap_at, loop_height};
 use super::poles::{ContinuousPole, Estimate, Mode, continuous_pole};
@@ -51,6 +52,8 @@ pub struct UnitReport {
     pub gap: Vec<GapAt>,
     /// The mean of the defined gaps in `gap`, both directions (input units).
     pub mean_gap: Option<f64>,
+    /// The widest flat interval of a static element's border (static elements only).
+    pub dead_band: Option<DeadBand>,
 }
 
 /// The report of model `m`; `pole_cov` holds the covariance of `(re, im)` of each pole of
@@ -100,6 +103,11 @@ pub fn unit_report(
         cascade_gain: cascade_gain(m),
         mean_gap: (!defined.is_empty()).then(|| defined.iter().sum::<f64>() / defined.len() as f64),
         gap,
+        dead_band: if two_path {
+            None
+        } else {
+            dead_band(&m.knots_asc, &m.border_asc)
+        },
     }
 }
 
@@ -183,6 +191,15 @@ impl UnitReport {
         if let Some(m) = self.mean_gap {
             out.push(format!("mean gap {m:.5} {u_unit}"));
         }
+        if let Some(d) = &self.dead_band {
+            out.push(format!(
+                "dead band: the border is flat from u = {:.5} to {:.5} {u_unit} (width {:.5} {u_unit}, its ends at knots), output there {:.5} {y_unit}",
+                d.from,
+                d.to,
+                d.width(),
+                self.lti_gain * d.level
+            ));
+        }
         out
     }
 }
@@ -245,5 +262,29 @@ mod tests {
             "{text}"
         );
         assert!(r.gap.is_empty() && r.mean_gap.is_none());
+    }
+
+    #[test]
+    fn a_static_dead_zone_is_reported_in_units() {
+        // Knots −1, −0.5, 0, 0.5, 1; flat between ±0.5; G(1) = 0.1/(1 − 0.9) = 1.
+        let border = vec![-1.0, 0.0, 0.0, 0.0, 1.0];
+        let m = first_order(0.9, 0.1, border.clone(), border);
+        let units = Units {
+            input: "V".to_string(),
+            output: "rpm".to_string(),
+        };
+        let r = unit_report(&m, Some(0.01), Some(units), None, false);
+        let d = r.dead_band.unwrap();
+        assert_eq!((d.from, d.to), (-0.5, 0.5));
+        let text = r.lines().join("\n");
+        assert!(
+            text.contains("flat from u = -0.50000 to 0.50000 V (width 1.00000 V"),
+            "{text}"
+        );
+        assert!(
+            unit_report(&m, Some(0.01), None, None, true)
+                .dead_band
+                .is_none()
+        );
     }
 }
