@@ -5,9 +5,12 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::choose::Best;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty, Written, write_figures};
+use hsid_host::figures::{
+    FigureSettings, Record, TrueBorders, Uncertainty, Written, write_figures,
+};
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::{ModelFile, Units};
+use hsid_host::simulate::{PlantSpec, true_loop};
 
 use crate::failure::{Failure, outln};
 
@@ -19,6 +22,32 @@ pub struct FigureArgs {
     /// curves, into this directory (created if missing).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// With --out, for a simulated record: the plant specification it was simulated from
+    /// (`hsid simulate --plant`); its element's loop under the Table I sweeps, times the linear
+    /// part's static gain, is drawn dashed beside the identified borders.
+    #[arg(long, value_name = "SPEC", requires = "out")]
+    true_plant: Option<PathBuf>,
+}
+
+/// The true loop of `--true-plant` on `[u_min, u_max]`, or none.
+fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, Failure> {
+    let Some(path) = &a.true_plant else {
+        return Ok(None);
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!(
+            "{}: cannot read the plant specification: {e}",
+            path.display()
+        )
+    })?;
+    let spec = PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let t = true_loop(&spec, model.u_min(), model.u_max(), 401)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(Some(TrueBorders {
+        u: t.u,
+        asc: t.asc,
+        desc: t.desc,
+    }))
 }
 
 /// The figures of an identified model on its estimation record; `hold` samples at the start
@@ -40,7 +69,7 @@ pub fn identify(
     let settings = FigureSettings {
         ts,
         units: units.map(|u| (u.input.clone(), u.output.clone())),
-        truth: None,
+        truth: truth(a, model)?,
     };
     lines(
         dir,
@@ -68,7 +97,7 @@ pub fn validate(
             .units
             .as_ref()
             .map(|u| (u.input.clone(), u.output.clone())),
-        truth: None,
+        truth: truth(a, model)?,
     };
     let record = Record { u, y, skip };
     let written = write_figures(dir, model, &record, Uncertainty::from_file(file), &settings);

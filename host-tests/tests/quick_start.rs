@@ -169,6 +169,8 @@ fn the_tour_identifies_the_servo_and_draws_it() {
             "points-asc",
             "points-desc",
             "band-asc",
+            "true-asc",
+            "true-desc",
         ],
     );
     has(&fig.join("bode-magnitude.svg"), &["magnitude", "band"]);

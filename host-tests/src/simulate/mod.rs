@@ -16,6 +16,7 @@ mod noise;
 mod output;
 mod plant;
 mod spec;
+mod true_loop;
 
 pub use element::{Static, element};
 pub use error::SimulateError;
@@ -28,6 +29,7 @@ pub use spec::{
     ColourName, ColourSpec, Curve, ElementKind, ElementSpec, LinearSpec, NoiseSpec, PlantSpec,
     SectionSpec, Shape, TransferSpec, UnitsSpec,
 };
+pub use true_loop::{TrueLoop, true_loop};
 
 use crate::sim::Lti;
 
