@@ -3,9 +3,12 @@
 //! the validation NRMSE over the noise floor for the paper's estimator (PI-MOESP, 7 segments
 //! per path, f = p = 10, the subspace order) and the desktop default (`hsid identify` without
 //! options: segments and horizons from the data, refined, the order by BIC), then a summary.
+//! `-- PLANTS SEED diagnose` adds the base model of `hsid diagnose` at its defaults.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::generality::{Row, confusion, default_estimate, paper_estimate, run_case, table};
+use hsid_host::generality::{
+    Estimator, Row, confusion, default_estimate, diagnose_estimate, paper_estimate, run_case, table,
+};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -15,9 +18,22 @@ fn main() {
     let seed: u64 = args
         .get(2)
         .map_or(1, |a| a.parse().expect("SEED: a number"));
+    let mut estimators: Vec<Estimator> = vec![paper_estimate, default_estimate];
+    let mut names = vec!["paper", "default"];
+    match args.get(3).map(String::as_str) {
+        None => {}
+        Some("diagnose") => {
+            estimators.push(diagnose_estimate);
+            names.push("diagnose");
+        }
+        Some(other) => {
+            eprintln!("generality: unknown third argument {other:?}; the only one is `diagnose`");
+            std::process::exit(2);
+        }
+    }
     let rows: Vec<Row> = (0..plants)
         .map(|i| {
-            let row = run_case(seed, i, &[paper_estimate, default_estimate]).expect("case");
+            let row = run_case(seed, i, &estimators).expect("case");
             eprintln!(
                 "plant {i}: {:?}",
                 row.scores.iter().map(|s| s.ratio()).collect::<Vec<_>>()
@@ -25,7 +41,7 @@ fn main() {
             row
         })
         .collect();
-    println!("{}", table(&rows, &["paper", "default"]));
+    println!("{}", table(&rows, &names));
     println!("{}", confusion(&rows, 0, "paper"));
     println!("{}", confusion(&rows, 1, "default"));
 }

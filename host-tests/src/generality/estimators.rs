@@ -2,8 +2,10 @@
 
 use super::BenchError;
 use super::case::{Case, HOLD};
+use super::element::Kind;
 use super::score::{Estimate, Row, score};
 use crate::choose::{Choices, best_model};
+use crate::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose};
 use crate::identify::{IdentifyOptions, identify};
 
 /// Samples of each record after the hold.
@@ -36,6 +38,30 @@ pub fn default_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, S
             best.options.knots_asc.len() - 1
         ),
         model: best.model,
+    })
+}
+
+/// The base model of `hsid diagnose` at its defaults (the paper's estimator at f = p = 10 and 7
+/// segments per path, then borders, `B`, `D` refit and the poles refined by the simulation
+/// error): the model its steps start from and its "before" error is of.
+pub fn diagnose_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, String> {
+    let e = &case.element;
+    let kind = match e.kind {
+        Kind::Backlash => Nonlinearity::Backlash,
+        Kind::Switch => Nonlinearity::Switch,
+    };
+    let opts = DiagnoseOptions::new(IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD), kind);
+    let record = Record::new(u.to_vec(), y.to_vec());
+    // The base model is fitted on the estimation record alone; the validation given here only
+    // sets what diagnose reports as its error, which the benchmark does not use.
+    let validation = Validation::Separate {
+        record: record.clone(),
+        skip: HOLD,
+    };
+    let d = diagnose(&record, &validation, &opts).map_err(|e| e.to_string())?;
+    Ok(Estimate {
+        model: d.base.hammerstein,
+        note: "diagnose's base model".into(),
     })
 }
 

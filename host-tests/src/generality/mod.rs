@@ -13,7 +13,9 @@ use std::fmt;
 
 pub use case::{Case, Colour, HOLD, Record};
 pub use element::{Element, Kind, random_element};
-pub use estimators::{Estimator, SAMPLES, default_estimate, paper_estimate, run_case};
+pub use estimators::{
+    Estimator, SAMPLES, default_estimate, diagnose_estimate, paper_estimate, run_case,
+};
 pub use plant::{Plant, random_plant};
 pub use score::{Estimate, Row, Score, confusion, score, table};
 
