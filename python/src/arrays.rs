@@ -2,9 +2,7 @@
 //! dtypes and non-contiguous arrays converted explicitly); integers, booleans, complex numbers,
 //! objects, other shapes and non-finite values are refused with a [`DataError`](crate::error).
 
-use numpy::{
-    PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
-};
+use numpy::{PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::error::{Class, Failure};
@@ -19,9 +17,7 @@ pub fn vector(name: &str, obj: &Bound<'_, PyAny>) -> Result<Vec<f64>, Failure> {
         return Err(Failure::new(
             Class::Data,
             "not_an_array",
-            format!(
-                "{name} is a {ty}, not a numpy array: give numpy.asarray({name}, dtype=float)"
-            ),
+            format!("{name} is a {ty}, not a numpy array: give numpy.asarray({name}, dtype=float)"),
         ));
     };
     if array.ndim() != 1 {
@@ -50,9 +46,9 @@ pub fn vector(name: &str, obj: &Bound<'_, PyAny>) -> Result<Vec<f64>, Failure> {
             let converted = obj
                 .call_method1("astype", ("float64",))
                 .map_err(|e| Failure::new(Class::Data, "dtype", format!("{name}: {e}")))?;
-            let a = converted.cast::<PyArray1<f64>>().map_err(|e| {
-                Failure::new(Class::Data, "dtype", format!("{name}: {e}"))
-            })?;
+            let a = converted
+                .cast::<PyArray1<f64>>()
+                .map_err(|e| Failure::new(Class::Data, "dtype", format!("{name}: {e}")))?;
             read(a)
         }
     };

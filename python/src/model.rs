@@ -78,10 +78,7 @@ impl Model {
 
     /// The model file (format hsid-model/1) as JSON text: what `hsid identify --json` writes.
     fn to_json(&self) -> PyResult<String> {
-        Ok(self
-            .file
-            .to_json_string("<model>")
-            .map_err(Failure::from)?)
+        Ok(self.file.to_json_string("<model>").map_err(Failure::from)?)
     }
 
     /// Model order n (states of the linear part).
@@ -178,7 +175,10 @@ impl Model {
     /// Units of the signals as {"input": ..., "output": ...}, or None.
     #[getter]
     fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &serde_json::to_string(&self.file.units).map_err(to_data)?)
+        json_to_py(
+            py,
+            &serde_json::to_string(&self.file.units).map_err(to_data)?,
+        )
     }
 
     /// The border of `direction` ("ascending" or "descending") at `u` (a float or a 1-D

@@ -74,7 +74,10 @@ pub fn knots(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<(Vec<f64>, Vec<f64
                 ),
             ));
         }
-        let item = |i| t.get_item(i).map_err(|e| settings_err("knots", e.to_string()));
+        let item = |i| {
+            t.get_item(i)
+                .map_err(|e| settings_err("knots", e.to_string()))
+        };
         return Ok(Some((
             vector("knots[0]", &item(0)?)?,
             vector("knots[1]", &item(1)?)?,
