@@ -59,8 +59,11 @@ pub fn segments(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<SegmentArg>, Fa
     }
 }
 
+/// Knots of the ascending and the descending path.
+pub type KnotPair = (Vec<f64>, Vec<f64>);
+
 /// `knots=`: None, one array for both paths, or a pair `(ascending, descending)`.
-pub fn knots(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<(Vec<f64>, Vec<f64>)>, Failure> {
+pub fn knots(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<KnotPair>, Failure> {
     let Some(obj) = obj.filter(|o| !o.is_none()) else {
         return Ok(None);
     };
@@ -135,7 +138,7 @@ pub fn settings(
     umin: f64,
     umax: f64,
     segments: Option<SegmentArg>,
-    knots: Option<(Vec<f64>, Vec<f64>)>,
+    knots: Option<KnotPair>,
     kind: NonlinearityKind,
     horizons: Option<(usize, usize)>,
     order: Option<usize>,
