@@ -128,3 +128,25 @@ def identify(
 
 def solve_checkpoint(state: bytes) -> Model:
     """The model of an identifier's checkpoint, as ``hsid solve --state`` solves it."""
+
+def diagnose(
+    u: FloatArray,
+    y: FloatArray,
+    umin: Optional[float] = None,
+    umax: Optional[float] = None,
+    *,
+    u_val: Optional[FloatArray] = None,
+    y_val: Optional[FloatArray] = None,
+    split: float = 0.7,
+    validation_skip: Optional[int] = None,
+    nonlinearity: Literal["backlash", "switch", "static"] = "backlash",
+    segments: int = 7,
+    knots: Union[FloatArray, Tuple[FloatArray, FloatArray], None] = None,
+    order: Optional[int] = None,
+    hold: int = 300,
+    f: Optional[int] = None,
+    p: Optional[int] = None,
+) -> dict[str, Any]:
+    """The diagnosis of ``(u, y)`` as the JSON report of ``hsid diagnose --json``: the model,
+    the checks of the data against the method's assumptions, the residual tests and the
+    effects added; validated on ``(u_val, y_val)`` or on the last ``1 - split`` of the record."""

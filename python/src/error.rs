@@ -5,6 +5,7 @@
 
 use hsid::{CheckpointError, Error};
 use hsid_host::choose::ChooseError;
+use hsid_host::diagnose::DiagnoseError;
 use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::ModelFileError;
 use hsid_host::simulate::SimulateError;
@@ -181,5 +182,22 @@ impl From<ModelFileError> for Failure {
             ModelFileError::Invalid { .. } => "model_file_invalid",
         };
         Failure::new(Class::Data, kind, e.to_string())
+    }
+}
+
+impl From<DiagnoseError> for Failure {
+    fn from(e: DiagnoseError) -> Self {
+        let (class, kind) = match &e {
+            DiagnoseError::Identify(i) => return i.clone().into(),
+            DiagnoseError::LengthMismatch { .. } => (Class::Data, "length_mismatch"),
+            DiagnoseError::TooShort { .. } => (Class::Data, "too_short"),
+            DiagnoseError::InputOutOfRange { .. } => (Class::Data, "input_out_of_range"),
+            DiagnoseError::KnotNotVisited { .. } => (Class::Data, "knot_not_visited"),
+            DiagnoseError::InvalidSplit(_) => (Class::Settings, "invalid_split"),
+            DiagnoseError::InvalidHoldout { .. } => (Class::Settings, "invalid_holdout"),
+            DiagnoseError::Dynamics(_) => (Class::Identification, "dynamics"),
+            DiagnoseError::Output(_) => (Class::Identification, "output"),
+        };
+        Failure::new(class, kind, e.to_string())
     }
 }

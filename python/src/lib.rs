@@ -3,6 +3,7 @@
 
 mod arrays;
 mod checkpoint;
+mod diagnose;
 mod error;
 mod identify;
 mod model;
@@ -20,6 +21,7 @@ fn _hsid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate::excite, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate_plant, m)?)?;
     m.add_function(wrap_pyfunction!(checkpoint::solve_checkpoint, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
     m.add("HsidError", py.get_type::<error::HsidError>())?;
     m.add("DataError", py.get_type::<error::DataError>())?;
     m.add("SettingsError", py.get_type::<error::SettingsError>())?;
