@@ -204,3 +204,93 @@ pub fn horizons(f: Option<usize>, p: Option<usize>) -> Option<(usize, usize)> {
         (None, None) => None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_horizon_given_sets_both() {
+        assert_eq!(horizons(Some(12), None), Some((12, 12)));
+        assert_eq!(horizons(None, Some(8)), Some((8, 8)));
+        assert_eq!(horizons(Some(12), Some(8)), Some((12, 8)));
+        assert_eq!(horizons(None, None), None);
+    }
+
+    #[test]
+    fn paper_keywords_give_the_paper_estimator() {
+        let s = settings(
+            -3.0,
+            3.0,
+            Some(SegmentArg::Fixed(7)),
+            None,
+            NonlinearityKind::Backlash,
+            Some((10, 10)),
+            None,
+            300,
+            false,
+        )
+        .unwrap_or_else(|e| panic!("{e:?}"));
+        assert_eq!(s.options, IdentifyOptions::uniform(-3.0, 3.0, 7, 300));
+        assert_eq!(s.choices.segments, Segments::Given);
+        assert_eq!(s.choices.horizons, choose::Horizons::Given);
+        assert_eq!(s.choices.estimator, Estimator::Subspace);
+    }
+
+    #[test]
+    fn defaults_choose_from_the_data_and_refine() {
+        let s = settings(
+            -1.0,
+            1.0,
+            None,
+            None,
+            NonlinearityKind::Static,
+            None,
+            Some(3),
+            0,
+            true,
+        )
+        .unwrap_or_else(|e| panic!("{e:?}"));
+        assert_eq!(
+            s.choices.segments,
+            Segments::FromData(SEGMENT_CANDIDATES.to_vec())
+        );
+        assert_eq!(s.choices.horizons, choose::Horizons::FromData);
+        assert_eq!(s.choices.estimator, Estimator::Refined);
+        assert!(s.options.static_nonlinearity);
+        assert_eq!(s.options.order, Some(3));
+    }
+
+    #[test]
+    fn given_knots_must_span_the_interval() {
+        let k = vec![-1.0, 0.0, 0.9];
+        let e = settings(
+            -1.0,
+            1.0,
+            None,
+            Some((k.clone(), k)),
+            NonlinearityKind::Backlash,
+            None,
+            None,
+            300,
+            true,
+        )
+        .err()
+        .map(|e| (e.class, e.kind));
+        assert_eq!(e, Some((Class::Settings, "knot_endpoints")));
+        let e = settings(
+            1.0,
+            -1.0,
+            None,
+            None,
+            NonlinearityKind::Backlash,
+            None,
+            None,
+            300,
+            true,
+        )
+        .err()
+        .map(|e| e.kind);
+        assert_eq!(e, Some("invalid_interval"));
+    }
+}
