@@ -207,6 +207,7 @@ pub fn horizons(f: Option<usize>, p: Option<usize>) -> Option<(usize, usize)> {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
     use super::*;
 
     #[test]
@@ -230,7 +231,7 @@ mod tests {
             300,
             false,
         )
-        .unwrap_or_else(|e| panic!("{e:?}"));
+        .unwrap();
         assert_eq!(s.options, IdentifyOptions::uniform(-3.0, 3.0, 7, 300));
         assert_eq!(s.choices.segments, Segments::Given);
         assert_eq!(s.choices.horizons, choose::Horizons::Given);
@@ -250,7 +251,7 @@ mod tests {
             0,
             true,
         )
-        .unwrap_or_else(|e| panic!("{e:?}"));
+        .unwrap();
         assert_eq!(
             s.choices.segments,
             Segments::FromData(SEGMENT_CANDIDATES.to_vec())
