@@ -7,14 +7,13 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::choose::{
-    self, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
+    self, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model, model_std,
+    noise_file,
 };
 use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::model_file::{ModelFile, ModelStd, NoiseFile};
+use hsid_host::model_file::ModelFile;
 use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
-use hsid_host::refine::pem::PemFit;
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
-use hsid_host::refine::uncertainty::{border_std, fit_poles};
 use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
 use hsid_host::report::{fit_report, model_text, std_text};
 use hsid_host::units::unit_report;
@@ -268,46 +267,4 @@ fn write(file: &ModelFile, path: &Path) -> Result<(), Failure> {
     file.save(path).map_err(|e| e.to_string())?;
     outln!("wrote {}", path.display())?;
     Ok(())
-}
-
-/// The noise model in the model file's form.
-pub fn noise_file(n: &NoiseModel) -> NoiseFile {
-    NoiseFile {
-        c: n.c.clone(),
-        d: n.d.clone(),
-        sigma2: n.sigma2,
-    }
-}
-
-/// Standard deviations of a refined model, and the covariance of each pole's `(re, im)`: each
-/// pole of the model paired with the nearest root of the refined denominator.
-fn model_std(fit: &PemFit) -> (ModelStd, Vec<[[f64; 2]; 2]>) {
-    let roots = fit_poles(fit);
-    let nearest: Vec<_> = fit
-        .model
-        .poles()
-        .into_iter()
-        .map(|(re, im)| {
-            roots.iter().min_by(|a, b| {
-                let d = |p: (f64, f64)| (p.0 - re).hypot(p.1 - im);
-                d(a.pole).total_cmp(&d(b.pole))
-            })
-        })
-        .collect();
-    let poles = nearest
-        .iter()
-        .map(|r| r.map_or([f64::NAN; 2], |r| [r.std.0, r.std.1]))
-        .collect();
-    let cov = nearest
-        .iter()
-        .map(|r| r.map_or([[f64::NAN; 2]; 2], |r| r.cov))
-        .collect();
-    let (asc, desc) = border_std(fit);
-    let std = ModelStd {
-        poles,
-        mu0: asc.first().copied().unwrap_or(f64::NAN),
-        border_asc: asc,
-        border_desc: desc,
-    };
-    (std, cov)
 }

@@ -2,8 +2,11 @@
 //! by the prediction-error method, and the refined model's order by an information criterion.
 //! The paper's estimator (PI-MOESP at the given horizons, no refinement) stays one setting away.
 
+mod file;
 mod horizons;
 mod order;
+
+pub use file::{model_file, model_std, noise_file};
 
 pub use horizons::{
     COLUMNS_PER_ROW, HorizonChoice, MAX_HORIZON, MEMORY_LEVEL, MIN_HORIZON, choose_horizons,

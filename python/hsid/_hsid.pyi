@@ -1,0 +1,152 @@
+"""Type stubs of the extension module ``hsid._hsid`` (re-exported by ``hsid``)."""
+
+from typing import Any, Literal, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.floating[Any]]
+Direction = Literal["ascending", "descending"]
+
+class HsidError(Exception):
+    """Base of every error of hsid; ``kind`` names the library's error variant."""
+
+    kind: str
+
+class DataError(HsidError):
+    """Bad data: arrays (dtype, shape, NaN, lengths, inputs outside the interval), model
+    files or checkpoints."""
+
+class SettingsError(HsidError):
+    """Bad settings: interval, segments, knots, horizons, order, hold, units, plant spec."""
+
+class IdentificationError(HsidError):
+    """The identification failed on valid data and settings (no dynamics, rank deficiency,
+    an unstable model, a refinement that failed at every order)."""
+
+class Model:
+    """An identified Hammerstein model: an input element with an ascending and a descending
+    border (piecewise linear on their knots), then ``x(t+1) = A x(t) + B h(t)``,
+    ``y(t) = C x(t) + D h(t)``. It is the model file (format hsid-model/1) that
+    ``hsid identify --json`` writes."""
+
+    @staticmethod
+    def from_json(text: str) -> Model:
+        """Reads a model file (format hsid-model/1) from its JSON text."""
+    def to_json(self) -> str:
+        """The model file as JSON text, byte for byte what ``hsid identify --json`` writes."""
+    @property
+    def order(self) -> int:
+        """Model order n."""
+    @property
+    def poles(self) -> npt.NDArray[np.complex128]:
+        """Poles of the linear part (eigenvalues of A)."""
+    @property
+    def A(self) -> npt.NDArray[np.float64]:
+        """State matrix, order x order."""
+    @property
+    def B(self) -> npt.NDArray[np.float64]:
+        """Input vector."""
+    @property
+    def C(self) -> npt.NDArray[np.float64]:
+        """Output vector."""
+    @property
+    def D(self) -> float:
+        """Feedthrough."""
+    @property
+    def mu0(self) -> float:
+        """H(u_min), the element's output at the lower end of the interval."""
+    @property
+    def u_min(self) -> float:
+        """Lower end of the input interval."""
+    @property
+    def u_max(self) -> float:
+        """Upper end of the input interval."""
+    @property
+    def knots_asc(self) -> npt.NDArray[np.float64]:
+        """Knots of the ascending border."""
+    @property
+    def knots_desc(self) -> npt.NDArray[np.float64]:
+        """Knots of the descending border."""
+    @property
+    def nonlinearity(self) -> Optional[Literal["backlash", "switch", "static"]]:
+        """The input element, None when not recorded (a solved checkpoint's two paths)."""
+    @property
+    def std(self) -> Optional[dict[str, Any]]:
+        """Standard deviations of a refined model: ``poles`` ([re, im] each), ``mu0``,
+        ``border_asc``, ``border_desc``; None for a model that was not refined."""
+    @property
+    def ts(self) -> Optional[float]:
+        """Sample time in seconds."""
+    @property
+    def units(self) -> Optional[dict[str, str]]:
+        """``{"input": ..., "output": ...}``."""
+    @overload
+    def border(self, direction: Direction, u: float) -> float: ...
+    @overload
+    def border(self, direction: Direction, u: FloatArray) -> npt.NDArray[np.float64]:
+        """The border of ``direction`` at ``u`` (inside [u_min, u_max])."""
+    @overload
+    def gap_at(self, direction: Direction, u: float) -> float: ...
+    @overload
+    def gap_at(self, direction: Direction, u: FloatArray) -> npt.NDArray[np.float64]:
+        """How far the input must travel back after a reversal at ``u`` on path
+        ``direction`` before the element's output moves; NaN where undefined."""
+    def simulate(self, u: FloatArray) -> npt.NDArray[np.float64]:
+        """The model's output for the input ``u`` (inside [u_min, u_max]) from rest."""
+
+def excite(
+    umin: float, umax: float, samples: int, *, hold: int = 300, seed: int = 1
+) -> npt.NDArray[np.float64]:
+    """The method's excitation (Table I of the paper), equal to ``hsid excite``."""
+
+def simulate_plant(
+    spec: Union[dict[str, Any], str], u: FloatArray, *, seed: Optional[int] = None
+) -> npt.NDArray[np.float64]:
+    """The output of the true plant ``spec`` (the ``hsid simulate --plant`` format) for ``u``."""
+
+def identify(
+    u: FloatArray,
+    y: FloatArray,
+    umin: float,
+    umax: float,
+    *,
+    segments: Union[int, Literal["auto"], None] = None,
+    knots: Union[FloatArray, Tuple[FloatArray, FloatArray], None] = None,
+    nonlinearity: Literal["backlash", "switch", "static"] = "backlash",
+    f: Optional[int] = None,
+    p: Optional[int] = None,
+    order: Optional[int] = None,
+    hold: int = 300,
+    ts: Optional[float] = None,
+    units: Optional[dict[str, str]] = None,
+    refine: bool = True,
+) -> Model:
+    """A model from ``(u, y)`` as ``hsid identify`` makes it: segments, horizons and order
+    from the data and refined by default; ``refine=False, segments=7, f=10, p=10`` is the
+    paper's estimator."""
+
+def solve_checkpoint(state: bytes) -> Model:
+    """The model of an identifier's checkpoint, as ``hsid solve --state`` solves it."""
+
+def diagnose(
+    u: FloatArray,
+    y: FloatArray,
+    umin: Optional[float] = None,
+    umax: Optional[float] = None,
+    *,
+    u_val: Optional[FloatArray] = None,
+    y_val: Optional[FloatArray] = None,
+    split: float = 0.7,
+    validation_skip: Optional[int] = None,
+    nonlinearity: Literal["backlash", "switch", "static"] = "backlash",
+    segments: int = 7,
+    knots: Union[FloatArray, Tuple[FloatArray, FloatArray], None] = None,
+    order: Optional[int] = None,
+    hold: int = 300,
+    f: Optional[int] = None,
+    p: Optional[int] = None,
+) -> dict[str, Any]:
+    """The diagnosis of ``(u, y)`` as the JSON report of ``hsid diagnose --json``: the model,
+    the checks of the data against the method's assumptions, the residual tests and the
+    effects added; validated on ``(u_val, y_val)`` or on the last ``1 - split`` of the record."""

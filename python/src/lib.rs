@@ -1,0 +1,33 @@
+//! The Python package of hsid (`import hsid`): identification of actuators with backlash or
+//! switch input nonlinearities from numpy arrays, a face of the host library `hsid-host`.
+
+mod arrays;
+mod checkpoint;
+mod diagnose;
+mod error;
+mod identify;
+mod model;
+mod settings;
+mod simulate;
+
+use pyo3::prelude::*;
+
+/// The extension module `hsid._hsid`; the package `hsid` re-exports it.
+#[pymodule]
+fn _hsid(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<model::Model>()?;
+    m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::excite, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::simulate_plant, m)?)?;
+    m.add_function(wrap_pyfunction!(checkpoint::solve_checkpoint, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
+    m.add("HsidError", py.get_type::<error::HsidError>())?;
+    m.add("DataError", py.get_type::<error::DataError>())?;
+    m.add("SettingsError", py.get_type::<error::SettingsError>())?;
+    m.add(
+        "IdentificationError",
+        py.get_type::<error::IdentificationError>(),
+    )?;
+    Ok(())
+}

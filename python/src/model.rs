@@ -1,0 +1,251 @@
+//! `hsid.Model`: an identified model, held as the model file (format hsid-model/1) it is.
+
+use hsid::Direction;
+use hsid_host::identify::HostModel;
+use hsid_host::model_file::ModelFile;
+use hsid_host::units::gap::gap_at;
+use numpy::{Complex64, PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyFloat;
+
+use crate::arrays::{inside, out, vector};
+use crate::error::{Class, Failure};
+
+/// An identified Hammerstein model: an input element with two borders (ascending and
+/// descending paths, piecewise linear on their knots), then linear dynamics `x(t+1) = A x(t) +
+/// B h(t)`, `y(t) = C x(t) + D h(t)`. It is the model file hsid-model/1 that `hsid identify
+/// --json` writes: `to_json()` gives that file, `Model.from_json(text)` reads one.
+#[pyclass(module = "hsid", name = "Model", frozen)]
+pub struct Model {
+    file: ModelFile,
+    model: HostModel,
+}
+
+impl Model {
+    /// The model of a model file.
+    pub fn new(file: ModelFile) -> Self {
+        let model = HostModel::from_json(&file);
+        Self { file, model }
+    }
+
+    fn check_u(&self, name: &str, u: &[f64]) -> Result<(), Failure> {
+        inside(name, u, self.model.u_min(), self.model.u_max())
+    }
+}
+
+/// `"ascending"` or `"descending"`.
+fn direction(d: &str) -> Result<Direction, Failure> {
+    match d {
+        "ascending" => Ok(Direction::Ascending),
+        "descending" => Ok(Direction::Descending),
+        _ => Err(Failure::new(
+            Class::Settings,
+            "direction",
+            format!("direction {d:?}: give \"ascending\" or \"descending\""),
+        )),
+    }
+}
+
+/// Applies `f` to a float or to each value of a 1-D array (`name` in errors).
+fn map<'py>(
+    py: Python<'py>,
+    name: &str,
+    u: &Bound<'py, PyAny>,
+    mut f: impl FnMut(&[f64]) -> Result<Vec<f64>, Failure>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if u.is_instance_of::<PyFloat>() || u.extract::<i64>().is_ok() {
+        let v: f64 = u.extract()?;
+        let r = f(&[v])?;
+        return Ok(PyFloat::new(py, r[0]).into_any());
+    }
+    let v = vector(name, u)?;
+    Ok(out(py, f(&v)?).into_any())
+}
+
+/// A JSON value as a Python object (`None` for JSON null).
+fn json_to_py<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+#[pymethods]
+impl Model {
+    /// Reads a model file (format hsid-model/1) from its JSON text.
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        let file = ModelFile::from_json_str("<string>", text).map_err(Failure::from)?;
+        Ok(Self::new(file))
+    }
+
+    /// The model file (format hsid-model/1) as JSON text: what `hsid identify --json` writes.
+    fn to_json(&self) -> PyResult<String> {
+        Ok(self.file.to_json_string("<model>").map_err(Failure::from)?)
+    }
+
+    /// Model order n (states of the linear part).
+    #[getter]
+    fn order(&self) -> usize {
+        self.file.order
+    }
+
+    /// Poles of the linear part (eigenvalues of A), complex.
+    #[getter]
+    fn poles<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<Complex64>> {
+        let p: Vec<Complex64> = self
+            .model
+            .poles()
+            .into_iter()
+            .map(|(re, im)| Complex64::new(re, im))
+            .collect();
+        PyArray1::from_vec(py, p)
+    }
+
+    /// State matrix A (order × order).
+    #[getter(A)]
+    fn a<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        Ok(PyArray2::from_vec2(py, &self.file.a)?)
+    }
+
+    /// Input vector B (order).
+    #[getter(B)]
+    fn b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        out(py, self.file.b.clone())
+    }
+
+    /// Output vector C (order).
+    #[getter(C)]
+    fn c<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        out(py, self.file.c.clone())
+    }
+
+    /// Feedthrough D.
+    #[getter(D)]
+    fn d(&self) -> f64 {
+        self.file.d
+    }
+
+    /// μ0 = H(u_min), the element's output at the lower end of the interval.
+    #[getter]
+    fn mu0(&self) -> f64 {
+        self.file.mu0
+    }
+
+    /// Lower end of the input interval.
+    #[getter]
+    fn u_min(&self) -> f64 {
+        self.file.u_min
+    }
+
+    /// Upper end of the input interval.
+    #[getter]
+    fn u_max(&self) -> f64 {
+        self.file.u_max
+    }
+
+    /// Knots of the ascending border.
+    #[getter]
+    fn knots_asc<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        out(py, self.file.knots_asc.clone())
+    }
+
+    /// Knots of the descending border.
+    #[getter]
+    fn knots_desc<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        out(py, self.file.knots_desc.clone())
+    }
+
+    /// The input element: "backlash", "switch", "static", or None when not recorded.
+    #[getter]
+    fn nonlinearity(&self) -> Option<&'static str> {
+        self.file.nonlinearity.map(|n| n.name())
+    }
+
+    /// Standard deviations of the refined model (poles, mu0, border_asc, border_desc) as a
+    /// dict, or None for a model that was not refined.
+    #[getter]
+    fn std<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_py(py, &serde_json::to_string(&self.file.std).map_err(to_data)?)
+    }
+
+    /// Sample time in seconds, or None.
+    #[getter]
+    fn ts(&self) -> Option<f64> {
+        self.file.sample_time
+    }
+
+    /// Units of the signals as {"input": ..., "output": ...}, or None.
+    #[getter]
+    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_py(
+            py,
+            &serde_json::to_string(&self.file.units).map_err(to_data)?,
+        )
+    }
+
+    /// The border of `direction` ("ascending" or "descending") at `u` (a float or a 1-D
+    /// array inside [u_min, u_max]).
+    fn border<'py>(
+        &self,
+        py: Python<'py>,
+        direction: &str,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let dir = self::direction(direction)?;
+        map(py, "u", u, |v| {
+            self.check_u("u", v)?;
+            Ok(v.iter()
+                .map(|&x| match dir {
+                    Direction::Ascending => self.model.border_asc_at(x),
+                    Direction::Descending => self.model.border_desc_at(x),
+                })
+                .collect())
+        })
+    }
+
+    /// The play at `u` after the input arrived on path `direction`: how far the input must
+    /// travel back before the element's output moves (the firmware's `Model::gap_at`). NaN
+    /// where the other border never reaches the value.
+    fn gap_at<'py>(
+        &self,
+        py: Python<'py>,
+        direction: &str,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let dir = self::direction(direction)?;
+        map(py, "u", u, |v| {
+            self.check_u("u", v)?;
+            Ok(v.iter()
+                .map(|&x| gap_at(&self.model, dir, x).unwrap_or(f64::NAN))
+                .collect())
+        })
+    }
+
+    /// The model's output for the input `u` (1-D float array inside [u_min, u_max]), from
+    /// rest at u_min.
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let v = vector("u", u)?;
+        self.check_u("u", &v)?;
+        Ok(out(py, self.model.simulate(&v)))
+    }
+
+    fn __repr__(&self) -> String {
+        let kind = self.file.nonlinearity.map_or("two-path", |n| n.name());
+        format!(
+            "Model(order={}, nonlinearity={kind}, u=[{}, {}], segments={}/{}, mu0={:.6}, refined={})",
+            self.file.order,
+            self.file.u_min,
+            self.file.u_max,
+            self.file.knots_asc.len().saturating_sub(1),
+            self.file.knots_desc.len().saturating_sub(1),
+            self.file.mu0,
+            self.file.std.is_some()
+        )
+    }
+}
+
+fn to_data(e: serde_json::Error) -> Failure {
+    Failure::new(Class::Data, "json", e.to_string())
+}
