@@ -9,6 +9,7 @@ use hsid_host::diagnose::DiagnoseError;
 use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::ModelFileError;
 use hsid_host::simulate::SimulateError;
+use hsid_host::units::TimeError;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
@@ -165,7 +166,10 @@ impl From<SimulateError> for Failure {
             SimulateError::NoNoiseModel => (Class::Settings, "no_noise_model"),
             SimulateError::NoNoiseLevel => (Class::Settings, "no_noise_level"),
             SimulateError::InputOutsideModel { .. } => (Class::Data, "input_out_of_range"),
-            SimulateError::TimeNotIncreasing { .. } => (Class::Data, "time_not_increasing"),
+            SimulateError::Time(TimeError::NotIncreasing { .. }) => {
+                (Class::Data, "time_not_increasing")
+            }
+            SimulateError::Time(_) => (Class::Data, "time_column"),
             SimulateError::ConstantOutput => (Class::Data, "constant_output"),
             SimulateError::Io(_) => (Class::Data, "io"),
         };
