@@ -12,9 +12,10 @@
 # `--state FILE` keeps a copy (solve it with `hsid solve --state FILE`).
 #
 # Usage: scripts/firmware-measure.sh [--target TRIPLE] [--log FILE] [--state FILE]
-#                                    [-- EXTRA CARGO BUILD ARGS...]
+#                                    [--summary FILE] [-- EXTRA CARGO BUILD ARGS...]
 #   --target thumbv7em-none-eabihf (default; QEMU mps2-an386, Cortex-M4) or
 #            riscv32imafc-unknown-none-elf (QEMU virt, RV32IMAFC)
+#   --summary FILE  also writes the measured numbers as key=value lines (scripts/firmware-fit.sh)
 #   e.g. scripts/firmware-measure.sh -- --features defmt   (the defmt variant, Cortex-M4 only;
 #        needs defmt-print)
 # Needs: cargo with the target (added with rustup if missing), QEMU (Debian: qemu-system-arm,
@@ -28,14 +29,16 @@ FW="$ROOT/examples/firmware"
 TARGET=thumbv7em-none-eabihf
 LOG=""
 STATE=""
+SUMMARY=""
 EXTRA=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --target) TARGET="$2"; shift 2 ;;
     --log) LOG="$2"; shift 2 ;;
     --state) STATE="$2"; shift 2 ;;
+    --summary) SUMMARY="$2"; shift 2 ;;
     --) shift; EXTRA=("$@"); break ;;
-    -h|--help) sed -n '2,24p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "${BASH_SOURCE[0]}"; exit 0 ;;
     *) echo "firmware-measure: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -105,12 +108,15 @@ if [[ -n "${SEC[.defmt]:-}" ]]; then
   mv "$DECODED" "$OUT"
 fi
 [[ -n "$LOG" ]] && cp "$OUT" "$LOG"
+FAILED="$(grep -m1 -E '^HSID (fail|panic)' "$OUT" || true)"
 if [[ $STATUS -ne 0 ]]; then
-  grep -E '^HSID (fail|panic)' "$OUT" >&2 || tail -n 20 "$OUT" >&2
-  die "firmware exited with status $STATUS"
+  [[ -n "$FAILED" ]] && echo "$FAILED" >&2 || tail -n 20 "$OUT" >&2
+  # With --summary, a run whose solve failed after the costs were printed still writes its
+  # numbers (solve=fail) before this script fails.
+  [[ -n "$SUMMARY" ]] && grep -q '^HSID cost ' "$OUT" || die "firmware exited with status $STATUS"
 fi
 
-if [[ -n "$STATE" ]]; then
+if [[ -n "$STATE" && $STATUS -eq 0 ]]; then
   [[ -f "$RUNDIR/hsid-state.bin" ]] || die "the firmware wrote no hsid-state.bin"
   cp "$RUNDIR/hsid-state.bin" "$STATE"
   echo "firmware-measure: checkpoint copied to $STATE (hsid solve --state $STATE)" >&2
@@ -137,6 +143,31 @@ TOTAL_RAM="n/a"
 [[ "$PEAK" =~ ^[0-9]+$ ]] && TOTAL_RAM=$(( STATIC_RAM + PEAK ))
 PER_SAMPLE="$(key per_sample_instr)"
 SOLVE="$(key solve_instr)"
+
+if [[ -n "$SUMMARY" ]]; then
+  CFG="$(grep -m1 '^HSID config ' "$OUT" || true)"
+  declare -A C=()
+  for kv in ${CFG#HSID config }; do C["${kv%%=*}"]="${kv#*=}"; done
+  {
+    echo "target=$TARGET"
+    echo "segments=${C[segments]:-n/a}"
+    echo "f=${C[f]:-n/a}"
+    echo "p=${C[p]:-n/a}"
+    echo "flash=$FLASH"
+    echo "static_ram=$STATIC_RAM"
+    echo "stack_peak=$PEAK"
+    echo "ram_total=$TOTAL_RAM"
+    echo "workspace_bytes=$(key workspace_bytes)"
+    echo "identifier_bytes=$(key identifier_bytes)"
+    echo "stack_peak_accumulation=$(key stack_peak_accumulation_bytes)"
+    echo "checkpoint_bytes=${ST[bytes]:-n/a}"
+    echo "checkpoint_buffer=${ST[buffer]:-n/a}"
+    echo "per_sample_instr=$PER_SAMPLE"
+    echo "solve_instr=$SOLVE"
+    if [[ $STATUS -eq 0 ]]; then echo "solve=ok"; else echo "solve=fail ${FAILED#HSID }"; fi
+  } >"$SUMMARY"
+fi
+[[ $STATUS -eq 0 ]] || die "firmware exited with status $STATUS"
 
 echo "| quantity | value | budget |"
 echo "| --- | --- | --- |"

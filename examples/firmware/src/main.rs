@@ -14,6 +14,7 @@
 #![no_main]
 
 mod board;
+mod buildcfg;
 mod cost;
 mod hostfile;
 mod plant;
@@ -44,12 +45,26 @@ use defmt_semihosting as _; // the defmt global logger
 /// Working interval `[u_min, u_max]` of the input (paper, Section IV).
 const U_MIN: f32 = -3.0;
 const U_MAX: f32 = 3.0;
-/// Uniform segments per path (`n_p`); `M` regressor channels in all.
-const SEGMENTS: usize = 7;
+/// Uniform segments per path (`n_p`); `M` regressor channels in all. The paper's 7 unless the
+/// build sets `HSID_FW_SEGMENTS` ([`buildcfg`]).
+const SEGMENTS: usize = buildcfg::number(
+    "HSID_FW_SEGMENTS must be a decimal number",
+    option_env!("HSID_FW_SEGMENTS"),
+    7,
+);
 const M: usize = 2 * SEGMENTS;
-/// Future and past horizons; `K = f + p` block rows.
-const F: usize = 10;
-const P: usize = 10;
+/// Future and past horizons; `K = f + p` block rows. The paper's 10 and 10 unless the build
+/// sets `HSID_FW_F`, `HSID_FW_P` ([`buildcfg`]).
+const F: usize = buildcfg::number(
+    "HSID_FW_F must be a decimal number",
+    option_env!("HSID_FW_F"),
+    10,
+);
+const P: usize = buildcfg::number(
+    "HSID_FW_P must be a decimal number",
+    option_env!("HSID_FW_P"),
+    10,
+);
 const K: usize = F + P;
 /// Hankel columns `j`.
 const J: usize = 4000;
