@@ -135,11 +135,17 @@ pub fn fit_hysteresis(
         admissible: &admissible,
         jacobian: Jacobian::ForwardDifference { typical: &typical },
     };
+    let base = Settings::default();
     let settings = Settings {
         iterations: opts.max_iter,
+        min_gain: 1e-9,
+        damping: lm::Damping {
+            limit: lm::DampingLimit::Tries(14),
+            ..base.damping
+        },
         divergence: Divergence::Fail { growth: 1e6 },
         exhausted: Exhausted::ReturnBest,
-        ..Settings::default()
+        ..base
     };
     if !admissible(&th0) {
         return Err(HysteresisError::StartDoesNotSimulate);
