@@ -85,8 +85,11 @@ fn linear_part(
     Ok((den, b, gain))
 }
 
+/// Knots, `P_a` and `P_d` at them.
+type Paths = (Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// The estimate's borders on its ascending knots, in the units of `G(1) = 1`.
-fn paths(m: &HostModel, gain: f64) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), HysteresisError> {
+fn paths(m: &HostModel, gain: f64) -> Result<Paths, HysteresisError> {
     let k = m.knots_asc.clone();
     let ok = k.len() >= 2
         && k.windows(2).all(|w| w[0] < w[1])
