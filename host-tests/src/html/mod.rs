@@ -15,6 +15,7 @@
 pub mod advice;
 pub mod captions;
 pub mod checks;
+pub mod diagnosis_page;
 pub mod error;
 pub mod escape;
 pub mod figure;

@@ -35,7 +35,7 @@ pub struct ModelRun<'a> {
 impl ModelRun<'_> {
     fn kind(&self) -> Nonlinearity {
         match self.element {
-            Element::Backlash => Nonlinearity::Backlash,
+            Element::Backlash | Element::TwoPath => Nonlinearity::Backlash,
             Element::Switch => Nonlinearity::Switch,
             Element::Static => Nonlinearity::Static,
         }

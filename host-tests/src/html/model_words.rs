@@ -15,6 +15,8 @@ pub enum Element {
     Switch,
     /// One memoryless border: a dead band where it is flat.
     Static,
+    /// Two borders, the kind not recorded (a model file without `nonlinearity`).
+    TwoPath,
 }
 
 impl From<crate::diagnose::Nonlinearity> for Element {
@@ -43,6 +45,7 @@ impl Element {
             Element::Backlash => "backlash",
             Element::Switch => "switch (hysteresis)",
             Element::Static => "static nonlinearity",
+            Element::TwoPath => "two-path element (backlash or switch)",
         }
     }
 }
