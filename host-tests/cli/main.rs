@@ -46,7 +46,7 @@ enum Cmd {
     /// checkpoint's precision (f32 or f64), and print the model.
     Solve(solve::SolveArgs),
     /// Simulate a model on a CSV file with columns `u,y` and print the fit.
-    Validate(validate::ValidateArgs),
+    Validate(Box<validate::ValidateArgs>),
     /// Drive a true plant (a specification) or an identified model by an input record and
     /// print the record with the output `y` as CSV (see docs/simulate.md).
     Simulate(Box<simulate::SimulateArgs>),

@@ -7,6 +7,7 @@ pub mod choose;
 pub mod diagnose;
 pub mod figures;
 pub mod generality;
+pub mod html;
 pub mod hysteresis;
 pub mod identify;
 pub mod io;
