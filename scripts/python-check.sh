@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The Python package: builds it into a virtual environment (target/py-venv; maturin, numpy and
-# pytest, dask[distributed] and nfoursid from PyPI), builds the `hsid` command line and the checkpoint maker its tests compare
-# against, and runs the pytest suite. A run that collects no test fails.
+# The Python package: builds it into a virtual environment (target/py-venv; maturin, numpy,
+# pytest, dask[distributed] and nfoursid from PyPI), builds the `hsid` command line and the
+# checkpoint maker its tests compare against, and runs the pytest suite. A run that collects
+# no test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
