@@ -1,4 +1,4 @@
-//! The wear report: per device the gap of every week's model, its trend ([`trend`]) and two
+//! The wear report: per device the gap of every week's model, its trend ([`fit`]) and two
 //! flags, and on a simulated fleet the detection rate on wearing devices and the false-flag
 //! rate on the others.
 //!
