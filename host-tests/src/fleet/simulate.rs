@@ -130,7 +130,7 @@ pub fn truth(spec: &FleetSpec, index: usize) -> DeviceTruth {
     let mut rng = Pcg64::seed_from_u64(spec.seed ^ (index as u64).wrapping_mul(0x9E37_79B9));
     let mut uniform =
         |(lo, hi): (f64, f64)| lo + (hi - lo) * (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-    let wearing = spec.wear_every > 0 && index % spec.wear_every == 0;
+    let wearing = spec.wear_every > 0 && index.is_multiple_of(spec.wear_every);
     let g0 = uniform(spec.gap);
     let rate = if wearing {
         uniform(spec.wear_per_week)

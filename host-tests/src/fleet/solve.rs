@@ -140,9 +140,12 @@ pub fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetError> {
     b.build().map_err(|e| FleetError::Pool(e.to_string()))
 }
 
+/// A directory entry: the device id, and the file's path or why it cannot be read.
+pub type Entry = (String, Result<PathBuf, DeviceError>);
+
 /// The files of a directory, sorted by file name (the device id); an entry that cannot be
 /// listed is that device's error (named `entry N`). Subdirectories are skipped.
-pub fn list_dir(dir: &Path) -> Result<Vec<(String, Result<PathBuf, DeviceError>)>, FleetError> {
+pub fn list_dir(dir: &Path) -> Result<Vec<Entry>, FleetError> {
     let listing = std::fs::read_dir(dir).map_err(|e| FleetError::Directory {
         dir: dir.display().to_string(),
         error: e.to_string(),
