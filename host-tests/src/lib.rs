@@ -6,6 +6,7 @@
 pub mod choose;
 pub mod diagnose;
 pub mod figures;
+pub mod fleet;
 pub mod generality;
 pub mod html;
 pub mod hysteresis;
