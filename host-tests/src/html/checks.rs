@@ -84,10 +84,23 @@ pub fn test_rows(set: &TestSet, on: &str) -> Vec<CheckRow> {
 
 fn cell(v: Option<f64>, p: bool) -> String {
     match v {
-        Some(v) if p => format!("<td class=\"num\">{v:.3e}</td>"),
+        Some(v) if p => format!("<td class=\"num\">{}</td>", p_value(v)),
         Some(v) => format!("<td class=\"num\">{v:.4}</td>"),
         None => "<td class=\"num\">—</td>".to_string(),
     }
+}
+
+/// A p-value as a reader reads it: `< 1e-6` below one in a million, three
+/// significant digits in plain decimals otherwise (`0.0123`, `0.500`, `1.00`).
+fn p_value(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v < 1e-6 {
+        return "&lt; 1e-6".to_string();
+    }
+    let digits = (2 - v.log10().floor() as i32).max(2) as usize;
+    format!("{v:.digits$}")
 }
 
 /// The table as HTML, after the sentence `note` (plain text, may be empty).
@@ -117,4 +130,19 @@ pub fn table(rows: &[CheckRow], note: &str) -> String {
     }
     s.push_str("</table>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::p_value;
+
+    #[test]
+    fn p_values_print_as_plain_decimals() {
+        assert_eq!(p_value(1.0), "1.00");
+        assert_eq!(p_value(0.5), "0.500");
+        assert_eq!(p_value(0.0123), "0.0123");
+        assert_eq!(p_value(0.000_456_7), "0.000457");
+        assert_eq!(p_value(3e-7), "&lt; 1e-6");
+        assert_eq!(p_value(0.0), "&lt; 1e-6");
+    }
 }

@@ -24,7 +24,7 @@ figure{margin:1.2rem 0;break-inside:avoid;page-break-inside:avoid}
 figure svg{display:block;width:100%;max-width:800px;height:auto}
 figcaption{font-size:.93rem;color:#333;max-width:800px}
 figcaption b{color:#111}
-pre{background:#f4f4f4;padding:.6rem;white-space:pre-wrap;word-break:break-all;font-size:.88rem}
+pre{background:#f4f4f4;padding:.6rem;white-space:pre-wrap;overflow-wrap:anywhere;font-size:.88rem}
 @media print{
  body{max-width:none;margin:0;padding:0;font-size:11pt}
  nav{display:none}
