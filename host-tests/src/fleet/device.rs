@@ -37,8 +37,9 @@ impl DeviceError {
     }
 }
 
-/// The kind of a checkpoint error, as the Python package names it.
-fn checkpoint_kind(c: CheckpointError) -> &'static str {
+/// The kind of a checkpoint error: the name the fleet's JSON lines and the Python package's
+/// exceptions give it.
+pub fn checkpoint_kind(c: CheckpointError) -> &'static str {
     match c {
         CheckpointError::Truncated => "checkpoint_truncated",
         CheckpointError::NotACheckpoint => "not_a_checkpoint",
