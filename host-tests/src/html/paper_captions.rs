@@ -30,7 +30,7 @@ pub fn paper_caption(stem: &str) -> Option<(String, String)> {
         "borders" => (
             "H[·] and its average estimate",
             "The true ascending and descending paths P_a and P_d and the average of the \
-             runs' estimates on the knots. The average should follow each true path up to \
+             runs' estimated borders. The average should follow each true path up to \
              what a piecewise-linear function on these knots can do (the table's best PWL \
              fit); the gap between the paths is the hysteresis.",
         ),
