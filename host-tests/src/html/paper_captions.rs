@@ -56,9 +56,9 @@ fn method_caption(case: &str, kind: &str) -> Option<(String, String)> {
         "poles" => (
             "poles of PI-MOESP and PEM with the Cramér–Rao 2σ ellipse",
             "The upper pole of every run by both methods, the true pole and the 2σ ellipse of \
-             the Cramér–Rao bound around it. An unbiased estimator at the bound fills the \
-             ellipse; a cloud wider than the ellipse is spread the refinement could still \
-             remove, a cloud off centre is a bias.",
+             the Cramér–Rao bound around it. The cloud of an unbiased estimator at the \
+             bound fills the ellipse; a wider cloud is an estimator short of the bound (the \
+             table's std/CRB says by how much), a cloud off centre is a bias.",
         ),
         "bode-band" => (
             "Bode magnitude of one run (PEM) with its ±2σ band",
