@@ -583,7 +583,7 @@ fn compare(page: &PaperNumbers, summary: &serde_json::Value) -> Result<usize, St
             .iter()
             .find(|r| r[0] == "runs per case")
             .ok_or("no runs row")?;
-        if runs[2] != s["runs"].to_string() {
+        if runs[2].parse::<u64>().ok() != s["runs"].as_u64() {
             return Err(format!("runs {:?} against {}", runs[2], s["runs"]));
         }
         n += 17;
