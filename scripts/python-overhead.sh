@@ -22,4 +22,4 @@ if [ -z "$states" ]; then
     --out "$states" --truth "$work/truth.csv" >/dev/null
 fi
 "$py" scripts/python_overhead.py "$states" target/release/examples/checkpoint_solve_time \
-  "${2:-5}" "${3:-5}"
+  "${2:-5}" "${3:-3}"

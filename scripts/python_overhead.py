@@ -43,7 +43,7 @@ def summary(name, v):
 def main():
     states, binary = pathlib.Path(sys.argv[1]), sys.argv[2]
     rounds = int(sys.argv[3]) if len(sys.argv) > 3 else 5
-    reps = int(sys.argv[4]) if len(sys.argv) > 4 else 5
+    reps = int(sys.argv[4]) if len(sys.argv) > 4 else 3
     blobs = [p.read_bytes() for p in sorted(states.iterdir())]
     print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     python_passes(blobs, 1)  # warm: the module, the allocator

@@ -79,6 +79,9 @@ pub fn zy(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<Zy, Error> {
     })
 }
 
+/// `(z, ybar)` as numpy arrays.
+type Arrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
 /// The data the subspace identification works on: `(z, ybar)`, numpy arrays of shape
 /// `(N − hold, channels)` and `(N − hold,)`. `z(t)` holds the hat-basis regressor channels
 /// (ascending path's `n_a` first, then the descending path's `n_d`; `n` channels shared by
@@ -102,7 +105,7 @@ pub fn regressor<'py>(
     knots: Option<&Bound<'py, PyAny>>,
     nonlinearity: &str,
     hold: usize,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<Arrays<'py>> {
     let (u, y) = record(u, y, hold)?;
     let segments = match settings::segments(segments)? {
         Some(SegmentArg::Auto) => {
@@ -141,7 +144,7 @@ mod tests {
 
     fn record() -> (Vec<f64>, Vec<f64>) {
         let mut u = vec![-1.0; 40];
-        u.extend((0..200).map(|t| (0.05 * t as f64).sin() * 0.9 + 0.07 * (t % 5) as f64 - 0.1));
+        u.extend((0..200).map(|t| (0.05 * t as f64).sin() * 0.7 + 0.05 * (t % 5) as f64 - 0.1));
         let y = (0..u.len()).map(|t| 0.5 + (0.3 * t as f64).cos()).collect();
         (u, y)
     }
@@ -158,12 +161,9 @@ mod tests {
         assert_eq!(got.channels, 5 + 3);
         assert_eq!(got.ybar.len(), u.len() - 40);
         for (c, col) in dense[1..].iter().enumerate() {
-            for t in 40..u.len() {
-                assert_eq!(
-                    got.z[(t - 40) * got.channels + c],
-                    col[t],
-                    "channel {c}, t {t}"
-                );
+            for (row, want) in col[40..].iter().enumerate() {
+                let at = row * got.channels + c;
+                assert_eq!(got.z[at], *want, "channel {c}, row {row}");
             }
         }
         let mu0 = y[20..40].iter().sum::<f64>() / 20.0;
