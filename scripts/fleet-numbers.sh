@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The fleet's numbers (docs/fleet.md): checkpoint solve time on one core, throughput on 1 and 2
-# threads, the Python call against the Rust call on the same checkpoints, and the Dask
-# LocalCluster's throughput (the last two need the virtual environment scripts/python-check.sh
-# makes). DEVICES×WEEKS checkpoints of the standard simulated fleet (default 100×4).
+# threads, the Python call against the Rust library call on the same checkpoint bytes in memory
+# (scripts/python-overhead.sh), and the Dask LocalCluster's throughput (the last two need the
+# virtual environment scripts/python-check.sh makes). DEVICES×WEEKS checkpoints of the
+# standard simulated fleet (default 100×4).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 devices=${DEVICES:-100}
@@ -22,3 +23,4 @@ if [ ! -x "$py" ]; then
   exit 0
 fi
 "$py" scripts/fleet_numbers.py "$work/states"
+scripts/python-overhead.sh "$work/states"

@@ -126,6 +126,24 @@ def identify(
     from the data and refined by default; ``refine=False, segments=7, f=10, p=10`` is the
     paper's estimator."""
 
+def regressor(
+    u: FloatArray,
+    y: FloatArray,
+    umin: float,
+    umax: float,
+    *,
+    segments: Optional[int] = None,
+    knots: Union[FloatArray, Tuple[FloatArray, FloatArray], None] = None,
+    nonlinearity: Literal["backlash", "switch", "static"] = "backlash",
+    hold: int = 300,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The data the subspace identification works on, ``(z, ybar)``: the hat-basis regressor
+    channels ``z`` (shape ``(len(u) - hold, channels)``: the ascending path's segments, then
+    the descending path's; one set shared by both directions for ``"static"``) and
+    ``ybar = y - mu0`` after the hold (mu0 the mean of the hold's settled second half), the
+    values ``identify`` accumulates with the same settings. ``segments`` defaults to 7; with
+    ``hold=0`` ``ybar`` is ``y - y[0]``."""
+
 def solve_checkpoint(state: bytes) -> Model:
     """The model of an identifier's checkpoint, as ``hsid solve --state`` solves it."""
 

@@ -8,6 +8,37 @@ use crate::error::{Class, Failure};
 use crate::model::Model;
 use crate::settings::{self, Settings};
 
+/// The samples of `u` and `y`: 1-D float arrays of equal length, longer than the hold.
+pub fn record(
+    u: &Bound<'_, PyAny>,
+    y: &Bound<'_, PyAny>,
+    hold: usize,
+) -> Result<(Vec<f64>, Vec<f64>), Failure> {
+    let (u, y) = (vector("u", u)?, vector("y", y)?);
+    if u.len() != y.len() {
+        return Err(Failure::new(
+            Class::Data,
+            "length_mismatch",
+            format!(
+                "u has {} samples but y has {}: give one y per u",
+                u.len(),
+                y.len()
+            ),
+        ));
+    }
+    if hold >= u.len() {
+        return Err(Failure::new(
+            Class::Data,
+            "all_hold",
+            format!(
+                "{} samples, all inside the hold of {hold}: nothing left to identify from",
+                u.len()
+            ),
+        ));
+    }
+    Ok((u, y))
+}
+
 /// Identifies a Hammerstein model (backlash, switch or static input element, then linear
 /// dynamics) from the input `u` and the output `y` (1-D float arrays of equal length, every
 /// input inside [umin, umax], the first `hold` samples a hold at umin).
@@ -38,30 +69,7 @@ pub fn identify(
     units: Option<&Bound<'_, PyAny>>,
     refine: bool,
 ) -> PyResult<Model> {
-    let (u, y) = (vector("u", u)?, vector("y", y)?);
-    if u.len() != y.len() {
-        return Err(Failure::new(
-            Class::Data,
-            "length_mismatch",
-            format!(
-                "u has {} samples but y has {}: give one y per u",
-                u.len(),
-                y.len()
-            ),
-        )
-        .into());
-    }
-    if hold >= u.len() {
-        return Err(Failure::new(
-            Class::Data,
-            "all_hold",
-            format!(
-                "{} samples, all inside the hold of {hold}: nothing left to identify from",
-                u.len()
-            ),
-        )
-        .into());
-    }
+    let (u, y) = record(u, y, hold)?;
     if let Some(ts) = ts.filter(|t| !(t.is_finite() && *t > 0.0)) {
         return Err(Failure::new(
             Class::Settings,

@@ -8,6 +8,7 @@ mod error;
 mod fleet;
 mod identify;
 mod model;
+mod regressor;
 mod settings;
 mod simulate;
 
@@ -21,6 +22,7 @@ fn _hsid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::excite, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::simulate_plant, m)?)?;
+    m.add_function(wrap_pyfunction!(regressor::regressor, m)?)?;
     m.add_function(wrap_pyfunction!(checkpoint::solve_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(fleet::solve_many, m)?)?;
