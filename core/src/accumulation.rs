@@ -20,7 +20,7 @@
 
 use crate::direction::Direction;
 use crate::error::Error;
-use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
+use crate::regressor::{Basis, HatTerms, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
 /// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.
@@ -122,6 +122,65 @@ impl<T: Real, const M: usize> Lagged<T, M> {
         kahan(&mut self.yy, &mut carry.yy, ye * yl);
     }
 
+    /// [`add_outer`](Self::add_outer) for samples already expanded in the hat basis: the same
+    /// products added in the same order, so the sums are bit for bit those of `add_outer`.
+    #[inline(always)]
+    fn add_hat(&mut self, early: &Expanded<T>, late: &Expanded<T>, sign: T) {
+        let (ye, yl) = (early.y * sign, late.y);
+        for (&i, &zi) in early.z.channel.iter().zip(&early.z.value) {
+            let (i, zi) = (usize::from(i), zi * sign);
+            if let Some(row) = self.zz.get_mut(i) {
+                for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
+                    if let Some(v) = row.get_mut(usize::from(j)) {
+                        *v += zi * zj;
+                    }
+                }
+            }
+            if let Some(v) = self.zy.get_mut(i) {
+                *v += zi * yl;
+            }
+        }
+        for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
+            if let Some(v) = self.yz.get_mut(usize::from(j)) {
+                *v += ye * zj;
+            }
+        }
+        self.yy += ye * yl;
+    }
+
+    /// [`add_hat`](Self::add_hat) with the output sums compensated, as
+    /// [`add_outer_compensated`](Self::add_outer_compensated) (a copy for the same reason).
+    #[inline(always)]
+    fn add_hat_compensated(
+        &mut self,
+        carry: &mut OutputCarry<T, M>,
+        early: &Expanded<T>,
+        late: &Expanded<T>,
+        sign: T,
+    ) {
+        let (ye, yl) = (early.y * sign, late.y);
+        for (&i, &zi) in early.z.channel.iter().zip(&early.z.value) {
+            let (i, zi) = (usize::from(i), zi * sign);
+            if let Some(row) = self.zz.get_mut(i) {
+                for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
+                    if let Some(v) = row.get_mut(usize::from(j)) {
+                        *v += zi * zj;
+                    }
+                }
+            }
+            if let (Some(v), Some(c)) = (self.zy.get_mut(i), carry.zy.get_mut(i)) {
+                kahan(v, c, zi * yl);
+            }
+        }
+        for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
+            let j = usize::from(j);
+            if let (Some(v), Some(c)) = (self.yz.get_mut(j), carry.yz.get_mut(j)) {
+                kahan(v, c, ye * zj);
+            }
+        }
+        kahan(&mut self.yy, &mut carry.yy, ye * yl);
+    }
+
     /// `self *= f`, every sum.
     fn scale(&mut self, f: T) {
         for row in self.zz.iter_mut() {
@@ -167,6 +226,34 @@ pub struct Entry<T> {
     pub at: Located<T>,
     /// `ȳ(t)`.
     pub y: T,
+}
+
+/// A sample of the ring as the per-sample update reads it: z(t) in the hat basis, expanded when
+/// the sample entered, and `ȳ(t)`. Derived from the ring's [`Entry`]s (and rebuilt from them on
+/// restore), never stored in a checkpoint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Expanded<T> {
+    /// The non-zero terms of z(t).
+    z: HatTerms<T>,
+    /// `ȳ(t)`.
+    y: T,
+}
+
+impl<T: Real> Expanded<T> {
+    /// No terms, `ȳ = 0`.
+    const ZERO: Self = Self {
+        z: HatTerms::NONE,
+        y: T::ZERO,
+    };
+
+    /// The expansion of a stored sample.
+    #[inline(always)]
+    fn of<const M: usize>(knots: &Knots<T, M>, e: &Entry<T>) -> Self {
+        Self {
+            z: HatTerms::of(knots, &e.at),
+            y: e.y,
+        }
+    }
 }
 
 /// The carries of the compensated sums of one lag: those of the products with the output.
@@ -310,6 +397,8 @@ pub struct Accumulator<T, const M: usize, const K: usize> {
     pub(crate) lags: [Lagged<T, M>; K],
     pub(crate) head: [Entry<T>; K],
     pub(crate) ring: [Entry<T>; K],
+    /// The ring's samples expanded in the hat basis, slot for slot (unused for the ramps).
+    pub(crate) expanded: [Expanded<T>; K],
     pub(crate) k: usize,
     pub(crate) pos: usize,
     pub(crate) count: u64,
@@ -344,6 +433,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         lags: [Lagged::ZERO; K],
         head: [Entry::ZERO; K],
         ring: [Entry::ZERO; K],
+        expanded: [Expanded::ZERO; K],
         k: 2,
         pos: 0,
         count: 0,
@@ -371,6 +461,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         }
         self.head.fill(Entry::ZERO);
         self.ring.fill(Entry::ZERO);
+        self.expanded.fill(Expanded::ZERO);
         self.sum_z.fill(T::ZERO);
         self.sum_y = T::ZERO;
         self.k = k;
@@ -553,18 +644,23 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         }
         let w = self.scale;
         let lags_now = usize::try_from(self.count).map_or(k, |c| c.saturating_add(1).min(k));
-        for tau in 0..lags_now {
-            let idx = (self.pos + k - tau) % k;
-            if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
-                add.lag(tau, lag, knots, basis, old, &new, w);
+        match basis {
+            Basis::Hat => self.add_lags_hat(&mut add, knots, &new, lags_now, w),
+            Basis::Ramp => {
+                for tau in 0..lags_now {
+                    let idx = (self.pos + k - tau) % k;
+                    if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
+                        add.lag(tau, lag, knots, basis, old, &new, w);
+                    }
+                }
+                for_each_nonzero(knots, basis, &at, |i, v| {
+                    if let Some(s) = self.sum_z.get_mut(i) {
+                        *s += v * w;
+                    }
+                });
             }
         }
         self.pos = (self.pos + 1) % k;
-        for_each_nonzero(knots, basis, &at, |i, v| {
-            if let Some(s) = self.sum_z.get_mut(i) {
-                *s += v * w;
-            }
-        });
         add.sum_y(&mut self.sum_y, y * w);
         // Saturating: 2^64 samples are out of reach, but the per-sample path must not be able
         // to overflow whatever state it was restored to.
@@ -572,6 +668,47 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         if self.scale > T::of(RENORM) {
             let inv = self.renormalise();
             add.scale(inv);
+        }
+    }
+
+    /// The lagged sums `R_τ`, `τ < lags`, and `Σ z` of the sample `new` (just stored in the
+    /// ring at `pos`) in the hat basis: `new` is expanded once, the older samples were when
+    /// they entered. The same products in the same order as the general path, so the same sums
+    /// bit for bit.
+    #[inline(always)]
+    fn add_lags_hat<A: Adder<T, M, K>>(
+        &mut self,
+        add: &mut A,
+        knots: &Knots<T, M>,
+        new: &Entry<T>,
+        lags: usize,
+        w: T,
+    ) {
+        let z = Expanded::of(knots, new);
+        if let Some(slot) = self.expanded.get_mut(self.pos) {
+            *slot = z;
+        }
+        let last = self.k.clamp(1, K) - 1;
+        // Slot of sample `count − τ`: `pos − τ`, walking back around the ring.
+        let mut idx = self.pos;
+        for (tau, lag) in self.lags.iter_mut().enumerate().take(lags) {
+            if let Some(old) = self.expanded.get(idx) {
+                add.lag_hat(tau, lag, old, &z, w);
+            }
+            idx = idx.checked_sub(1).unwrap_or(last);
+        }
+        for (&i, &v) in z.z.channel.iter().zip(&z.z.value) {
+            if let Some(s) = self.sum_z.get_mut(usize::from(i)) {
+                *s += v * w;
+            }
+        }
+    }
+
+    /// Re-expands the ring's samples ([`Expanded`]) after they were set from outside the
+    /// per-sample path (restoring a checkpoint). `knots` must be those of the pushes.
+    pub(crate) fn rebuild_expanded(&mut self, knots: &Knots<T, M>) {
+        for (x, e) in self.expanded.iter_mut().zip(&self.ring) {
+            *x = Expanded::of(knots, e);
         }
     }
 
@@ -689,6 +826,15 @@ trait Adder<T: Real, const M: usize, const K: usize> {
         new: &Entry<T>,
         w: T,
     );
+    /// [`lag`](Self::lag) for samples expanded in the hat basis.
+    fn lag_hat(
+        &mut self,
+        tau: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    );
     /// `Σ ȳ += x`.
     fn sum_y(&mut self, s: &mut T, x: T);
     /// The sums were multiplied by `f` (renormalisation).
@@ -713,6 +859,17 @@ impl<T: Real, const M: usize, const K: usize> Adder<T, M, K> for PlainSums {
         lag.add_outer(knots, basis, old, new, w);
     }
     #[inline(always)]
+    fn lag_hat(
+        &mut self,
+        _: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    ) {
+        lag.add_hat(old, new, w);
+    }
+    #[inline(always)]
     fn sum_y(&mut self, s: &mut T, x: T) {
         *s += x;
     }
@@ -735,6 +892,20 @@ impl<T: Real, const M: usize, const K: usize> Adder<T, M, K> for &mut Carries<T,
         match self.lags.get_mut(tau) {
             Some(c) => lag.add_outer_compensated(c, knots, basis, old, new, w),
             None => lag.add_outer(knots, basis, old, new, w),
+        }
+    }
+    #[inline(always)]
+    fn lag_hat(
+        &mut self,
+        tau: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    ) {
+        match self.lags.get_mut(tau) {
+            Some(c) => lag.add_hat_compensated(c, old, new, w),
+            None => lag.add_hat(old, new, w),
         }
     }
     #[inline(always)]
