@@ -124,27 +124,25 @@ impl<T: Real, const M: usize> Lagged<T, M> {
 
     /// [`add_outer`](Self::add_outer) for samples already expanded in the hat basis: the same
     /// products added in the same order, so the sums are bit for bit those of `add_outer`.
+    /// The two terms of each sample are written out rather than looped over: the loop kept
+    /// them in memory and cost about 40 more instructions per lag on the Cortex-M4F.
     #[inline(always)]
     fn add_hat(&mut self, early: &Expanded<T>, late: &Expanded<T>, sign: T) {
         let (ye, yl) = (early.y * sign, late.y);
-        for (&i, &zi) in early.z.channel.iter().zip(&early.z.value) {
+        let mut row = |i: u16, zi: T| {
             let (i, zi) = (usize::from(i), zi * sign);
             if let Some(row) = self.zz.get_mut(i) {
-                for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
-                    if let Some(v) = row.get_mut(usize::from(j)) {
-                        *v += zi * zj;
-                    }
-                }
+                add_scaled(row, &late.z, zi);
             }
             if let Some(v) = self.zy.get_mut(i) {
                 *v += zi * yl;
             }
-        }
-        for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
-            if let Some(v) = self.yz.get_mut(usize::from(j)) {
-                *v += ye * zj;
-            }
-        }
+        };
+        let [i0, i1] = early.z.channel;
+        let [z0, z1] = early.z.value;
+        row(i0, z0);
+        row(i1, z1);
+        add_scaled(&mut self.yz, &late.z, ye);
         self.yy += ye * yl;
     }
 
@@ -159,25 +157,29 @@ impl<T: Real, const M: usize> Lagged<T, M> {
         sign: T,
     ) {
         let (ye, yl) = (early.y * sign, late.y);
-        for (&i, &zi) in early.z.channel.iter().zip(&early.z.value) {
+        let mut row = |i: u16, zi: T| {
             let (i, zi) = (usize::from(i), zi * sign);
             if let Some(row) = self.zz.get_mut(i) {
-                for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
-                    if let Some(v) = row.get_mut(usize::from(j)) {
-                        *v += zi * zj;
-                    }
-                }
+                add_scaled(row, &late.z, zi);
             }
             if let (Some(v), Some(c)) = (self.zy.get_mut(i), carry.zy.get_mut(i)) {
                 kahan(v, c, zi * yl);
             }
-        }
-        for (&j, &zj) in late.z.channel.iter().zip(&late.z.value) {
+        };
+        let [i0, i1] = early.z.channel;
+        let [z0, z1] = early.z.value;
+        row(i0, z0);
+        row(i1, z1);
+        let mut col = |j: u16, zj: T| {
             let j = usize::from(j);
             if let (Some(v), Some(c)) = (self.yz.get_mut(j), carry.yz.get_mut(j)) {
                 kahan(v, c, ye * zj);
             }
-        }
+        };
+        let [j0, j1] = late.z.channel;
+        let [z0, z1] = late.z.value;
+        col(j0, z0);
+        col(j1, z1);
         kahan(&mut self.yy, &mut carry.yy, ye * yl);
     }
 
@@ -192,6 +194,19 @@ impl<T: Real, const M: usize> Lagged<T, M> {
             *v *= f;
         }
         self.yy *= f;
+    }
+}
+
+/// `out[j] += a · z_j` for the (at most two) terms `z` of a hat expansion, in their order.
+#[inline(always)]
+fn add_scaled<T: Real, const M: usize>(out: &mut [T; M], z: &HatTerms<T>, a: T) {
+    let [j0, j1] = z.channel;
+    let [z0, z1] = z.value;
+    if let Some(v) = out.get_mut(usize::from(j0)) {
+        *v += a * z0;
+    }
+    if let Some(v) = out.get_mut(usize::from(j1)) {
+        *v += a * z1;
     }
 }
 
@@ -697,11 +712,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
             }
             idx = idx.checked_sub(1).unwrap_or(last);
         }
-        for (&i, &v) in z.z.channel.iter().zip(&z.z.value) {
-            if let Some(s) = self.sum_z.get_mut(usize::from(i)) {
-                *s += v * w;
-            }
-        }
+        add_scaled(&mut self.sum_z, &z.z, w);
     }
 
     /// Re-expands the ring's samples ([`Expanded`]) after they were set from outside the
