@@ -719,14 +719,26 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     /// `R_τ += w · x(count − τ) zᵀ` for `τ < lags`, the older samples from the ring.
     #[inline(always)]
     fn lag_loop_hat<A: Adder<T, M, K>>(&mut self, add: &mut A, z: &Expanded<T>, lags: usize, w: T) {
-        let last = self.k.clamp(1, K) - 1;
-        // Slot of sample `count − τ`: `pos − τ`, walking back around the ring.
-        let mut idx = self.pos;
-        for (tau, lag) in self.lags.iter_mut().enumerate().take(lags) {
-            if let Some(old) = self.expanded.get(idx) {
-                add.lag_hat(tau, lag, old, z, w);
-            }
-            idx = idx.checked_sub(1).unwrap_or(last);
+        // Sample `count − τ` is in slot `pos − τ`, walking back around the ring: slots
+        // `pos, pos − 1, …, 0`, then `k − 1, k − 2, …`. Two loops over slices, one per stretch,
+        // so that no slot index is computed or checked (about 10 instructions per lag fewer
+        // than indexing the ring on the Cortex-M4F).
+        let k = self.k.clamp(1, K);
+        let ring = self.expanded.get(..k).unwrap_or(&[]);
+        let (to_start, from_end) = ring
+            .split_at_checked(self.pos.saturating_add(1))
+            .unwrap_or((ring, &[]));
+        let mut lags = self
+            .lags
+            .get_mut(..lags)
+            .unwrap_or(&mut [])
+            .iter_mut()
+            .enumerate();
+        for (old, (tau, lag)) in to_start.iter().rev().zip(&mut lags) {
+            add.lag_hat(tau, lag, old, z, w);
+        }
+        for (old, (tau, lag)) in from_end.iter().rev().zip(lags) {
+            add.lag_hat(tau, lag, old, z, w);
         }
     }
 
