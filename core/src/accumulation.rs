@@ -88,8 +88,8 @@ impl<T: Real, const M: usize> Lagged<T, M> {
     ///
     /// A copy of `add_outer` rather than one function generic over the addition: the generic
     /// form cost 59 more instructions per plain sample on the Cortex-M4F
-    /// (`scripts/firmware-measure.sh`: 4,423 against 4,364), on the path with the tightest
-    /// budget.
+    /// (`scripts/firmware-measure.sh`: 4,423 against 4,364) when this was the per-sample path
+    /// of the hat basis too; it is now that of the ramps.
     #[inline(always)]
     fn add_outer_compensated(
         &mut self,
@@ -335,7 +335,7 @@ impl<T: Real, const M: usize, const K: usize> Carries<T, M, K> {
 /// How an identifier forms its sums, chosen by type: [`Plain`] floating-point sums (the
 /// default; no extra memory) or [`Compensated`] sums, which keep a Kahan carry for each sum of
 /// products with the output (`k·(2m + 1) + 1` scalars: 2.3 KB for the paper's `f32`
-/// configuration, m = 14, k = 20) and cost about 700 more instructions per sample on a
+/// configuration, m = 14, k = 20) and cost about 780 more instructions per sample on a
 /// Cortex-M4F, but keep `f32` models within the long-run tolerance of `f64` at 10^6 samples,
 /// where plain `f32` sums are 14 times outside it. In `f64` plain sums are exact enough for
 /// any practical record. Numbers: `docs/reliability.md`, *Long runs*.
