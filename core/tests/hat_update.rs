@@ -5,7 +5,12 @@
 //! from when it entered and walks the ring in two stretches; the sums must agree bit for bit,
 //! with and without forgetting, with samples on the first segment (one term), on a knot, and
 //! with shared knots, for plain and compensated sums.
-#![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::needless_range_loop,
+    missing_docs
+)]
 
 use hsid::accumulation::{Accumulator, Carries};
 use hsid::regressor::for_each_nonzero;
