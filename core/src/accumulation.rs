@@ -16,7 +16,9 @@
 //! sets them to the exact sizes, a desktop tool to the largest it accepts. The Gram blocks it produces are those of the explicit Hankel matrices,
 //! exactly (up to rounding). Samples are stored as their position on the nonlinearity
 //! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
-//! two channels, so one update costs `O(k)` multiply-adds.
+//! two channels. For the hat basis the ring also keeps each sample's two terms of z(t), expanded
+//! once when it enters (and rebuilt from the stored samples on restore; checkpoints do not hold
+//! them), so one update costs `O(k)` multiply-adds and no expansion per lag.
 
 use crate::direction::Direction;
 use crate::error::Error;
