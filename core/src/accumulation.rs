@@ -16,11 +16,13 @@
 //! sets them to the exact sizes, a desktop tool to the largest it accepts. The Gram blocks it produces are those of the explicit Hankel matrices,
 //! exactly (up to rounding). Samples are stored as their position on the nonlinearity
 //! ([`Located`]) and `ȳ`; z(t) is re-expanded on demand, which for the hat basis touches at most
-//! two channels, so one update costs `O(k)` multiply-adds.
+//! two channels. For the hat basis the ring also keeps each sample's two terms of z(t), expanded
+//! once when it enters (and rebuilt from the stored samples on restore; checkpoints do not hold
+//! them), so one update costs `O(k)` multiply-adds and no expansion per lag.
 
 use crate::direction::Direction;
 use crate::error::Error;
-use crate::regressor::{Basis, Knots, Located, for_each_nonzero};
+use crate::regressor::{Basis, HatTerms, Knots, Located, for_each_nonzero};
 use crate::scalar::Real;
 
 /// One lagged second moment of `w = [z; ȳ]`: `Σ w(t) w(t+τ)ᵀ` split into its blocks.
@@ -88,8 +90,8 @@ impl<T: Real, const M: usize> Lagged<T, M> {
     ///
     /// A copy of `add_outer` rather than one function generic over the addition: the generic
     /// form cost 59 more instructions per plain sample on the Cortex-M4F
-    /// (`scripts/firmware-measure.sh`: 4,423 against 4,364), on the path with the tightest
-    /// budget.
+    /// (`scripts/firmware-measure.sh`: 4,423 against 4,364) when this was the per-sample path
+    /// of the hat basis too; it is now that of the ramps.
     #[inline(always)]
     fn add_outer_compensated(
         &mut self,
@@ -122,6 +124,67 @@ impl<T: Real, const M: usize> Lagged<T, M> {
         kahan(&mut self.yy, &mut carry.yy, ye * yl);
     }
 
+    /// [`add_outer`](Self::add_outer) for samples already expanded in the hat basis: the same
+    /// products added in the same order, so the sums are bit for bit those of `add_outer`.
+    /// The two terms of each sample are written out rather than looped over: the loop kept
+    /// them in memory and cost about 40 more instructions per lag on the Cortex-M4F.
+    #[inline(always)]
+    fn add_hat(&mut self, early: &Expanded<T>, late: &Expanded<T>, sign: T) {
+        let (ye, yl) = (early.y * sign, late.y);
+        let mut row = |i: u16, zi: T| {
+            let (i, zi) = (usize::from(i), zi * sign);
+            if let Some(row) = self.zz.get_mut(i) {
+                add_scaled(row, &late.z, zi);
+            }
+            if let Some(v) = self.zy.get_mut(i) {
+                *v += zi * yl;
+            }
+        };
+        let [i0, i1] = early.z.channel;
+        let [z0, z1] = early.z.value;
+        row(i0, z0);
+        row(i1, z1);
+        add_scaled(&mut self.yz, &late.z, ye);
+        self.yy += ye * yl;
+    }
+
+    /// [`add_hat`](Self::add_hat) with the output sums compensated, as
+    /// [`add_outer_compensated`](Self::add_outer_compensated) (a copy for the same reason).
+    #[inline(always)]
+    fn add_hat_compensated(
+        &mut self,
+        carry: &mut OutputCarry<T, M>,
+        early: &Expanded<T>,
+        late: &Expanded<T>,
+        sign: T,
+    ) {
+        let (ye, yl) = (early.y * sign, late.y);
+        let mut row = |i: u16, zi: T| {
+            let (i, zi) = (usize::from(i), zi * sign);
+            if let Some(row) = self.zz.get_mut(i) {
+                add_scaled(row, &late.z, zi);
+            }
+            if let (Some(v), Some(c)) = (self.zy.get_mut(i), carry.zy.get_mut(i)) {
+                kahan(v, c, zi * yl);
+            }
+        };
+        let [i0, i1] = early.z.channel;
+        let [z0, z1] = early.z.value;
+        row(i0, z0);
+        row(i1, z1);
+        let mut col = |j: u16, zj: T| {
+            let j = usize::from(j);
+            if let (Some(v), Some(c)) = (self.yz.get_mut(j), carry.yz.get_mut(j)) {
+                kahan(v, c, ye * zj);
+            }
+        };
+        let [j0, j1] = late.z.channel;
+        let [z0, z1] = late.z.value;
+        col(j0, z0);
+        col(j1, z1);
+        kahan(&mut self.yy, &mut carry.yy, ye * yl);
+    }
+
     /// `self *= f`, every sum.
     fn scale(&mut self, f: T) {
         for row in self.zz.iter_mut() {
@@ -133,6 +196,19 @@ impl<T: Real, const M: usize> Lagged<T, M> {
             *v *= f;
         }
         self.yy *= f;
+    }
+}
+
+/// `out[j] += a · z_j` for the (at most two) terms `z` of a hat expansion, in their order.
+#[inline(always)]
+fn add_scaled<T: Real, const M: usize>(out: &mut [T; M], z: &HatTerms<T>, a: T) {
+    let [j0, j1] = z.channel;
+    let [z0, z1] = z.value;
+    if let Some(v) = out.get_mut(usize::from(j0)) {
+        *v += a * z0;
+    }
+    if let Some(v) = out.get_mut(usize::from(j1)) {
+        *v += a * z1;
     }
 }
 
@@ -167,6 +243,34 @@ pub struct Entry<T> {
     pub at: Located<T>,
     /// `ȳ(t)`.
     pub y: T,
+}
+
+/// A sample of the ring as the per-sample update reads it: z(t) in the hat basis, expanded when
+/// the sample entered, and `ȳ(t)`. Derived from the ring's [`Entry`]s (and rebuilt from them on
+/// restore), never stored in a checkpoint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Expanded<T> {
+    /// The non-zero terms of z(t).
+    z: HatTerms<T>,
+    /// `ȳ(t)`.
+    y: T,
+}
+
+impl<T: Real> Expanded<T> {
+    /// No terms, `ȳ = 0`.
+    const ZERO: Self = Self {
+        z: HatTerms::NONE,
+        y: T::ZERO,
+    };
+
+    /// The expansion of a stored sample.
+    #[inline(always)]
+    fn of<const M: usize>(knots: &Knots<T, M>, e: &Entry<T>) -> Self {
+        Self {
+            z: HatTerms::of(knots, &e.at),
+            y: e.y,
+        }
+    }
 }
 
 /// The carries of the compensated sums of one lag: those of the products with the output.
@@ -233,7 +337,7 @@ impl<T: Real, const M: usize, const K: usize> Carries<T, M, K> {
 /// How an identifier forms its sums, chosen by type: [`Plain`] floating-point sums (the
 /// default; no extra memory) or [`Compensated`] sums, which keep a Kahan carry for each sum of
 /// products with the output (`k·(2m + 1) + 1` scalars: 2.3 KB for the paper's `f32`
-/// configuration, m = 14, k = 20) and cost about 700 more instructions per sample on a
+/// configuration, m = 14, k = 20) and cost about 780 more instructions per sample on a
 /// Cortex-M4F, but keep `f32` models within the long-run tolerance of `f64` at 10^6 samples,
 /// where plain `f32` sums are 14 times outside it. In `f64` plain sums are exact enough for
 /// any practical record. Numbers: `docs/reliability.md`, *Long runs*.
@@ -310,6 +414,8 @@ pub struct Accumulator<T, const M: usize, const K: usize> {
     pub(crate) lags: [Lagged<T, M>; K],
     pub(crate) head: [Entry<T>; K],
     pub(crate) ring: [Entry<T>; K],
+    /// The ring's samples expanded in the hat basis, slot for slot (unused for the ramps).
+    pub(crate) expanded: [Expanded<T>; K],
     pub(crate) k: usize,
     pub(crate) pos: usize,
     pub(crate) count: u64,
@@ -344,6 +450,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         lags: [Lagged::ZERO; K],
         head: [Entry::ZERO; K],
         ring: [Entry::ZERO; K],
+        expanded: [Expanded::ZERO; K],
         k: 2,
         pos: 0,
         count: 0,
@@ -371,6 +478,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         }
         self.head.fill(Entry::ZERO);
         self.ring.fill(Entry::ZERO);
+        self.expanded.fill(Expanded::ZERO);
         self.sum_z.fill(T::ZERO);
         self.sum_y = T::ZERO;
         self.k = k;
@@ -553,18 +661,23 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         }
         let w = self.scale;
         let lags_now = usize::try_from(self.count).map_or(k, |c| c.saturating_add(1).min(k));
-        for tau in 0..lags_now {
-            let idx = (self.pos + k - tau) % k;
-            if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
-                add.lag(tau, lag, knots, basis, old, &new, w);
+        match basis {
+            Basis::Hat => self.add_lags_hat(&mut add, knots, &new, lags_now, w),
+            Basis::Ramp => {
+                for tau in 0..lags_now {
+                    let idx = (self.pos + k - tau) % k;
+                    if let (Some(old), Some(lag)) = (self.ring.get(idx), self.lags.get_mut(tau)) {
+                        add.lag(tau, lag, knots, basis, old, &new, w);
+                    }
+                }
+                for_each_nonzero(knots, basis, &at, |i, v| {
+                    if let Some(s) = self.sum_z.get_mut(i) {
+                        *s += v * w;
+                    }
+                });
             }
         }
         self.pos = (self.pos + 1) % k;
-        for_each_nonzero(knots, basis, &at, |i, v| {
-            if let Some(s) = self.sum_z.get_mut(i) {
-                *s += v * w;
-            }
-        });
         add.sum_y(&mut self.sum_y, y * w);
         // Saturating: 2^64 samples are out of reach, but the per-sample path must not be able
         // to overflow whatever state it was restored to.
@@ -572,6 +685,70 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
         if self.scale > T::of(RENORM) {
             let inv = self.renormalise();
             add.scale(inv);
+        }
+    }
+
+    /// The lagged sums `R_τ`, `τ < lags`, and `Σ z` of the sample `new` (just stored in the
+    /// ring at `pos`) in the hat basis: `new` is expanded once, the older samples were when
+    /// they entered. The same products in the same order as the general path, so the same sums
+    /// bit for bit.
+    #[inline(always)]
+    fn add_lags_hat<A: Adder<T, M, K>>(
+        &mut self,
+        add: &mut A,
+        knots: &Knots<T, M>,
+        new: &Entry<T>,
+        lags: usize,
+        w: T,
+    ) {
+        let z = Expanded::of(knots, new);
+        if let Some(slot) = self.expanded.get_mut(self.pos) {
+            *slot = z;
+        }
+        // The common case, both terms present and no forgetting (w = 1), gets its own copy of
+        // the loop, in which the bounds of the new sample's channels are checked once and the
+        // products with w (exact, x·1 = x) vanish: 157 fewer instructions per sample (about 8
+        // per lag) on the Cortex-M4F. Same operations on the sums either way.
+        let [j0, j1] = z.z.channel;
+        if usize::from(j0) < M && usize::from(j1) < M && w == T::one() {
+            self.lag_loop_hat(add, &z, lags, T::one());
+        } else {
+            self.lag_loop_hat(add, &z, lags, w);
+        }
+        add_scaled(&mut self.sum_z, &z.z, w);
+    }
+
+    /// `R_τ += w · x(count − τ) zᵀ` for `τ < lags`, the older samples from the ring.
+    #[inline(always)]
+    fn lag_loop_hat<A: Adder<T, M, K>>(&mut self, add: &mut A, z: &Expanded<T>, lags: usize, w: T) {
+        // Sample `count − τ` is in slot `pos − τ`, walking back around the ring: slots
+        // `pos, pos − 1, …, 0`, then `k − 1, k − 2, …`. Two loops over slices, one per stretch,
+        // so that no slot index is computed or checked (about 10 instructions per lag fewer
+        // than indexing the ring on the Cortex-M4F).
+        let k = self.k.clamp(1, K);
+        let ring = self.expanded.get(..k).unwrap_or(&[]);
+        let (to_start, from_end) = ring
+            .split_at_checked(self.pos.saturating_add(1))
+            .unwrap_or((ring, &[]));
+        let mut lags = self
+            .lags
+            .get_mut(..lags)
+            .unwrap_or(&mut [])
+            .iter_mut()
+            .enumerate();
+        for (old, (tau, lag)) in to_start.iter().rev().zip(&mut lags) {
+            add.lag_hat(tau, lag, old, z, w);
+        }
+        for (old, (tau, lag)) in from_end.iter().rev().zip(lags) {
+            add.lag_hat(tau, lag, old, z, w);
+        }
+    }
+
+    /// Re-expands the ring's samples ([`Expanded`]) after they were set from outside the
+    /// per-sample path (restoring a checkpoint). `knots` must be those of the pushes.
+    pub(crate) fn rebuild_expanded(&mut self, knots: &Knots<T, M>) {
+        for (x, e) in self.expanded.iter_mut().zip(&self.ring) {
+            *x = Expanded::of(knots, e);
         }
     }
 
@@ -689,6 +866,15 @@ trait Adder<T: Real, const M: usize, const K: usize> {
         new: &Entry<T>,
         w: T,
     );
+    /// [`lag`](Self::lag) for samples expanded in the hat basis.
+    fn lag_hat(
+        &mut self,
+        tau: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    );
     /// `Σ ȳ += x`.
     fn sum_y(&mut self, s: &mut T, x: T);
     /// The sums were multiplied by `f` (renormalisation).
@@ -713,6 +899,17 @@ impl<T: Real, const M: usize, const K: usize> Adder<T, M, K> for PlainSums {
         lag.add_outer(knots, basis, old, new, w);
     }
     #[inline(always)]
+    fn lag_hat(
+        &mut self,
+        _: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    ) {
+        lag.add_hat(old, new, w);
+    }
+    #[inline(always)]
     fn sum_y(&mut self, s: &mut T, x: T) {
         *s += x;
     }
@@ -735,6 +932,20 @@ impl<T: Real, const M: usize, const K: usize> Adder<T, M, K> for &mut Carries<T,
         match self.lags.get_mut(tau) {
             Some(c) => lag.add_outer_compensated(c, knots, basis, old, new, w),
             None => lag.add_outer(knots, basis, old, new, w),
+        }
+    }
+    #[inline(always)]
+    fn lag_hat(
+        &mut self,
+        tau: usize,
+        lag: &mut Lagged<T, M>,
+        old: &Expanded<T>,
+        new: &Expanded<T>,
+        w: T,
+    ) {
+        match self.lags.get_mut(tau) {
+            Some(c) => lag.add_hat_compensated(c, old, new, w),
+            None => lag.add_hat(old, new, w),
         }
     }
     #[inline(always)]

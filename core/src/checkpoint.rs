@@ -544,6 +544,7 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: us
         if !id.consistent() {
             return Err(ck(CheckpointError::Invalid));
         }
+        id.acc.rebuild_expanded(&id.settings.knots);
         Ok(id)
     }
 

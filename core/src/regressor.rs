@@ -310,6 +310,51 @@ pub fn for_each_nonzero<T: Real, const M: usize>(
     }
 }
 
+/// z(t) of a located sample in the hat basis, expanded once: the (at most two) channels
+/// [`for_each_nonzero`] visits, in its order, with their values. An absent term (segment 0 has
+/// one) has channel [`HatTerms::ABSENT`], past every capacity, and value 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct HatTerms<T> {
+    /// Channel of each term.
+    pub(crate) channel: [u16; 2],
+    /// Value of each term.
+    pub(crate) value: [T; 2],
+}
+
+impl<T: Real> HatTerms<T> {
+    /// The channel of an absent term.
+    pub(crate) const ABSENT: u16 = u16::MAX;
+
+    /// No terms.
+    pub(crate) const NONE: Self = Self {
+        channel: [Self::ABSENT; 2],
+        value: [T::ZERO; 2],
+    };
+
+    /// The terms of `at`: `φ_s` (peak at `n_s`, absent for `s = 0`) and `φ_{s+1}`.
+    #[inline(always)]
+    pub(crate) fn of<const M: usize>(knots: &Knots<T, M>, at: &Located<T>) -> Self {
+        // Channels index arrays of M entries, so M < u16::MAX keeps every real channel apart
+        // from ABSENT.
+        const { assert!(M < u16::MAX as usize, "M (segments) must be below 65535") };
+        let c = knots.offset(at.dir) + at.segment as usize;
+        let channel = |c: usize| u16::try_from(c).unwrap_or(Self::ABSENT);
+        let first = match c.checked_sub(1) {
+            Some(c) if at.segment >= 1 => channel(c),
+            _ => Self::ABSENT,
+        };
+        let first_value = if first == Self::ABSENT {
+            T::ZERO
+        } else {
+            T::one() - at.theta
+        };
+        Self {
+            channel: [first, channel(c)],
+            value: [first_value, at.theta],
+        }
+    }
+}
+
 /// The dense regressor z(t) ∈ R^M of a located sample (for tests, examples and host code;
 /// the accumulator uses [`for_each_nonzero`]).
 pub fn dense<T: Real, const M: usize>(
