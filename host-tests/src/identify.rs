@@ -109,6 +109,12 @@ pub enum IdentifyError {
 impl fmt::Display for IdentifyError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            IdentifyError::Core(
+                e @ (hsid::Error::UnstableModel { .. } | hsid::Error::IntegratingModel),
+            ) => write!(
+                f,
+                "{e}; if the plant integrates (voltage → position, a level loop), give --integrating: the stable part is identified on the output's increments, with one pole fixed at z = 1"
+            ),
             IdentifyError::Core(e) => write!(f, "{e}"),
             IdentifyError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")

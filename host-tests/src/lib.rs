@@ -8,6 +8,7 @@ pub mod diagnose;
 pub mod figures;
 pub mod generality;
 pub mod identify;
+pub mod integrating;
 pub mod io;
 pub mod model_file;
 pub mod numerics;

@@ -14,7 +14,7 @@ use super::evidence::{Tried, evidence};
 use super::findings::Finding;
 use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
 use super::options::DiagnoseOptions;
-use super::residual::{LEVEL, TestSet};
+use super::residual::TestSet;
 use super::scoring::residual_tests;
 use super::verdict::Ending;
 
@@ -197,9 +197,10 @@ impl Context<'_> {
     }
 
     /// The dead time of the data (ARX test, independent of the simulation error) beyond the
-    /// model's: a delay found by a test at 1 %, added unless it makes the inner score
-    /// significantly worse (the simulation error of measured data is dominated by what else
-    /// the model lacks, and cannot be asked to confirm a delay of a few samples).
+    /// model's: a delay found by a test at 1 %, proposed like every deterministic effect and
+    /// added only if it improves the inner score significantly (the rule of
+    /// [`effects::choose`]: Diebold–Mariano at 1 % and at least the minimum gain). No step
+    /// that does not help is taken on the strength of the ARX test alone.
     fn dead_time_candidate(
         &self,
         current: &Structure,
@@ -216,10 +217,6 @@ impl Context<'_> {
             return Ok(None);
         };
         let (gain, p_value) = effects::compare(baseline, &ev);
-        let (_, worse_p) = effects::compare(&ev, baseline);
-        if worse_p < LEVEL {
-            return Ok(None);
-        }
         // One input_delay candidate: the dead-time test's delay replaces the one the screen
         // proposed (whose settings stay listed as tried).
         let mut tried = Vec::new();
@@ -240,7 +237,9 @@ impl Context<'_> {
             p_value,
             complexity: 1.0,
         });
-        Ok(Some(cands.len() - 1))
+        let last = cands.len() - 1;
+        let (min_gain, tie) = (self.opts.min_gain, self.opts.tie);
+        Ok(effects::choose(&cands[last..], min_gain, tie).map(|_| last))
     }
 
     /// The chosen extension refitted on the whole estimation record; if that model has a mode
