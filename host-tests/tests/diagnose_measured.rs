@@ -6,8 +6,7 @@
 use hsid_host::diagnose::model::Record;
 use hsid_host::diagnose::verdict::End;
 use hsid_host::diagnose::{
-    Check, DiagnoseOptions, Effect, Evidence, Finding, Nonlinearity, Test, Tried, Validation,
-    diagnose,
+    Check, DiagnoseOptions, Effect, Evidence, Finding, Nonlinearity, Test, Validation, diagnose,
 };
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
@@ -125,40 +124,28 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
     assert!((0.26..=0.32).contains(&tau), "tau {tau}");
     // The held-out 6 V and 8 V levels (interpolated between the 4 V and 8.81 V knots).
     assert!(d.before.rmse < 10.0, "validation RMSE {}", d.before.rmse);
-    assert!(
-        d.after.rmse < d.before.rmse,
-        "validation RMSE after {}",
-        d.after.rmse
-    );
     // The dead time: the ARX test finds the first response at lag 4 (the zero-order hold's
     // sample plus the known 0.03 s = 3 samples of transport delay); the base model responds at
-    // lag 0 (direct term), so the input-delay extension shifts the input by 4 samples.
+    // lag 0 (direct term). The input-delay extension of 4 samples is proposed, but the inner
+    // hold-out (mostly the dead zone and one step) has no power for it: it is not
+    // significantly better there, so it is not added (no step the estimation data do not
+    // confirm), and the simulation error stays the base model's.
     assert_eq!(d.dead_time.lag, Some(4), "{:?}", d.dead_time);
-    let delay = d
-        .steps
-        .iter()
-        .find(|s| s.effect == Effect::InputDelay)
-        .expect("input delay added");
-    assert_eq!(delay.model.structure.delay, d.dead_time.extra());
-    assert!(delay.error_after < delay.error_before);
-    // One input_delay candidate: the dead-time test's delay replaces the screen's, whose
-    // settings stay listed as tried.
     assert!(
-        delay
-            .competitors
-            .iter()
-            .all(|(e, _, _)| *e != Effect::InputDelay),
+        d.steps.iter().all(|s| !s.effect.deterministic()),
         "{:?}",
-        delay.competitors
+        d.steps.iter().map(|s| s.effect).collect::<Vec<_>>()
     );
-    assert!(
-        delay
-            .tried
+    assert_eq!(d.after.rmse, d.before.rmse);
+    let delay = d.steps.iter().find_map(|s| {
+        s.competitors
             .iter()
-            .any(|t| matches!(t, Tried::DeadTime { delay, .. } if *delay == d.dead_time.extra()))
-            && delay.tried.len() >= 2,
-        "{:?}",
-        delay.tried
+            .find(|(e, _, _)| *e == Effect::InputDelay)
+            .copied()
+    });
+    assert!(
+        matches!(delay, Some((_, _, p)) if p >= 0.01),
+        "input delay evaluated and not significant: {delay:?}"
     );
     // The coast-down (direction dependence) and the quantisation are reported as found but
     // not in the catalog.

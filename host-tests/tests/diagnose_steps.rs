@@ -4,6 +4,8 @@
 //! (`Outcome::harmful` is empty), and the effect of the run is still named first. The whole
 //! table's count is `cargo run --release -p hsid-host --example confusion -- 3 10`.
 
+#![allow(clippy::panic)]
+
 use hsid_host::diagnose::bench::{Outcome, run_all};
 use hsid_host::diagnose::scenario::{Plant, Scenario};
 use hsid_host::diagnose::{Effect, Nonlinearity};

@@ -2,6 +2,8 @@
 //! the voltage, Table I on the voltage, identified with the integrator fixed at `z = 1` (the
 //! stable part from the differenced position) against the simulator's truth.
 
+#![allow(clippy::panic)]
+
 use hsid_host::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
 use hsid_host::integrating::{self, identify_integrating};
 use hsid_host::sim::{Backlash, Lti, simulate, table1_excitation, variance, with_hold};
