@@ -521,6 +521,7 @@ impl HostModel {
             samples: self.samples,
             noise: None,
             std: None,
+            integrating: false,
         }
     }
 

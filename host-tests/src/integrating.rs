@@ -48,11 +48,17 @@ pub fn increments_record(
             y: y.len(),
         });
     }
+    let u1 = u.get(1..).unwrap_or_default().to_vec();
+    Ok((u1, difference(y), increments_options(opts)))
+}
+
+/// The settings of a record for the record of its increments: the hold and the settling
+/// lose their first sample (the increments start one sample later).
+pub fn increments_options(opts: &IdentifyOptions) -> IdentifyOptions {
     let mut o = opts.clone();
     o.hold = o.hold.saturating_sub(1);
     o.settle = o.settle.saturating_sub(1).min(o.hold);
-    let u1 = u.get(1..).unwrap_or_default().to_vec();
-    Ok((u1, difference(y), o))
+    o
 }
 
 /// Identifies an integrating plant: the stable part `G₀` (normalised by `G₀(1) = 1`), μ0 and

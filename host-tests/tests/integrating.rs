@@ -4,12 +4,18 @@
 
 #![allow(clippy::panic)]
 
+mod common;
+
+use hsid_host::choose::{self, Choices, Segments, best_model};
 use hsid_host::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
 use hsid_host::integrating::{self, identify_integrating};
+use hsid_host::model_file::ModelFile;
 use hsid_host::sim::{Backlash, Lti, simulate, table1_excitation, variance, with_hold};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64;
+
+use common::{Scratch, hsid, p, schema_errors};
 
 const U_MIN: f64 = -3.0;
 const U_MAX: f64 = 3.0;
@@ -112,15 +118,14 @@ fn refusal_names_the_route_for_an_integrating_plant() {
     }
 }
 
-/// With the integrator fixed, on five seeds: the gap within 10 %, the poles of the stable
-/// part within 0.01, and the simulated increments of a fresh record closer to the truth than
+/// With the integrator fixed and the stable part refined (the default of `hsid identify`), on
+/// five seeds: the gap within 10 %, the poles of the stable part within 0.01, and the simulated increments of a fresh record closer to the truth than
 /// the measured ones.
 #[test]
-#[ignore = "goal not met yet by the subspace estimate of the stable part: seed 4's fast pole is 0.4896 (0.0104 from 0.5); seeds 1-3 meet every bound"]
 fn motor_position_servo_with_gearbox_backlash() {
     for seed in 1..=5u64 {
         let (u, y, _) = record(seed);
-        let m = match identify_integrating(&u, &y, &options()) {
+        let m = match refined(&u, &y) {
             Ok(m) => m,
             Err(e) => panic!("seed {seed}: {e}"),
         };
@@ -160,4 +165,156 @@ fn motor_position_servo_with_gearbox_backlash() {
             "seed {seed}: increments RMS error {err:.5}, measurement noise {noise:.5}"
         );
     }
+}
+
+/// The magnitudes of the stable part's poles, largest first.
+fn pole_moduli(m: &HostModel) -> Vec<f64> {
+    let mut p: Vec<f64> = m.poles().iter().map(|&(re, im)| re.hypot(im)).collect();
+    p.sort_by(|a, b| b.total_cmp(a));
+    p
+}
+
+/// Mean and sample standard deviation.
+fn mean_sd(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (n - 1.0);
+    (mean, var.sqrt())
+}
+
+/// The stable part refined by the prediction-error method (the default of `hsid identify`),
+/// at the given knots, horizons and order, from the increments of `(u, y)`.
+fn refined(u: &[f64], y: &[f64]) -> Result<HostModel, String> {
+    let choices = Choices {
+        segments: Segments::Given,
+        horizons: choose::Horizons::Given,
+        ..Choices::default()
+    };
+    let (u1, dy, o) =
+        integrating::increments_record(u, y, &options()).map_err(|e| e.to_string())?;
+    let best = best_model(&u1, &dy, &o, &choices).map_err(|e| e.to_string())?;
+    best.fit
+        .map(|f| f.model)
+        .ok_or_else(|| "not refined".to_string())
+}
+
+/// The spread of the stable part's estimate over twelve seeds, subspace and refined: each
+/// pole's mean within 0.01 of the truth (no bias beyond the goal), the refined poles within
+/// 0.01 on every seed (the subspace estimate's spread is too wide for that: its fast pole's
+/// standard deviation over seeds is 0.0034 and seed 4 lands 0.0104 off), and the gap's mean
+/// within 10 %.
+#[test]
+fn spread_of_the_stable_part_over_seeds() {
+    let (mut sub, mut fine) = (Vec::new(), Vec::new());
+    for seed in 1..=12u64 {
+        let (u, y, _) = record(seed);
+        let (s, r) = match (identify_integrating(&u, &y, &options()), refined(&u, &y)) {
+            (Ok(s), Ok(r)) => (s, r),
+            (Err(e), _) => panic!("seed {seed}: {e}"),
+            (_, Err(e)) => panic!("seed {seed}: {e}"),
+        };
+        eprintln!(
+            "seed {seed:>2}: subspace poles {:.4?} gap {:.4} | refined poles {:.4?} gap {:.4}",
+            pole_moduli(&s),
+            gap(&s),
+            pole_moduli(&r),
+            gap(&r)
+        );
+        sub.push(s);
+        fine.push(r);
+    }
+    for (name, models) in [("subspace", &sub), ("refined", &fine)] {
+        for (i, truth) in POLES.iter().enumerate() {
+            let est: Vec<f64> = models.iter().map(|m| pole_moduli(m)[i]).collect();
+            let (mean, sd) = mean_sd(&est);
+            let worst = est.iter().map(|e| (e - truth).abs()).fold(0.0, f64::max);
+            let se = sd / (est.len() as f64).sqrt();
+            eprintln!(
+                "{name}: pole {truth}: mean {mean:.5}, sd over seeds {sd:.5}, largest error {worst:.5}"
+            );
+            eprintln!("{name}: pole {truth}: standard error of the mean {se:.5}");
+            assert!(
+                (mean - truth).abs() <= 0.01,
+                "{name}: pole {truth}: mean {mean:.5}"
+            );
+            // The goal, on every seed, for the estimate `hsid identify` gives by default.
+            assert!(
+                name == "subspace" || worst <= 0.01,
+                "{name}: pole {truth}: largest error {worst:.5}"
+            );
+        }
+        let gaps: Vec<f64> = models.iter().map(gap).collect();
+        let (mean, sd) = mean_sd(&gaps);
+        eprintln!("{name}: gap mean {mean:.4}, sd over seeds {sd:.4} (true {GAP})");
+        assert!(
+            (mean - GAP).abs() <= 0.1 * GAP,
+            "{name}: gap mean {mean:.4}"
+        );
+    }
+}
+
+/// The `fit … %` figure of the simulation fit line of `hsid validate`'s output.
+fn simulation_fit(stdout: &str) -> f64 {
+    stdout
+        .lines()
+        .find(|l| l.starts_with("simulation fit on "))
+        .and_then(|l| l.rsplit_once("fit "))
+        .and_then(|(_, tail)| tail.trim_end_matches('%').trim().parse().ok())
+        .unwrap_or(f64::NAN)
+}
+
+/// `hsid identify --integrating` on the servo's position: the stable part's poles within
+/// 0.01 and the gap within 10 %; the model file records the integrator (the schema accepts
+/// it) and `hsid validate` reads it on a fresh record's increments; a file without the key,
+/// as every other model writes it, reads as not integrating.
+#[test]
+fn identify_integrating_writes_a_model_file_validate_reads() {
+    let dir = Scratch::new("integrating");
+    let (u, y, _) = record(1);
+    let data = dir.write_uy("servo.csv", &u, &y);
+    let json = dir.join("servo.json");
+    let args = ["--segments", "8", "--order", "2", "--integrating"];
+    let run = common::identify(&data, &[&args[..], &["--json", p(&json)]].concat()).success();
+    assert!(run.stdout.contains("z = 1"), "{}", run.stdout);
+    let file = match ModelFile::load(&json) {
+        Ok(f) => f,
+        Err(e) => panic!("{e}"),
+    };
+    assert!(file.integrating);
+    let m = HostModel::from_json(&file);
+    for (est, truth) in pole_moduli(&m).iter().zip(POLES) {
+        assert!((est - truth).abs() <= 0.01, "poles {:?}", m.poles());
+    }
+    assert!((gap(&m) - GAP).abs() <= 0.1 * GAP, "gap {}", gap(&m));
+    let text = std::fs::read_to_string(&json).unwrap_or_default();
+    let mut value: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+    assert_eq!(value["integrating"], serde_json::json!(true), "{text}");
+    assert_eq!(schema_errors(&value), Vec::<String>::new());
+    // A fresh record, validated on its increments: the fit of the noise at 20 dB (≈ 90 %).
+    let (uv, yv, _) = record(101);
+    let fresh = dir.write_uy("fresh.csv", &uv, &yv);
+    let v = hsid(&[
+        "validate",
+        "--model",
+        p(&json),
+        "--data",
+        p(&fresh),
+        "--skip",
+        "300",
+    ])
+    .success();
+    let fit = simulation_fit(&v.stdout);
+    assert!(
+        v.stdout.contains("increments") && fit > 85.0,
+        "{}",
+        v.stdout
+    );
+    // Without the key: not integrating, and the other models are written without it.
+    if let Some(o) = value.as_object_mut() {
+        o.remove("integrating");
+    }
+    let plain = ModelFile::from_json_str("plain.json", &value.to_string());
+    assert!(matches!(&plain, Ok(f) if !f.integrating), "{plain:?}");
+    let written = serde_json::to_value(m.to_json(None)).unwrap_or_default();
+    assert!(written.get("integrating").is_none(), "{written}");
 }
