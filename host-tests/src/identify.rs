@@ -113,7 +113,7 @@ impl fmt::Display for IdentifyError {
                 e @ (hsid::Error::UnstableModel { .. } | hsid::Error::IntegratingModel),
             ) => write!(
                 f,
-                "{e}; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) (one pole fixed at z = 1; the borders are then the output's rate per sample)"
+                "{e}; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) with one pole fixed at z = 1 (hsid identify --integrating; the borders are then the output's rate per sample)"
             ),
             IdentifyError::Core(e) => write!(f, "{e}"),
             IdentifyError::LengthMismatch { u, y } => {

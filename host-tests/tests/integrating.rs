@@ -106,7 +106,9 @@ fn refusal_names_the_route_for_an_integrating_plant() {
         Err(e @ IdentifyError::Core(_)) => {
             let text = e.to_string();
             assert!(
-                text.contains("increments") && text.contains("z = 1"),
+                text.contains("increments")
+                    && text.contains("z = 1")
+                    && text.contains("--integrating"),
                 "{text}"
             );
         }
