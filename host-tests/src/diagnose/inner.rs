@@ -90,7 +90,7 @@ fn scorable(est: &Record, fit: &FitOptions, base: &ExtendedModel, r: &Range<usiz
 /// The blocks of leave-block-out cross-validation over tenths of the estimation record that
 /// can be scored: their removal leaves every knot segment excited, the first is not one of
 /// them with an estimated initial state, and the base model fitted without each simulates it
-/// within [`scorable`]'s bound. Fewer than two means the record cannot be cross-validated.
+/// within 3 × its in-sample RMSE. Fewer than two means the record cannot be cross-validated.
 pub fn cross_folds(est: &Record, fit: &FitOptions, base: &ExtendedModel) -> Vec<Range<usize>> {
     let id = &fit.identify;
     let estimated = fit.initial == InitialState::Estimated;
