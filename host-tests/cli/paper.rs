@@ -1,9 +1,14 @@
 //! `hsid paper`: the Monte Carlo of Section IV, optionally with the other methods.
 
 use crate::failure::{Failure, outln};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use hsid_host::html::Reproduction;
+use hsid_host::html::figures::captioned;
+use hsid_host::html::paper_captions::paper_caption;
+use hsid_host::html::paper_page::PaperRun;
+use hsid_host::html::reproduce::InputFile;
 use hsid_host::paper::method_figures::write_method_figures;
 use hsid_host::paper::methods::{Method, methods_json, methods_table, run_methods};
 use hsid_host::paper::{Case, PaperConfig, paper_table, run_case, write_figures};
@@ -40,6 +45,10 @@ pub struct PaperArgs {
     /// Samples of the initial hold at u_min (0: no hold, μ0 estimated with the model).
     #[arg(long, default_value_t = 300)]
     hold: usize,
+    /// Also write the run as one self-contained HTML page: what was run beside the paper's
+    /// settings, the Monte Carlo table, the figures with captions, the command line.
+    #[arg(long, value_name = "FILE")]
+    html: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -134,6 +143,7 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
             )
         })
         .collect();
+    let mut methods_text = None;
     if let Some(method) = a.method {
         let methods = method.methods();
         let bar = progress(a.runs * cases.len() * methods.len(), "identifications")?;
@@ -144,7 +154,9 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
             all.push(run_methods(c, &cfg, &methods, &tick).map_err(|e| e.to_string())?);
         }
         bar.finish_and_clear();
-        outln!("{}", methods_table(&cfg, &all))?;
+        let table = methods_table(&cfg, &all);
+        outln!("{table}")?;
+        methods_text = Some(table);
         for c in &all {
             files.extend(write_method_figures(c, out)?);
             if let Some(serde_json::Value::Object(o)) = summary.get_mut(c.case.name()) {
@@ -156,8 +168,39 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
     let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     outln!("wrote {}", path.display())?;
-    for f in files {
+    for f in &files {
         outln!("wrote {f}")?;
     }
+    if let Some(page) = &a.html {
+        let run = PaperRun {
+            cfg: &cfg,
+            results: &results,
+            methods: methods_text.as_deref(),
+        };
+        write_page(&run, &path, &files, page)?;
+        outln!("wrote {}", page.display())?;
+    }
+    Ok(())
+}
+
+/// The HTML page of `run` at `page`: the figures read back from `files`, the summary and the
+/// figures listed as the outputs.
+fn write_page(
+    run: &PaperRun<'_>,
+    summary: &Path,
+    files: &[String],
+    page: &Path,
+) -> Result<(), Failure> {
+    let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
+    let figures = captioned(&paths, "", paper_caption).map_err(|e| e.to_string())?;
+    let mut rep = Reproduction::of_this_run::<&Path>(&[]);
+    rep.settings = run.settings();
+    rep.outputs = std::iter::once(summary)
+        .chain(paths.iter().map(PathBuf::as_path))
+        .map(InputFile::at)
+        .collect();
+    run.page(figures, rep)
+        .write(page)
+        .map_err(|e| e.to_string())?;
     Ok(())
 }

@@ -22,7 +22,10 @@ pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
         "bode-phase" => (
             "Bode phase of the linear part",
             "Phase against frequency. A phase that keeps falling beyond the poles' count \
-             is a sign of dead time the model lacks.",
+             is a sign of dead time the model lacks. Near the Nyquist frequency the phase of a \
+             sampled model returns to a multiple of 180°: a zero near z = −1 (which sampling \
+             gives a continuous plant of relative degree two or more) lifts it there; that rise is the model's, not a \
+             fault.",
         ),
         "poles" => (
             "Poles in the z-plane",

@@ -11,6 +11,19 @@ use super::figure::{InlineFigure, inline_svg};
 /// The SVG files among `files` as inline figures; `prefix` is the file-name prefix the writer
 /// put before each figure's name (`""` for none).
 pub fn from_files(files: &[PathBuf], prefix: &str) -> Result<Vec<InlineFigure>, HtmlError> {
+    captioned(files, prefix, |stem| {
+        caption(stem).map(|(t, c)| (t.to_string(), c.to_string()))
+    })
+}
+
+/// The SVG files among `files` as inline figures, each titled and captioned by `caption` from
+/// its file name (without `.svg` and `prefix`); `None` shows the name and says it has no
+/// caption.
+pub fn captioned(
+    files: &[PathBuf],
+    prefix: &str,
+    caption: impl Fn(&str) -> Option<(String, String)>,
+) -> Result<Vec<InlineFigure>, HtmlError> {
     let svgs = files
         .iter()
         .filter(|p| p.extension().is_some_and(|e| e == "svg"));
@@ -25,13 +38,12 @@ pub fn from_files(files: &[PathBuf], prefix: &str) -> Result<Vec<InlineFigure>, 
         });
         let svg = inline_svg(&text, &format!("fig{}", out.len() + 1))
             .ok_or_else(|| HtmlError::NotSvg { path: path.clone() })?;
-        let (title, caption) = match caption(&stem) {
-            Some((t, c)) => (t.to_string(), c.to_string()),
-            None => (
+        let (title, caption) = caption(&stem).unwrap_or_else(|| {
+            (
                 stem.clone(),
                 format!("{stem}.svg (no caption for this figure)"),
-            ),
-        };
+            )
+        });
         out.push(InlineFigure {
             title,
             caption,

@@ -36,11 +36,14 @@ pub struct Table {
 }
 
 impl Table {
-    /// The table as HTML.
+    /// The table as HTML; a table without header and rows is its caption alone.
     pub fn html(&self) -> String {
         let mut s = String::new();
         if !self.caption.is_empty() {
             let _ = writeln!(s, "<p>{}</p>", escape(&self.caption));
+        }
+        if self.header.is_empty() && self.rows.is_empty() {
+            return s;
         }
         s.push_str("<table>\n<tr>");
         for h in &self.header {

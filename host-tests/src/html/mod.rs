@@ -1,5 +1,5 @@
-//! One self-contained HTML report per run of `identify`, `validate` or `diagnose` (`--html
-//! FILE`): a single file with the figures inline as SVG and the style sheet inline, no script
+//! One self-contained HTML report per run of `identify`, `validate`, `diagnose` or `paper`
+//! (`--html FILE`): a single file with the figures inline as SVG and the style sheet inline, no script
 //! and no reference to anything outside the file, readable offline and printable.
 //!
 //! The page, in order:
@@ -7,8 +7,12 @@
 //!    verdict and the errors before and after);
 //! 2. [`figure`]s with captions that say what to look at ([`captions`]);
 //! 3. [`checks`]: the data checks and residual tests as a table, each finding with what it
-//!    means and what to do ([`advice`]);
+//!    means and what to do ([`advice`]); left out when there are none (`paper`, whose records
+//!    are simulated);
 //! 4. [`reproduce`]: the command line as run, the hsid version, the input files and sizes.
+//!
+//! [`paper_page`] fills the sections for `paper` ([`printed`] turns its printed tables into
+//! page tables, [`paper_captions`] captions its figures).
 //!
 //! Every string from outside goes through [`escape::escape`].
 
@@ -23,6 +27,9 @@ pub mod figures;
 pub mod headline;
 pub mod model_page;
 pub mod model_words;
+pub mod paper_captions;
+pub mod paper_page;
+pub mod printed;
 pub mod reproduce;
 pub mod residual;
 pub mod skeleton;
@@ -46,7 +53,8 @@ pub struct Page {
     pub figures: Vec<InlineFigure>,
     /// The sentence above the checks table (what the tests ran on), plain text.
     pub checks_note: String,
-    /// The data checks and residual tests.
+    /// The data checks and residual tests; with an empty `checks_note` too, the section is
+    /// left out.
     pub checks: Vec<CheckRow>,
     /// The command, version and inputs.
     pub reproduction: Reproduction,
@@ -60,10 +68,15 @@ impl Page {
         } else {
             self.figures.iter().map(InlineFigure::html).collect()
         };
+        let checks = if self.checks.is_empty() && self.checks_note.is_empty() {
+            String::new()
+        } else {
+            skeleton::section(2, &checks::table(&self.checks, &self.checks_note))
+        };
         let body = [
             skeleton::section(0, &self.headline.html()),
             skeleton::section(1, &figures),
-            skeleton::section(2, &checks::table(&self.checks, &self.checks_note)),
+            checks,
             skeleton::section(3, &self.reproduction.html()),
         ]
         .concat();

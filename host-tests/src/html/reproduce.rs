@@ -1,15 +1,17 @@
 //! The last section: the command line exactly as run (each argument quoted for a POSIX
-//! shell), the hsid version, and every input file's name and size in bytes.
+//! shell), the hsid version, the settings in effect when the command line leaves some to
+//! their defaults, and every input (and, for a run that writes them, output) file's name and
+//! size in bytes.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use super::escape::escape;
 
-/// One input file of the run.
+/// One input or output file of the run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputFile {
-    /// Its name as given on the command line.
+    /// Its name as given on the command line (an output: as written).
     pub name: String,
     /// Its size in bytes; `None` for standard input or a file that could not be read.
     pub bytes: Option<u64>,
@@ -24,6 +26,11 @@ pub struct Reproduction {
     pub version: String,
     /// The input files.
     pub inputs: Vec<InputFile>,
+    /// The settings in effect, defaults included, plain text; empty when the command line
+    /// states them all.
+    pub settings: String,
+    /// The files the run wrote besides the page.
+    pub outputs: Vec<InputFile>,
 }
 
 impl Reproduction {
@@ -34,18 +41,9 @@ impl Reproduction {
                 .map(|a| a.to_string_lossy().into_owned())
                 .collect(),
             version: env!("CARGO_PKG_VERSION").to_string(),
-            inputs: inputs
-                .iter()
-                .map(|p| {
-                    let p = p.as_ref();
-                    InputFile {
-                        name: p.display().to_string(),
-                        bytes: (p != Path::new("-"))
-                            .then(|| std::fs::metadata(p).ok().map(|m| m.len()))
-                            .flatten(),
-                    }
-                })
-                .collect(),
+            inputs: inputs.iter().map(|p| InputFile::at(p.as_ref())).collect(),
+            settings: String::new(),
+            outputs: Vec::new(),
         }
     }
 
@@ -67,22 +65,55 @@ impl Reproduction {
             escape(&self.command())
         );
         let _ = writeln!(s, "<p>hsid version {}.</p>", escape(&self.version));
-        s.push_str("<table class=\"inputs\">\n<tr><th>input file</th><th>size (bytes)</th></tr>\n");
-        for f in &self.inputs {
-            let size = f.bytes.map_or_else(
-                || "— (standard input or unreadable)".to_string(),
-                |b| b.to_string(),
-            );
+        if !self.settings.is_empty() {
             let _ = writeln!(
                 s,
-                "<tr><td>{}</td><td class=\"num\">{}</td></tr>",
-                escape(&f.name),
-                size
+                "<p>Settings in effect, defaults included: {}</p>",
+                escape(&self.settings)
             );
         }
-        s.push_str("</table>\n");
+        if self.inputs.is_empty() {
+            s.push_str("<p>The run read no input file.</p>\n");
+        } else {
+            s.push_str(&files_table("inputs", "input file", &self.inputs));
+        }
+        if !self.outputs.is_empty() {
+            s.push_str(&files_table("outputs", "file written", &self.outputs));
+        }
         s
     }
+}
+
+impl InputFile {
+    /// The file at `p` with its size now; `-` is standard input.
+    pub fn at(p: &Path) -> Self {
+        InputFile {
+            name: p.display().to_string(),
+            bytes: (p != Path::new("-"))
+                .then(|| std::fs::metadata(p).ok().map(|m| m.len()))
+                .flatten(),
+        }
+    }
+}
+
+/// A table of `files` with their sizes, of class `class`, headed `what`.
+fn files_table(class: &str, what: &str, files: &[InputFile]) -> String {
+    let mut s =
+        format!("<table class=\"{class}\">\n<tr><th>{what}</th><th>size (bytes)</th></tr>\n");
+    for f in files {
+        let size = f.bytes.map_or_else(
+            || "— (standard input or unreadable)".to_string(),
+            |b| b.to_string(),
+        );
+        let _ = writeln!(
+            s,
+            "<tr><td>{}</td><td class=\"num\">{}</td></tr>",
+            escape(&f.name),
+            size
+        );
+    }
+    s.push_str("</table>\n");
+    s
 }
 
 /// `a` as one POSIX shell word: unchanged when it holds only safe characters, otherwise in

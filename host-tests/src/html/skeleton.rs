@@ -42,11 +42,13 @@ pub const SECTIONS: [(&str, &str); 4] = [
     ("reproduce", "Reproduce this report"),
 ];
 
-/// A complete HTML document titled `title` around `body` (already HTML).
+/// A complete HTML document titled `title` around `body` (already HTML); the table of
+/// contents lists the sections `body` holds.
 pub fn document(title: &str, body: &str) -> String {
     let title = escape(title);
     let nav: String = SECTIONS
         .iter()
+        .filter(|(id, _)| body.contains(&format!("<section id=\"{id}\">")))
         .map(|(id, h)| format!("<a href=\"#{id}\">{h}</a>"))
         .collect();
     format!(

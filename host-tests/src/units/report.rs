@@ -118,6 +118,14 @@ fn pm(e: &Estimate) -> String {
     }
 }
 
+/// `v` rounded to six significant digits and printed as briefly as it reads back, like the
+/// sample time beside it (`100`, `333.333`, `0.5`): a rate derived from a decimal sample time
+/// shows no trail of zeros or of rounding noise.
+fn shortest(v: f64) -> String {
+    let rounded: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    format!("{rounded}")
+}
+
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(|| "none".to_string(), |v| format!("{v:.5}"))
 }
@@ -137,7 +145,7 @@ impl UnitReport {
                 (u.input.as_str(), u.output.as_str())
             });
         let mut out = vec![match self.ts {
-            Some(ts) => format!("sample time {ts} s ({:.6} Hz)", 1.0 / ts),
+            Some(ts) => format!("sample time {ts} s ({} Hz)", shortest(1.0 / ts)),
             None => "no sample time (give --ts or a time column): time constants in samples, frequencies in rad/sample".to_string(),
         }];
         let hz = |w: f64| {
@@ -245,6 +253,9 @@ mod tests {
             text.contains("deg per V") && text.contains("mean gap 0.50000 V"),
             "{text}"
         );
+        assert!(text.starts_with("sample time 0.01 s (100 Hz)\n"), "{text}");
+        assert_eq!(shortest(1.0 / 0.003), "333.333");
+        assert_eq!(shortest(1.0 / 0.004), "250");
     }
 
     #[test]
