@@ -14,6 +14,7 @@ use hsid_host::figures::{FigureSettings, Record, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
 use hsid_host::identify::{HostModel, IdentifyOptions};
+use hsid_host::integrating;
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
@@ -78,6 +79,13 @@ pub struct IdentifyArgs {
     /// poles are unchanged. With a hold, μ0 is measured by the hold and --detrend is refused.
     #[arg(long)]
     detrend: bool,
+    /// The plant integrates (voltage → position, a level loop): one pole is fixed at z = 1 and
+    /// the stable part G₀ is identified on the output's increments y(t) − y(t − 1) of each
+    /// record (its first sample has none, and the hold loses one sample). G₀(1) = 1: μ0, the
+    /// borders and the fits printed are in output units per sample; the gap, in input units,
+    /// is the element's. The model file records it (`"integrating": true`).
+    #[arg(long, conflicts_with = "detrend")]
+    integrating: bool,
     #[command(flatten)]
     units: UnitArgs,
     /// Keep the subspace model as it is (the paper's estimator; with `--f 10 --p 10`, exactly
@@ -134,7 +142,11 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
 
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
-    let (umin, umax, hold) = (a.umin, a.umax, a.hold.hold);
+    let (umin, umax) = (a.umin, a.umax);
+    let hold = match a.integrating {
+        true => a.hold.hold.saturating_sub(1),
+        false => a.hold.hold,
+    };
     if !(umin.is_finite() && umax.is_finite() && umin < umax) {
         return Err(format!(
             "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
@@ -156,6 +168,12 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let units = a.units.units()?;
     let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
     records.check_junctions(umin, a.hold.settle())?;
+    if a.integrating {
+        to_increments(&mut records);
+        outln!(
+            "integrating: one pole fixed at z = 1; the stable part G₀ is identified on the output's increments y(t) − y(t − 1) (G₀(1) = 1: μ0, the borders and the fits below are in output units per sample)"
+        )?;
+    }
     let first = records.parts().first().map_or(0, |p| p.0.len());
     if hold >= first {
         return Err(format!(
@@ -170,7 +188,10 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         outln!("detrended: subtracted the mean output {mean:.6} from y")?;
     }
     let (u, y) = (&records.u, &records.y);
-    let opts = options(a)?;
+    let mut opts = options(a)?;
+    if a.integrating {
+        opts = integrating::increments_options(&opts);
+    }
     let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
     let choices = Choices {
         segments: match a.segments {
@@ -261,12 +282,37 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         file.std = std.map(|(s, _)| s);
         file.sample_time = records.ts;
         file.units = units;
+        file.integrating = a.integrating;
         write(&file, path)?;
     }
     for line in figures {
         outln!("{line}")?;
     }
     Ok(())
+}
+
+/// Each record as the record of its increments: its first sample dropped, its output
+/// differenced (`y(t) − y(t − 1)`, within the record only).
+fn to_increments(r: &mut Records) {
+    let parts: Vec<(Vec<f64>, Vec<f64>)> = r
+        .parts()
+        .into_iter()
+        .map(|(u, y)| {
+            (
+                u.get(1..).unwrap_or_default().to_vec(),
+                integrating::difference(y),
+            )
+        })
+        .collect();
+    (r.u, r.y, r.starts) = (Vec::new(), Vec::new(), Vec::new());
+    for (u, y) in parts {
+        r.starts.push(r.u.len());
+        r.u.extend(u);
+        r.y.extend(y);
+    }
+    for lines in &mut r.lines {
+        lines.drain(..lines.len().min(1));
+    }
 }
 
 /// Prints the model, its simulation fit and, with a noise model, its prediction fit; each

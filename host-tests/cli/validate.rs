@@ -89,7 +89,15 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         .chain(record.ts)
         .collect();
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
-    let table = record.table;
+    let mut table = record.table;
+    if file.integrating {
+        // The file holds the stable part: it is validated on the output's increments.
+        outln!("integrating model (one pole at z = 1): validated on the output's increments")?;
+        table.columns[1] = hsid_host::integrating::difference(&table.columns[1]);
+        table.lines.drain(..table.lines.len().min(1));
+        let first = table.columns[0].len().min(1);
+        table.columns[0].drain(..first);
+    }
     let (u, y) = (&table.columns[0], &table.columns[1]);
     let skip = a.skip;
     if skip >= u.len() {

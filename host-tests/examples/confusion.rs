@@ -5,8 +5,9 @@
 //! cargo run --release -p hsid-host --example confusion -- [SEEDS] [CLEAN_SEEDS]
 //! ```
 //!
-//! Prints one line per run, the confusion table (true effect × effect named first) and the
-//! false-alarm rate on clean data.
+//! Prints one line per run, the confusion table (true effect × effect named first), the
+//! false-alarm rate on clean data and the count of added steps that raised the validation
+//! error.
 
 use hsid_host::diagnose::Effect;
 use hsid_host::diagnose::Nonlinearity;
@@ -69,4 +70,11 @@ fn main() {
         .map(|o| o.error_after_first / o.error_before)
         .fold(0.0f64, f64::max);
     println!("largest after / floor: {worst:.2}; largest after / before: {worst_ratio:.2}");
+    let harmful: usize = outcomes.iter().map(|o| o.harmful.len()).sum();
+    let steps: usize = outcomes.iter().map(|o| o.named.len()).sum();
+    println!(
+        "steps that raised the validation error: {harmful} of {steps} steps added, in {} of {} runs",
+        outcomes.iter().filter(|o| !o.harmful.is_empty()).count(),
+        outcomes.len()
+    );
 }

@@ -109,6 +109,12 @@ pub enum IdentifyError {
 impl fmt::Display for IdentifyError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            IdentifyError::Core(
+                e @ (hsid::Error::UnstableModel { .. } | hsid::Error::IntegratingModel),
+            ) => write!(
+                f,
+                "{e}; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) with one pole fixed at z = 1 (hsid identify --integrating; the borders are then the output's rate per sample)"
+            ),
             IdentifyError::Core(e) => write!(f, "{e}"),
             IdentifyError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")
@@ -515,6 +521,7 @@ impl HostModel {
             samples: self.samples,
             noise: None,
             std: None,
+            integrating: false,
         }
     }
 

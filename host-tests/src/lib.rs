@@ -11,6 +11,7 @@ pub mod generality;
 pub mod html;
 pub mod hysteresis;
 pub mod identify;
+pub mod integrating;
 pub mod io;
 pub mod model_file;
 pub mod numerics;

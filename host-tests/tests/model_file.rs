@@ -53,6 +53,7 @@ fn model() -> ModelFile {
             border_asc: vec![0.03; 7],
             border_desc: vec![0.03; 7],
         }),
+        integrating: false,
     }
 }
 

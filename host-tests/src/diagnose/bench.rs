@@ -31,6 +31,9 @@ pub struct Outcome {
     pub floor: f64,
     /// Tests that fired on the validation residual before.
     pub fired_before: Vec<String>,
+    /// Steps added that raised the validation error (each step's error after above its error
+    /// before, in the step's metric): steps that hurt.
+    pub harmful: Vec<Effect>,
     /// Wall time, ms.
     pub millis: u128,
 }
@@ -58,7 +61,7 @@ impl Outcome {
     pub fn line(&self) -> String {
         let s = &self.scenario;
         format!(
-            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | {} ms",
+            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful steps {} | {} ms",
             if self.passes() { "ok  " } else { "FAIL" },
             s.effect.map_or("clean", Effect::name),
             s.plant.name(),
@@ -74,6 +77,7 @@ impl Outcome {
             self.error_after_first / self.error_before,
             self.floor,
             self.error_after_first / self.floor,
+            self.harmful.len(),
             self.millis
         )
     }
@@ -99,6 +103,12 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
             data.noise_floor
         },
         fired_before: d.tests_before.fired_names(),
+        harmful: d
+            .steps
+            .iter()
+            .filter(|s| s.error_after > s.error_before)
+            .map(|s| s.effect)
+            .collect(),
         millis,
     })
 }

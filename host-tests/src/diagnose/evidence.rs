@@ -75,8 +75,11 @@ pub enum Tried {
     DeadTime {
         /// Samples.
         delay: usize,
-        /// Inner hold-out RMSE.
+        /// Inner RMSE.
         rmse: f64,
+        /// The blocks it was scored on: 1 for the inner hold-out's block, more for the
+        /// cross-validation over the whole estimation record.
+        blocks: usize,
     },
 }
 
@@ -102,6 +105,10 @@ impl fmt::Display for Tried {
             },
             Tried::LinearStores(Some(_)) => f.write_str("linear stores (the reference)"),
             Tried::LinearStores(None) => f.write_str("linear stores (the reference): not fitted"),
+            Tried::DeadTime { delay, blocks, .. } if *blocks > 1 => write!(
+                f,
+                "d = {delay} (dead-time test; scored by cross-validation over {blocks} blocks of the record)"
+            ),
             Tried::DeadTime { delay, .. } => write!(f, "d = {delay} (dead-time test)"),
         }
     }

@@ -38,22 +38,10 @@ impl InnerValidation {
         let (_, _, bins, count) =
             residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
         let block = Holdout::choose_block(est, hold, block_len, &bins, count, estimated);
-        let in_sample0 = model::evaluate(base, est, hold..ne, Metric::Simulation).rmse;
-        let scorable = |r: &Range<usize>| -> bool {
-            let fit_part = est.parts(&[0..r.start, r.end..ne]);
-            model::fit_structure(&Structure::base(), &fit_part, fit).is_ok_and(|m| {
-                let e = model::evaluate(&m, est, r.clone(), Metric::Simulation).rmse;
-                e.is_finite() && e <= 3.0 * in_sample0
-            })
-        };
-        let folds: Vec<Range<usize>> = if scorable(&block) {
+        let folds: Vec<Range<usize>> = if scorable(est, fit, base, &block) {
             vec![block.clone()]
         } else {
-            let good: Vec<Range<usize>> =
-                Holdout::fold_blocks(est, hold, 10, &bins, count, estimated)
-                    .into_iter()
-                    .filter(|r| scorable(r))
-                    .collect();
+            let good = cross_folds(est, fit, base);
             if good.len() >= 2 {
                 good
             } else {
@@ -85,4 +73,35 @@ impl InnerValidation {
             )
         }
     }
+}
+
+/// Whether the base model fitted without the block `r` simulates it about as well as the base
+/// model `base` fits the record: at most 3 × its in-sample RMSE.
+fn scorable(est: &Record, fit: &FitOptions, base: &ExtendedModel, r: &Range<usize>) -> bool {
+    let (hold, ne) = (fit.identify.hold, est.len());
+    let in_sample = model::evaluate(base, est, hold..ne, Metric::Simulation).rmse;
+    let fit_part = est.parts(&[0..r.start, r.end..ne]);
+    model::fit_structure(&Structure::base(), &fit_part, fit).is_ok_and(|m| {
+        let e = model::evaluate(&m, est, r.clone(), Metric::Simulation).rmse;
+        e.is_finite() && e <= 3.0 * in_sample
+    })
+}
+
+/// The blocks of leave-block-out cross-validation over tenths of the estimation record that
+/// can be scored: their removal leaves every knot segment excited, the first is not one of
+/// them with an estimated initial state, and the base model fitted without each simulates it
+/// within 3 × its in-sample RMSE. Fewer than two means the record cannot be cross-validated.
+pub fn cross_folds(est: &Record, fit: &FitOptions, base: &ExtendedModel) -> Vec<Range<usize>> {
+    let id = &fit.identify;
+    let estimated = fit.initial == InitialState::Estimated;
+    let (_, _, bins, count) = residual::regressor(
+        &est.u,
+        &id.knots_asc,
+        &id.knots_desc,
+        id.static_nonlinearity,
+    );
+    Holdout::fold_blocks(est, id.hold, 10, &bins, count, estimated)
+        .into_iter()
+        .filter(|r| scorable(est, fit, base, r))
+        .collect()
 }

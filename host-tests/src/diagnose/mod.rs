@@ -138,6 +138,15 @@ fn diagnose_inner(
         opts.max_delay + 1,
         delay::model_dead_time(&base.hammerstein, opts.max_delay + 1),
     );
+    // The dead-time test's delay is scored by cross-validation over the whole record when the
+    // record can be cross-validated (see `steps::Context::delay_holdout`).
+    let delay_folds = if dead.extra() > 0 && inner.folds.len() == 1 {
+        inner::cross_folds(est, &plan.inner, &base)
+    } else {
+        Vec::new()
+    };
+    let delay_holdout = (delay_folds.len() >= 2)
+        .then(|| effects::Holdout::with_folds(est, delay_folds, &plan.inner));
     let context = steps::Context {
         est,
         validation: vrec,
@@ -148,6 +157,7 @@ fn diagnose_inner(
         reported: &plan.reported,
         warnings: &warnings,
         dead: &dead,
+        delay_holdout: delay_holdout.as_ref(),
     };
     let mut p = steps::Progress {
         current: Structure::base(),

@@ -14,7 +14,7 @@ use super::evidence::{Tried, evidence};
 use super::findings::Finding;
 use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
 use super::options::DiagnoseOptions;
-use super::residual::{LEVEL, TestSet};
+use super::residual::TestSet;
 use super::scoring::residual_tests;
 use super::verdict::Ending;
 
@@ -38,6 +38,11 @@ pub struct Context<'a> {
     pub warnings: &'a [Warning],
     /// The dead time of the estimation data.
     pub dead: &'a DeadTime,
+    /// Leave-block-out cross-validation over tenths of the whole estimation record, scoring
+    /// the dead-time test's delay when the inner validation is one block and the record can
+    /// be cross-validated: a delay shows only at the input's changes, which one block may
+    /// hold few of, while the test that found it used the whole record.
+    pub delay_holdout: Option<&'a Holdout<'a>>,
 }
 
 /// What the loop has done so far.
@@ -197,9 +202,12 @@ impl Context<'_> {
     }
 
     /// The dead time of the data (ARX test, independent of the simulation error) beyond the
-    /// model's: a delay found by a test at 1 %, added unless it makes the inner score
-    /// significantly worse (the simulation error of measured data is dominated by what else
-    /// the model lacks, and cannot be asked to confirm a delay of a few samples).
+    /// model's: a delay found by a test at 1 %, proposed like every deterministic effect and
+    /// added only if it improves the inner score significantly (the rule of
+    /// [`effects::choose`]: Diebold–Mariano at 1 % and at least the minimum gain), the score
+    /// taken over the whole record by cross-validation where it can be
+    /// ([`Context::delay_holdout`]). No step that does not help is taken on the strength of
+    /// the ARX test alone.
     fn dead_time_candidate(
         &self,
         current: &Structure,
@@ -208,18 +216,23 @@ impl Context<'_> {
     ) -> Result<Option<usize>, DiagnoseError> {
         let mut s = current.clone();
         s.delay = self.dead.extra();
-        let scored = match self.holdout.score(&s, Metric::Simulation) {
-            Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => None,
-            other => other?,
+        let holdout = self.delay_holdout.unwrap_or(self.holdout);
+        let fitted = |st: &Structure, check_slow| match holdout.evaluate_folds(
+            st,
+            Metric::Simulation,
+            check_slow,
+        ) {
+            Err(DiagnoseError::Identify(_) | DiagnoseError::Dynamics(_)) => Ok(None),
+            other => other,
         };
-        let Some((m, ev)) = scored else {
+        let base = match self.delay_holdout {
+            Some(_) => fitted(current, false)?.map(|(_, ev)| ev),
+            None => Some(baseline.clone()),
+        };
+        let (Some(base), Some((m, ev))) = (base, fitted(&s, true)?) else {
             return Ok(None);
         };
-        let (gain, p_value) = effects::compare(baseline, &ev);
-        let (_, worse_p) = effects::compare(&ev, baseline);
-        if worse_p < LEVEL {
-            return Ok(None);
-        }
+        let (gain, p_value) = effects::compare(&base, &ev);
         // One input_delay candidate: the dead-time test's delay replaces the one the screen
         // proposed (whose settings stay listed as tried).
         let mut tried = Vec::new();
@@ -229,6 +242,7 @@ impl Context<'_> {
         tried.push(Tried::DeadTime {
             delay: self.dead.extra(),
             rmse: ev.rmse,
+            blocks: holdout.folds.len(),
         });
         cands.push(Candidate {
             effect: Effect::InputDelay,
@@ -240,7 +254,9 @@ impl Context<'_> {
             p_value,
             complexity: 1.0,
         });
-        Ok(Some(cands.len() - 1))
+        let last = cands.len() - 1;
+        let (min_gain, tie) = (self.opts.min_gain, self.opts.tie);
+        Ok(effects::choose(&cands[last..], min_gain, tie).map(|_| last))
     }
 
     /// The chosen extension refitted on the whole estimation record; if that model has a mode

@@ -85,6 +85,12 @@ pub struct ModelFile {
     pub noise: Option<NoiseFile>,
     /// Standard deviations of the estimates, when the model was refined.
     pub std: Option<ModelStd>,
+    /// The plant integrates: the file holds its stable part `G₀` (identified on the output's
+    /// increments, normalised by `G₀(1) = 1`, μ0 and the borders in output units per sample)
+    /// and the plant has one more pole, fixed at `z = 1`. Written only when true, so the files
+    /// of other plants are unchanged; a file without the key reads as `false`.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub integrating: bool,
 }
 
 impl ModelFile {

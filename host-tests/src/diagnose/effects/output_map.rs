@@ -1,4 +1,6 @@
-//! Output nonlinearity: a monotone piecewise-linear output map with 3, 5 or 8 segments.
+//! Output nonlinearity: a monotone piecewise-linear output map with 3, 5 or 8 segments; on an
+//! output the data checks find pinned at an extreme, first the output saturation alone (a
+//! linear map with flat ends at the pinned levels).
 
 use super::candidate::Candidate;
 use super::catalog::Effect;
@@ -7,16 +9,21 @@ use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
 
 impl Proposal<'_> {
-    /// Output maps of 3, 5 and 8 segments.
+    /// Output maps of 3, 5 and 8 segments, after the one-segment saturation when the output
+    /// sits at a saturation level (the map is clipped there in every setting).
     pub fn output_nonlinearity(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let effect = Effect::OutputNonlinearity;
-        let opts = [3usize, 5, 8]
-            .into_iter()
-            .map(|k| {
-                (
-                    format!("{k} segments"),
-                    self.with(|s| s.output_map_segments = Some(k)),
-                )
+        let saturated = self.holdout.opts.saturation.any();
+        let segments: &[usize] = if saturated { &[1, 3, 5, 8] } else { &[3, 5, 8] };
+        let opts = segments
+            .iter()
+            .map(|&k| {
+                let label = if k == 1 {
+                    "output saturation (linear, flat ends at the pinned levels)".to_string()
+                } else {
+                    format!("{k} segments")
+                };
+                (label, self.with(|s| s.output_map_segments = Some(k)))
             })
             .collect();
         self.best_of(effect, opts, Metric::Simulation)
