@@ -153,6 +153,7 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
     let opts = ModelOptions {
         extrapolate: a.extrapolate,
         noise,
+        integrating: file.integrating,
     };
     let input = input(a, csv)?;
     let stored = file

@@ -93,7 +93,11 @@ class Model:
         """How far the input must travel back after a reversal at ``u`` on path
         ``direction`` before the element's output moves; NaN where undefined."""
     def simulate(self, u: FloatArray) -> npt.NDArray[np.float64]:
-        """The model's output for the input ``u`` (inside [u_min, u_max]) from rest."""
+        """The model's output for the input ``u`` (inside [u_min, u_max]) from rest; for an
+        integrating model the plant's output (the increments summed from 0)."""
+    @property
+    def integrating(self) -> bool:
+        """True for the stable part of an integrating plant (one pole at z = 1)."""
 
 def excite(
     umin: float, umax: float, samples: int, *, hold: int = 300, seed: int = 1

@@ -150,6 +150,7 @@ impl From<SimulateError> for Failure {
             SimulateError::Unstable { .. } => (Class::Settings, "spec_unstable"),
             SimulateError::TransferFunction { .. } => (Class::Settings, "spec_transfer_function"),
             SimulateError::NoNoiseModel => (Class::Settings, "no_noise_model"),
+            SimulateError::IncrementsNoiseModel => (Class::Settings, "increments_noise_model"),
             SimulateError::NoNoiseLevel => (Class::Settings, "no_noise_level"),
             SimulateError::InputOutsideModel { .. } => (Class::Data, "input_out_of_range"),
             SimulateError::Time(TimeError::NotIncreasing { .. }) => {

@@ -220,7 +220,8 @@ impl Model {
     }
 
     /// The model's output for the input `u` (1-D float array inside [u_min, u_max]), from
-    /// rest at u_min.
+    /// rest at u_min. For an integrating model (`integrating` true) the plant's output: the
+    /// stable part's increments summed from 0.
     fn simulate<'py>(
         &self,
         py: Python<'py>,
@@ -228,7 +229,19 @@ impl Model {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let v = vector("u", u)?;
         self.check_u("u", &v)?;
-        Ok(out(py, self.model.simulate(&v)))
+        let y = if self.file.integrating {
+            hsid_host::integrating::simulate(&self.model, &v, 0.0)
+        } else {
+            self.model.simulate(&v)
+        };
+        Ok(out(py, y))
+    }
+
+    /// True when the model is the stable part of an integrating plant (identified on the
+    /// output's increments with one pole at z = 1; the model file's `"integrating"`).
+    #[getter]
+    fn integrating(&self) -> bool {
+        self.file.integrating
     }
 
     fn __repr__(&self) -> String {

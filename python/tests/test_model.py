@@ -52,3 +52,14 @@ def test_gap_is_the_distance_between_the_borders(model):
     u = 0.1
     g = model.gap_at("ascending", u)
     assert abs(model.border("descending", u - g) - model.border("ascending", u)) < 1e-12
+
+
+def test_an_integrating_model_simulates_the_plant_output(model):
+    f = json.loads(model.to_json())
+    assert not model.integrating and "integrating" not in f
+    f["integrating"] = True
+    summed = hsid.Model.from_json(json.dumps(f))
+    assert summed.integrating
+    u = np.linspace(-1.0, 1.0, 200)
+    # The stable part's output is the increments; the plant's output is their running sum.
+    assert np.allclose(summed.simulate(u), np.cumsum(model.simulate(u)), rtol=0, atol=1e-9)

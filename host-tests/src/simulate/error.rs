@@ -87,6 +87,9 @@ pub enum SimulateError {
     Time(TimeError),
     /// Coloured noise from the model was requested but the model file has no noise model.
     NoNoiseModel,
+    /// Coloured noise from the model of an integrating plant was requested: its noise model
+    /// describes the output's increments, not the output.
+    IncrementsNoiseModel,
     /// White noise was requested without a level.
     NoNoiseLevel,
     /// The noise-free output is constant over the record: no SNR can be met.
@@ -128,6 +131,10 @@ impl fmt::Display for SimulateError {
             Self::NoNoiseModel => write!(
                 f,
                 "the model file has no noise model (\"noise\" is null): use --noise-colour white"
+            ),
+            Self::IncrementsNoiseModel => write!(
+                f,
+                "the model integrates (\"integrating\": true): its noise model describes the output's increments, not the output; use --noise-colour white with --noise-snr DB or --noise-std S"
             ),
             Self::NoNoiseLevel => write!(
                 f,

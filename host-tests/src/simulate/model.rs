@@ -38,6 +38,10 @@ pub struct ModelOptions {
     pub extrapolate: bool,
     /// Output noise; none when `None`.
     pub noise: Option<ModelNoise>,
+    /// The model is the stable part of an integrating plant (the model file's
+    /// `"integrating": true`): its output, the increments, is summed from 0 before any noise
+    /// is added, so the result is the plant's output. Only white noise applies.
+    pub integrating: bool,
 }
 
 /// Border value at `u` on the line through knots `i` and `j`.
@@ -87,7 +91,8 @@ fn check_range(model: &HostModel, input: &InputRecord) -> Result<(), SimulateErr
 }
 
 /// Simulates `model` on the input record (see [`HostModel::simulate`]: the model starts at rest
-/// at μ0 with the previous input at its lowest knot) and adds the requested noise.
+/// at μ0 with the previous input at its lowest knot), sums the output when the model
+/// integrates, and adds the requested noise.
 pub fn simulate_model(
     model: &HostModel,
     noise_model: Option<&NoiseModel>,
@@ -102,12 +107,18 @@ pub fn simulate_model(
         check_range(model, input)?;
         model.simulate(&input.u)
     };
+    let y_clean = if opts.integrating {
+        crate::integrating::integrate(&y_clean, 0.0)
+    } else {
+        y_clean
+    };
     let Some(n) = opts.noise else {
         return Ok(Output::clean(y_clean));
     };
     let (filter, level) = match (n.colour, n.level) {
         (Colour::White, None) => return Err(SimulateError::NoNoiseLevel),
         (Colour::White, Some(l)) => (white(), l),
+        (Colour::Model, _) if opts.integrating => return Err(SimulateError::IncrementsNoiseModel),
         (Colour::Model, l) => {
             let nm = noise_model.ok_or(SimulateError::NoNoiseModel)?;
             let filter = transfer(nm.c.clone(), nm.d.clone(), "noise")?;
@@ -126,6 +137,75 @@ pub fn simulate_model(
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+
+    /// A first-order model (pole 0.5, unit gain) with a linear element `h(u) = u` on
+    /// [-1, 1].
+    fn first_order() -> HostModel {
+        let k = vec![-1.0, 0.0, 1.0];
+        HostModel {
+            order: 1,
+            a: nalgebra::DMatrix::from_element(1, 1, 0.5),
+            b: vec![1.0],
+            c: vec![0.5],
+            d: 0.0,
+            mu0: 0.0,
+            knots_asc: k.clone(),
+            knots_desc: k.clone(),
+            border_asc: k.clone(),
+            border_desc: k,
+            singular_values: vec![],
+            whitened_singular_values: vec![],
+            f: 1,
+            p: 1,
+            samples: 0,
+        }
+    }
+
+    #[test]
+    fn an_integrating_model_sums_its_increments_and_refuses_its_noise_model() {
+        let m = first_order();
+        let u: Vec<f64> = (0..40)
+            .map(|t| if t % 10 < 5 { 1.0 } else { -0.5 })
+            .collect();
+        let input = InputRecord {
+            source: "u.csv".into(),
+            lines: (2..u.len() + 2).collect(),
+            u,
+            t: None,
+        };
+        let plain = simulate_model(&m, None, &input, &ModelOptions::default()).unwrap();
+        let opts = ModelOptions {
+            integrating: true,
+            ..ModelOptions::default()
+        };
+        let summed = simulate_model(&m, None, &input, &opts).unwrap();
+        let mut acc = 0.0;
+        for (s, d) in summed.y.iter().zip(&plain.y) {
+            acc += d;
+            assert!((s - acc).abs() < 1e-12, "{s} against {acc}");
+        }
+        // Twenty samples of +1 against twenty of -0.5 through a unit gain: the position
+        // climbs, it does not settle.
+        assert!(summed.y[39] > 5.0, "{}", summed.y[39]);
+        let coloured = ModelOptions {
+            integrating: true,
+            noise: Some(ModelNoise {
+                colour: Colour::Model,
+                level: None,
+                seed: 1,
+            }),
+            ..ModelOptions::default()
+        };
+        let nm = NoiseModel {
+            c: vec![1.0],
+            d: vec![1.0],
+            sigma2: 1.0,
+        };
+        assert!(matches!(
+            simulate_model(&m, Some(&nm), &input, &coloured),
+            Err(SimulateError::IncrementsNoiseModel)
+        ));
+    }
 
     #[test]
     fn extension_continues_the_end_segments() {
