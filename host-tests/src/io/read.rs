@@ -295,7 +295,7 @@ impl<R: std::io::Read> Rows<'_, R> {
 }
 
 /// The index of each requested column in the header.
-fn resolve(
+pub(super) fn resolve(
     path: &Path,
     line: usize,
     header: &[String],
@@ -328,7 +328,7 @@ fn resolve(
 }
 
 /// Checks one data row and appends its requested cells to `columns`.
-fn row(
+pub(super) fn row(
     path: &Path,
     line: usize,
     header: &[String],
@@ -388,7 +388,7 @@ fn row(
 }
 
 /// Trims surrounding whitespace and double quotes.
-fn clean(s: &str) -> &str {
+pub(super) fn clean(s: &str) -> &str {
     s.trim().trim_matches('"').trim()
 }
 

@@ -1,0 +1,198 @@
+//! CSV rows one at a time, in memory that does not grow with the file: for records too large
+//! to hold (10⁸ rows), pushed sample by sample into the streaming identifier.
+//!
+//! The rules are those of [`read_table`](super::read_table) (comments, a blank line only at
+//! the end, trailing empty fields, unrequested columns that may be empty, a byte order mark,
+//! Windows line ends, the same errors with the same lines) with one restriction: a record is
+//! one line, so a quoted field that runs past the end of its line is an
+//! [`IoError::Malformed`] naming that line.
+
+use std::io::{BufRead, Read};
+use std::path::{Path, PathBuf};
+
+use super::read::{clean, resolve, row};
+use super::{CsvOptions, Delimiter, FileError, IoError};
+
+/// The longest line read (1 MiB): memory stays bounded even for a file without line breaks.
+pub const MAX_LINE_BYTES: u64 = 1 << 20;
+
+/// A CSV file read row by row ([`CsvStream::next_row`]); memory is one line and the requested
+/// values.
+pub struct CsvStream<R> {
+    path: PathBuf,
+    reader: R,
+    delimiter: u8,
+    header: Vec<String>,
+    indices: Vec<usize>,
+    /// Line number of the last line read.
+    line: usize,
+    /// The first blank line not yet followed by content.
+    blank: Option<usize>,
+    /// Data rows read so far.
+    rows: u64,
+    buf: Vec<u8>,
+    values: Vec<Vec<f64>>,
+}
+
+impl<R: BufRead> CsvStream<R> {
+    /// Reads up to the header and resolves `names` in it; `source` names the file in errors.
+    pub fn new(
+        source: impl AsRef<Path>,
+        reader: R,
+        names: &[&str],
+        options: &CsvOptions,
+    ) -> Result<Self, IoError> {
+        let mut s = Self {
+            path: source.as_ref().to_path_buf(),
+            reader,
+            delimiter: b',',
+            header: Vec::new(),
+            indices: Vec::new(),
+            line: 0,
+            blank: None,
+            rows: 0,
+            buf: Vec::new(),
+            values: vec![Vec::with_capacity(1); names.len()],
+        };
+        if !s.next_content()? {
+            return Err(IoError::Empty { path: s.path });
+        }
+        let text = s.text();
+        let delimiter = options.delimiter.unwrap_or_else(|| Delimiter::sniff(text));
+        s.delimiter = match delimiter {
+            Delimiter::Comma => b',',
+            Delimiter::Semicolon => b';',
+            Delimiter::Tab => b'\t',
+        };
+        let mut header: Vec<String> = split(s.text(), s.delimiter)
+            .map_err(|reason| s.malformed(reason))?
+            .into_iter()
+            .map(|f| clean(f).to_string())
+            .collect();
+        while header.last().is_some_and(|h| h.is_empty()) {
+            header.pop();
+        }
+        s.indices = resolve(&s.path, s.line, &header, names)?;
+        s.header = header;
+        Ok(s)
+    }
+
+    /// The next data row: its 1-based line and the requested values in the order of the
+    /// names; `None` at the end of the file, [`IoError::NoData`] if the file has no data row.
+    pub fn next_row(&mut self) -> Result<Option<(usize, Vec<f64>)>, IoError> {
+        if !self.next_content()? {
+            if self.rows == 0 {
+                return Err(IoError::NoData {
+                    path: self.path.clone(),
+                });
+            }
+            return Ok(None);
+        }
+        self.rows += 1;
+        let mut values = std::mem::take(&mut self.values);
+        values.iter_mut().for_each(Vec::clear);
+        let text = self.text();
+        let fields = split(text, self.delimiter).map_err(|reason| self.malformed(reason))?;
+        let fields: Vec<&str> = fields.into_iter().map(clean).collect();
+        let (path, line) = (&self.path, self.line);
+        let checked = row(
+            path,
+            line,
+            &self.header,
+            &self.indices,
+            &fields,
+            &mut values,
+        );
+        let out = values.iter().filter_map(|c| c.first().copied()).collect();
+        self.values = values;
+        checked?;
+        Ok(Some((line, out)))
+    }
+
+    /// The line [`Self::next_content`] found (checked UTF-8 there).
+    fn text(&self) -> &str {
+        std::str::from_utf8(trim_line(&self.buf, self.line)).unwrap_or_default()
+    }
+
+    fn malformed(&self, reason: &str) -> IoError {
+        IoError::Malformed {
+            path: self.path.clone(),
+            line: Some(self.line),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// Reads the next line that is neither a comment nor blank (then [`Self::text`]); a blank
+    /// line before it is an error. `false` at the end of the file.
+    fn next_content(&mut self) -> Result<bool, IoError> {
+        loop {
+            self.buf.clear();
+            let n = (&mut self.reader)
+                .take(MAX_LINE_BYTES + 1)
+                .read_until(b'\n', &mut self.buf)
+                .map_err(|e| FileError::read(&self.path, e))?;
+            if n == 0 {
+                return Ok(false);
+            }
+            self.line += 1;
+            if n as u64 > MAX_LINE_BYTES && !self.buf.ends_with(b"\n") {
+                return Err(self.malformed(&format!(
+                    "line longer than {MAX_LINE_BYTES} bytes (a CSV row of numbers is short; is \
+                     this a text file with line breaks?)"
+                )));
+            }
+            let bytes = trim_line(&self.buf, self.line);
+            if bytes.starts_with(b"#") {
+                continue;
+            }
+            let Ok(text) = std::str::from_utf8(bytes) else {
+                return Err(IoError::NotUtf8 {
+                    path: self.path.clone(),
+                    line: self.line,
+                });
+            };
+            if text.trim().is_empty() {
+                self.blank.get_or_insert(self.line);
+                continue;
+            }
+            if let Some(line) = self.blank {
+                return Err(IoError::BlankLine {
+                    path: self.path.clone(),
+                    line,
+                });
+            }
+            return Ok(true);
+        }
+    }
+}
+
+/// The line's bytes without a leading byte order mark (line 1), the line end and a `\r`.
+fn trim_line(buf: &[u8], line: usize) -> &[u8] {
+    let mut bytes = buf;
+    if line == 1 {
+        bytes = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
+    }
+    let bytes = bytes.strip_suffix(b"\n").unwrap_or(bytes);
+    bytes.strip_suffix(b"\r").unwrap_or(bytes)
+}
+
+/// The fields of one line: split at `delimiter` outside double quotes (the quotes are kept,
+/// [`clean`] removes them). A quote left open at the end of the line is an error.
+fn split(line: &str, delimiter: u8) -> Result<Vec<&str>, &'static str> {
+    let mut fields = Vec::new();
+    let mut start = 0;
+    let mut quoted = false;
+    for (i, b) in line.bytes().enumerate() {
+        if b == b'"' {
+            quoted = !quoted;
+        } else if b == delimiter && !quoted {
+            fields.push(&line[start..i]);
+            start = i + 1;
+        }
+    }
+    if quoted {
+        return Err("a quoted field runs past the end of its line (a record is one line here)");
+    }
+    fields.push(&line[start..]);
+    Ok(fields)
+}
