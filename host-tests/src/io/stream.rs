@@ -196,3 +196,71 @@ fn split(line: &str, delimiter: u8) -> Result<Vec<&str>, &'static str> {
     fields.push(&line[start..]);
     Ok(fields)
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+    use crate::io::parse_table;
+
+    fn stream_all(text: &str, names: &[&str]) -> Result<(Vec<Vec<f64>>, Vec<usize>), IoError> {
+        let opts = CsvOptions::default();
+        let mut s = CsvStream::new("s.csv", text.as_bytes(), names, &opts)?;
+        let (mut rows, mut lines) = (Vec::new(), Vec::new());
+        while let Some((line, values)) = s.next_row()? {
+            rows.push(values);
+            lines.push(line);
+        }
+        Ok((rows, lines))
+    }
+
+    #[test]
+    fn rows_and_lines_are_those_of_the_whole_file_reader() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/data/servo.csv");
+        let text = std::fs::read_to_string(path).unwrap();
+        let whole = parse_table("s.csv", &text, &["y", "u"], &CsvOptions::default()).unwrap();
+        let (rows, lines) = stream_all(&text, &["y", "u"]).unwrap();
+        assert_eq!(lines, whole.lines);
+        assert_eq!(rows.len(), whole.columns[0].len());
+        for (i, r) in rows.iter().enumerate() {
+            assert_eq!(r, &vec![whole.columns[0][i], whole.columns[1][i]]);
+        }
+        assert!(rows.len() > 1000, "{} rows", rows.len());
+    }
+
+    #[test]
+    fn quirks_and_errors_name_the_lines_the_whole_file_reader_names() {
+        let ok = "\u{feff}# c\r\n\"u\"; \"y\"\r\n1;2;\r\n# mid\r\n3;\"4\"\r\n\r\n  \r\n";
+        assert_eq!(
+            stream_all(ok, &["u", "y"]).unwrap(),
+            (vec![vec![1.0, 2.0], vec![3.0, 4.0]], vec![3, 5])
+        );
+        for bad in [
+            "u,y\n1,2\n\n3,4\n",
+            "u,y\n1,2\n3,x\n",
+            "u,y\n1\n",
+            "u,y\n1,2,3\n",
+            "u,y\n1,inf\n",
+            "u,y\n",
+            "# only\n\n",
+            "a,b\n1,2\n",
+        ] {
+            let whole = parse_table("s.csv", bad, &["u", "y"], &CsvOptions::default());
+            let streamed = stream_all(bad, &["u", "y"]);
+            assert_eq!(
+                streamed.unwrap_err().to_string(),
+                whole.unwrap_err().to_string(),
+                "{bad:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_open_quote_and_an_endless_line_are_refused_with_their_line() {
+        let e = stream_all("u,y\n1,\"2\n3\"\n", &["u", "y"]).unwrap_err();
+        assert!(matches!(e, IoError::Malformed { line: Some(2), .. }), "{e}");
+        let long = format!("u,y\n{}", "1".repeat(MAX_LINE_BYTES as usize + 10));
+        let e = stream_all(&long, &["u", "y"]).unwrap_err();
+        assert!(matches!(e, IoError::Malformed { line: Some(2), .. }), "{e}");
+    }
+}
