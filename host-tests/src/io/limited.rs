@@ -84,7 +84,7 @@ pub fn read_to_string_limited(path: &Path, limit: u64) -> Result<String, Limited
 
 #[cfg(test)]
 mod tests {
-    #![allow(clippy::unwrap_used)]
+    #![allow(clippy::unwrap_used, clippy::panic)]
     use super::*;
 
     fn temp(name: &str, bytes: &[u8]) -> PathBuf {
