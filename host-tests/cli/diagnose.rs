@@ -9,6 +9,8 @@ use hsid_host::diagnose::{
     DiagnoseOptions, Effect, InitialState, PoleRefinement, Record, Validation, diagnose, figures,
     report,
 };
+use hsid_host::html::Reproduction;
+use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::units::{Origin, resolve_ts};
 
@@ -129,6 +131,10 @@ pub struct DiagnoseArgs {
     /// Write the JSON report here.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write a self-contained HTML report (verdict, before/after, figures, checks and tests,
+    /// the command line) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub html: Option<PathBuf>,
     /// Write the final model's Hammerstein part here, as a model file (format hsid-model/1);
     /// the extensions the diagnosis added are in the JSON report only.
     #[arg(long)]
@@ -324,6 +330,16 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         let text = serde_json::to_string_pretty(&report::to_json(&d))
             .map_err(|e| format!("{}: {e}", path.display()))?;
         std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        outln!("wrote {}", path.display())?;
+    }
+    if let Some(path) = &a.html {
+        let figures = diagnosis_figures(&d, &a.title).map_err(|e| e.to_string())?;
+        let inputs: Vec<&PathBuf> = std::iter::once(&a.data).chain(&a.validation).collect();
+        let title = format!("hsid diagnose: {}", a.data.display());
+        let rep = Reproduction::of_this_run(&inputs);
+        diagnosis_page(&d, title, ts, units.clone(), figures, rep)
+            .write(path)
+            .map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
     }
     if let Some(path) = &a.model_out {

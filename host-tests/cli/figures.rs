@@ -29,8 +29,8 @@ pub struct FigureArgs {
     true_plant: Option<PathBuf>,
 }
 
-/// The true loop of `--true-plant` on `[u_min, u_max]`, or none.
-fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, Failure> {
+/// The true loop of `--true-plant` on `[u_min, u_max]`, or none (also drawn in the HTML report).
+pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, Failure> {
     let Some(path) = &a.true_plant else {
         return Ok(None);
     };

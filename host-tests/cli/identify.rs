@@ -7,11 +7,14 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::choose::{
-    self, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model, model_std,
-    noise_file,
+    self, Best, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
+    model_std, noise_file,
 };
+use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::html::model_page::ModelRun;
+use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
 use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::model_file::ModelFile;
+use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
 use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
@@ -90,6 +93,10 @@ pub struct IdentifyArgs {
     out: ModelOut,
     #[command(flatten)]
     figures: crate::figures::FigureArgs,
+    /// Write a self-contained HTML report of the run (model in units, fit, figures, data
+    /// checks and residual tests, the command line) to this file.
+    #[arg(long, value_name = "FILE")]
+    html: Option<PathBuf>,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -187,14 +194,19 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         ChooseError::Identify(e) => records.sample_error(&e),
         e => format!("{}: {e}", records.first().display()),
     })?;
-    let record = hsid_host::figures::Record { u, y, skip: hold };
+    let record = Record { u, y, skip: hold };
     let figures = crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?;
+    let page_figures = match &a.html {
+        Some(_) => Some(html_figures(a, &best, &record, records.ts, units.as_ref())?),
+        None => None,
+    };
     for line in best.report() {
         outln!("{line}")?;
     }
     let pem = PemOptions::for_identify(&best.options);
+    let mut estimator = "subspace (PI-MOESP), not refined".to_string();
     let (model, noise, std) = if let Some(fit) = best.fit {
-        outln!(
+        estimator = format!(
             "refined by the prediction-error method: {} iterations, {} parameters, D {}",
             fit.iterations,
             fit.parameters(),
@@ -203,7 +215,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             } else {
                 "= 0 (not significant)"
             }
-        )?;
+        );
+        outln!("{estimator}")?;
         let (std, cov) = model_std(&fit);
         (fit.model, Some(fit.noise), Some((std, cov)))
     } else {
@@ -221,8 +234,26 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     let two_path = a.nonlinearity != NonlinearityArg::Static;
     let cov = std.as_ref().map(|(_, c)| c.as_slice());
-    for line in unit_report(&model, records.ts, units.clone(), cov, two_path).lines() {
+    let in_units = unit_report(&model, records.ts, units.clone(), cov, two_path);
+    for line in in_units.lines() {
         outln!("{line}")?;
+    }
+    if let (Some(path), Some(figures)) = (&a.html, page_figures) {
+        let names: Vec<String> = a.data.iter().map(|p| p.display().to_string()).collect();
+        let run = ModelRun {
+            title: format!("hsid identify: {}", names.join(", ")),
+            element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
+            model: &model,
+            units: &in_units,
+            parts: &records.parts(),
+            skip: hold,
+            estimation: Some(&best.options),
+            extra: vec![Fact::new("estimator", estimator)],
+        };
+        run.page(figures, Reproduction::of_this_run(&a.data))
+            .write(path)
+            .map_err(|e| e.to_string())?;
+        outln!("wrote {}", path.display())?;
     }
     if let Some(path) = &a.out.json {
         let mut file = model.to_json(Some(a.nonlinearity.into()));
@@ -261,6 +292,24 @@ fn report(
         )?;
     }
     Ok(())
+}
+
+/// The figures of the HTML report: those `--out` writes, drawn again into a scratch folder.
+fn html_figures(
+    a: &IdentifyArgs,
+    best: &Best,
+    record: &Record<'_>,
+    ts: Option<f64>,
+    units: Option<&Units>,
+) -> Result<Vec<InlineFigure>, Failure> {
+    let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
+    let settings = FigureSettings {
+        ts,
+        units: units.map(|u| (u.input.clone(), u.output.clone())),
+        truth: crate::figures::truth(&a.figures, model)?,
+    };
+    let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
+    Ok(figures::of_model(model, record, uncertainty, &settings).map_err(|e| e.to_string())?)
 }
 
 fn write(file: &ModelFile, path: &Path) -> Result<(), Failure> {

@@ -9,6 +9,7 @@ mod diagnose;
 mod excite;
 mod failure;
 mod figures;
+mod fleet;
 mod identify;
 mod locate;
 mod paper;
@@ -46,10 +47,14 @@ enum Cmd {
     /// checkpoint's precision (f32 or f64), and print the model.
     Solve(solve::SolveArgs),
     /// Simulate a model on a CSV file with columns `u,y` and print the fit.
-    Validate(validate::ValidateArgs),
+    Validate(Box<validate::ValidateArgs>),
     /// Drive a true plant (a specification) or an identified model by an input record and
     /// print the record with the output `y` as CSV (see docs/simulate.md).
     Simulate(Box<simulate::SimulateArgs>),
+    /// Solve many devices' checkpoints across cores into one JSON line per device (its model or
+    /// its error); `fleet simulate` writes a simulated wearing fleet, `fleet report` its wear
+    /// report (see docs/fleet.md).
+    Fleet(Box<fleet::FleetArgs>),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +66,7 @@ fn main() -> ExitCode {
         Cmd::Solve(a) => solve::run(&a),
         Cmd::Validate(a) => validate::run(&a),
         Cmd::Simulate(a) => simulate::run(&a).map_err(failure::Failure::from),
+        Cmd::Fleet(a) => fleet::run(&a),
     };
     match result {
         Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,

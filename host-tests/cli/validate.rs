@@ -4,6 +4,10 @@ use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
 use clap::Args;
+use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::html::model_page::ModelRun;
+use hsid_host::html::model_words::Element;
+use hsid_host::html::{Reproduction, figures};
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::ModelFile;
 use hsid_host::model_file::NonlinearityKind;
@@ -41,6 +45,10 @@ pub struct ValidateArgs {
     units: UnitArgs,
     #[command(flatten)]
     figures: crate::figures::FigureArgs,
+    /// Write a self-contained HTML report (model in units, fit, figures, residual tests, the
+    /// command line) to this file.
+    #[arg(long, value_name = "FILE")]
+    html: Option<PathBuf>,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
@@ -117,9 +125,40 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
     }
     let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
-    for line in unit_report(&m, ts, units, cov.as_deref(), two_path).lines() {
+    let in_units = unit_report(&m, ts, units.clone(), cov.as_deref(), two_path);
+    for line in in_units.lines() {
         outln!("{line}")?;
     }
     crate::figures::validate(&a.figures, &file, &m, u, y, skip)?;
+    if let Some(path) = &a.html {
+        let settings = FigureSettings {
+            ts,
+            units: units.map(|u| (u.input, u.output)),
+            truth: crate::figures::truth(&a.figures, &m)?,
+        };
+        let record = Record { u, y, skip };
+        let figures = figures::of_model(&m, &record, Uncertainty::from_file(&file), &settings);
+        let run = ModelRun {
+            title: format!(
+                "hsid validate: {} on {}",
+                a.model.display(),
+                a.data.display()
+            ),
+            element: file.nonlinearity.map_or(Element::TwoPath, Element::from),
+            model: &m,
+            units: &in_units,
+            parts: &[(u, y)],
+            skip,
+            estimation: None,
+            extra: Vec::new(),
+        };
+        run.page(
+            figures.map_err(|e| e.to_string())?,
+            Reproduction::of_this_run(&[&a.model, &a.data]),
+        )
+        .write(path)
+        .map_err(|e| e.to_string())?;
+        outln!("wrote {}", path.display())?;
+    }
     Ok(())
 }

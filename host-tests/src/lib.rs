@@ -6,7 +6,10 @@
 pub mod choose;
 pub mod diagnose;
 pub mod figures;
+pub mod fleet;
 pub mod generality;
+pub mod html;
+pub mod hysteresis;
 pub mod identify;
 pub mod io;
 pub mod model_file;

@@ -1,8 +1,11 @@
-//! The firmware example (`examples/firmware`, Cortex-M4F) under QEMU, checked against the host.
+//! The firmware example (`examples/firmware`) under QEMU, on both its targets, checked against
+//! the host.
 //!
 //! The firmware is built in release with `--features dump-samples` (its own target directory,
-//! `examples/firmware/target`) and run under `qemu-system-arm -machine mps2-an386` in a scratch
-//! folder, where it writes its checkpoint `hsid-state.bin` through semihosting. Then:
+//! `examples/firmware/target`) for the Cortex-M4F (`thumbv7em-none-eabihf`, run under
+//! `qemu-system-arm -machine mps2-an386`) and for RISC-V (`riscv32imafc-unknown-none-elf`, run
+//! under `qemu-system-riscv32 -machine virt -bios none`), each in a scratch folder, where it
+//! writes its checkpoint `hsid-state.bin` through semihosting. Then, for each target:
 //!
 //! * the on-target `f32` model is compared with the host's `f64` identification of the **same**
 //!   sample sequence (the dumped `HSID s` lines, same settings): order equal, poles within
@@ -10,10 +13,12 @@
 //! * the exported checkpoint is solved on the host (`hsid solve --state`, library and binary)
 //!   and must give the on-target model: same order, poles, borders and singular values to
 //!   1e-5 relative (in `f32` both, so only `libm` vs `std` float code differs);
-//! * the `defmt` variant is built too (and run, if `defmt-print` is installed).
+//! * the `defmt` variant is built too (Cortex-M4F; and run, if `defmt-print` is installed);
+//! * both targets accumulate the same state: their checkpoints are equal byte for byte (the
+//!   same `f32` operations in the same order, IEEE-rounded on both).
 //!
-//! These tests are skipped, with a message on stderr, only where `qemu-system-arm` or the
-//! `thumbv7em-none-eabihf` target is missing (set `HSID_REQUIRE_FIRMWARE=1` to fail instead).
+//! These tests are skipped, with a message on stderr, only where a target's QEMU or its Rust
+//! target is missing (set `HSID_REQUIRE_FIRMWARE=1` to fail instead).
 //! The checkpoint tests at the end need neither and always run.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -31,8 +36,43 @@ use nalgebra::DMatrix;
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 
-const TARGET: &str = "thumbv7em-none-eabihf";
 const STATE_FILE: &str = "hsid-state.bin";
+
+/// A target the firmware is built for, and the QEMU board it runs on.
+struct Target {
+    /// Rust target triple.
+    triple: &'static str,
+    /// QEMU system emulator.
+    qemu: &'static str,
+    /// Debian package that has it.
+    package: &'static str,
+    /// Board (and CPU) arguments.
+    machine: &'static [&'static str],
+    /// Why the firmware cannot run here, if it cannot (found once per target).
+    missing: OnceLock<Option<String>>,
+    /// The plain run shared by the tests of this target.
+    run: OnceLock<Run>,
+}
+
+/// The Cortex-M4F on QEMU's MPS2-AN386.
+static CORTEX_M4: Target = Target {
+    triple: "thumbv7em-none-eabihf",
+    qemu: "qemu-system-arm",
+    package: "qemu-system-arm",
+    machine: &["-machine", "mps2-an386", "-cpu", "cortex-m4"],
+    missing: OnceLock::new(),
+    run: OnceLock::new(),
+};
+
+/// RV32IMAFC on QEMU's `virt` board, machine mode without firmware.
+static RISCV32: Target = Target {
+    triple: "riscv32imafc-unknown-none-elf",
+    qemu: "qemu-system-riscv32",
+    package: "qemu-system-misc",
+    machine: &["-machine", "virt", "-bios", "none"],
+    missing: OnceLock::new(),
+    run: OnceLock::new(),
+};
 
 // ---------------------------------------------------------------------------------------------
 // Building and running the firmware
@@ -48,18 +88,18 @@ fn note(msg: &str) {
     let _ = writeln!(std::io::stderr(), "{msg}");
 }
 
-/// Why the firmware tests cannot run here, if they cannot.
-fn missing_tools() -> Option<String> {
-    let qemu = Command::new("qemu-system-arm")
+/// Why the firmware tests of `target` cannot run here, if they cannot.
+fn missing_tools(target: &Target) -> Option<String> {
+    let qemu = Command::new(target.qemu)
         .arg("--version")
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .status();
     if !matches!(qemu, Ok(s) if s.success()) {
-        return Some(
-            "qemu-system-arm not found (Debian: apt-get install qemu-system-arm; .ci/run installs it)"
-                .to_string(),
-        );
+        return Some(format!(
+            "{} not found (Debian: apt-get install {}; .ci/run installs it)",
+            target.qemu, target.package
+        ));
     }
     // The sysroot of the toolchain that builds the firmware (run from its folder, so that a
     // toolchain file there would count) must hold the target's standard library.
@@ -72,17 +112,17 @@ fn missing_tools() -> Option<String> {
         .filter(|o| o.status.success())
         .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
     match sysroot {
-        Some(root) if root.join("lib/rustlib").join(TARGET).is_dir() => None,
+        Some(root) if root.join("lib/rustlib").join(target.triple).is_dir() => None,
         _ => Some(format!(
-            "the {TARGET} target is not installed (rustup target add {TARGET})"
+            "the {0} target is not installed (rustup target add {0})",
+            target.triple
         )),
     }
 }
 
-/// `None` (after printing why) where the firmware cannot be built and run.
-fn firmware_available(test: &str) -> bool {
-    static MISSING: OnceLock<Option<String>> = OnceLock::new();
-    match MISSING.get_or_init(missing_tools) {
+/// `false` (after printing why) where the firmware cannot be built and run for `target`.
+fn firmware_available(test: &str, target: &Target) -> bool {
+    match target.missing.get_or_init(|| missing_tools(target)) {
         None => true,
         Some(why) if std::env::var_os("HSID_REQUIRE_FIRMWARE").is_some() => {
             panic!("HSID_REQUIRE_FIRMWARE is set but {why}")
@@ -103,10 +143,10 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Builds the firmware in release with `features` in its own target directory and copies the
-/// ELF to `dir` (the variants share the ELF's path in the target directory, so builds and
-/// copies are serialised).
-fn build(features: &str, dir: &Path) -> PathBuf {
+/// Builds the firmware for `target` in release with `features` in its own target directory and
+/// copies the ELF to `dir` (the variants share the ELF's path in the target directory, so
+/// builds and copies are serialised).
+fn build(target: &Target, features: &str, dir: &Path) -> PathBuf {
     static BUILD: Mutex<()> = Mutex::new(());
     let _guard = BUILD.lock().unwrap_or_else(|e| e.into_inner());
     let fw = firmware_dir();
@@ -119,36 +159,43 @@ fn build(features: &str, dir: &Path) -> PathBuf {
         .env_remove("RUSTFLAGS")
         .env_remove("CARGO_ENCODED_RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET")
-        .args(["build", "--release", "--features", features])
+        // The paper's configuration, whatever the environment says (scripts/firmware-fit.sh).
+        .env_remove("HSID_FW_SEGMENTS")
+        .env_remove("HSID_FW_F")
+        .env_remove("HSID_FW_P")
+        .args(["build", "--release", "--target", target.triple])
+        .args(["--features", features])
         .output()
         .unwrap();
     let log = String::from_utf8_lossy(&out.stderr);
     assert!(
         out.status.success(),
-        "cargo build --release --features {features} in {} failed:\n{log}",
+        "cargo build --release --target {} --features {features} in {} failed:\n{log}",
+        target.triple,
         fw.display()
     );
     note(&format!(
-        "firmware ({features}) built in {:.1} s",
+        "firmware ({}, {features}) built in {:.1} s",
+        target.triple,
         t0.elapsed().as_secs_f64()
     ));
-    let elf = fw.join("target").join(TARGET).join("release/hsid-firmware");
+    let elf = fw
+        .join("target")
+        .join(target.triple)
+        .join("release/hsid-firmware");
     let copy = dir.join("hsid-firmware.elf");
     std::fs::copy(&elf, &copy).unwrap();
     copy
 }
 
-/// Runs `elf` under QEMU (the runner of `.cargo/config.toml`) in `dir`; returns the exit
-/// status and the raw stdout. Killed after two minutes.
-fn run_qemu(elf: &Path, dir: &Path) -> (Option<i32>, Vec<u8>) {
+/// Runs `elf` under the QEMU of `target` (the runners of `.cargo/config.toml`) in `dir`;
+/// returns the exit status and the raw stdout. Killed after two minutes.
+fn run_qemu(target: &Target, elf: &Path, dir: &Path) -> (Option<i32>, Vec<u8>) {
     let t0 = Instant::now();
-    let mut child = Command::new("qemu-system-arm")
+    let mut child = Command::new(target.qemu)
         .current_dir(dir)
+        .args(target.machine)
         .args([
-            "-machine",
-            "mps2-an386",
-            "-cpu",
-            "cortex-m4",
             "-semihosting-config",
             "enable=on,target=native",
             "-nographic",
@@ -185,7 +232,8 @@ fn run_qemu(elf: &Path, dir: &Path) -> (Option<i32>, Vec<u8>) {
     };
     let out = reader.join().unwrap();
     note(&format!(
-        "firmware ran under QEMU in {:.1} s",
+        "firmware ran under {} in {:.1} s",
+        target.qemu,
         t0.elapsed().as_secs_f64()
     ));
     (status.code(), out)
@@ -198,19 +246,23 @@ struct Run {
     dir: PathBuf,
 }
 
-/// The run shared by the tests of this file (built and run once).
-fn plain_run() -> &'static Run {
-    static RUN: OnceLock<Run> = OnceLock::new();
-    RUN.get_or_init(|| {
-        let dir = scratch("plain");
-        let elf = build("dump-samples", &dir);
-        let (code, out) = run_qemu(&elf, &dir);
+/// The run of `target` shared by the tests of this file (built and run once).
+fn plain_run(target: &'static Target) -> &'static Run {
+    target.run.get_or_init(|| {
+        let dir = scratch(&format!("plain-{}", target.triple));
+        let elf = build(target, "dump-samples", &dir);
+        let (code, out) = run_qemu(target, &elf, &dir);
         let text = String::from_utf8_lossy(&out).into_owned();
         let fail: Vec<&str> = text
             .lines()
             .filter(|l| l.starts_with("HSID fail") || l.starts_with("HSID panic"))
             .collect();
-        assert_eq!(code, Some(0), "firmware exit status; {fail:?}");
+        assert_eq!(
+            code,
+            Some(0),
+            "{} firmware exit status; {fail:?}",
+            target.triple
+        );
         assert!(text.lines().any(|l| l == "HSID ok"), "no `HSID ok` line");
         let state = std::fs::read(dir.join(STATE_FILE)).unwrap();
         Run { text, state, dir }
@@ -413,13 +465,29 @@ fn markov(m: &HostModel) -> Vec<f64> {
 // Firmware tests
 // ---------------------------------------------------------------------------------------------
 
-/// The on-target `f32` model agrees with the host's `f64` identification of the same samples.
+/// The Cortex-M4F's `f32` model agrees with the host's `f64` identification of the same samples.
 #[test]
 fn firmware_model_matches_host_identification_of_the_same_samples() {
-    if !firmware_available("firmware_model_matches_host_identification_of_the_same_samples") {
-        return;
+    let test = "firmware_model_matches_host_identification_of_the_same_samples";
+    if firmware_available(test, &CORTEX_M4) {
+        model_matches_host_identification(&CORTEX_M4);
     }
-    let run = plain_run();
+}
+
+/// The RISC-V firmware's `f32` model agrees with the host's `f64` identification of the same
+/// samples.
+#[test]
+fn riscv_firmware_model_matches_host_identification_of_the_same_samples() {
+    let test = "riscv_firmware_model_matches_host_identification_of_the_same_samples";
+    if firmware_available(test, &RISCV32) {
+        model_matches_host_identification(&RISCV32);
+    }
+}
+
+/// The on-target `f32` model of `target` agrees with the host's `f64` identification of the
+/// same samples: same order, poles within 0.005, borders within 0.02 RMS.
+fn model_matches_host_identification(on: &'static Target) {
+    let run = plain_run(on);
     let cfg = keys(&run.text, "config");
     let (u, y) = samples(&run.text);
     assert_eq!(u.len(), key::<usize>(&cfg, "samples"), "dumped samples");
@@ -441,7 +509,8 @@ fn firmware_model_matches_host_identification_of_the_same_samples() {
     let dp = pole_distance(&target, &host);
     let rms = border_rms(&target, &host);
     note(&format!(
-        "on-target f32 vs host f64 on the same {} samples: order {} both, poles {:.2e} apart, borders {:.2e} RMS",
+        "{} f32 vs host f64 on the same {} samples: order {} both, poles {:.2e} apart, borders {:.2e} RMS",
+        on.triple,
         u.len(),
         host.order,
         dp,
@@ -451,14 +520,59 @@ fn firmware_model_matches_host_identification_of_the_same_samples() {
     assert!(rms <= 0.02, "borders differ by {rms} RMS");
 }
 
-/// The exported checkpoint, solved on the host (library and `hsid solve --state`), gives the
-/// on-target model.
+/// The Cortex-M4F's exported checkpoint, solved on the host (library and `hsid solve --state`),
+/// gives the on-target model.
 #[test]
 fn firmware_checkpoint_solved_on_host_matches_on_target_solve() {
-    if !firmware_available("firmware_checkpoint_solved_on_host_matches_on_target_solve") {
+    let test = "firmware_checkpoint_solved_on_host_matches_on_target_solve";
+    if firmware_available(test, &CORTEX_M4) {
+        checkpoint_solved_on_host_matches_on_target_solve(&CORTEX_M4);
+    }
+}
+
+/// The RISC-V firmware's exported checkpoint, solved on the host, gives the on-target model.
+#[test]
+fn riscv_firmware_checkpoint_solved_on_host_matches_on_target_solve() {
+    let test = "riscv_firmware_checkpoint_solved_on_host_matches_on_target_solve";
+    if firmware_available(test, &RISCV32) {
+        checkpoint_solved_on_host_matches_on_target_solve(&RISCV32);
+    }
+}
+
+/// Both targets accumulate the same state from the same samples: the same `f32` additions and
+/// multiplications in the same order, rounded by IEEE 754 on both (no fused multiply-adds:
+/// Rust does not contract), so the checkpoints are equal byte for byte, and so are the
+/// dumped samples (the plant's `libm` code is the same on both) and the printed model.
+#[test]
+fn both_targets_accumulate_the_same_state() {
+    let test = "both_targets_accumulate_the_same_state";
+    if !(firmware_available(test, &CORTEX_M4) && firmware_available(test, &RISCV32)) {
         return;
     }
-    let run = plain_run();
+    let (arm, riscv) = (plain_run(&CORTEX_M4), plain_run(&RISCV32));
+    assert_eq!(samples(&arm.text), samples(&riscv.text), "dumped samples");
+    assert!(
+        arm.state == riscv.state,
+        "the checkpoints differ ({} and {} bytes)",
+        arm.state.len(),
+        riscv.state.len()
+    );
+    // The solve's operations are the same too (`libm` for the functions, IEEE `sqrt`): the
+    // model lines are equal character for character.
+    let model = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| !l.starts_with("HSID s ") && !l.starts_with("HSID cost "))
+            .filter(|l| !l.starts_with("HSID state "))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(model(&arm.text), model(&riscv.text), "model lines");
+}
+
+/// The exported checkpoint of `target`, solved on the host (library and `hsid solve --state`),
+/// gives the on-target model.
+fn checkpoint_solved_on_host_matches_on_target_solve(target: &'static Target) {
+    let run = plain_run(target);
     let st = keys(&run.text, "state");
     assert_eq!(
         key::<usize>(&st, "bytes"),
@@ -510,11 +624,11 @@ fn firmware_checkpoint_solved_on_host_matches_on_target_solve() {
 /// same model and the same checkpoint.
 #[test]
 fn firmware_defmt_variant() {
-    if !firmware_available("firmware_defmt_variant") {
+    if !firmware_available("firmware_defmt_variant", &CORTEX_M4) {
         return;
     }
     let dir = scratch("defmt");
-    let elf = build("defmt", &dir);
+    let elf = build(&CORTEX_M4, "defmt", &dir);
     let decoder = Command::new("defmt-print")
         .arg("--version")
         .stdout(Stdio::null())
@@ -526,7 +640,7 @@ fn firmware_defmt_variant() {
         );
         return;
     }
-    let (code, raw) = run_qemu(&elf, &dir);
+    let (code, raw) = run_qemu(&CORTEX_M4, &elf, &dir);
     let mut child = Command::new("defmt-print")
         .arg("-e")
         .arg(&elf)
@@ -541,7 +655,7 @@ fn firmware_defmt_variant() {
     writer.join().unwrap().unwrap();
     let text = String::from_utf8_lossy(&decoded.stdout);
     assert_eq!(code, Some(0), "defmt firmware exit status:\n{text}");
-    let plain = plain_run();
+    let plain = plain_run(&CORTEX_M4);
     let (a, b) = (target_model(&text), target_model(&plain.text));
     assert_eq!(a.order, b.order);
     assert_eq!(a.border_asc, b.border_asc);

@@ -16,6 +16,7 @@ from ._hsid import (
     identify,
     simulate_plant,
     solve_checkpoint,
+    solve_many,
 )
 
 __all__ = [
@@ -29,4 +30,5 @@ __all__ = [
     "identify",
     "simulate_plant",
     "solve_checkpoint",
+    "solve_many",
 ]

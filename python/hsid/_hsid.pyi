@@ -1,6 +1,6 @@
 """Type stubs of the extension module ``hsid._hsid`` (re-exported by ``hsid``)."""
 
-from typing import Any, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -128,6 +128,11 @@ def identify(
 
 def solve_checkpoint(state: bytes) -> Model:
     """The model of an identifier's checkpoint, as ``hsid solve --state`` solves it."""
+
+def solve_many(states: Sequence[bytes], threads: Optional[int] = None) -> List[Union[Model, HsidError]]:
+    """Many checkpoints solved across ``threads`` worker threads (default: one per core), the GIL
+    released: in order, a ``Model`` per checkpoint that solved and the ``HsidError`` (returned,
+    not raised; ``.kind`` names it) per checkpoint that did not."""
 
 def diagnose(
     u: FloatArray,

@@ -3,12 +3,14 @@
 //! settings) and `IdentificationError` (the identification itself failed). Each carries the
 //! library's message and a `.kind` string naming the error's variant.
 
-use hsid::{CheckpointError, Error};
+use hsid::Error;
 use hsid_host::choose::ChooseError;
 use hsid_host::diagnose::DiagnoseError;
+use hsid_host::fleet::device::checkpoint_kind;
 use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::ModelFileError;
 use hsid_host::simulate::SimulateError;
+use hsid_host::units::TimeError;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
@@ -96,7 +98,7 @@ fn core_kind(e: &Error) -> (Class, &'static str) {
         Error::InputOutOfRange { .. } => (Data, "input_out_of_range"),
         Error::TooFewSamples { .. } => (Data, "too_few_samples"),
         Error::NoExcitation { .. } => (Data, "no_excitation"),
-        Error::Checkpoint(c) => (Data, checkpoint_kind(c)),
+        Error::Checkpoint(c) => (Data, checkpoint_kind(*c)),
         Error::RankDeficient { .. } => (Identification, "rank_deficient"),
         Error::Overflow { .. } => (Identification, "overflow"),
         Error::NoConvergence { .. } => (Identification, "no_convergence"),
@@ -104,21 +106,6 @@ fn core_kind(e: &Error) -> (Class, &'static str) {
         Error::ZeroStaticGain => (Identification, "zero_static_gain"),
         Error::UnstableModel { .. } => (Identification, "unstable_model"),
         Error::IntegratingModel => (Identification, "integrating_model"),
-    }
-}
-
-/// The kind of a checkpoint error.
-fn checkpoint_kind(c: &CheckpointError) -> &'static str {
-    match c {
-        CheckpointError::Truncated => "checkpoint_truncated",
-        CheckpointError::NotACheckpoint => "not_a_checkpoint",
-        CheckpointError::Version => "checkpoint_version",
-        CheckpointError::ScalarType => "checkpoint_scalar_type",
-        CheckpointError::Checksum => "checkpoint_checksum",
-        CheckpointError::SettingsMismatch => "checkpoint_settings_mismatch",
-        CheckpointError::Capacity => "checkpoint_capacity",
-        CheckpointError::Invalid => "checkpoint_invalid",
-        CheckpointError::Summation => "checkpoint_summation",
     }
 }
 
@@ -165,7 +152,10 @@ impl From<SimulateError> for Failure {
             SimulateError::NoNoiseModel => (Class::Settings, "no_noise_model"),
             SimulateError::NoNoiseLevel => (Class::Settings, "no_noise_level"),
             SimulateError::InputOutsideModel { .. } => (Class::Data, "input_out_of_range"),
-            SimulateError::TimeNotIncreasing { .. } => (Class::Data, "time_not_increasing"),
+            SimulateError::Time(TimeError::NotIncreasing { .. }) => {
+                (Class::Data, "time_not_increasing")
+            }
+            SimulateError::Time(_) => (Class::Data, "time_column"),
             SimulateError::ConstantOutput => (Class::Data, "constant_output"),
             SimulateError::Io(_) => (Class::Data, "io"),
         };

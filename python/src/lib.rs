@@ -5,6 +5,7 @@ mod arrays;
 mod checkpoint;
 mod diagnose;
 mod error;
+mod fleet;
 mod identify;
 mod model;
 mod settings;
@@ -22,6 +23,7 @@ fn _hsid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate::simulate_plant, m)?)?;
     m.add_function(wrap_pyfunction!(checkpoint::solve_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(fleet::solve_many, m)?)?;
     m.add("HsidError", py.get_type::<error::HsidError>())?;
     m.add("DataError", py.get_type::<error::DataError>())?;
     m.add("SettingsError", py.get_type::<error::SettingsError>())?;

@@ -6,7 +6,7 @@
 //! which `hsid solve --state FILE` solves on the host. On a board without a debugger attached,
 //! send the same bytes over a UART or keep them in flash instead (README.md).
 
-use cortex_m_semihosting::{nr, syscall};
+use crate::board::{nr, syscall};
 
 /// Why the host did not take the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,4 +1,5 @@
-//! Onboard identification of a servo with backlash, on a Cortex-M4F (thumbv7em-none-eabihf).
+//! Onboard identification of a servo with backlash, on a Cortex-M4F (`thumbv7em-none-eabihf`)
+//! or a RISC-V RV32IMAFC (`riscv32imafc-unknown-none-elf`).
 //!
 //! The whole pipeline runs on the target: the Table I excitation (core's [`Excitation`], seeded
 //! [`Pcg32`]), the plant behind the "apply u, read y" interface ([`plant`]), the streaming
@@ -7,10 +8,13 @@
 //! written to the host file `hsid-state.bin` through semihosting, so that the host can solve
 //! it too (`hsid solve --state hsid-state.bin`). The model and the costs are printed through
 //! semihosting as `HSID ...` lines (format in README.md); QEMU's exit status is 0 if the solve
-//! succeeded, 1 otherwise.
+//! succeeded, 1 otherwise. What differs between the targets (runtime, semihosting, instruction
+//! counter, stack bounds, fault handlers) is in [`board`]; the rest is shared.
 #![no_std]
 #![no_main]
 
+mod board;
+mod buildcfg;
 mod cost;
 mod hostfile;
 mod plant;
@@ -21,8 +25,7 @@ mod stack;
 
 use core::panic::PanicInfo;
 
-use cortex_m_rt::{ExceptionFrame, entry, exception};
-use cortex_m_semihosting::debug;
+use board::debug;
 #[cfg(not(feature = "store"))]
 use hsid::Excitation;
 use hsid::{Identifier, Knots, Model, MuZero, Settings, workspace_len};
@@ -42,12 +45,26 @@ use defmt_semihosting as _; // the defmt global logger
 /// Working interval `[u_min, u_max]` of the input (paper, Section IV).
 const U_MIN: f32 = -3.0;
 const U_MAX: f32 = 3.0;
-/// Uniform segments per path (`n_p`); `M` regressor channels in all.
-const SEGMENTS: usize = 7;
+/// Uniform segments per path (`n_p`); `M` regressor channels in all. The paper's 7 unless the
+/// build sets `HSID_FW_SEGMENTS` ([`buildcfg`]).
+const SEGMENTS: usize = buildcfg::number(
+    "HSID_FW_SEGMENTS must be a decimal number",
+    option_env!("HSID_FW_SEGMENTS"),
+    7,
+);
 const M: usize = 2 * SEGMENTS;
-/// Future and past horizons; `K = f + p` block rows.
-const F: usize = 10;
-const P: usize = 10;
+/// Future and past horizons; `K = f + p` block rows. The paper's 10 and 10 unless the build
+/// sets `HSID_FW_F`, `HSID_FW_P` ([`buildcfg`]).
+const F: usize = buildcfg::number(
+    "HSID_FW_F must be a decimal number",
+    option_env!("HSID_FW_F"),
+    10,
+);
+const P: usize = buildcfg::number(
+    "HSID_FW_P must be a decimal number",
+    option_env!("HSID_FW_P"),
+    10,
+);
 const K: usize = F + P;
 /// Hankel columns `j`.
 const J: usize = 4000;
@@ -167,10 +184,13 @@ fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M, F>, hsid::Error>, u64
     cost::measure_with(|| id.solve(ws))
 }
 
-#[entry]
+#[board::entry]
 fn main() -> ! {
-    let cp = cortex_m::Peripherals::take().unwrap_or_else(|| fail("peripherals already taken"));
-    cost::init(cp.SYST);
+    // RISC-V: riscv-rt does not paint the stack, so paint it before anything else runs (on the
+    // Cortex-M4 cortex-m-rt's reset handler has painted it already).
+    #[cfg(target_arch = "riscv32")]
+    stack::repaint();
+    cost::init();
 
     #[cfg(feature = "calibrate")]
     calibrate();
@@ -317,16 +337,15 @@ fn fail_with(what: &str, e: &hsid::Error) -> ! {
 }
 
 /// Prints `HSID fail <why>` and exits QEMU with a failure status.
-fn fail(why: &str) -> ! {
+pub(crate) fn fail(why: &str) -> ! {
     out!("HSID fail {}", why);
     exit_failure()
 }
 
-fn exit_failure() -> ! {
+/// Exits QEMU with a failure status.
+pub(crate) fn exit_failure() -> ! {
     debug::exit(debug::EXIT_FAILURE);
-    loop {
-        cortex_m::asm::bkpt();
-    }
+    board::halt()
 }
 
 /// Prints `HSID panic <file>:<line>: <message>` and exits QEMU with a failure status.
@@ -334,13 +353,8 @@ fn exit_failure() -> ! {
 fn panic(info: &PanicInfo) -> ! {
     #[cfg(not(feature = "defmt"))]
     match info.location() {
-        Some(at) => cortex_m_semihosting::hprintln!(
-            "HSID panic {}:{}: {}",
-            at.file(),
-            at.line(),
-            info.message()
-        ),
-        None => cortex_m_semihosting::hprintln!("HSID panic {}", info.message()),
+        Some(at) => board::hprintln!("HSID panic {}:{}: {}", at.file(), at.line(), info.message()),
+        None => board::hprintln!("HSID panic {}", info.message()),
     }
     #[cfg(feature = "defmt")]
     match info.location() {
@@ -352,26 +366,5 @@ fn panic(info: &PanicInfo) -> ! {
         ),
         None => defmt::println!("HSID panic {}", defmt::Display2Format(&info.message())),
     }
-    exit_failure()
-}
-
-// The `unsafe` on the two handlers below is cortex-m-rt's contract for defining them (they
-// may run at any time); they only print, read the stacked frame they are given, and exit.
-
-/// A fault (bus error, bad instruction, stack overflow into unmapped memory, ...): report, fail.
-#[exception]
-unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
-    out!(
-        "HSID fail hardfault pc={:#x} lr={:#x}",
-        frame.pc(),
-        frame.lr()
-    );
-    exit_failure()
-}
-
-/// Any exception or interrupt nobody expects: report and fail instead of spinning forever.
-#[exception]
-unsafe fn DefaultHandler(irqn: i16) {
-    out!("HSID fail unexpected exception irqn={}", irqn);
     exit_failure()
 }

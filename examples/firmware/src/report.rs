@@ -18,7 +18,7 @@ use crate::cost;
 macro_rules! out {
     ($($t:tt)*) => {{
         #[cfg(not(feature = "defmt"))]
-        cortex_m_semihosting::hprintln!($($t)*);
+        $crate::board::hprintln!($($t)*);
         #[cfg(feature = "defmt")]
         defmt::println!($($t)*);
     }};
@@ -65,7 +65,7 @@ pub fn config(c: &Config) {
 #[cfg(feature = "dump-samples")]
 pub fn sample(t: usize, u: f32, y: f32) {
     #[cfg(not(feature = "defmt"))]
-    cortex_m_semihosting::hprintln!("HSID s {} {:08x} {:08x}", t, u.to_bits(), y.to_bits());
+    crate::board::hprintln!("HSID s {} {:08x} {:08x}", t, u.to_bits(), y.to_bits());
     #[cfg(feature = "defmt")]
     defmt::println!(
         "HSID s {} {=u32:08x} {=u32:08x}",
@@ -105,7 +105,7 @@ pub fn state(s: &State) {
     };
     let save_instr = cost::instructions(s.save_ticks);
     #[cfg(not(feature = "defmt"))]
-    cortex_m_semihosting::hprintln!(
+    crate::board::hprintln!(
         "HSID state bytes={} crc={:08x} save_instr={} buffer={} file={}",
         s.bytes,
         s.crc,
@@ -163,7 +163,8 @@ pub struct Cost<'a> {
 }
 
 /// `HSID cost samples=.. per_sample_ticks=.. per_sample_instr=.. per_sample_max_instr=..
-/// solve_ticks=.. solve_instr=.. stack_peak_bytes=.. ...` (instructions = ticks × 40 under
+/// solve_ticks=.. solve_instr=.. stack_peak_bytes=.. ... counter=..` (instructions = ticks ×
+/// `instr_per_tick`, 40 with SysTick on the Cortex-M4 and 1 with `minstret` on RISC-V, under
 /// QEMU `-icount shift=0`; `per_sample_*` over the accumulation samples).
 pub fn cost(c: &Cost) {
     let n = c.push.samples.max(1);
@@ -179,7 +180,7 @@ pub fn cost(c: &Cost) {
         ""
     };
     out!(
-        "HSID cost samples={} per_sample_ticks={}.{}{} per_sample_instr={} per_sample_max_instr={} solve_ticks={} solve_instr={} stack_peak_bytes={} stack_peak_accumulation_bytes={} stack_peak_solve_bytes={} stack_capacity_bytes={} identifier_bytes={} workspace_bytes={} instr_per_tick={}",
+        "HSID cost samples={} per_sample_ticks={}.{}{} per_sample_instr={} per_sample_max_instr={} solve_ticks={} solve_instr={} stack_peak_bytes={} stack_peak_accumulation_bytes={} stack_peak_solve_bytes={} stack_capacity_bytes={} identifier_bytes={} workspace_bytes={} instr_per_tick={} counter={}",
         c.push.samples,
         whole,
         pad,
@@ -195,7 +196,8 @@ pub fn cost(c: &Cost) {
         c.stack_capacity_bytes,
         c.identifier_bytes,
         c.workspace_bytes,
-        cost::INSTR_PER_TICK
+        cost::INSTR_PER_TICK,
+        crate::board::COUNTER
     );
 }
 
@@ -203,7 +205,7 @@ pub fn cost(c: &Cost) {
 fn row(tag: &str, values: &[f32]) {
     #[cfg(not(feature = "defmt"))]
     {
-        use cortex_m_semihosting::{hprint, hprintln};
+        use crate::board::{hprint, hprintln};
         hprint!("HSID {}", tag);
         for v in values {
             hprint!(" {}", v);
@@ -234,7 +236,7 @@ pub fn model<const M: usize, const H: usize>(m: &Model<f32, M, H>) {
         }
         #[cfg(not(feature = "defmt"))]
         {
-            use cortex_m_semihosting::{hprint, hprintln};
+            use crate::board::{hprint, hprintln};
             hprint!("HSID A {}", i);
             for v in &a_row[..n] {
                 hprint!(" {}", v);

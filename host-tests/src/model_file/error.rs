@@ -30,8 +30,9 @@ pub enum ModelFileError {
     Json {
         /// File that was being read or written.
         path: PathBuf,
-        /// Where in the document the problem is (e.g. `A[1][0]`), `.` for the top level.
-        location: String,
+        /// Where in the document the problem is (e.g. `A[1][0]`); `None` for the document as a
+        /// whole (malformed JSON, or a place the reader cannot name).
+        location: Option<String>,
         /// The underlying error.
         source: serde_json::Error,
     },
@@ -75,13 +76,10 @@ impl fmt::Display for ModelFileError {
                 path,
                 location,
                 source,
-            } => {
-                if location == "." || location == "?" {
-                    write!(f, "{}: {source}", path.display())
-                } else {
-                    write!(f, "{}: field {location}: {source}", path.display())
-                }
-            }
+            } => match location {
+                None => write!(f, "{}: {source}", path.display()),
+                Some(at) => write!(f, "{}: field {at}: {source}", path.display()),
+            },
             Self::Invalid {
                 path,
                 field,

@@ -129,7 +129,12 @@ impl ModelFile {
             });
         }
         let model: ModelFile = serde_path_to_error::deserialize(value).map_err(|e| {
-            let location = e.path().to_string();
+            // A path of no segment, or of segments the reader could not name, is no place.
+            let named = e
+                .path()
+                .iter()
+                .any(|s| !matches!(s, serde_path_to_error::Segment::Unknown));
+            let location = named.then(|| e.path().to_string());
             ModelFileError::Json {
                 path: path.to_path_buf(),
                 location,
@@ -159,7 +164,7 @@ impl ModelFile {
 fn json(path: &Path, source: serde_json::Error) -> ModelFileError {
     ModelFileError::Json {
         path: path.to_path_buf(),
-        location: ".".to_string(),
+        location: None,
         source,
     }
 }

@@ -3,22 +3,17 @@
 
 use std::path::Path;
 
+use super::case::Case;
 use super::monte_carlo::CaseResult;
 use crate::plot::{Dash, Figure, Marker, PALETTE, PlotError, Series};
 
 /// Writes the three figures of a case (pole scatter, Bode magnitude, borders) into `dir`,
 /// named after the paper's figure numbers. Returns the paths written.
 pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<String>, String> {
-    let name = &res.summary.case;
-    let (fp, fb, fh) = if name == "switch" {
-        (6, 7, 8)
-    } else {
-        (9, 10, 11)
-    };
-    let title_case = if name == "switch" {
-        "Switch"
-    } else {
-        "Backlash"
+    let name = res.case.name();
+    let (fp, fb, fh, title_case) = match res.case {
+        Case::Switch => (6, 7, 8, "Switch"),
+        Case::Backlash => (9, 10, 11, "Backlash"),
     };
     let est: Vec<(f64, f64)> = res.models.iter().flat_map(|m| m.poles()).collect();
     let truth: Vec<(f64, f64)> = res

@@ -42,6 +42,8 @@ pub struct CaseSummary {
 /// Everything a case produced, for figures and tests.
 #[derive(Clone, Debug)]
 pub struct CaseResult {
+    /// Which case of Section IV.
+    pub case: Case,
     /// The statistics.
     pub summary: CaseSummary,
     /// Every successful model.
@@ -292,6 +294,7 @@ pub fn summarize(
     let mu0_mean = models.iter().map(|m| m.mu0).sum::<f64>() / models.len() as f64;
 
     CaseResult {
+        case,
         summary: CaseSummary {
             case: case.name().to_string(),
             runs: cfg.runs,

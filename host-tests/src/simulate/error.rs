@@ -4,6 +4,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use crate::io::IoError;
+use crate::units::TimeError;
 
 /// Everything that can go wrong in [`simulate_plant`](super::simulate_plant),
 /// [`simulate_model`](super::simulate_model) and the reading of their inputs.
@@ -82,17 +83,8 @@ pub enum SimulateError {
         /// The model's `u_max`.
         hi: f64,
     },
-    /// The time column does not increase strictly.
-    TimeNotIncreasing {
-        /// The input file (`<stdin>` for standard input).
-        source: PathBuf,
-        /// 1-based line of the input file.
-        line: usize,
-        /// The time on that line.
-        value: f64,
-        /// The time on the row before.
-        previous: f64,
-    },
+    /// The time column is not a time axis (it does not increase strictly).
+    Time(TimeError),
     /// Coloured noise from the model was requested but the model file has no noise model.
     NoNoiseModel,
     /// White noise was requested without a level.
@@ -132,17 +124,7 @@ impl fmt::Display for SimulateError {
                  keep the input inside it or pass --extrapolate",
                 source.display()
             ),
-            Self::TimeNotIncreasing {
-                source,
-                line,
-                value,
-                previous,
-            } => write!(
-                f,
-                "{} line {line}: time {value} does not increase (the row before has {previous}); \
-                 sort the record or drop the time column",
-                source.display()
-            ),
+            Self::Time(e) => write!(f, "{e}"),
             Self::NoNoiseModel => write!(
                 f,
                 "the model file has no noise model (\"noise\" is null): use --noise-colour white"
@@ -165,8 +147,15 @@ impl std::error::Error for SimulateError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Io(e) => Some(e),
+            Self::Time(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl From<TimeError> for SimulateError {
+    fn from(e: TimeError) -> Self {
+        Self::Time(e)
     }
 }
 

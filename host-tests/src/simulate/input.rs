@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::SimulateError;
 use crate::io::{CsvOptions, IoError, parse_table, read_source};
+use crate::units::time::strictly_increasing;
 
 /// An input record.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,15 +39,8 @@ pub fn read_input(
     let mut columns = table.columns.into_iter();
     let u = columns.next().unwrap_or_default();
     let t = columns.next().filter(|_| with_time);
-    if let Some(t) = &t
-        && let Some(i) = (1..t.len()).find(|&i| t[i] <= t[i - 1])
-    {
-        return Err(SimulateError::TimeNotIncreasing {
-            source,
-            line: table.lines[i],
-            value: t[i],
-            previous: t[i - 1],
-        });
+    if let Some(t) = &t {
+        strictly_increasing(&source, t, &table.lines)?;
     }
     Ok(InputRecord {
         source,

@@ -2,7 +2,7 @@
 //! states it (a flag, the record's time column, a model file, a plant specification).
 
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Relative tolerance of a time column's steps around their mean, and of two sources of the
 /// sample time against each other: 0.1 %.
@@ -151,15 +151,8 @@ pub fn ts_from_column(source: PathBuf, t: &[f64], lines: &[usize]) -> Result<f64
     if t.len() < 2 {
         return Err(TimeError::TooShort { source });
     }
+    strictly_increasing(&source, t, lines)?;
     let line = |i: usize| lines.get(i).copied().unwrap_or(i + 1);
-    if let Some(i) = (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
-        return Err(TimeError::NotIncreasing {
-            source,
-            line: line(i),
-            value: t[i],
-            previous: t[i - 1],
-        });
-    }
     let ts = (last - first) / (t.len() - 1) as f64;
     if let Some(i) = (1..t.len()).find(|&i| ((t[i] - t[i - 1]) - ts).abs() > TS_TOLERANCE * ts) {
         return Err(TimeError::NotUniform {
@@ -170,6 +163,20 @@ pub fn ts_from_column(source: PathBuf, t: &[f64], lines: &[usize]) -> Result<f64
         });
     }
     Ok(ts)
+}
+
+/// Checks that a time column `t` increases strictly; `lines` are the rows' 1-based lines, for
+/// the error.
+pub fn strictly_increasing(source: &Path, t: &[f64], lines: &[usize]) -> Result<(), TimeError> {
+    match (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
+        None => Ok(()),
+        Some(i) => Err(TimeError::NotIncreasing {
+            source: source.to_path_buf(),
+            line: lines.get(i).copied().unwrap_or(i + 1),
+            value: t[i],
+            previous: t[i - 1],
+        }),
+    }
 }
 
 /// The one sample time of all stated ones (each already checked positive): `None` when none

@@ -1,0 +1,15 @@
+//! A fleet of devices: many checkpoints solved across cores, one result or one typed error per
+//! device ([`solve`]); a simulated fleet whose checkpoints come from the core's `Identifier`
+//! as the firmware runs it, with gaps that drift as devices wear ([`simulate`]); and the wear
+//! report, per device the gap per week, its trend and a flag ([`wear`]).
+
+pub mod device;
+pub mod score;
+pub mod simulate;
+pub mod solve;
+pub mod trend;
+pub mod wear;
+pub mod write;
+
+pub use device::{DeviceError, DeviceResult};
+pub use solve::{FleetSettings, solve_dir, solve_many};

@@ -1,0 +1,120 @@
+//! The wear report scored against a simulated fleet's truth, and the per-device table.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::wear::{DeviceWear, split_id};
+
+/// A device's truth: whether it wears, and its true gap per week.
+struct Truth {
+    wearing: bool,
+    gaps: BTreeMap<usize, f64>,
+}
+
+fn read_truth(path: &Path) -> Result<BTreeMap<String, Truth>, String> {
+    let at = |i: usize| format!("{} line {}", path.display(), i + 1);
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut out: BTreeMap<String, Truth> = BTreeMap::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let [id, week, wearing, gap, _damage] = f.as_slice() else {
+            return Err(format!(
+                "{}: expected device,week,wearing,gap,damage",
+                at(i)
+            ));
+        };
+        let (device, _) = split_id(id).ok_or_else(|| format!("{}: device id {id:?}", at(i)))?;
+        let week: usize = week.parse().map_err(|e| format!("{}: week: {e}", at(i)))?;
+        let gap: f64 = gap.parse().map_err(|e| format!("{}: gap: {e}", at(i)))?;
+        let wearing = *wearing == "true";
+        let t = out.entry(device.to_owned()).or_insert(Truth {
+            wearing,
+            gaps: BTreeMap::new(),
+        });
+        t.gaps.insert(week, gap);
+    }
+    Ok(out)
+}
+
+/// Detection rate on wearing devices, false-flag rate on the others, and how far the
+/// estimated gaps and slopes are from the true ones.
+pub fn score(devices: &[DeviceWear], truth: &Path) -> Result<String, String> {
+    let truth = read_truth(truth)?;
+    let (mut hit, mut worn, mut false_flags, mut sound) = (0, 0, 0, 0);
+    let (mut gap_err, mut slope_err) = (Vec::new(), Vec::new());
+    for d in devices.iter().filter(|d| d.trend.is_some()) {
+        let Some(t) = truth.get(&d.device) else {
+            return Err(format!("device {} is not in the truth table", d.device));
+        };
+        if t.wearing {
+            worn += 1;
+            hit += usize::from(d.wearing);
+        } else {
+            sound += 1;
+            false_flags += usize::from(d.wearing);
+        }
+        for (w, g) in &d.gaps {
+            if let Some(tg) = t.gaps.get(&(*w as usize)) {
+                gap_err.push(g - tg);
+            }
+        }
+        let true_slope = match (t.gaps.first_key_value(), t.gaps.last_key_value()) {
+            (Some((w0, g0)), Some((w1, g1))) if w1 > w0 => (g1 - g0) / (w1 - w0) as f64,
+            _ => 0.0,
+        };
+        if let Some(tr) = d.trend {
+            slope_err.push(tr.slope - true_slope);
+        }
+    }
+    let rate = |a: usize, b: usize| {
+        if b == 0 {
+            f64::NAN
+        } else {
+            100.0 * a as f64 / b as f64
+        }
+    };
+    let (gm, gs) = mean_std(&gap_err);
+    let (sm, ss) = mean_std(&slope_err);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "wearing devices flagged: {hit} of {worn} ({:.1} %); devices that do not wear flagged: {false_flags} of {sound} ({:.2} %)",
+        rate(hit, worn),
+        rate(false_flags, sound)
+    );
+    let _ = writeln!(
+        out,
+        "weekly gap minus true gap: mean {gm:+.4}, std {gs:.4}; slope minus true slope: mean {sm:+.5}, std {ss:.5} per week"
+    );
+    Ok(out)
+}
+
+fn mean_std(x: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().sum::<f64>() / n;
+    let v = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
+    (m, v.sqrt())
+}
+
+/// The per-device table: `device,weeks,slope,slope_se,wearing,over_limit,gaps` with the
+/// weekly gaps separated by `;`.
+pub fn device_csv(devices: &[DeviceWear]) -> String {
+    let mut s = String::from("device,weeks,slope,slope_se,wearing,over_limit,gaps\n");
+    for d in devices {
+        let (slope, se) = d
+            .trend
+            .map_or((f64::NAN, f64::NAN), |t| (t.slope, t.slope_se));
+        let gaps: Vec<String> = d.gaps.iter().map(|(w, g)| format!("{w}:{g:.5}")).collect();
+        let _ = writeln!(
+            s,
+            "{},{},{slope:.6},{se:.6},{},{},{}",
+            d.device,
+            d.gaps.len(),
+            d.wearing,
+            d.over_limit,
+            gaps.join(";")
+        );
+    }
+    s
+}

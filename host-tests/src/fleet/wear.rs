@@ -1,0 +1,176 @@
+//! The wear report: per device the gap of every week's model, its trend ([`fit`]) and two
+//! flags, and on a simulated fleet the detection rate on wearing devices and the false-flag
+//! rate on the others.
+//!
+//! The gap of a week is the mean of the model's play after a descent to `u = 0` and after an
+//! ascent to `u = 0` ([`gap_at`]), in input units. A device is flagged as *wearing* when its
+//! gap grows by more than `k` standard errors of the slope (a one-sided test of "no growth";
+//! with 8 weeks and `k = 3` a device that does not wear is flagged with probability about 1 %
+//! if the weekly estimates are independent and normal), and as *over the limit* when the
+//! trend's gap in its last week exceeds an absolute limit.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use hsid::Direction;
+use serde_json::Value;
+
+use super::trend::{Trend, fit};
+use crate::identify::HostModel;
+use crate::model_file::ModelFile;
+use crate::units::gap::gap_at;
+
+/// The flags' thresholds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReportOptions {
+    /// Flag growth beyond `k` standard errors of the slope.
+    pub k: f64,
+    /// Flag a trend gap above this in the last week.
+    pub limit: Option<f64>,
+}
+
+/// One device's weeks and verdict.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeviceWear {
+    /// Device id (the checkpoint file name up to `-w`).
+    pub device: String,
+    /// `(week, gap)` of every week with a model.
+    pub gaps: Vec<(f64, f64)>,
+    /// The trend, when at least three weeks have a model.
+    pub trend: Option<Trend>,
+    /// Growth beyond `k` standard errors.
+    pub wearing: bool,
+    /// The trend's last-week gap above the limit.
+    pub over_limit: bool,
+}
+
+/// The model's gap at `u = 0`: the mean of the play after a descent and after an ascent.
+pub fn gap(m: &HostModel) -> Option<f64> {
+    let d = gap_at(m, Direction::Descending, 0.0)?;
+    let a = gap_at(m, Direction::Ascending, 0.0)?;
+    Some(0.5 * (d + a))
+}
+
+/// `d00042-w03.bin` → `("d00042", 3)`.
+pub fn split_id(id: &str) -> Option<(&str, usize)> {
+    let (device, rest) = id.rsplit_once("-w")?;
+    let week = rest.split('.').next()?.parse().ok()?;
+    Some((device, week))
+}
+
+/// What one JSON line of `hsid fleet` holds for the report.
+enum Line {
+    /// A week's gap of a device (`None`: the model has no gap at `u = 0`).
+    Gap(String, usize, Option<f64>),
+    /// A device's error kind.
+    Error(String),
+}
+
+fn parse_line(line: &str, at: usize) -> Result<Line, String> {
+    let v: Value = serde_json::from_str(line).map_err(|e| format!("line {at}: {e}"))?;
+    let id = v["device"]
+        .as_str()
+        .ok_or_else(|| format!("line {at}: no \"device\""))?;
+    if let Some(kind) = v["error"]["kind"].as_str() {
+        return Ok(Line::Error(kind.to_owned()));
+    }
+    let (device, week) = split_id(id)
+        .ok_or_else(|| format!("line {at}: device id {id:?} is not DEVICE-wWEEK.bin"))?;
+    let text = v["model"].to_string();
+    let model = ModelFile::from_json_str(format!("line {at}"), &text).map_err(|e| e.to_string())?;
+    Ok(Line::Gap(
+        device.to_owned(),
+        week,
+        gap(&HostModel::from_json(&model)),
+    ))
+}
+
+/// Reads the JSON lines of `hsid fleet`: the devices' weekly gaps and the count of each
+/// error kind.
+pub fn read_models(path: &Path) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut devices: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut errors: BTreeMap<String, usize> = BTreeMap::new();
+    for (i, line) in text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+    {
+        match parse_line(line, i + 1).map_err(|e| format!("{}: {e}", path.display()))? {
+            Line::Gap(d, w, Some(g)) => devices.entry(d).or_default().push((w as f64, g)),
+            Line::Gap(d, _, None) => {
+                devices.entry(d).or_default();
+                *errors.entry("no_gap_at_0".into()).or_default() += 1;
+            }
+            Line::Error(kind) => *errors.entry(kind).or_default() += 1,
+        }
+    }
+    let wear = devices
+        .into_iter()
+        .map(|(device, gaps)| DeviceWear {
+            trend: fit(&gaps),
+            device,
+            gaps,
+            wearing: false,
+            over_limit: false,
+        })
+        .collect();
+    Ok((wear, errors))
+}
+
+/// Sets the flags of every device.
+pub fn flag(devices: &mut [DeviceWear], opts: &ReportOptions) {
+    for d in devices {
+        let last = d.gaps.iter().map(|g| g.0).fold(f64::NEG_INFINITY, f64::max);
+        if let Some(t) = d.trend {
+            d.wearing = t.slope > opts.k * t.slope_se;
+            d.over_limit = opts.limit.is_some_and(|l| t.at(last) > l);
+        }
+    }
+}
+
+/// The report: read, flag, compare with the truth if given, write the per-device CSV if
+/// asked; returns the summary text.
+pub fn wear_report(
+    models: &Path,
+    truth: Option<&Path>,
+    opts: &ReportOptions,
+    csv: Option<&Path>,
+) -> Result<String, String> {
+    let (mut devices, errors) = read_models(models)?;
+    flag(&mut devices, opts);
+    let mut out = String::new();
+    let weeks: usize = devices.iter().map(|d| d.gaps.len()).sum();
+    let _ = writeln!(
+        out,
+        "{} devices, {weeks} weekly models; errors: {}",
+        devices.len(),
+        if errors.is_empty() {
+            "none".to_string()
+        } else {
+            errors
+                .iter()
+                .map(|(k, n)| format!("{k} {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    );
+    let no_trend = devices.iter().filter(|d| d.trend.is_none()).count();
+    let flagged = devices.iter().filter(|d| d.wearing).count();
+    let over = devices.iter().filter(|d| d.over_limit).count();
+    let _ = writeln!(
+        out,
+        "flagged wearing (growth > {} σ of the slope): {flagged}; over the limit: {over}; too few weeks for a trend: {no_trend}",
+        opts.k
+    );
+    if let Some(t) = truth {
+        out.push_str(&super::score::score(&devices, t)?);
+    }
+    if let Some(path) = csv {
+        std::fs::write(path, super::score::device_csv(&devices))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let _ = writeln!(out, "wrote {}", path.display());
+    }
+    Ok(out)
+}

@@ -1,0 +1,112 @@
+//! What each data check and residual test means when it fires, and what the user can do about
+//! it, in one sentence each.
+
+use crate::diagnose::{Check, Test};
+
+/// Every data check, in the order `diagnose` runs them.
+pub const CHECKS: [Check; 7] = [
+    Check::Table1Structure,
+    Check::PathCoverage,
+    Check::PersistentExcitation,
+    Check::Hold,
+    Check::OutputSaturation,
+    Check::OutputQuantisation,
+    Check::InputLevels,
+];
+
+/// `(what it means, what to do)` for a data check that warns.
+pub fn check_advice(c: Check) -> (&'static str, &'static str) {
+    match c {
+        Check::Table1Structure => (
+            "A monotone run of the input starts inside the interval: the method's excitation \
+             (Table I) has every run start at u_min or u_max, so that the element's path is known.",
+            "Record with the method's excitation (hsid excite), or identify the element as \
+             static (--nonlinearity static) if it has no memory.",
+        ),
+        Check::PathCoverage => (
+            "A path is not visited over the whole interval: its border there is extrapolated.",
+            "Sweep the input over [u_min, u_max] in both directions, or narrow --umin/--umax \
+             to what the record covers.",
+        ),
+        Check::PersistentExcitation => (
+            "The regressor is not persistently exciting: some border values and dynamics are \
+             not determined by the record.",
+            "Record longer or with more reversals, or use fewer segments (--segments) or \
+             shorter horizons (--f, --p).",
+        ),
+        Check::Hold => (
+            "No settled hold at u_min: the border's start value μ0 is not measured.",
+            "Start the record with a hold at u_min longer than the plant settles, or give μ0 \
+             (--mu0) and --hold 0.",
+        ),
+        Check::OutputSaturation => (
+            "The output sits at an extreme: a clipped sensor or actuator, which the model \
+             does not describe.",
+            "Reduce the input range so the output stays inside the sensor's range, or cut \
+             the saturated stretch out of the record.",
+        ),
+        Check::OutputQuantisation => (
+            "The output takes values on a grid: the sensor's resolution adds an error the \
+             noise model does not assume.",
+            "Use a finer sensor setting; otherwise expect the fit to stop at the grid step.",
+        ),
+        Check::InputLevels => (
+            "The input takes few distinct values: the borders between those levels are not \
+             determined.",
+            "Use sweeps through many levels (hsid excite) rather than steps.",
+        ),
+    }
+}
+
+/// `(what it means, what to do)` for a residual test that fires.
+pub fn test_advice(t: Test) -> (&'static str, &'static str) {
+    match t {
+        Test::Whiteness => (
+            "The residual is correlated with its own past: dynamics the model lacks, or \
+             coloured noise.",
+            "Run hsid diagnose: it tries further states and a noise model; or identify with a \
+             higher --order.",
+        ),
+        Test::InputCorrelation => (
+            "The residual follows the input: the linear part misses dynamics or a dead time.",
+            "Look at the lag of the strongest correlation; hsid diagnose tries an input delay \
+             and further states.",
+        ),
+        Test::DirectionCorrelation => (
+            "The residual depends on the direction the input moves: the gap or the borders \
+             are wrong.",
+            "Try more segments per path, or a two-path element if the model is static.",
+        ),
+        Test::RegressorCorrelation => (
+            "The residual is correlated with the border's regressor: a border misses shape.",
+            "Try more segments per path, or knots placed where the border bends.",
+        ),
+        Test::StructureInput => (
+            "The residual's mean differs between segments of a path: a border is biased there.",
+            "Try more segments, and check that the record covers that segment.",
+        ),
+        Test::StructureOutput => (
+            "The residual's mean depends on the output level: a static nonlinearity at the \
+             output (a sensor curve).",
+            "hsid diagnose tries an output nonlinearity.",
+        ),
+        Test::Trend => (
+            "The residual drifts over time: an offset that moves (temperature, warm-up).",
+            "hsid diagnose adds an offset drift; or let the sensor warm up before recording.",
+        ),
+        Test::SpectralLine => (
+            "A sinusoid in the residual: a periodic disturbance (mains, a rotating part).",
+            "hsid diagnose adds a periodic disturbance at that frequency; or remove its source.",
+        ),
+        Test::StateDependence => (
+            "The residual depends on the level times the change of the output: dynamics that \
+             change with the state (friction, stores).",
+            "hsid diagnose tries state-dependent dynamics.",
+        ),
+        Test::HeavyTails => (
+            "More samples beyond 5 robust standard deviations than Gaussian noise gives: \
+             outliers.",
+            "Find the spikes in the residual figure; hsid diagnose refits robustly.",
+        ),
+    }
+}

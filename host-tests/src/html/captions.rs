@@ -1,0 +1,110 @@
+//! What each figure of `identify`, `validate` and `diagnose` shows and what to look at in it,
+//! by the figure's file name (without the `.svg` and any prefix).
+
+/// `(title, caption)` of the figure written as `stem.svg`; `None` for a name this table does
+/// not know (the page then shows the file name as the title and says it has no caption).
+pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
+    Some(match stem {
+        "borders" => (
+            "The identified loop",
+            "The two borders of the input element (rising P_a, falling P_d) times the static \
+             gain, with ±2σ bands when the model was refined, the measured points (partial \
+             residuals: what the record says the border is at each sample) and, dashed, the \
+             true loop when known. Look for points that leave the bands systematically: a \
+             border that misses shape there (more segments, or knots where it bends).",
+        ),
+        "bode-magnitude" => (
+            "Bode magnitude of the linear part",
+            "Gain of the linear dynamics against frequency, ±2σ band. The band widens where \
+             the record holds little energy; the resonance peak and the roll-off are what a \
+             controller design reads here.",
+        ),
+        "bode-phase" => (
+            "Bode phase of the linear part",
+            "Phase against frequency. A phase that keeps falling beyond the poles' count \
+             is a sign of dead time the model lacks.",
+        ),
+        "poles" => (
+            "Poles in the z-plane",
+            "Discrete poles with the unit circle and their 2σ ellipses. Poles near the circle \
+             are slow or lightly damped; an ellipse that reaches the circle means the record \
+             does not pin that mode down.",
+        ),
+        "output" => (
+            "Measured and simulated output",
+            "The model simulated from the input alone over the record. The two curves should \
+             overlap up to the noise; a lag or an offset that grows over time is a missing \
+             dead time or a drift.",
+        ),
+        "output-detail" => (
+            "Measured and simulated output, in detail",
+            "A short stretch of the output figure, where the reversals can be seen: after each \
+             reversal the simulated output should wait out the gap as the measured one does.",
+        ),
+        s if s.starts_with("poles-zoom") => (
+            "Poles in the z-plane, close up",
+            "The neighbourhood of one pole (pair) with its 2σ ellipse: how precisely the \
+             record determines it.",
+        ),
+        "residual" => (
+            "Simulation residual",
+            "Measured minus simulated output after the hold. It should look like noise \
+             without trend, steps at the reversals or spikes.",
+        ),
+        "residual-acf" | "autocorrelation" => (
+            "Residual autocorrelation",
+            "Autocorrelation of the residual with the white-noise bounds. Bars outside the \
+             bounds at small lags mean unmodelled dynamics or coloured noise.",
+        ),
+        "input-correlation" => (
+            "Input–residual cross-correlation",
+            "Correlation of the (prewhitened) input with the residual, before and after the \
+             diagnosis. A peak outside the bounds at a positive lag is dynamics or a delay the \
+             model misses.",
+        ),
+        "spectrum" => (
+            "Residual spectrum",
+            "Periodogram of the residual against the local median spectrum and the 99 % line \
+             threshold. A single peak above the threshold is a periodic disturbance.",
+        ),
+        "residual-vs-input" => (
+            "Residual against the input",
+            "Validation residual before and after the diagnosis against the input. A pattern \
+             that follows u (a slope, a step at a knot) means a border is wrong there.",
+        ),
+        "residual-vs-output" => (
+            "Residual against the simulated output",
+            "Residual against the output level. A curve here is a static nonlinearity at the \
+             output (a sensor curve).",
+        ),
+        _ => return None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::caption;
+
+    #[test]
+    fn every_figure_of_identify_and_diagnose_has_a_caption() {
+        for stem in [
+            "borders",
+            "bode-magnitude",
+            "bode-phase",
+            "poles",
+            "poles-zoom-1",
+            "output-detail",
+            "output",
+            "residual",
+            "residual-acf",
+            "autocorrelation",
+            "input-correlation",
+            "spectrum",
+            "residual-vs-input",
+            "residual-vs-output",
+        ] {
+            assert!(caption(stem).is_some(), "{stem}");
+        }
+        assert!(caption("unknown").is_none());
+    }
+}

@@ -1,0 +1,112 @@
+//! The page of `diagnose`: the verdict and the final model in words, the validation error
+//! before and after each added effect, the diagnosis figures, and the data checks with the
+//! residual tests on the estimation residual and on the validation data before and after.
+
+use super::checks::{data_rows, test_rows};
+use super::figures::drawn;
+use super::headline::{Fact, Headline, Table};
+use super::model_words::{model_facts, sentence};
+use super::{HtmlError, InlineFigure, Page, Reproduction};
+use crate::diagnose::{Diagnosis, Evaluation, Nonlinearity, figures};
+use crate::model_file::Units;
+use crate::units::unit_report;
+
+/// The diagnosis figures (those `--out` writes), inlined; `title` heads each figure.
+pub fn diagnosis_figures(d: &Diagnosis, title: &str) -> Result<Vec<InlineFigure>, HtmlError> {
+    drawn(|dir| figures::write_figures(d, dir, "", title).map_err(|e| e.to_string()))
+}
+
+fn row(name: String, e: &Evaluation) -> Vec<String> {
+    vec![
+        name,
+        format!("{:.5}", e.rmse),
+        format!("{:.4}", e.nrmse),
+        format!("{:.2} %", e.fit_percent),
+    ]
+}
+
+/// The validation error of each model along the diagnosis.
+fn before_after(d: &Diagnosis) -> Table {
+    let mut rows = Vec::new();
+    if let Some(p) = &d.paper {
+        rows.push(row("the paper's estimate alone (subspace)".into(), p));
+    }
+    rows.push(row("before: the base model".into(), &d.before));
+    for (i, s) in d.steps.iter().enumerate() {
+        rows.push(vec![
+            format!("after step {}: {} ({})", i + 1, s.effect.name(), s.setting),
+            format!("{:.5}", s.error_after),
+            format!("{:.4}", s.nrmse_after),
+            format!("{:.2} %", s.fit_after),
+        ]);
+    }
+    rows.push(row("after: the final model (simulation)".into(), &d.after));
+    if let Some(p) = &d.after_prediction {
+        rows.push(row(
+            "after: the final model (one-step prediction)".into(),
+            p,
+        ));
+    }
+    Table {
+        caption: format!(
+            "Validation error on {} samples before and after each step (RMSE in output units; \
+             NRMSE = RMSE / std of y; fit = 100 (1 − NRMSE)):",
+            d.validation_samples
+        ),
+        header: ["model", "RMSE", "NRMSE", "fit"].map(String::from).to_vec(),
+        rows,
+    }
+}
+
+/// The page of diagnosis `d`; `ts` and `units` read the final model in seconds and units.
+pub fn diagnosis_page(
+    d: &Diagnosis,
+    title: String,
+    ts: Option<f64>,
+    units: Option<Units>,
+    figures: Vec<InlineFigure>,
+    reproduction: Reproduction,
+) -> Page {
+    let two_path = d.nonlinearity != Nonlinearity::Static;
+    let m = &d.model.hammerstein;
+    let r = unit_report(m, ts, units, None, two_path);
+    let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
+    let mut facts = vec![
+        Fact::new("data", d.data_description.clone()),
+        Fact::new(
+            "effects added",
+            if added.is_empty() {
+                "none".to_string()
+            } else {
+                added.join(", ")
+            },
+        ),
+        Fact::new("dead time", d.dead_time.to_string()),
+    ];
+    facts.extend(model_facts(m.order, &r));
+    let mut checks = data_rows(&d.warnings);
+    checks.extend(test_rows(&d.tests_estimation, "estimation residual"));
+    checks.extend(test_rows(&d.tests_before, "validation, before"));
+    checks.extend(test_rows(&d.tests_after, "validation, after"));
+    Page {
+        title,
+        headline: Headline {
+            lead: vec![
+                format!("Verdict: {}", d.verdict),
+                format!(
+                    "Final model: {}",
+                    sentence(d.nonlinearity.into(), m.order, &r)
+                ),
+            ],
+            facts,
+            tables: vec![before_after(d)],
+        },
+        figures,
+        checks_note: "Data checks on the estimation record; residual tests at the 1 % level on \
+                      the estimation residual of the last deterministic model and on the \
+                      validation residual before and after the diagnosis."
+            .to_string(),
+        checks,
+        reproduction,
+    }
+}

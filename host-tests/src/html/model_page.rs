@@ -1,0 +1,113 @@
+//! The page of a plain model on one record: `identify` (on its estimation record, with the
+//! data checks) and `validate` (on a fresh record).
+
+use super::checks::{data_rows, test_rows};
+use super::headline::{Fact, Headline};
+use super::model_words::{Element, model_facts, sentence};
+use super::residual::{data_checks, residual_tests};
+use super::{InlineFigure, Page, Reproduction};
+use crate::diagnose::Nonlinearity;
+use crate::identify::{HostModel, IdentifyOptions};
+use crate::report::fit_report;
+use crate::units::UnitReport;
+
+/// A model and the record it is shown on.
+pub struct ModelRun<'a> {
+    /// The page title, plain text.
+    pub title: String,
+    /// The input element.
+    pub element: Element,
+    /// The model.
+    pub model: &'a HostModel,
+    /// The model read in units.
+    pub units: &'a UnitReport,
+    /// The record's parts `(u, y)`, each simulated from rest on its own.
+    pub parts: &'a [(&'a [f64], &'a [f64])],
+    /// Samples at the start left out of the fit and the tests (the hold).
+    pub skip: usize,
+    /// `Some` on the estimation record: the options it was identified with (for the data
+    /// checks); `None` on a validation record.
+    pub estimation: Option<&'a IdentifyOptions>,
+    /// Further facts (e.g. the noise model's prediction fit), after the fit.
+    pub extra: Vec<Fact>,
+}
+
+impl ModelRun<'_> {
+    fn kind(&self) -> Nonlinearity {
+        match self.element {
+            Element::Backlash | Element::TwoPath => Nonlinearity::Backlash,
+            Element::Switch => Nonlinearity::Switch,
+            Element::Static => Nonlinearity::Static,
+        }
+    }
+
+    /// The page with `figures` and `reproduction`.
+    pub fn page(&self, figures: Vec<InlineFigure>, reproduction: Reproduction) -> Page {
+        let u: Vec<f64> = self
+            .parts
+            .iter()
+            .flat_map(|p| p.0.iter().copied())
+            .collect();
+        let y: Vec<f64> = self
+            .parts
+            .iter()
+            .flat_map(|p| p.1.iter().copied())
+            .collect();
+        let sim: Vec<f64> = self
+            .parts
+            .iter()
+            .flat_map(|p| self.model.simulate(p.0))
+            .collect();
+        let skip = self.skip.min(y.len());
+        let on = if self.estimation.is_some() {
+            "in sample, on the estimation record"
+        } else {
+            "out of sample, on the validation record"
+        };
+        let fit = fit_report(&y[skip..], &sim[skip..]).unwrap_or_else(|e| e);
+        let fit = format!(
+            "{} ({on}).",
+            fit.replacen("simulation fit", "Simulation fit", 1)
+        );
+        let mut facts = model_facts(self.model.order, self.units);
+        facts.extend(self.extra.iter().cloned());
+        let shared = self.element == Element::Static;
+        let mut checks = match self.estimation {
+            Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind())),
+            None => Vec::new(),
+        };
+        let tests = residual_tests(self.model, &u, &y, &sim, skip, shared);
+        let checks_note = match (&tests, self.estimation) {
+            (None, _) => format!(
+                "Too few samples after the first {skip} for the residual tests (20 needed)."
+            ),
+            (Some(t), Some(_)) => format!(
+                "Data checks on the estimation record; residual tests (1 % level) on the \
+                 simulation residual of its {} samples after the hold. hsid diagnose runs \
+                 the same tests on fresh data and acts on them.",
+                t.samples
+            ),
+            (Some(t), None) => format!(
+                "Residual tests (1 % level) on the simulation residual of the {} validation \
+                 samples scored. The data checks concern the estimation record: see the \
+                 identify report.",
+                t.samples
+            ),
+        };
+        if let Some(t) = &tests {
+            checks.extend(test_rows(t, "simulation residual"));
+        }
+        Page {
+            title: self.title.clone(),
+            headline: Headline {
+                lead: vec![sentence(self.element, self.model.order, self.units), fit],
+                facts,
+                tables: Vec::new(),
+            },
+            figures,
+            checks_note,
+            checks,
+            reproduction,
+        }
+    }
+}

@@ -1,0 +1,143 @@
+//! The model in words for the headline: the order, each pole read in continuous time (time
+//! constant, or natural frequency and damping, with standard deviations when refined), the
+//! static gain, the bandwidth and the gap or dead band, all in the record's units. The numbers
+//! are formatted by [`UnitReport::lines`], the same text `identify` prints.
+
+use super::headline::Fact;
+use crate::units::UnitReport;
+
+/// What the input element is, for the sentence and the facts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Element {
+    /// Backlash (gear play): two borders, a gap.
+    Backlash,
+    /// Switch (hysteresis): two borders, a gap.
+    Switch,
+    /// One memoryless border: a dead band where it is flat.
+    Static,
+    /// Two borders, the kind not recorded (a model file without `nonlinearity`).
+    TwoPath,
+}
+
+impl From<crate::diagnose::Nonlinearity> for Element {
+    fn from(n: crate::diagnose::Nonlinearity) -> Self {
+        match n {
+            crate::diagnose::Nonlinearity::Backlash => Element::Backlash,
+            crate::diagnose::Nonlinearity::Switch => Element::Switch,
+            crate::diagnose::Nonlinearity::Static => Element::Static,
+        }
+    }
+}
+
+impl From<crate::model_file::NonlinearityKind> for Element {
+    fn from(n: crate::model_file::NonlinearityKind) -> Self {
+        match n {
+            crate::model_file::NonlinearityKind::Backlash => Element::Backlash,
+            crate::model_file::NonlinearityKind::Switch => Element::Switch,
+            crate::model_file::NonlinearityKind::Static => Element::Static,
+        }
+    }
+}
+
+impl Element {
+    fn name(self) -> &'static str {
+        match self {
+            Element::Backlash => "backlash",
+            Element::Switch => "switch (hysteresis)",
+            Element::Static => "static nonlinearity",
+            Element::TwoPath => "two-path element (backlash or switch)",
+        }
+    }
+}
+
+/// The input unit of the report, or a neutral word.
+pub fn input_unit(r: &UnitReport) -> &str {
+    r.units.as_ref().map_or("input units", |u| u.input.as_str())
+}
+
+/// The mean gap as the headline writes it (five decimals and the input unit).
+pub fn gap_text(r: &UnitReport) -> Option<String> {
+    r.mean_gap.map(|g| format!("{g:.5} {}", input_unit(r)))
+}
+
+/// One sentence: the element, its gap or dead band, and the order of the linear part.
+pub fn sentence(element: Element, order: usize, r: &UnitReport) -> String {
+    let play = match (gap_text(r), &r.dead_band) {
+        (Some(g), _) => format!(" with a mean gap of {g}"),
+        (None, Some(d)) => format!(
+            " with a dead band {:.5} {u} wide",
+            d.width(),
+            u = input_unit(r)
+        ),
+        (None, None) => String::new(),
+    };
+    format!(
+        "A {}{play}, followed by linear dynamics of order {order}.",
+        element.name()
+    )
+}
+
+/// The facts of the model: order, poles, bandwidth, gain, gap or dead band.
+pub fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
+    let mut facts = vec![Fact::new("order of the linear part", order.to_string())];
+    for line in r.lines() {
+        let labelled = ["pole ", "bandwidth", "static gain"]
+            .iter()
+            .any(|p| line.starts_with(p));
+        if let (true, Some((label, value))) = (labelled, line.split_once(": ")) {
+            facts.push(Fact::new(label, value));
+        } else if line.starts_with("± ") {
+            facts.push(Fact::new("± values", line.trim_start_matches("± : ")));
+        } else if line.starts_with("sample time") {
+            facts.push(Fact::new(
+                "sample time",
+                line.trim_start_matches("sample time "),
+            ));
+        }
+    }
+    if let Some(g) = gap_text(r) {
+        facts.push(Fact::new("mean gap (play)", g));
+    }
+    if let Some(d) = &r.dead_band {
+        facts.push(Fact::new(
+            "dead band",
+            format!(
+                "flat from u = {:.5} to {:.5} {u} (width {:.5} {u})",
+                d.from,
+                d.to,
+                d.width(),
+                u = input_unit(r)
+            ),
+        ));
+    }
+    facts
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::model_file::Units;
+    use crate::units::gain::tests::first_order;
+    use crate::units::unit_report;
+
+    #[test]
+    fn a_backlash_in_volts_reads_in_words() {
+        // Borders P_a = (−2.5, −0.5, 1.5), P_d = (−1.5, 0.5, 2.5) on knots −1, 0, 1: gap 0.5.
+        let m = first_order(0.9, 0.1, vec![-2.5, -0.5, 1.5], vec![-1.5, 0.5, 2.5]);
+        let units = Units {
+            input: "V".into(),
+            output: "deg".into(),
+        };
+        let r = unit_report(&m, Some(0.01), Some(units), None, true);
+        assert_eq!(
+            sentence(Element::Backlash, 1, &r),
+            "A backlash with a mean gap of 0.50000 V, followed by linear dynamics of order 1."
+        );
+        let facts = model_facts(1, &r);
+        let value = |l: &str| facts.iter().find(|f| f.label == l).unwrap().value.clone();
+        assert_eq!(value("mean gap (play)"), "0.50000 V");
+        assert_eq!(value("pole 0.90000+0.00000j"), "time constant 0.09491 s");
+        assert!(value("static gain").contains("deg per V"));
+    }
+}

@@ -1,0 +1,93 @@
+//! Why a hysteresis model could not be fitted.
+
+use std::fmt;
+
+use crate::numerics::lm::LmFailure;
+
+/// Why [`fit_hysteresis`](super::fit_hysteresis) gave no model.
+#[derive(Clone, Debug, PartialEq)]
+pub enum HysteresisError {
+    /// `u` and `y` differ in length.
+    LengthMismatch {
+        /// Samples of `u`.
+        u: usize,
+        /// Samples of `y`.
+        y: usize,
+    },
+    /// Fewer samples than a few per parameter.
+    TooFewSamples {
+        /// Samples given.
+        have: usize,
+        /// Samples needed.
+        need: usize,
+    },
+    /// An input or output sample is not finite.
+    NonFinite {
+        /// `"u"` or `"y"`.
+        signal: &'static str,
+        /// Its index.
+        index: usize,
+    },
+    /// The starting model cannot start the fit (what is wrong with it).
+    InvalidStart(String),
+    /// The starting model does not simulate (its `F(q)` is unstable or the borders cross).
+    StartDoesNotSimulate,
+    /// The parameters ran away or became non-finite.
+    Diverged {
+        /// Iteration (from 1).
+        iteration: usize,
+    },
+    /// The Jacobian at the optimum is singular: the data do not determine every parameter.
+    Singular,
+}
+
+impl fmt::Display for HysteresisError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            HysteresisError::LengthMismatch { u, y } => {
+                write!(f, "u has {u} samples but y has {y}: give one y per u")
+            }
+            HysteresisError::TooFewSamples { have, need } => write!(
+                f,
+                "too few samples for the hysteresis model: {have} given, at least {need} needed (a longer record, or fewer segments per path)"
+            ),
+            HysteresisError::NonFinite { signal, index } => write!(
+                f,
+                "{signal}[{index}] is not a finite number: remove or repair the sample"
+            ),
+            HysteresisError::InvalidStart(why) => write!(
+                f,
+                "the starting subspace model cannot start the hysteresis fit: {why}"
+            ),
+            HysteresisError::StartDoesNotSimulate => f.write_str(
+                "the starting model does not simulate (unstable linear part, or crossing borders): start from a stable subspace estimate",
+            ),
+            HysteresisError::Diverged { iteration } => write!(
+                f,
+                "the simulation-error fit diverged at iteration {iteration}: try fewer segments per path or a lower order"
+            ),
+            HysteresisError::Singular => f.write_str(
+                "the data do not determine every parameter of the hysteresis model (singular JᵀJ): the input must visit every segment in both directions; use fewer segments per path",
+            ),
+        }
+    }
+}
+
+impl std::error::Error for HysteresisError {}
+
+impl From<LmFailure> for HysteresisError {
+    fn from(e: LmFailure) -> Self {
+        match e {
+            LmFailure::StartDoesNotSimulate => HysteresisError::StartDoesNotSimulate,
+            LmFailure::DifferenceStepFailed { parameter } => {
+                HysteresisError::InvalidStart(format!(
+                    "parameter {parameter} sits on the edge of the region where the model simulates"
+                ))
+            }
+            LmFailure::Diverged { iteration } => HysteresisError::Diverged { iteration },
+            LmFailure::NoConvergence { iterations, .. } => HysteresisError::Diverged {
+                iteration: iterations,
+            },
+        }
+    }
+}

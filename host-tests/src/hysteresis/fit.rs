@@ -1,0 +1,189 @@
+//! The simulation-error fit: `min Σ (y(t) − ŷ(t; θ))²` over the whole record by the shared
+//! Levenberg–Marquardt, from the starting model of [`start`](super::start).
+//!
+//! # Jacobian
+//!
+//! Forward differences (the shared solver's, step `10⁻⁶ max(|θ_j|, typical_j)`). The play
+//! operator's output is a continuous, piecewise-linear function of the border values and of
+//! `w(−1)` (a composition of `max`, `min` and the linear interpolation), and the relay's is
+//! linear in them; `G` is smooth in `(F, B)`. The simulation error is therefore Lipschitz and
+//! differentiable except where a sample sits exactly on a switch between a border and the
+//! held value; a difference step crosses such a switch only at the few samples within
+//! `10⁻⁶` of it, where the two one-sided slopes differ by a bounded amount. The difference
+//! quotient is thus the exact derivative up to `O(step)` on all other samples, which is what
+//! Gauss–Newton needs. An analytic derivative would have to carry the same case analysis
+//! (which border is active at each sample) and gives the same matrix; the differences cost
+//! one simulation (`O(N n)`) per parameter, well within the bounded iteration budget.
+
+use super::error::HysteresisError;
+use super::params::{ElementKind, HysteresisModel, Layout};
+use super::simulate::simulate;
+use super::start::{Start, start_model};
+use super::uncertainty::{Uncertainty, uncertainty};
+use crate::identify::HostModel;
+use crate::numerics::lm::{self, Divergence, Exhausted, Jacobian, Problem, Settings};
+use crate::numerics::poly::spectral_radius;
+
+/// Settings of the fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Backlash or switch.
+    pub kind: ElementKind,
+    /// Iteration limit of Levenberg–Marquardt.
+    pub max_iter: usize,
+    /// Whether `G` has a direct feed-through (usually not for a sampled plant).
+    pub feedthrough: bool,
+}
+
+impl FitOptions {
+    /// A fit of `kind` with 60 iterations and a strictly proper `G`.
+    pub fn new(kind: ElementKind) -> Self {
+        Self {
+            kind,
+            max_iter: 60,
+            feedthrough: false,
+        }
+    }
+}
+
+/// The fitted model and how the fit went.
+#[derive(Clone, Debug)]
+pub struct HysteresisFit {
+    /// The model.
+    pub model: HysteresisModel,
+    /// The estimate that started the fit.
+    pub start: Start,
+    /// `Σe²` at the start and at the end.
+    pub initial_cost: f64,
+    /// `Σe²` at the optimum.
+    pub cost: f64,
+    /// Iterations done.
+    pub iterations: usize,
+    /// Whether the iteration budget ended the fit (the last step still gained).
+    pub budget_reached: bool,
+    /// Standard deviations (`None` when `JᵀJ` is singular at the optimum).
+    pub uncertainty: Option<Uncertainty>,
+}
+
+impl HysteresisFit {
+    /// The simulated output for an input record.
+    pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        simulate(&self.model, u)
+    }
+}
+
+/// Refuses records the fit cannot use.
+fn check(u: &[f64], y: &[f64], params: usize) -> Result<(), HysteresisError> {
+    if u.len() != y.len() {
+        return Err(HysteresisError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    let need = 10 * params;
+    if u.len() < need {
+        return Err(HysteresisError::TooFewSamples {
+            have: u.len(),
+            need,
+        });
+    }
+    for (signal, x) in [("u", u), ("y", y)] {
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(HysteresisError::NonFinite { signal, index });
+        }
+    }
+    Ok(())
+}
+
+/// Fits a hysteresis model of `opts.kind` to `(u, y)` from the subspace estimate `init`
+/// (the two-path or the static one, named by `start`).
+pub fn fit_hysteresis(
+    u: &[f64],
+    y: &[f64],
+    init: &HostModel,
+    start: Start,
+    opts: &FitOptions,
+) -> Result<HysteresisFit, HysteresisError> {
+    let layout = Layout {
+        kind: opts.kind,
+        n: init.order,
+        knots: init.knots_asc.len(),
+        feedthrough: opts.feedthrough,
+    };
+    check(u, y, layout.len())?;
+    let m0 = start_model(init, opts.kind, opts.feedthrough, u, y)?;
+    let knots = m0.knots.clone();
+    let th0 = m0.theta(&layout);
+    let residual = |th: &[f64]| -> Option<Vec<f64>> {
+        let m = HysteresisModel::from_theta(&layout, &knots, th);
+        let r: Vec<f64> = simulate(&m, u).iter().zip(y).map(|(a, b)| a - b).collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let admissible = |th: &[f64]| admissible(&layout, th);
+    let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-9);
+    let typical: Vec<f64> = (0..layout.len())
+        .map(|j| {
+            if layout.plant().contains(&j) {
+                1.0
+            } else {
+                scale
+            }
+        })
+        .collect();
+    let problem = Problem {
+        residual: &residual,
+        admissible: &admissible,
+        jacobian: Jacobian::ForwardDifference { typical: &typical },
+    };
+    let base = Settings::default();
+    let settings = Settings {
+        iterations: opts.max_iter,
+        min_gain: 1e-9,
+        damping: lm::Damping {
+            limit: lm::DampingLimit::Tries(14),
+            ..base.damping
+        },
+        divergence: Divergence::Fail { growth: 1e6 },
+        exhausted: Exhausted::ReturnBest,
+        ..base
+    };
+    if !admissible(&th0) {
+        return Err(HysteresisError::StartDoesNotSimulate);
+    }
+    let initial_cost = residual(&th0)
+        .ok_or(HysteresisError::StartDoesNotSimulate)?
+        .iter()
+        .map(|v| v * v)
+        .sum();
+    let min = lm::minimise(&problem, &th0, &settings)?;
+    let cost = min.residual.iter().map(|v| v * v).sum::<f64>();
+    let model = HysteresisModel::from_theta(&layout, &knots, &min.theta);
+    let uncertainty =
+        uncertainty(&problem, &layout, &min.theta, &min.residual, &typical).map(|s| {
+            match opts.kind {
+                ElementKind::Backlash => s.with_gap(&layout, &model),
+                ElementKind::Switch => s,
+            }
+        });
+    Ok(HysteresisFit {
+        uncertainty,
+        model,
+        start,
+        initial_cost,
+        cost,
+        iterations: min.iterations,
+        budget_reached: min.iterations >= opts.max_iter,
+    })
+}
+
+/// A stable `F(q)`, and for a backlash `H_a ≤ H_d` at every knot (the play operator's
+/// condition).
+fn admissible(layout: &Layout, th: &[f64]) -> bool {
+    let p = layout.linear().polynomials(&th[layout.plant()]);
+    let ordered = layout.kind == ElementKind::Switch
+        || th[layout.asc()]
+            .iter()
+            .zip(&th[layout.desc()])
+            .all(|(a, d)| a <= d);
+    ordered && spectral_radius(&p.f) < 1.0
+}
