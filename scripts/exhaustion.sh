@@ -1,22 +1,69 @@
 #!/usr/bin/env bash
-# Resource exhaustion on the host: peak memory (GNU time -v) of hsid on a 1 GB model file and
-# on a directory of 10^5 checkpoints. Not run by CI (it writes large files into a temporary
-# directory); run it by hand after `cargo build --release -p hsid-host`.
+# Resource exhaustion on the host: time and peak resident memory (GNU time -v) of hsid on
+#   1. a CSV of 10^8 rows (about 4 GB): `identify --stream` reads it row by row; `identify`
+#      without --stream refuses it before reading;
+#   2. a model file of 1 GB (sparse): refused before reading;
+#   3. a directory of 10^5 checkpoints: `hsid fleet --states` on all of them, and `ls` of it.
+# Not run by CI (it writes gigabytes into a temporary directory, removed at the end, and takes
+# tens of minutes); run it by hand after `cargo build --release -p hsid-host`.
+# PARTS="csv model fleet" chooses the parts; ROWS and STATES scale the sizes down to try it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-hsid=target/release/hsid
-tmp=$(mktemp -d)
+hsid=$PWD/target/release/hsid
+parts=${PARTS:-csv model fleet}
+rows=${ROWS:-100000000}
+states=${STATES:-100000}
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/hsid-exhaustion.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
-peak() { /usr/bin/time -v "$@" 2>&1 >/dev/null | grep -E 'Maximum resident|Elapsed|^hsid:' || true; }
+# Elapsed time, peak memory and what the command said on stderr (its first lines).
+peak() {
+  /usr/bin/time -v "$@" 2>"$tmp/time.txt" >"$tmp/out.txt" || true
+  grep -E 'Maximum resident|Elapsed' "$tmp/time.txt"
+  { grep -v -E '^\s|Command exited' "$tmp/time.txt" || true; } | head -n 3 | cut -c1-400
+  head -c 600 "$tmp/out.txt"
+  echo
+}
 
-echo "== model file of 1 GB (sparse): refused before reading"
-truncate -s 1G "$tmp/big.json"
-peak "$hsid" validate --model "$tmp/big.json" --data examples/data/servo-check.csv
+if [[ " $parts " == *" csv "* ]]; then
+  # One simulated servo record of 10^5 samples (hold of 300 at u_min, then Table I), repeated
+  # (rows below the header) until the file has $rows data rows.
+  block=100000
+  "$hsid" excite --umin -1 --umax 1 --samples "$block" --hold 300 --seed 1 |
+    "$hsid" simulate --plant examples/data/servo-backlash.json --input - --seed 1 \
+      >"$tmp/block.csv"
+  grep -v '^#' "$tmp/block.csv" >"$tmp/rows.csv"
+  sed -n 1p "$tmp/rows.csv" >"$tmp/big.csv"
+  tail -n +2 "$tmp/rows.csv" >"$tmp/body.csv"
+  [ "$(wc -l <"$tmp/body.csv")" -eq "$block" ]
+  for _ in $(seq 1 $((rows / block))); do cat "$tmp/body.csv"; done >>"$tmp/big.csv"
+  echo "== CSV of $(($(wc -l <"$tmp/big.csv") - 1)) rows, $(stat -c %s "$tmp/big.csv") bytes"
+  args=(--data "$tmp/big.csv" --umin -1 --umax 1 --segments 7 --f 10 --p 10 --hold 300)
+  echo "-- identify (whole record, subspace only): refused before reading if over 256 MiB"
+  peak "$hsid" identify "${args[@]}" --no-refine
+  echo "-- identify --stream: row by row"
+  peak "$hsid" identify "${args[@]}" --stream --json "$tmp/big.json"
+  rm -f "$tmp/big.csv" "$tmp/body.csv"
+fi
 
-echo "== directory of 10^5 checkpoints: listing cost"
-state=${STATE:?give STATE=<a checkpoint file written by Identifier::save>}
-mkdir "$tmp/states"
-for i in $(seq 1 100000); do ln "$state" "$tmp/states/$i.bin" 2>/dev/null || cp "$state" "$tmp/states/$i.bin"; done
-peak ls -f "$tmp/states"
-echo "== hsid solve --state on one of them"
-peak "$hsid" solve --state "$tmp/states/50000.bin"
+if [[ " $parts " == *" model "* ]]; then
+  echo "== model file of 1 GB (sparse): refused before reading"
+  truncate -s 1G "$tmp/big.json"
+  peak "$hsid" validate --model "$tmp/big.json" --data examples/data/servo-check.csv
+  rm -f "$tmp/big.json"
+fi
+
+if [[ " $parts " == *" fleet "* ]]; then
+  # One device's weekly checkpoints from the simulated fleet, copied to $states files.
+  "$hsid" fleet simulate --devices 1 --weeks 1 --out "$tmp/one" --truth "$tmp/truth.csv" \
+    >/dev/null
+  state=$(find "$tmp/one" -type f | head -n 1)
+  echo "== directory of $states checkpoints of $(stat -c %s "$state") bytes"
+  mkdir "$tmp/states"
+  (cd "$tmp/states" && seq -f "dev%06g.bin" 1 "$states" | xargs -n 1000 sh -c \
+    'for f; do cp "$0" "$f"; done' "$state")
+  echo "-- ls -f (listing only)"
+  peak ls -f "$tmp/states"
+  echo "-- hsid fleet --states (list, read and solve each, one thread)"
+  peak "$hsid" fleet --states "$tmp/states" --out "$tmp/models.jsonl" --threads 1
+  echo "models: $(wc -l <"$tmp/models.jsonl") lines, $(stat -c %s "$tmp/models.jsonl") bytes"
+fi

@@ -54,23 +54,7 @@ pub fn read_to_string_limited(path: &Path, limit: u64) -> Result<String, Limited
     let read_err = |e| LimitedReadError::File(FileError::read(path, e));
     let file = fs::File::open(path).map_err(read_err)?;
     let meta = file.metadata().map_err(read_err)?;
-    let too_large = |bytes| {
-        LimitedReadError::TooLarge(TooLarge {
-            path: path.to_path_buf(),
-            bytes,
-            limit,
-        })
-    };
-    if meta.is_file() && meta.len() > limit {
-        return Err(too_large(Some(meta.len())));
-    }
-    let mut bytes = Vec::new();
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(read_err)?;
-    if bytes.len() as u64 > limit {
-        return Err(too_large(None));
-    }
+    let bytes = read_limited(path, file, meta.is_file().then_some(meta.len()), limit)?;
     String::from_utf8(bytes).map_err(|e| {
         read_err(std::io::Error::new(
             std::io::ErrorKind::InvalidData,
@@ -80,6 +64,36 @@ pub fn read_to_string_limited(path: &Path, limit: u64) -> Result<String, Limited
             ),
         ))
     })
+}
+
+/// All bytes of `reader` if they are at most `limit`; `size` is what the file system reports
+/// for a regular file (`None` for a pipe), checked before anything is read. `path` names the
+/// source in errors. Memory stays within `limit + 1` bytes whatever the reader gives.
+pub fn read_limited<R: Read>(
+    path: &Path,
+    reader: R,
+    size: Option<u64>,
+    limit: u64,
+) -> Result<Vec<u8>, LimitedReadError> {
+    let too_large = |bytes| {
+        LimitedReadError::TooLarge(TooLarge {
+            path: path.to_path_buf(),
+            bytes,
+            limit,
+        })
+    };
+    if let Some(size) = size.filter(|&s| s > limit) {
+        return Err(too_large(Some(size)));
+    }
+    let mut bytes = Vec::new();
+    reader
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| LimitedReadError::File(FileError::read(path, e)))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(None));
+    }
+    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -5,7 +5,13 @@ use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use super::{FileError, IoError};
+use super::limited::read_limited;
+use super::{FileError, IoError, LimitedReadError};
+
+/// The largest CSV file read whole (256 MiB, some 8·10⁶ rows of `t,u,y`): parsing holds the
+/// text and its columns in memory, several times the file's size. A larger file is
+/// [`IoError::TooLarge`]; [`CsvStream`](super::CsvStream) reads any length row by row.
+pub const MAX_RECORD_BYTES: u64 = 256 << 20;
 
 /// A CSV field delimiter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -104,7 +110,7 @@ pub fn read_table_from<R: Read>(
     options: &CsvOptions,
 ) -> Result<Table, IoError> {
     let source = source.as_ref();
-    let text = read_text(source, reader)?;
+    let text = read_text(source, reader, None)?;
     parse_table(source, &text, names, options)
 }
 
@@ -114,19 +120,25 @@ pub fn read_source(path: impl AsRef<Path>) -> Result<(PathBuf, String), IoError>
     let path = path.as_ref();
     if path == Path::new(STDIN_PATH) {
         let name = PathBuf::from(STDIN_NAME);
-        let text = read_text(&name, std::io::stdin().lock())?;
+        let text = read_text(&name, std::io::stdin().lock(), None)?;
         return Ok((name, text));
     }
     let file = fs::File::open(path).map_err(|source| FileError::read(path, source))?;
-    Ok((path.to_path_buf(), read_text(path, file)?))
+    let meta = file
+        .metadata()
+        .map_err(|source| FileError::read(path, source))?;
+    let size = meta.is_file().then_some(meta.len());
+    Ok((path.to_path_buf(), read_text(path, file, size)?))
 }
 
-/// All bytes of a reader as UTF-8 text; an invalid byte is reported with its line.
-fn read_text<R: Read>(path: &Path, mut reader: R) -> Result<String, IoError> {
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|source| FileError::read(path, source))?;
+/// All bytes of a reader as UTF-8 text, at most [`MAX_RECORD_BYTES`] (a larger file, `size`
+/// when the file system reports it, is [`IoError::TooLarge`] before it is read); an invalid
+/// byte is reported with its line.
+fn read_text<R: Read>(path: &Path, reader: R, size: Option<u64>) -> Result<String, IoError> {
+    let bytes = read_limited(path, reader, size, MAX_RECORD_BYTES).map_err(|e| match e {
+        LimitedReadError::File(e) => IoError::File(e),
+        LimitedReadError::TooLarge(e) => IoError::TooLarge(e),
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         let valid = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..valid]
