@@ -23,16 +23,14 @@ pub struct TooLarge {
 
 impl fmt::Display for TooLarge {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let size = self.bytes.map_or_else(
-            || "more than the limit".to_string(),
-            |b| format!("{b} bytes"),
-        );
-        write!(
-            f,
-            "{}: {size}, larger than the {} bytes accepted",
-            self.path.display(),
-            self.limit
-        )
+        let (path, limit) = (self.path.display(), self.limit);
+        match self.bytes {
+            Some(b) => write!(
+                f,
+                "{path}: {b} bytes, larger than the {limit} bytes accepted"
+            ),
+            None => write!(f, "{path}: more than the {limit} bytes accepted"),
+        }
     }
 }
 
@@ -122,6 +120,25 @@ mod tests {
                         .ends_with("101 bytes, larger than the 100 bytes accepted")
                 );
             }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_reader_without_a_size_is_cut_one_byte_past_the_limit() {
+        let path = Path::new("pipe");
+        let at = read_limited(path, &[b'x'; 100][..], None, 100).unwrap();
+        assert_eq!(at.len(), 100);
+        match read_limited(path, &[b'x'; 5000][..], None, 100) {
+            Err(LimitedReadError::TooLarge(e)) => {
+                assert_eq!((e.bytes, e.limit), (None, 100));
+                assert_eq!(e.to_string(), "pipe: more than the 100 bytes accepted");
+            }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+        // A size the file system reports is refused before anything is read.
+        match read_limited(path, std::io::empty(), Some(101), 100) {
+            Err(LimitedReadError::TooLarge(e)) => assert_eq!(e.bytes, Some(101)),
             other => panic!("expected TooLarge, got {other:?}"),
         }
     }
