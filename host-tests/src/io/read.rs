@@ -180,6 +180,21 @@ fn layout(text: &str) -> Layout {
     l
 }
 
+/// Why a line holding a carriage return that does not end it is refused.
+pub(super) const LONE_CR: &str = "a carriage return (\\r) that is not followed by a line feed: \
+     lines must end with \\n or \\r\\n (convert old Mac line ends)";
+
+/// The 1-based line of the first `\r` not followed by `\n`: the parser would end a record
+/// there, where no line ends, and every line number after it would be wrong.
+fn lone_carriage_return(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let at = bytes
+        .iter()
+        .enumerate()
+        .position(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))?;
+    Some(1 + bytes[..at].iter().filter(|&&b| b == b'\n').count())
+}
+
 /// [`parse_columns`] with options, keeping the line of each row.
 pub fn parse_table(
     source: impl AsRef<Path>,
@@ -189,6 +204,13 @@ pub fn parse_table(
 ) -> Result<Table, IoError> {
     let path = source.as_ref();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if let Some(line) = lone_carriage_return(text) {
+        return Err(IoError::Malformed {
+            path: path.to_path_buf(),
+            line: Some(line),
+            reason: LONE_CR.to_string(),
+        });
+    }
     let lay = layout(text);
     let Some((_, header_text)) = &lay.header else {
         return Err(IoError::Empty {
@@ -450,6 +472,18 @@ mod tests {
         assert_eq!(
             e.unwrap_err().to_string(),
             "a.csv line 3: column \"y\": \"x\" is not a number"
+        );
+    }
+
+    /// Found by fuzzing (the `csv` target): a lone `\r` ended a record for the parser but not
+    /// a line, so rows were read that the line numbers did not describe.
+    #[test]
+    fn a_carriage_return_that_ends_no_line_is_refused_with_its_line() {
+        let text = "u;y\r\n1;2\r3;4\r\n";
+        let e = read_table_from("a.csv", text.as_bytes(), &["y"], &CsvOptions::default());
+        assert!(
+            matches!(e, Err(IoError::Malformed { line: Some(2), .. })),
+            "{e:?}"
         );
     }
 }

@@ -10,7 +10,7 @@
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
 
-use super::read::{clean, resolve, row};
+use super::read::{LONE_CR, clean, resolve, row};
 use super::{CsvOptions, Delimiter, FileError, IoError};
 
 /// The longest line read (1 MiB): memory stays bounded even for a file without line breaks.
@@ -150,6 +150,9 @@ impl<R: BufRead> CsvStream<R> {
                     line: self.line,
                 });
             };
+            if text.contains('\r') {
+                return Err(self.malformed(LONE_CR));
+            }
             if text.starts_with('#') {
                 continue;
             }
@@ -255,6 +258,17 @@ mod tests {
                 "{bad:?}"
             );
         }
+    }
+
+    /// Found by fuzzing (the `csv` target): a lone `\r` inside a line, which the whole-file
+    /// reader took for a line end.
+    #[test]
+    fn a_carriage_return_that_ends_no_line_is_refused_with_its_line() {
+        let e = stream_all("u;y\r\n1;2\r3;4\r\n", &["y"]).unwrap_err();
+        assert!(
+            matches!(e, IoError::Malformed { line: Some(2), .. }),
+            "{e:?}"
+        );
     }
 
     /// Found by fuzzing (the `csv` target): a comment line that is not UTF-8 was skipped here
