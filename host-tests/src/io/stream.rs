@@ -188,18 +188,33 @@ fn trim_line(buf: &[u8], line: usize) -> &[u8] {
 /// The fields of one line: split at `delimiter` outside double quotes (the quotes are kept,
 /// [`clean`] removes them). A quote left open at the end of the line is an error.
 fn split(line: &str, delimiter: u8) -> Result<Vec<&str>, &'static str> {
+    /// Where the parser is, as in the `csv` crate: a quote opens a quoted field only at the
+    /// start of a field, `""` inside one is a quote, and after its closing quote the field
+    /// goes on unquoted (quotes then literal).
+    #[derive(Clone, Copy, PartialEq)]
+    enum At {
+        Start,
+        Field,
+        Quoted,
+        AfterQuote,
+    }
     let mut fields = Vec::new();
     let mut start = 0;
-    let mut quoted = false;
+    let mut at = At::Start;
     for (i, b) in line.bytes().enumerate() {
-        if b == b'"' {
-            quoted = !quoted;
-        } else if b == delimiter && !quoted {
-            fields.push(&line[start..i]);
-            start = i + 1;
-        }
+        at = match (at, b) {
+            (At::Quoted, b'"') => At::AfterQuote,
+            (At::Quoted, _) => At::Quoted,
+            (_, b) if b == delimiter => {
+                fields.push(&line[start..i]);
+                start = i + 1;
+                At::Start
+            }
+            (At::Start | At::AfterQuote, b'"') => At::Quoted,
+            _ => At::Field,
+        };
     }
-    if quoted {
+    if at == At::Quoted {
         return Err("a quoted field runs past the end of its line (a record is one line here)");
     }
     fields.push(&line[start..]);
@@ -284,6 +299,19 @@ mod tests {
             matches!(e, IoError::Malformed { line: Some(3), .. }),
             "{e:?}"
         );
+    }
+
+    /// Found by fuzzing (the `csv` target): a quote inside a field opened a quoted field
+    /// here, so the delimiter after it was not seen; the `csv` crate reads it as a character.
+    #[test]
+    fn a_quote_inside_a_field_is_a_character() {
+        assert_eq!(split("-1\",`\"", b',').unwrap(), vec!["-1\"", "`\""]);
+        assert_eq!(
+            split("\"a,b\"\"c\",d", b',').unwrap(),
+            vec!["\"a,b\"\"c\"", "d"]
+        );
+        let (rows, _) = stream_all("u,y\n-1\",2\n", &["u", "y"]).unwrap();
+        assert_eq!(rows, vec![vec![-1.0, 2.0]]);
     }
 
     /// Found by fuzzing (the `csv` target): a comment line that is not UTF-8 was skipped here
