@@ -1,6 +1,7 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
 mod records;
+mod stream;
 
 use crate::failure::{Failure, outln};
 use std::path::{Path, PathBuf};
@@ -105,6 +106,14 @@ pub struct IdentifyArgs {
     /// checks and residual tests, the command line) to this file.
     #[arg(long, value_name = "FILE")]
     html: Option<PathBuf>,
+    /// Read the record row by row and push each sample into the identifier without keeping
+    /// it: memory does not grow with the record (for files too large to read whole, e.g. 10⁸
+    /// rows). Gives the subspace model of one file with the given or default segments and
+    /// horizons; what needs the whole record (refinement, fits, figures, the HTML report,
+    /// --detrend, --segments auto) is not available. Only the input and output columns are
+    /// read (the time column is not checked).
+    #[arg(long, conflicts_with_all = ["refine", "detrend", "html", "out", "true_plant"])]
+    stream: bool,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -164,6 +173,9 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
              measured by the hold: drop --detrend or give --hold 0"
         )
         .into());
+    }
+    if a.stream {
+        return stream::run(a);
     }
     let units = a.units.units()?;
     let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;

@@ -297,6 +297,16 @@ pub fn identify(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<HostMode
             y: y.len(),
         });
     }
+    let mut samples = u.iter().copied().zip(y.iter().copied());
+    identify_stream(&mut || samples.next(), opts)
+}
+
+/// Identifies a model from samples `(u, y)` given one at a time by `next` (hold first, if
+/// any) until it gives `None`, without keeping them: memory does not grow with the record.
+pub fn identify_stream(
+    next: &mut (dyn FnMut() -> Option<(f64, f64)> + Send),
+    opts: &IdentifyOptions,
+) -> Result<HostModel, IdentifyError> {
     // Capacity needed: channels, plus one for a shared knot vector (it stores n + 1 knots).
     let channels = if opts.static_nonlinearity {
         opts.knots_asc.len()
@@ -308,26 +318,30 @@ pub fn identify(u: &[f64], y: &[f64], opts: &IdentifyOptions) -> Result<HostMode
         channels,
         block_rows,
     };
-    with_capacity(&Identify { u, y, opts }, channels, opts.f, block_rows).unwrap_or(Err(too_large))
+    let job = Identify {
+        next: std::sync::Mutex::new(next),
+        opts,
+    };
+    with_capacity(&job, channels, opts.f, block_rows).unwrap_or(Err(too_large))
 }
 
-/// [`identify`] in a capacity.
-struct Identify<'a> {
-    u: &'a [f64],
-    y: &'a [f64],
+/// [`identify_stream`] in a capacity.
+struct Identify<'a, 'b> {
+    next: std::sync::Mutex<&'a mut (dyn FnMut() -> Option<(f64, f64)> + Send + 'b)>,
     opts: &'a IdentifyOptions,
 }
 
-impl SizedJob for Identify<'_> {
+impl SizedJob for Identify<'_, '_> {
     type Out = Result<HostModel, IdentifyError>;
     fn run<const M: usize, const K: usize, const H: usize>(&self) -> Self::Out {
-        run::<M, K, H>(self.u, self.y, self.opts)
+        // One job runs once: the lock is never contended, nor poisoned but by a panic.
+        let mut next = self.next.lock().unwrap_or_else(|e| e.into_inner());
+        run::<M, K, H>(&mut **next, self.opts)
     }
 }
 
 fn run<const M: usize, const K: usize, const H: usize>(
-    u: &[f64],
-    y: &[f64],
+    next: &mut (dyn FnMut() -> Option<(f64, f64)> + Send + '_),
     opts: &IdentifyOptions,
 ) -> Result<HostModel, IdentifyError> {
     let knots = if opts.static_nonlinearity {
@@ -348,8 +362,10 @@ fn run<const M: usize, const K: usize, const H: usize>(
     settings.order = opts.order.map_or(Order::Auto, Order::Fixed);
     settings.method = opts.method;
     let mut id = Box::new(Identifier::<f64, M, K, hsid::Plain, H>::new(settings)?);
-    for (&ui, &yi) in u.iter().zip(y) {
+    let mut samples = 0usize;
+    while let Some((ui, yi)) = next() {
         id.push(ui, yi);
+        samples += 1;
     }
     let mut ws = vec![0.0; workspace_len(&id)];
     let m = id.solve_with(&mut ws, opts.poles)?;
@@ -369,7 +385,7 @@ fn run<const M: usize, const K: usize, const H: usize>(
         whitened_singular_values: m.whitened_singular_values().to_vec(),
         f: opts.f,
         p: opts.p,
-        samples: u.len(),
+        samples,
     })
 }
 

@@ -168,6 +168,7 @@ impl From<ModelFileError> for Failure {
     fn from(e: ModelFileError) -> Self {
         let kind = match &e {
             ModelFileError::File(_) => "model_file_io",
+            ModelFileError::TooLarge(_) => "model_file_too_large",
             ModelFileError::Version { .. } => "model_file_version",
             ModelFileError::Json { .. } => "model_file_json",
             ModelFileError::Invalid { .. } => "model_file_invalid",

@@ -14,6 +14,9 @@ pub enum IoError {
     /// The file could not be opened, read, created or written (not found, permission denied,
     /// ...).
     File(FileError),
+    /// The file is larger than [`MAX_RECORD_BYTES`](super::MAX_RECORD_BYTES), the most a
+    /// whole-record reader holds in memory; nothing of it was kept.
+    TooLarge(super::TooLarge),
     /// The file is not valid UTF-8 text.
     NotUtf8 {
         /// File that was being read.
@@ -134,6 +137,12 @@ impl fmt::Display for IoError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             IoError::File(e) => e.fmt(f),
+            IoError::TooLarge(e) => write!(
+                f,
+                "{e} for a record read whole (parsing holds it in memory several times over): \
+                 `hsid identify --stream` reads a CSV of any length row by row in bounded \
+                 memory; otherwise shorten or decimate the record"
+            ),
             IoError::NotUtf8 { path, line } => {
                 write!(f, "{} line {line}: not valid UTF-8 text", path.display())
             }
@@ -235,6 +244,7 @@ impl std::error::Error for IoError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             IoError::File(e) => Some(e),
+            IoError::TooLarge(e) => Some(e),
             _ => None,
         }
     }

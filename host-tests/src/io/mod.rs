@@ -21,13 +21,17 @@
 
 mod error;
 mod file_error;
+mod limited;
 mod read;
+mod stream;
 mod write;
 
 pub use error::IoError;
 pub use file_error::{FileAction, FileError};
+pub use limited::{LimitedReadError, TooLarge, read_limited, read_to_string_limited};
 pub use read::{
-    CsvOptions, Delimiter, STDIN_NAME, STDIN_PATH, Table, parse_columns, parse_table, read_columns,
-    read_source, read_table, read_table_from,
+    CsvOptions, Delimiter, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table, parse_columns,
+    parse_table, read_columns, read_source, read_table, read_table_from,
 };
+pub use stream::{CsvStream, MAX_LINE_BYTES};
 pub use write::{write_columns, write_columns_to};

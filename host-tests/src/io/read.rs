@@ -5,7 +5,13 @@ use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use super::{FileError, IoError};
+use super::limited::read_limited;
+use super::{FileError, IoError, LimitedReadError};
+
+/// The largest CSV file read whole (256 MiB, some 8·10⁶ rows of `t,u,y`): parsing holds the
+/// text and its columns in memory, several times the file's size. A larger file is
+/// [`IoError::TooLarge`]; [`CsvStream`](super::CsvStream) reads any length row by row.
+pub const MAX_RECORD_BYTES: u64 = 256 << 20;
 
 /// A CSV field delimiter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -104,7 +110,7 @@ pub fn read_table_from<R: Read>(
     options: &CsvOptions,
 ) -> Result<Table, IoError> {
     let source = source.as_ref();
-    let text = read_text(source, reader)?;
+    let text = read_text(source, reader, None)?;
     parse_table(source, &text, names, options)
 }
 
@@ -114,19 +120,25 @@ pub fn read_source(path: impl AsRef<Path>) -> Result<(PathBuf, String), IoError>
     let path = path.as_ref();
     if path == Path::new(STDIN_PATH) {
         let name = PathBuf::from(STDIN_NAME);
-        let text = read_text(&name, std::io::stdin().lock())?;
+        let text = read_text(&name, std::io::stdin().lock(), None)?;
         return Ok((name, text));
     }
     let file = fs::File::open(path).map_err(|source| FileError::read(path, source))?;
-    Ok((path.to_path_buf(), read_text(path, file)?))
+    let meta = file
+        .metadata()
+        .map_err(|source| FileError::read(path, source))?;
+    let size = meta.is_file().then_some(meta.len());
+    Ok((path.to_path_buf(), read_text(path, file, size)?))
 }
 
-/// All bytes of a reader as UTF-8 text; an invalid byte is reported with its line.
-fn read_text<R: Read>(path: &Path, mut reader: R) -> Result<String, IoError> {
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|source| FileError::read(path, source))?;
+/// All bytes of a reader as UTF-8 text, at most [`MAX_RECORD_BYTES`] (a larger file, `size`
+/// when the file system reports it, is [`IoError::TooLarge`] before it is read); an invalid
+/// byte is reported with its line.
+fn read_text<R: Read>(path: &Path, reader: R, size: Option<u64>) -> Result<String, IoError> {
+    let bytes = read_limited(path, reader, size, MAX_RECORD_BYTES).map_err(|e| match e {
+        LimitedReadError::File(e) => IoError::File(e),
+        LimitedReadError::TooLarge(e) => IoError::TooLarge(e),
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         let valid = e.utf8_error().valid_up_to();
         let line = 1 + e.as_bytes()[..valid]
@@ -168,6 +180,21 @@ fn layout(text: &str) -> Layout {
     l
 }
 
+/// Why a line holding a carriage return that does not end it is refused.
+pub(super) const LONE_CR: &str = "a carriage return (\\r) that is not followed by a line feed: \
+     lines must end with \\n or \\r\\n (convert old Mac line ends)";
+
+/// The 1-based line of the first `\r` not followed by `\n`: the parser would end a record
+/// there, where no line ends, and every line number after it would be wrong.
+fn lone_carriage_return(text: &str) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let at = bytes
+        .iter()
+        .enumerate()
+        .position(|(i, &b)| b == b'\r' && bytes.get(i + 1) != Some(&b'\n'))?;
+    Some(1 + bytes[..at].iter().filter(|&&b| b == b'\n').count())
+}
+
 /// [`parse_columns`] with options, keeping the line of each row.
 pub fn parse_table(
     source: impl AsRef<Path>,
@@ -177,6 +204,13 @@ pub fn parse_table(
 ) -> Result<Table, IoError> {
     let path = source.as_ref();
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if let Some(line) = lone_carriage_return(text) {
+        return Err(IoError::Malformed {
+            path: path.to_path_buf(),
+            line: Some(line),
+            reason: LONE_CR.to_string(),
+        });
+    }
     let lay = layout(text);
     let Some((_, header_text)) = &lay.header else {
         return Err(IoError::Empty {
@@ -259,9 +293,15 @@ struct Rows<'a, R> {
 impl<R: std::io::Read> Rows<'_, R> {
     /// The 1-based line of a record the parser placed at byte `byte`. The parser's line count
     /// leaves out the empty lines it skips, and its offset points before them: the line is the
-    /// first at or after `byte` that is not empty.
+    /// first at or after `byte` that is not empty. After a `\r\n` line end the offset is that
+    /// of its `\n` (the parser ends the record at the `\r`), the end of the line before: a
+    /// `\n` counts as the start of the line that follows it.
     fn line_of(&self, byte: u64) -> usize {
         let byte = usize::try_from(byte).unwrap_or(usize::MAX);
+        let byte = match self.starts.binary_search(&byte.saturating_add(1)) {
+            Ok(_) => byte.saturating_add(1),
+            Err(_) => byte,
+        };
         let mut line = self.starts.partition_point(|&s| s <= byte);
         while line < self.starts.len() && self.empty.binary_search(&line).is_ok() {
             line += 1;
@@ -295,7 +335,7 @@ impl<R: std::io::Read> Rows<'_, R> {
 }
 
 /// The index of each requested column in the header.
-fn resolve(
+pub(super) fn resolve(
     path: &Path,
     line: usize,
     header: &[String],
@@ -328,7 +368,7 @@ fn resolve(
 }
 
 /// Checks one data row and appends its requested cells to `columns`.
-fn row(
+pub(super) fn row(
     path: &Path,
     line: usize,
     header: &[String],
@@ -388,7 +428,7 @@ fn row(
 }
 
 /// Trims surrounding whitespace and double quotes.
-fn clean(s: &str) -> &str {
+pub(super) fn clean(s: &str) -> &str {
     s.trim().trim_matches('"').trim()
 }
 
@@ -409,6 +449,41 @@ mod tests {
         assert_eq!(
             e.unwrap_err().to_string(),
             "<stdin> line 3: column \"y\": \"x\" is not a number"
+        );
+    }
+
+    /// Found by fuzzing (the `csv` target, which compares this reader with `CsvStream`): with
+    /// Windows line ends every data row and every error was given the line before its own.
+    #[test]
+    fn windows_line_ends_give_each_row_its_own_line() {
+        let text = "u;y\r\n1;2\r\n# c\r\n3;\"4\"\r\n\r\n";
+        let t = read_table_from("a.csv", text.as_bytes(), &["y"], &CsvOptions::default());
+        let t = t.unwrap();
+        assert_eq!(t.columns, vec![vec![2.0, 4.0]]);
+        assert_eq!(t.lines, vec![2, 4]);
+        let bad = "u,y\r\n1,2\r\n\r\n3,x\r\n";
+        let e = read_table_from("a.csv", bad.as_bytes(), &["y"], &CsvOptions::default());
+        assert!(
+            matches!(e, Err(IoError::BlankLine { line: 3, .. })),
+            "{e:?}"
+        );
+        let bad = "u,y\r\n1,2\r\n3,x\r\n";
+        let e = read_table_from("a.csv", bad.as_bytes(), &["y"], &CsvOptions::default());
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "a.csv line 3: column \"y\": \"x\" is not a number"
+        );
+    }
+
+    /// Found by fuzzing (the `csv` target): a lone `\r` ended a record for the parser but not
+    /// a line, so rows were read that the line numbers did not describe.
+    #[test]
+    fn a_carriage_return_that_ends_no_line_is_refused_with_its_line() {
+        let text = "u;y\r\n1;2\r3;4\r\n";
+        let e = read_table_from("a.csv", text.as_bytes(), &["y"], &CsvOptions::default());
+        assert!(
+            matches!(e, Err(IoError::Malformed { line: Some(2), .. })),
+            "{e:?}"
         );
     }
 }

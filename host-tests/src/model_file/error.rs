@@ -4,7 +4,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use super::FORMAT;
-use crate::io::FileError;
+use crate::io::{FileError, LimitedReadError, TooLarge};
 
 /// A model file that could not be read or written.
 ///
@@ -15,6 +15,9 @@ pub enum ModelFileError {
     /// The file could not be opened, read, created or written (not found, permission denied,
     /// ...).
     File(FileError),
+    /// The file is larger than [`MAX_MODEL_FILE_BYTES`](super::MAX_MODEL_FILE_BYTES): not a
+    /// model file (those are kilobytes); refused before it is read.
+    TooLarge(TooLarge),
     /// The file has no `format` key, or names another format or version than [`FORMAT`].
     Version {
         /// File that was being read.
@@ -49,6 +52,11 @@ impl fmt::Display for ModelFileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::File(e) => e.fmt(f),
+            Self::TooLarge(e) => write!(
+                f,
+                "{e}: a model file is a few kilobytes; give the JSON file identify, solve or \
+                 diagnose wrote"
+            ),
             Self::Version { path, found: None } => write!(
                 f,
                 "{}: no \"format\" key: the file is of the unversioned model layout, this hsid \
@@ -86,6 +94,7 @@ impl std::error::Error for ModelFileError {
         match self {
             Self::File(e) => Some(e),
             Self::Json { source, .. } => Some(source),
+            Self::TooLarge(e) => Some(e),
             Self::Version { .. } | Self::Invalid { .. } => None,
         }
     }
@@ -94,5 +103,14 @@ impl std::error::Error for ModelFileError {
 impl From<FileError> for ModelFileError {
     fn from(e: FileError) -> Self {
         Self::File(e)
+    }
+}
+
+impl From<LimitedReadError> for ModelFileError {
+    fn from(e: LimitedReadError) -> Self {
+        match e {
+            LimitedReadError::File(e) => Self::File(e),
+            LimitedReadError::TooLarge(e) => Self::TooLarge(e),
+        }
     }
 }

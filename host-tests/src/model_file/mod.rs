@@ -22,10 +22,15 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::io::FileError;
+use crate::io::{FileError, read_to_string_limited};
 
 pub use error::ModelFileError;
 pub use parts::{FormatTag, ModelStd, NoiseFile, NonlinearityKind, Units};
+
+/// The largest model file read, in bytes (16 MiB). A model of the largest capacity the desktop
+/// accepts is well under 1 MB; a larger file is refused before it is read
+/// ([`ModelFileError::TooLarge`]), so that a wrong path cannot make a reader hold gigabytes.
+pub const MAX_MODEL_FILE_BYTES: u64 = 16 << 20;
 
 /// The value of the `format` key this build reads and writes.
 pub const FORMAT: &str = "hsid-model/1";
@@ -153,10 +158,11 @@ impl ModelFile {
         fs::write(path, text).map_err(|source| FileError::write(path, source).into())
     }
 
-    /// Reads a model file ([`from_json_str`](Self::from_json_str)).
+    /// Reads a model file ([`from_json_str`](Self::from_json_str)); a file larger than
+    /// [`MAX_MODEL_FILE_BYTES`] is refused before it is read.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, ModelFileError> {
         let path = path.as_ref();
-        let text = fs::read_to_string(path).map_err(|source| FileError::read(path, source))?;
+        let text = read_to_string_limited(path, MAX_MODEL_FILE_BYTES)?;
         Self::from_json_str(path, &text)
     }
 }

@@ -1,0 +1,99 @@
+//! `hsid identify --stream`: the subspace model of one CSV record read row by row and pushed
+//! sample by sample into the core's identifier, in memory that does not grow with the record
+//! (one line, the identifier's sums). For records too large to hold whole (10⁸ rows).
+//!
+//! What needs the whole record is refused rather than dropped: refinement, figures, the HTML
+//! report and `--detrend` (clap's conflicts), automatic segment counts and several files
+//! (here); the fits, which need a second pass, are not printed.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+
+use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
+use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
+use hsid_host::refine::knots::SegmentCount;
+use hsid_host::report::model_text;
+
+use super::{IdentifyArgs, options, write};
+use crate::failure::{Failure, outln};
+
+/// Runs `hsid identify --stream` (the arguments are checked by [`super::run`] first).
+pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
+    let [path] = a.data.as_slice() else {
+        return Err(format!(
+            "--stream reads one record, {} given: identify them one at a time, or join them \
+             into one file",
+            a.data.len()
+        )
+        .into());
+    };
+    if a.segments == Some(SegmentCount::Auto) {
+        return Err(
+            "--segments auto refits the whole record: with --stream give a count \
+                    (--segments N; default 7, the paper's) or the knots"
+                .to_string()
+                .into(),
+        );
+    }
+    let opts = options(a)?;
+    let units = a.units.units()?;
+    let ts = a.units.ts()?;
+    let names = [
+        a.columns.input_column.as_str(),
+        a.columns.output_column.as_str(),
+    ];
+    let csv = CsvOptions {
+        delimiter: a.csv.delimiter(),
+    };
+    let (name, reader) = open(path)?;
+    let stream = CsvStream::new(&name, reader, &names, &csv)?;
+    let model = identify(stream, &name, &opts)?;
+    outln!(
+        "streamed {} samples (subspace model, not refined; fits not computed)",
+        model.samples
+    )?;
+    outln!("{}", model_text(&model))?;
+    if let Some(out) = &a.out.json {
+        let mut file = model.to_json(Some(a.nonlinearity.into()));
+        file.sample_time = ts;
+        file.units = units;
+        write(&file, out)?;
+    }
+    Ok(())
+}
+
+/// The file, or standard input for `-`, buffered, with the name errors give it.
+fn open(path: &Path) -> Result<(std::path::PathBuf, Box<dyn BufRead + Send>), IoError> {
+    if path == Path::new(STDIN_PATH) {
+        return Ok((
+            STDIN_NAME.into(),
+            Box::new(BufReader::new(std::io::stdin())),
+        ));
+    }
+    let file = File::open(path).map_err(|e| FileError::read(path, e))?;
+    Ok((path.to_path_buf(), Box::new(BufReader::new(file))))
+}
+
+/// Pushes the rows of `stream` into the identifier; the first CSV error stops the record
+/// and is the result (never a model of the rows before it). Errors name the file.
+fn identify(
+    mut stream: CsvStream<Box<dyn BufRead + Send>>,
+    name: &Path,
+    opts: &IdentifyOptions,
+) -> Result<HostModel, String> {
+    let mut failed: Option<IoError> = None;
+    let mut next = || match stream.next_row() {
+        Ok(Some((_, v))) => Some((v[0], v[1])),
+        Ok(None) => None,
+        Err(e) => {
+            failed = Some(e);
+            None
+        }
+    };
+    let result = identify_stream(&mut next, opts);
+    match failed {
+        Some(e) => Err(e.to_string()),
+        None => result.map_err(|e| format!("{}: {e}", name.display())),
+    }
+}
