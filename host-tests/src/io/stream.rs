@@ -31,6 +31,7 @@ pub struct CsvStream<R> {
     /// Data rows read so far.
     rows: u64,
     buf: Vec<u8>,
+    unquote: Unquote,
     values: Vec<Vec<f64>>,
 }
 
@@ -52,6 +53,7 @@ impl<R: BufRead> CsvStream<R> {
             blank: None,
             rows: 0,
             buf: Vec::new(),
+            unquote: Unquote::new(b','),
             values: vec![Vec::with_capacity(1); names.len()],
         };
         if !s.next_content()? {
@@ -64,11 +66,12 @@ impl<R: BufRead> CsvStream<R> {
             Delimiter::Semicolon => b';',
             Delimiter::Tab => b'\t',
         };
-        let mut header: Vec<String> = split(s.text(), s.delimiter)
-            .map_err(|reason| s.malformed(reason))?
-            .into_iter()
-            .map(|f| clean(f).to_string())
-            .collect();
+        s.unquote = Unquote::new(s.delimiter);
+        let text = trim_line(&s.buf, s.line);
+        let mut header: Vec<String> = match s.unquote.fields(text) {
+            Ok(fields) => fields.into_iter().map(|f| clean(f).to_string()).collect(),
+            Err(reason) => return Err(s.malformed(reason)),
+        };
         while header.last().is_some_and(|h| h.is_empty()) {
             header.pop();
         }
@@ -91,8 +94,17 @@ impl<R: BufRead> CsvStream<R> {
         self.rows += 1;
         let mut values = std::mem::take(&mut self.values);
         values.iter_mut().for_each(Vec::clear);
-        let text = self.text();
-        let fields = split(text, self.delimiter).map_err(|reason| self.malformed(reason))?;
+        let text = trim_line(&self.buf, self.line);
+        let fields = match self.unquote.fields(text) {
+            Ok(fields) => fields,
+            Err(reason) => {
+                return Err(IoError::Malformed {
+                    path: self.path.clone(),
+                    line: Some(self.line),
+                    reason: reason.to_string(),
+                });
+            }
+        };
         let fields: Vec<&str> = fields.into_iter().map(clean).collect();
         let (path, line) = (&self.path, self.line);
         let checked = row(
@@ -185,12 +197,67 @@ fn trim_line(buf: &[u8], line: usize) -> &[u8] {
     }
 }
 
-/// The fields of one line: split at `delimiter` outside double quotes (the quotes are kept,
-/// [`clean`] removes them). A quote left open at the end of the line is an error.
-fn split(line: &str, delimiter: u8) -> Result<Vec<&str>, &'static str> {
-    /// Where the parser is, as in the `csv` crate: a quote opens a quoted field only at the
-    /// start of a field, `""` inside one is a quote, and after its closing quote the field
-    /// goes on unquoted (quotes then literal).
+/// The fields of one line as the whole-file reader gets them: the `csv` crate's own parser
+/// (`csv-core`) over the line, so quoting follows the same rules (a quote opens a quoted field
+/// only at its start, `""` inside one is a quote, text after the closing quote is kept).
+struct Unquote {
+    delimiter: u8,
+    parser: csv_core::Reader,
+    out: Vec<u8>,
+    ends: Vec<usize>,
+}
+
+impl Unquote {
+    fn new(delimiter: u8) -> Self {
+        Self {
+            delimiter,
+            parser: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
+            out: Vec::new(),
+            ends: Vec::new(),
+        }
+    }
+
+    /// The unquoted fields of `line` (valid UTF-8, no line end). A quote left open at the end
+    /// of the line is an error: a record is one line here.
+    fn fields(&mut self, line: &[u8]) -> Result<Vec<&str>, &'static str> {
+        if quote_left_open(line, self.delimiter) {
+            return Err("a quoted field runs past the end of its line (a record is one line here)");
+        }
+        // Unquoting only shortens the text, and a line has at most one field more than bytes.
+        self.out.clear();
+        self.out.resize(line.len(), 0);
+        self.ends.clear();
+        self.ends.resize(line.len() + 1, 0);
+        self.parser.reset();
+        let (mut input, mut nout, mut nend) = (line, 0, 0);
+        // The line, then the end of the input, which ends the record: two calls.
+        for _ in 0..2 {
+            let (res, i, o, e) =
+                self.parser
+                    .read_record(input, &mut self.out[nout..], &mut self.ends[nend..]);
+            input = &input[i..];
+            nout += o;
+            nend += e;
+            if let csv_core::ReadRecordResult::Record = res {
+                let mut start = 0;
+                let mut fields = Vec::with_capacity(nend);
+                for &end in &self.ends[..nend] {
+                    let field = std::str::from_utf8(&self.out[start..end])
+                        .map_err(|_| "a field is not UTF-8 after unquoting")?;
+                    fields.push(field);
+                    start = end;
+                }
+                return Ok(fields);
+            }
+        }
+        Err("the line did not parse as one CSV record")
+    }
+}
+
+/// Whether a quoted field is still open at the end of `line`, by the rules of the `csv`
+/// crate's parser: a quote opens a quoted field only at the start of a field, `""` inside
+/// one is a quote, and after its closing quote the field goes on unquoted.
+fn quote_left_open(line: &[u8], delimiter: u8) -> bool {
     #[derive(Clone, Copy, PartialEq)]
     enum At {
         Start,
@@ -198,27 +265,17 @@ fn split(line: &str, delimiter: u8) -> Result<Vec<&str>, &'static str> {
         Quoted,
         AfterQuote,
     }
-    let mut fields = Vec::new();
-    let mut start = 0;
     let mut at = At::Start;
-    for (i, b) in line.bytes().enumerate() {
+    for &b in line {
         at = match (at, b) {
             (At::Quoted, b'"') => At::AfterQuote,
             (At::Quoted, _) => At::Quoted,
-            (_, b) if b == delimiter => {
-                fields.push(&line[start..i]);
-                start = i + 1;
-                At::Start
-            }
+            (_, b) if b == delimiter => At::Start,
             (At::Start | At::AfterQuote, b'"') => At::Quoted,
             _ => At::Field,
         };
     }
-    if at == At::Quoted {
-        return Err("a quoted field runs past the end of its line (a record is one line here)");
-    }
-    fields.push(&line[start..]);
-    Ok(fields)
+    at == At::Quoted
 }
 
 #[cfg(test)]
@@ -305,13 +362,22 @@ mod tests {
     /// here, so the delimiter after it was not seen; the `csv` crate reads it as a character.
     #[test]
     fn a_quote_inside_a_field_is_a_character() {
-        assert_eq!(split("-1\",`\"", b',').unwrap(), vec!["-1\"", "`\""]);
-        assert_eq!(
-            split("\"a,b\"\"c\",d", b',').unwrap(),
-            vec!["\"a,b\"\"c\"", "d"]
-        );
+        let mut u = Unquote::new(b',');
+        assert_eq!(u.fields(b"-1\",`\"").unwrap(), vec!["-1\"", "`\""]);
+        assert_eq!(u.fields(b"\"a,b\"\"c\",d").unwrap(), vec!["a,b\"c", "d"]);
         let (rows, _) = stream_all("u,y\n-1\",2\n", &["u", "y"]).unwrap();
         assert_eq!(rows, vec![vec![-1.0, 2.0]]);
+    }
+
+    /// Found by fuzzing (the `csv` target): text after a closing quote was kept by the
+    /// whole-file reader (`"4"0` is 40) and made the field "not a number" here.
+    #[test]
+    fn text_after_a_closing_quote_is_kept_as_the_whole_file_reader_keeps_it() {
+        let text = "u,y\n1,\"4\"0\n";
+        let whole = parse_table("s.csv", text, &["u", "y"], &CsvOptions::default()).unwrap();
+        assert_eq!(whole.columns[1], vec![40.0]);
+        let (rows, _) = stream_all(text, &["u", "y"]).unwrap();
+        assert_eq!(rows, vec![vec![1.0, 40.0]]);
     }
 
     /// Found by fuzzing (the `csv` target): a comment line that is not UTF-8 was skipped here
