@@ -8,7 +8,8 @@
 #
 # The long runs of docs/reliability.md are this script with FUZZ_SECONDS=600 and
 # FUZZ_WORK=<dir>: the corpus then grows in <dir>/<target> (seeded from the committed one) and
-# is kept with the log, for `cargo fuzz cmin`. FUZZ_TARGETS="a b" runs only those targets.
+# is kept with the log, for `cargo fuzz cmin`. FUZZ_TARGETS="a b" runs only those targets;
+# FUZZ_RUNS=N stops each target after N executions (or FUZZ_SECONDS, whichever comes first).
 #
 # Build flags: release with debug assertions and overflow checks (-O -a), no sanitizer
 # (-s none: the fuzzed crates forbid unsafe code; an overflow or a failed check panics).
@@ -45,9 +46,12 @@ for t in "${targets[@]}"; do
   fi
   cp -r "corpus/$t/." "$work/"
   set +e
+  t0=$(date +%s)
   cargo +nightly fuzz run "${flags[@]}" "$t" "$work" -- -max_total_time="$seconds" \
+    ${FUZZ_RUNS:+-runs="$FUZZ_RUNS"} \
     -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 >"$work.log" 2>&1
   status=$?
+  elapsed=$(($(date +%s) - t0))
   set -e
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work.log")
   keep() { [ -n "${FUZZ_WORK:-}" ] || rm -rf "$work" "$work.log"; }
@@ -58,7 +62,7 @@ for t in "${targets[@]}"; do
     exit 1
   fi
   grep '^stat::' "$work.log" | sed "s/^/fuzz $t: /"
-  echo "fuzz $t: $runs executions in $seconds s, no crash"
+  echo "fuzz $t: $runs executions (at most ${FUZZ_RUNS:-unbounded} in at most $seconds s) in $elapsed s, no crash"
   keep
 done
 echo "fuzz smoke: ${#targets[@]} targets ran ${seconds} s each without a crash or a hang"
