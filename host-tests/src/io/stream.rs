@@ -201,7 +201,6 @@ fn trim_line(buf: &[u8], line: usize) -> &[u8] {
 /// (`csv-core`) over the line, so quoting follows the same rules (a quote opens a quoted field
 /// only at its start, `""` inside one is a quote, text after the closing quote is kept).
 struct Unquote {
-    delimiter: u8,
     parser: csv_core::Reader,
     out: Vec<u8>,
     ends: Vec<usize>,
@@ -210,7 +209,6 @@ struct Unquote {
 impl Unquote {
     fn new(delimiter: u8) -> Self {
         Self {
-            delimiter,
             parser: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
             out: Vec::new(),
             ends: Vec::new(),
@@ -220,62 +218,35 @@ impl Unquote {
     /// The unquoted fields of `line` (valid UTF-8, no line end). A quote left open at the end
     /// of the line is an error: a record is one line here.
     fn fields(&mut self, line: &[u8]) -> Result<Vec<&str>, &'static str> {
-        if quote_left_open(line, self.delimiter) {
+        // Unquoting only shortens the text; the line end may join an open quoted field, and a
+        // line has at most one field more than bytes.
+        self.out.clear();
+        self.out.resize(line.len() + 1, 0);
+        self.ends.clear();
+        self.ends.resize(line.len() + 2, 0);
+        self.parser.reset();
+        let (res, _, o1, e1) = self.parser.read_record(line, &mut self.out, &mut self.ends);
+        if !matches!(res, csv_core::ReadRecordResult::InputEmpty) {
+            return Err("the line did not parse as one CSV record");
+        }
+        // The line end ends the record, unless the parser takes it into a quoted field.
+        let (res, _, o2, e2) =
+            self.parser
+                .read_record(b"\n", &mut self.out[o1..], &mut self.ends[e1..]);
+        if !matches!(res, csv_core::ReadRecordResult::Record) {
             return Err("a quoted field runs past the end of its line (a record is one line here)");
         }
-        // Unquoting only shortens the text, and a line has at most one field more than bytes.
-        self.out.clear();
-        self.out.resize(line.len(), 0);
-        self.ends.clear();
-        self.ends.resize(line.len() + 1, 0);
-        self.parser.reset();
-        let (mut input, mut nout, mut nend) = (line, 0, 0);
-        // The line, then the end of the input, which ends the record: two calls.
-        for _ in 0..2 {
-            let (res, i, o, e) =
-                self.parser
-                    .read_record(input, &mut self.out[nout..], &mut self.ends[nend..]);
-            input = &input[i..];
-            nout += o;
-            nend += e;
-            if let csv_core::ReadRecordResult::Record = res {
-                let mut start = 0;
-                let mut fields = Vec::with_capacity(nend);
-                for &end in &self.ends[..nend] {
-                    let field = std::str::from_utf8(&self.out[start..end])
-                        .map_err(|_| "a field is not UTF-8 after unquoting")?;
-                    fields.push(field);
-                    start = end;
-                }
-                return Ok(fields);
-            }
+        let (out, ends) = (&self.out[..o1 + o2], &self.ends[..e1 + e2]);
+        let mut start = 0;
+        let mut fields = Vec::with_capacity(ends.len());
+        for &end in ends {
+            let field = std::str::from_utf8(out.get(start..end).unwrap_or_default())
+                .map_err(|_| "a field is not UTF-8 after unquoting")?;
+            fields.push(field);
+            start = end;
         }
-        Err("the line did not parse as one CSV record")
+        Ok(fields)
     }
-}
-
-/// Whether a quoted field is still open at the end of `line`, by the rules of the `csv`
-/// crate's parser: a quote opens a quoted field only at the start of a field, `""` inside
-/// one is a quote, and after its closing quote the field goes on unquoted.
-fn quote_left_open(line: &[u8], delimiter: u8) -> bool {
-    #[derive(Clone, Copy, PartialEq)]
-    enum At {
-        Start,
-        Field,
-        Quoted,
-        AfterQuote,
-    }
-    let mut at = At::Start;
-    for &b in line {
-        at = match (at, b) {
-            (At::Quoted, b'"') => At::AfterQuote,
-            (At::Quoted, _) => At::Quoted,
-            (_, b) if b == delimiter => At::Start,
-            (At::Start | At::AfterQuote, b'"') => At::Quoted,
-            _ => At::Field,
-        };
-    }
-    at == At::Quoted
 }
 
 #[cfg(test)]
