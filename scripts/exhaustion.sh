@@ -3,7 +3,8 @@
 #   1. a CSV of 10^8 rows (about 4 GB): `identify --stream` reads it row by row; `identify`
 #      without --stream refuses it before reading;
 #   2. a model file of 1 GB (sparse): refused before reading;
-#   3. a directory of 10^5 checkpoints: `hsid fleet --states` on all of them, and `ls` of it.
+#   3. a directory of 10^5 checkpoints and one sparse file of 1 GB: `hsid fleet --states` on
+#      all of them, and `ls` of it.
 # Not run by CI (it writes gigabytes into a temporary directory, removed at the end, and takes
 # tens of minutes); run it by hand after `cargo build --release -p hsid-host`.
 # PARTS="csv model fleet" chooses the parts; ROWS and STATES scale the sizes down to try it.
@@ -67,9 +68,12 @@ if [[ " $parts " == *" fleet "* ]]; then
   mkdir "$tmp/states"
   (cd "$tmp/states" && seq -f "dev%06g.bin" 1 "$states" | xargs -n 1000 sh -c \
     'for f; do cp "$0" "$f"; done' "$state")
+  # One file of 1 GB (sparse) among them: refused by its size, unread.
+  truncate -s 1G "$tmp/states/dev000000-big.bin"
   echo "-- ls -f (listing only)"
   peak ls -f "$tmp/states"
   echo "-- hsid fleet --states (list, read and solve each, one thread)"
   peak "$hsid" fleet --states "$tmp/states" --out "$tmp/models.jsonl" --threads 1
   echo "models: $(wc -l <"$tmp/models.jsonl") lines, $(stat -c %s "$tmp/models.jsonl") bytes"
+  head -n 1 "$tmp/models.jsonl" | cut -c1-400
 fi

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use clap::{Args, Subcommand};
 use hsid_host::fleet::simulate::FleetSpec;
-use hsid_host::fleet::solve::{FleetSettings, solve_dir, solve_one};
+use hsid_host::fleet::solve::{FleetError, FleetSettings, solve_dir_each, solve_one};
 use hsid_host::fleet::wear::{ReportOptions, wear_report};
 use hsid_host::fleet::write::write_fleet;
 
@@ -127,21 +127,32 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
         None => None,
     };
     let start = Instant::now();
-    let results = solve_dir(states, fleet.as_ref(), a.threads).map_err(|e| e.to_string())?;
-    let secs = start.elapsed().as_secs_f64();
-    let file = std::fs::File::create(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut w = BufWriter::new(file);
-    for r in &results {
-        writeln!(w, "{}", r.to_json()).map_err(|e| format!("{}: {e}", out.display()))?;
+    // The output is created with the first result, after the directory was listed: a batch
+    // that cannot start leaves no file behind.
+    let mut w: Option<BufWriter<std::fs::File>> = None;
+    let count = solve_dir_each(states, fleet.as_ref(), a.threads, &mut |r| {
+        let w = match &mut w {
+            Some(w) => w,
+            None => w.insert(BufWriter::new(std::fs::File::create(out)?)),
+        };
+        writeln!(w, "{}", r.to_json())
+    })
+    .map_err(|e| match e {
+        FleetError::Output(_) => format!("{}: {e}", out.display()),
+        e => e.to_string(),
+    })?;
+    match w {
+        Some(mut w) => w.flush(),
+        None => std::fs::File::create(out).map(drop),
     }
-    w.flush().map_err(|e| format!("{}: {e}", out.display()))?;
-    let failed = results.iter().filter(|r| r.outcome.is_err()).count();
+    .map_err(|e| format!("{}: {e}", out.display()))?;
+    let secs = start.elapsed().as_secs_f64();
     outln!(
         "{} devices: {} models, {} errors, in {secs:.2} s ({:.0} checkpoints/s); wrote {}",
-        results.len(),
-        results.len() - failed,
-        failed,
-        results.len() as f64 / secs,
+        count.devices,
+        count.devices - count.failed,
+        count.failed,
+        count.devices as f64 / secs,
         out.display()
     )?;
     Ok(())

@@ -98,3 +98,124 @@ fn zero_threads_and_a_missing_directory_stop_the_batch_with_a_typed_error() {
     assert_eq!(solve_dir(&missing, None, Some(1)).unwrap(), vec![]);
     std::fs::remove_dir_all(&missing).unwrap();
 }
+
+#[test]
+fn a_file_larger_than_any_checkpoint_is_refused_unread() {
+    use hsid_host::fleet::solve::MAX_CHECKPOINT_BYTES;
+    let dir = fresh_dir("large");
+    std::fs::create_dir_all(&dir).unwrap();
+    // A sparse file one byte over the limit: refused by its size, not read.
+    let big = std::fs::File::create(dir.join("big.bin")).unwrap();
+    big.set_len(MAX_CHECKPOINT_BYTES as u64 + 1).unwrap();
+    std::fs::write(dir.join("small.bin"), b"not a checkpoint").unwrap();
+    let r = solve_dir(&dir, None, Some(1)).unwrap();
+    let kinds: Vec<_> = r
+        .iter()
+        .map(|r| {
+            (
+                r.device.as_str(),
+                r.outcome.as_ref().err().map(|e| e.kind()),
+            )
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            ("big.bin", Some("file_too_large")),
+            ("small.bin", Some("not_a_checkpoint"))
+        ]
+    );
+    let message = r[0].outcome.as_ref().unwrap_err().to_string();
+    assert!(
+        message.contains(&format!("{} bytes", MAX_CHECKPOINT_BYTES + 1)),
+        "{message}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn results_come_in_the_listing_order_across_chunks_and_a_failing_output_stops_the_batch() {
+    use hsid_host::fleet::solve::solve_dir_each;
+    let dir = fresh_dir("chunks");
+    std::fs::create_dir_all(&dir).unwrap();
+    // More files than one chunk of two threads holds (2 × 64).
+    let n = 300;
+    for i in 0..n {
+        std::fs::write(dir.join(format!("d{i:04}.bin")), format!("device {i}")).unwrap();
+    }
+    let mut seen = Vec::new();
+    let count = solve_dir_each(&dir, None, Some(2), &mut |r| {
+        assert_eq!(
+            r.outcome.as_ref().err().map(|e| e.kind()),
+            Some("not_a_checkpoint")
+        );
+        seen.push(r.device);
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!((count.devices, count.failed), (n, n));
+    let expected: Vec<String> = (0..n).map(|i| format!("d{i:04}.bin")).collect();
+    assert_eq!(seen, expected);
+
+    let mut written = 0;
+    let stopped = solve_dir_each(&dir, None, Some(2), &mut |_| {
+        written += 1;
+        if written == 5 {
+            Err(std::io::Error::other("disk full"))
+        } else {
+            Ok(())
+        }
+    });
+    assert!(
+        matches!(&stopped, Err(FleetError::Output(e)) if e.contains("disk full")),
+        "{stopped:?}"
+    );
+    assert_eq!(written, 5);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_cli_writes_one_line_per_device_and_no_file_when_the_batch_cannot_start() {
+    use std::process::Command;
+    let root = fresh_dir("cli");
+    let states = root.join("states");
+    std::fs::create_dir_all(&states).unwrap();
+    std::fs::write(states.join("a.bin"), b"junk").unwrap();
+    std::fs::write(states.join("b.bin"), b"more junk").unwrap();
+    let out = root.join("models.jsonl");
+    let run = |states: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_hsid"))
+            .args(["fleet", "--threads", "2", "--states"])
+            .arg(states)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let ok = run(&states);
+    assert!(ok.status.success(), "{ok:?}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0]["device"], "a.bin");
+    assert_eq!(lines[1]["error"]["kind"], "not_a_checkpoint");
+    assert!(String::from_utf8_lossy(&ok.stdout).contains("2 devices: 0 models, 2 errors"));
+
+    std::fs::remove_file(&out).unwrap();
+    let missing = run(&root.join("nowhere"));
+    assert!(!missing.status.success());
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(
+        err.contains("nowhere") && err.contains("cannot list"),
+        "{err}"
+    );
+    assert!(
+        !out.exists(),
+        "a batch that could not start wrote {}",
+        out.display()
+    );
+    std::fs::remove_dir_all(&root).unwrap();
+}

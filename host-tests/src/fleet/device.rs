@@ -16,6 +16,13 @@ pub enum DeviceError {
     /// The checkpoint was read but restoring or solving it failed (truncated, corrupt, not a
     /// checkpoint, or an identification that failed on the data it holds).
     Solve(IdentifyError),
+    /// The file is larger than any checkpoint the desktop front end can restore; it was not read.
+    FileTooLarge {
+        /// The file's size in bytes (or the bytes read before the limit was passed).
+        bytes: u64,
+        /// The largest checkpoint, in bytes.
+        limit: usize,
+    },
     /// A valid checkpoint written with other settings than the fleet's.
     ForeignSettings {
         /// What differs, e.g. `"knots"` or `"horizons f = 8, p = 8 (fleet: f = 10, p = 10)"`.
@@ -29,6 +36,7 @@ impl DeviceError {
     pub fn kind(&self) -> &'static str {
         match self {
             DeviceError::Unreadable(_) => "unreadable",
+            DeviceError::FileTooLarge { .. } => "file_too_large",
             DeviceError::ForeignSettings { .. } => "foreign_settings",
             DeviceError::Solve(IdentifyError::Core(Error::Checkpoint(c))) => checkpoint_kind(*c),
             DeviceError::Solve(IdentifyError::TooLarge { .. }) => "too_large",
@@ -58,6 +66,10 @@ impl fmt::Display for DeviceError {
         match self {
             DeviceError::Unreadable(e) => write!(f, "cannot read the checkpoint: {e}"),
             DeviceError::Solve(e) => write!(f, "{e}"),
+            DeviceError::FileTooLarge { bytes, limit } => write!(
+                f,
+                "{bytes} bytes, more than the largest checkpoint ({limit} bytes): not a checkpoint; keep only checkpoint files in the directory"
+            ),
             DeviceError::ForeignSettings { what } => write!(
                 f,
                 "written with other settings than the fleet's ({what}): solve it with its own fleet's settings or on its own (hsid solve --state)"

@@ -2,12 +2,15 @@
 //! given, whatever fails.
 
 use std::fmt;
+use std::io::Read;
 use std::path::{Path, PathBuf};
+
+use hsid::{checkpoint_capacity, compensated_checkpoint_capacity};
 
 use rayon::prelude::*;
 
 use super::device::{DeviceError, DeviceResult};
-use crate::identify::{CheckpointSolve, solve_checkpoint};
+use crate::identify::{CheckpointSolve, MAX_BLOCK_ROWS, MAX_CHANNELS, solve_checkpoint};
 
 /// The settings every checkpoint of a fleet must have been written with: knots and horizons.
 /// A checkpoint with others is reported as [`DeviceError::ForeignSettings`].
@@ -70,6 +73,8 @@ pub enum FleetError {
     ZeroThreads,
     /// The thread pool could not be built (the operating system's reason).
     Pool(String),
+    /// A result could not be handed on (writing the output failed; the I/O error's text).
+    Output(String),
     /// The directory of checkpoints could not be listed.
     Directory {
         /// The directory.
@@ -84,6 +89,7 @@ impl fmt::Display for FleetError {
         match self {
             FleetError::ZeroThreads => f.write_str("threads = 0: give at least one thread"),
             FleetError::Pool(e) => write!(f, "cannot start the worker threads: {e}"),
+            FleetError::Output(e) => write!(f, "cannot write the results: {e}"),
             FleetError::Directory { dir, error } => {
                 write!(f, "{dir}: cannot list the checkpoints: {error}")
             }
@@ -168,31 +174,110 @@ pub fn list_dir(dir: &Path) -> Result<Vec<Entry>, FleetError> {
     Ok(out)
 }
 
-/// Solves every checkpoint file of `dir` ([`list_dir`]) on `threads` workers, each file read
-/// by the worker that solves it (a fleet's checkpoints need not fit in memory at once); a file
-/// that cannot be read is that device's error.
+/// The largest checkpoint any capacity of the desktop front end can write (compensated sums in
+/// `f64` at the largest capacity): a larger file is no checkpoint and is not read.
+pub const MAX_CHECKPOINT_BYTES: usize = {
+    let plain = checkpoint_capacity(MAX_CHANNELS, MAX_BLOCK_ROWS, 8);
+    let compensated = compensated_checkpoint_capacity(MAX_CHANNELS, MAX_BLOCK_ROWS, 8);
+    if plain > compensated {
+        plain
+    } else {
+        compensated
+    }
+};
+
+/// Checkpoints solved at once per worker thread: a chunk's results are handed on, in order,
+/// before the next chunk is read, so memory holds the listing and at most this many results
+/// per thread, whatever the size of the fleet.
+const CHUNK_PER_THREAD: usize = 64;
+
+/// A checkpoint file's bytes, read by the worker that solves it; a file larger than
+/// [`MAX_CHECKPOINT_BYTES`] is refused unread (its size is checked before and while reading).
+fn read_checkpoint(path: &Path) -> Result<Vec<u8>, DeviceError> {
+    let unreadable = |e: std::io::Error| DeviceError::Unreadable(e.to_string());
+    let file = std::fs::File::open(path).map_err(unreadable)?;
+    let len = file.metadata().map_err(unreadable)?.len();
+    let limit = MAX_CHECKPOINT_BYTES as u64;
+    let too_large = |bytes| DeviceError::FileTooLarge {
+        bytes,
+        limit: MAX_CHECKPOINT_BYTES,
+    };
+    if len > limit {
+        return Err(too_large(len));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(unreadable)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// How many devices a batch solved, and how many of them have an error instead of a model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FleetCount {
+    /// Devices (files of the directory, and entries that could not be listed).
+    pub devices: usize,
+    /// Devices with an error.
+    pub failed: usize,
+}
+
+/// Solves every checkpoint file of `dir` ([`list_dir`]) on `threads` workers and hands each
+/// device's result to `each`, in the listing's order, as its chunk completes. Each file is
+/// read by the worker that solves it, and only a chunk's results are held at once: memory is
+/// the listing plus a bounded number of checkpoints and models, whatever the fleet's size. A
+/// file that cannot be read, or is larger than any checkpoint, is that device's error; an error
+/// of `each` (writing the results) stops the batch.
+pub fn solve_dir_each(
+    dir: &Path,
+    fleet: Option<&FleetSettings>,
+    threads: Option<usize>,
+    each: &mut dyn FnMut(DeviceResult) -> std::io::Result<()>,
+) -> Result<FleetCount, FleetError> {
+    let files = list_dir(dir)?;
+    let pool = pool(threads)?;
+    let chunk = CHUNK_PER_THREAD * pool.current_num_threads().max(1);
+    let mut count = FleetCount::default();
+    for part in files.chunks(chunk) {
+        let results: Vec<DeviceResult> = pool.install(|| {
+            part.par_iter()
+                .map(|(device, path)| {
+                    match path
+                        .as_ref()
+                        .map_err(Clone::clone)
+                        .and_then(|p| read_checkpoint(p))
+                    {
+                        Ok(bytes) => solve_one(device, &bytes, fleet),
+                        Err(e) => DeviceResult {
+                            device: device.clone(),
+                            outcome: Err(e),
+                        },
+                    }
+                })
+                .collect()
+        });
+        for r in results {
+            count.devices += 1;
+            count.failed += usize::from(r.outcome.is_err());
+            each(r).map_err(|e| FleetError::Output(e.to_string()))?;
+        }
+    }
+    Ok(count)
+}
+
+/// [`solve_dir_each`], every result collected in a vector (memory grows with the fleet: for
+/// a large fleet, hand the results on with [`solve_dir_each`]).
 pub fn solve_dir(
     dir: &Path,
     fleet: Option<&FleetSettings>,
     threads: Option<usize>,
 ) -> Result<Vec<DeviceResult>, FleetError> {
-    let files = list_dir(dir)?;
-    let pool = pool(threads)?;
-    Ok(pool.install(|| {
-        files
-            .par_iter()
-            .map(|(device, path)| {
-                let bytes = path.as_ref().map_err(Clone::clone).and_then(|p| {
-                    std::fs::read(p).map_err(|e| DeviceError::Unreadable(e.to_string()))
-                });
-                match bytes {
-                    Ok(bytes) => solve_one(device, &bytes, fleet),
-                    Err(e) => DeviceResult {
-                        device: device.clone(),
-                        outcome: Err(e),
-                    },
-                }
-            })
-            .collect()
-    }))
+    let mut out = Vec::new();
+    solve_dir_each(dir, fleet, threads, &mut |r| {
+        out.push(r);
+        Ok(())
+    })?;
+    Ok(out)
 }
