@@ -201,7 +201,10 @@ fn trim_line(buf: &[u8], line: usize) -> &[u8] {
 /// (`csv-core`) over the line, so quoting follows the same rules (a quote opens a quoted field
 /// only at its start, `""` inside one is a quote, text after the closing quote is kept).
 struct Unquote {
-    parser: csv_core::Reader,
+    delimiter: u8,
+    /// The parser, built on first use (building it compiles its state machine: once per
+    /// stream, not once per delimiter tried).
+    parser: Option<csv_core::Reader>,
     out: Vec<u8>,
     ends: Vec<usize>,
 }
@@ -209,7 +212,8 @@ struct Unquote {
 impl Unquote {
     fn new(delimiter: u8) -> Self {
         Self {
-            parser: csv_core::ReaderBuilder::new().delimiter(delimiter).build(),
+            delimiter,
+            parser: None,
             out: Vec::new(),
             ends: Vec::new(),
         }
@@ -224,15 +228,17 @@ impl Unquote {
         self.out.resize(line.len() + 1, 0);
         self.ends.clear();
         self.ends.resize(line.len() + 2, 0);
-        self.parser.reset();
-        let (res, _, o1, e1) = self.parser.read_record(line, &mut self.out, &mut self.ends);
+        let delimiter = self.delimiter;
+        let parser = self
+            .parser
+            .get_or_insert_with(|| csv_core::ReaderBuilder::new().delimiter(delimiter).build());
+        parser.reset();
+        let (res, _, o1, e1) = parser.read_record(line, &mut self.out, &mut self.ends);
         if !matches!(res, csv_core::ReadRecordResult::InputEmpty) {
             return Err("the line did not parse as one CSV record");
         }
         // The line end ends the record, unless the parser takes it into a quoted field.
-        let (res, _, o2, e2) =
-            self.parser
-                .read_record(b"\n", &mut self.out[o1..], &mut self.ends[e1..]);
+        let (res, _, o2, e2) = parser.read_record(b"\n", &mut self.out[o1..], &mut self.ends[e1..]);
         if !matches!(res, csv_core::ReadRecordResult::Record) {
             return Err("a quoted field runs past the end of its line (a record is one line here)");
         }
