@@ -38,4 +38,5 @@ pub use error::PlotError;
 pub use figure::Figure;
 pub use series::Series;
 pub use style::{Dash, LegendPosition, Marker, PALETTE};
+pub use svg::escape;
 pub use ticks::{log_ticks, nice_step, nice_ticks};

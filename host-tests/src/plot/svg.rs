@@ -46,7 +46,10 @@ pub(super) fn num(v: f64) -> String {
     }
 }
 
-pub(super) fn escape(s: &str) -> String {
+/// `s` for markup text and quoted attribute values, in SVG and in HTML alike: `& < > " '`
+/// replaced by their entities, and the control characters XML does not allow (all below
+/// U+0020 except tab and line feed) dropped.
+pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
