@@ -7,7 +7,7 @@ use hsid::Basis;
 use hsid_host::diagnose::Nonlinearity;
 use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
 use hsid_host::model_file::{NonlinearityKind, Units};
-use hsid_host::units::{Origin, checked_ts, ts_from_column};
+use hsid_host::units::{Origin, checked_ts, ts_from_column, ts_from_comments};
 
 /// How the CSV files are read.
 #[derive(Args, Clone, Debug)]
@@ -169,8 +169,9 @@ impl From<NonlinearityArg> for Nonlinearity {
 #[derive(Args, Clone, Debug)]
 pub struct UnitArgs {
     /// Sample time in seconds (> 0). Without it, the step of the record's time column when it
-    /// has one (it must then agree within 0.1 %); with neither, times are in samples and
-    /// frequencies in rad/sample.
+    /// has one, or its header comment `# ts = 0.01 s` (as `hsid simulate` writes it); every
+    /// one stated must agree within 0.1 %. With none, times are in samples and frequencies in
+    /// rad/sample.
     #[arg(long, allow_hyphen_values = true)]
     pub ts: Option<f64>,
     /// Unit of the input u (free text, e.g. `V`), for the reports and the model file.
@@ -246,8 +247,9 @@ impl UnitArgs {
 pub struct Record {
     /// The requested columns and the line of each row.
     pub table: Table,
-    /// The sample time from the time column, with where it came from.
-    pub ts: Option<(Origin, f64)>,
+    /// The sample times the record states, with where each came from: its header comment
+    /// `# ts = … s` and its time column (none, one or both; `resolve_ts` checks agreement).
+    pub ts: Vec<(Origin, f64)>,
 }
 
 /// Reads the columns `names` from `data` (a file, or `-` for standard input) and the time
@@ -262,23 +264,26 @@ pub fn read_record(
         delimiter: csv.delimiter(),
     };
     let (source, text) = read_source(data).map_err(|e| e.to_string())?;
+    let mut ts: Vec<(Origin, f64)> = ts_from_comments(&source, &text)
+        .map_err(|e| e.to_string())?
+        .map(|v| (Origin::Comment(source.clone()), v))
+        .into_iter()
+        .collect();
     let (time, named) = units.time_column();
     let mut all = names.to_vec();
     all.push(time);
     let mut table = match parse_table(&source, &text, &all, &options) {
         Err(IoError::MissingColumn { column, .. }) if !named && column == time.trim() => {
             return parse_table(&source, &text, names, &options)
-                .map(|table| Record { table, ts: None })
+                .map(|table| Record { table, ts })
                 .map_err(|e| e.to_string());
         }
         r => r.map_err(|e| e.to_string())?,
     };
     let t = table.columns.pop().unwrap_or_default();
-    let ts = ts_from_column(source.clone(), &t, &table.lines).map_err(|e| e.to_string())?;
-    Ok(Record {
-        table,
-        ts: Some((Origin::TimeColumn(source), ts)),
-    })
+    let column = ts_from_column(source.clone(), &t, &table.lines).map_err(|e| e.to_string())?;
+    ts.push((Origin::TimeColumn(source), column));
+    Ok(Record { table, ts })
 }
 
 /// Reads the columns `u, y` named by `columns` from `data` (a file, or `-` for standard input),

@@ -166,7 +166,7 @@ fn record(
     names: [&str; 2],
     csv: &CsvArgs,
     units: &UnitArgs,
-) -> Result<(Record, Option<(Origin, f64)>), String> {
+) -> Result<(Record, Vec<(Origin, f64)>), String> {
     let r = read_record(path, &names, csv, units)?;
     let [u, y]: [Vec<f64>; 2] = r
         .table

@@ -392,6 +392,30 @@ fn bad_sample_times_and_units_are_one_line_errors() {
         ],
     )
     .success();
+    // The simulated record's header comment `# ts = 0.01 s` is its sample time: the model
+    // has it without --ts, and a --ts that disagrees is refused naming the comment.
+    let from_comment = s.join("c.json");
+    identify(
+        &[&servo],
+        &[
+            "--no-refine",
+            "--f",
+            "10",
+            "--p",
+            "10",
+            "--json",
+            p(&from_comment),
+        ],
+    )
+    .success();
+    assert_eq!(json(&from_comment)["sample_time"], 0.01);
+    identify(&[&servo], &["--ts", "0.02", "--no-refine"]).clean_error(&[
+        "--ts gives a sample time of 0.02 s",
+        "the `# ts` comment of",
+        "0.01 s",
+    ]);
+    let bad = s.write("bad.csv", "# ts = 10 ms\nu,y\n-1,0\n");
+    identify(&[&bad], &[]).clean_error(&["bad.csv line 1", "# ts = 0.01 s"]);
     let plain = s.write_uy("plain.csv", &[-1.0; 50], &[-0.5; 50]);
     hsid(&[
         "validate",

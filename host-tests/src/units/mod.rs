@@ -21,4 +21,4 @@ pub mod report;
 pub mod time;
 
 pub use report::{GapAt, UnitReport, unit_report};
-pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column};
+pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column, ts_from_comments};

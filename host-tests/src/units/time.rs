@@ -19,6 +19,8 @@ pub enum Origin {
     ModelFile(PathBuf),
     /// The `ts` of a plant specification.
     PlantSpec(PathBuf),
+    /// A record's header comment `# ts = … s` (as `hsid simulate` writes it).
+    Comment(PathBuf),
 }
 
 impl fmt::Display for Origin {
@@ -28,6 +30,7 @@ impl fmt::Display for Origin {
             Self::TimeColumn(p) => write!(f, "the time column of {}", p.display()),
             Self::ModelFile(p) => write!(f, "the sample_time of {}", p.display()),
             Self::PlantSpec(p) => write!(f, "the ts of {}", p.display()),
+            Self::Comment(p) => write!(f, "the `# ts` comment of {}", p.display()),
         }
     }
 }
@@ -68,6 +71,15 @@ pub enum TimeError {
         step: f64,
         /// The mean step.
         ts: f64,
+    },
+    /// A header comment `# ts = … s` whose value is not a number.
+    BadComment {
+        /// The record.
+        source: PathBuf,
+        /// 1-based line of the comment.
+        line: usize,
+        /// The comment's text.
+        text: String,
     },
     /// Two sources state different sample times.
     Disagree {
@@ -116,6 +128,12 @@ impl fmt::Display for TimeError {
                 significant(*ts),
                 TS_TOLERANCE * 100.0
             ),
+            Self::BadComment { source, line, text } => write!(
+                f,
+                "{} line {line}: the comment `{text}` states no sample time: write it as \
+                 `# ts = 0.01 s` (seconds) or remove it",
+                source.display()
+            ),
             Self::Disagree { first, second } => write!(
                 f,
                 "{} gives a sample time of {} s but {} gives {} s; drop one or make them agree",
@@ -163,6 +181,37 @@ pub fn ts_from_column(source: PathBuf, t: &[f64], lines: &[usize]) -> Result<f64
         });
     }
     Ok(ts)
+}
+
+/// The sample time a record states in its header comments, the lines starting with `#`
+/// before the first other line: `# ts = 0.01 s`, as `hsid simulate` writes it
+/// ([`crate::simulate::header`]). `None` without such a line; a `# ts = … s` line whose value
+/// is not a positive number is an error, not ignored.
+pub fn ts_from_comments(source: &Path, text: &str) -> Result<Option<f64>, TimeError> {
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        let Some(comment) = line.strip_prefix('#') else {
+            return Ok(None);
+        };
+        let Some(value) = comment.trim().strip_prefix("ts").map(str::trim_start) else {
+            continue;
+        };
+        let Some(value) = value.strip_prefix('=') else {
+            continue;
+        };
+        let bad = || TimeError::BadComment {
+            source: source.to_path_buf(),
+            line: i + 1,
+            text: line.to_string(),
+        };
+        let number = value.trim().strip_suffix('s').ok_or_else(bad)?;
+        let ts: f64 = number.trim().parse().map_err(|_| bad())?;
+        return checked_ts(ts, Origin::Comment(source.to_path_buf())).map(Some);
+    }
+    Ok(None)
 }
 
 /// Checks that a time column `t` increases strictly; `lines` are the rows' 1-based lines, for
@@ -248,6 +297,35 @@ mod tests {
         let e = resolve_ts(&far).unwrap_err();
         assert!(
             e.to_string().contains("--ts gives a sample time of 0.01 s"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_header_comment_of_a_simulated_record_states_its_sample_time() {
+        let p = Path::new("sim.csv");
+        let header = crate::simulate::header(Some(0.01), Some("V"), Some("deg"));
+        let text = format!(
+            "# {}\n# {}\n# {}\nu,y\n-1,0\n",
+            header[0], header[1], header[2]
+        );
+        assert_eq!(ts_from_comments(p, &text), Ok(Some(0.01)));
+        // Only the comments before the header count; other comments are free text.
+        assert_eq!(
+            ts_from_comments(p, "# a servo\n\n#ts=2e-3 s\nu,y\n"),
+            Ok(Some(0.002))
+        );
+        assert_eq!(ts_from_comments(p, "u,y\n# ts = 0.01 s\n1,2\n"), Ok(None));
+        assert_eq!(
+            ts_from_comments(p, "# tsunami\n# units = V\nu,y\n"),
+            Ok(None)
+        );
+        let e = ts_from_comments(p, "# note\n# ts = 10 ms\nu,y\n").unwrap_err();
+        assert!(matches!(e, TimeError::BadComment { line: 2, .. }), "{e}");
+        assert!(e.to_string().contains("# ts = 0.01 s"), "{e}");
+        let e = ts_from_comments(p, "# ts = -1 s\n").unwrap_err();
+        assert!(
+            e.to_string().contains("the `# ts` comment of sim.csv"),
             "{e}"
         );
     }
