@@ -34,13 +34,7 @@ pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, F
     let Some(path) = &a.true_plant else {
         return Ok(None);
     };
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        format!(
-            "{}: cannot read the plant specification: {e}",
-            path.display()
-        )
-    })?;
-    let spec = PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let spec = PlantSpec::load(path).map_err(|e| e.to_string())?;
     let t = true_loop(&spec, model.u_min(), model.u_max(), 401)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(Some(TrueBorders {

@@ -2,11 +2,11 @@
 //! input record; the record with the simulated output as CSV on standard output.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use hsid_host::identify::HostModel;
-use hsid_host::io::{CsvOptions, read_source, write_columns_to};
+use hsid_host::io::{CsvOptions, write_columns_to};
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::NoiseModel;
 use hsid_host::simulate::{
@@ -92,10 +92,9 @@ pub fn run(a: &SimulateArgs) -> Result<(), String> {
 
 type Run = ((InputRecord, Output), Vec<String>);
 
-fn plant(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, String> {
-    let (name, text) = read_source(path).map_err(|e| e.to_string())?;
-    let mut spec =
-        PlantSpec::from_json_str(&text).map_err(|e| format!("{}: {e}", name.display()))?;
+fn plant(a: &SimulateArgs, path: &Path, csv: &CsvOptions) -> Result<Run, String> {
+    let mut spec = PlantSpec::load(path).map_err(|e| e.to_string())?;
+    let name = path.to_path_buf();
     let input = input(a, csv)?;
     // The specification's own check names its field when `ts` is not positive.
     let stored = spec.ts.map(|v| (Origin::PlantSpec(name.clone()), v));

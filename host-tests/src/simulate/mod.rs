@@ -16,6 +16,7 @@ mod noise;
 mod output;
 mod plant;
 mod spec;
+mod spec_file;
 mod true_loop;
 
 pub use element::{Static, element};
@@ -29,6 +30,7 @@ pub use spec::{
     ColourName, ColourSpec, Curve, ElementKind, ElementSpec, LinearSpec, NoiseSpec, PlantSpec,
     SectionSpec, Shape, TransferSpec, UnitsSpec,
 };
+pub use spec_file::{MAX_SPEC_BYTES, SpecFileError};
 pub use true_loop::{TrueLoop, true_loop};
 
 use crate::sim::Lti;
