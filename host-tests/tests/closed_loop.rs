@@ -25,7 +25,7 @@ fn the_feedback_check_separates_closed_from_open_loop_servos() {
     // The same reference and noise draws per seed, with and without the controller's feedback.
     let closed = ServoSpec::paper();
     let open = closed.open_loop();
-    let (mut fired_closed, mut fired_open) = (0, 0);
+    let (mut fired_closed, mut fired_open, mut sum_open) = (0, 0, 0.0);
     for seed in 0..SEEDS {
         let (c, o) = (test_record(&closed, seed), test_record(&open, seed));
         eprintln!(
@@ -34,8 +34,12 @@ fn the_feedback_check_separates_closed_from_open_loop_servos() {
         );
         fired_closed += usize::from(c.fires());
         fired_open += usize::from(o.fires());
+        sum_open += o.statistic;
     }
-    eprintln!("fired: closed loop {fired_closed}/{SEEDS}, open loop {fired_open}/{SEEDS}");
+    eprintln!(
+        "fired: closed loop {fired_closed}/{SEEDS}, open loop {fired_open}/{SEEDS} (mean χ² {:.1})",
+        sum_open / SEEDS as f64
+    );
     assert!(
         fired_closed >= 19,
         "closed loop fired on {fired_closed}/{SEEDS}"

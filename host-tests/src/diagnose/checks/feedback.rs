@@ -106,7 +106,7 @@ pub fn feedback_warning(t: &FeedbackTest) -> Option<Warning> {
             format!(
                 "earlier residuals of the open-loop model predict the input (χ² = {:.1} over {} lags, \
                  threshold {:.1}; strongest at lag {}): the record looks closed-loop (the \
-                 input computed from the measured output), which biases the open-loop subspace \
+                 input computed from the measured output), which can bias the open-loop subspace \
                  estimate and the output-error fit, pulling the poles toward the controller's; \
                  identify with the logged reference (--reference-column) or record an \
                  open-loop experiment",
