@@ -4,7 +4,8 @@
 //!
 //! 1. checks the data against the method's assumptions ([`checks`]): Table I structure, both
 //!    paths over the whole interval, persistent excitation, the hold for μ0, saturation,
-//!    quantisation, input levels;
+//!    quantisation, input levels, and feedback (a closed-loop record) against the base model's
+//!    residual;
 //! 2. identifies the paper's model and simulates it on the validation data;
 //! 3. tests the residual ([`residual`]): whiteness, independence from the input, δ and the
 //!    regressor, structure against the input per path and against the simulated output,
