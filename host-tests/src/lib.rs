@@ -4,6 +4,7 @@
 //! package's binary (`cli/`), built on this library; the library knows no command line.
 
 pub mod choose;
+pub mod closed_loop;
 pub mod diagnose;
 pub mod figures;
 pub mod fleet;

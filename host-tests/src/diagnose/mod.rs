@@ -4,7 +4,8 @@
 //!
 //! 1. checks the data against the method's assumptions ([`checks`]): Table I structure, both
 //!    paths over the whole interval, persistent excitation, the hold for μ0, saturation,
-//!    quantisation, input levels;
+//!    quantisation, input levels, and feedback (a closed-loop record) against the base model's
+//!    residual;
 //! 2. identifies the paper's model and simulates it on the validation data;
 //! 3. tests the residual ([`residual`]): whiteness, independence from the input, δ and the
 //!    regressor, structure against the input per path and against the simulated output,
@@ -114,7 +115,7 @@ fn diagnose_inner(
         Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
         None => String::new(),
     };
-    let warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
+    let mut warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
     let plan = fit_plan::FitPlan::new(opts, &id, est);
     let paper = model::fit_structure(&Structure::base(), est, &plan.paper)
         .map(|m| model::evaluate(&m, vrec, vrange.clone(), Metric::Simulation))
@@ -122,6 +123,13 @@ fn diagnose_inner(
     let (hold, ne) = (id.hold, est.len());
     let base = model::fit_structure(&Structure::base(), est, &plan.reported)?;
     let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
+    // The feedback check needs an open-loop model's residual on the estimation record.
+    let fit = model::evaluate(&base, est, hold..ne, Metric::Simulation);
+    warnings.extend(checks::feedback::feedback(
+        &est.u[hold.min(ne)..],
+        &fit.output[hold.min(ne)..],
+        &fit.residual,
+    ));
     let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
     let inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
     let holdout = effects::Holdout::with_folds(est, inner.folds.clone(), &plan.inner);

@@ -4,7 +4,7 @@
 use crate::diagnose::{Check, Test};
 
 /// Every data check, in the order `diagnose` runs them.
-pub const CHECKS: [Check; 7] = [
+pub const CHECKS: [Check; 8] = [
     Check::Table1Structure,
     Check::PathCoverage,
     Check::PersistentExcitation,
@@ -12,6 +12,7 @@ pub const CHECKS: [Check; 7] = [
     Check::OutputSaturation,
     Check::OutputQuantisation,
     Check::InputLevels,
+    Check::Feedback,
 ];
 
 /// `(what it means, what to do)` for a data check that warns.
@@ -54,6 +55,12 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
             "The input takes few distinct values: the borders between those levels are not \
              determined.",
             "Use sweeps through many levels (hsid excite) rather than steps.",
+        ),
+        Check::Feedback => (
+            "The input is correlated with earlier residuals: it was computed from the measured \
+             output (closed loop), which biases the open-loop estimate toward the controller.",
+            "Identify with the logged reference (--reference-column), or record an open-loop \
+             experiment.",
         ),
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod coverage;
 pub mod excitation;
+pub mod feedback;
 pub mod hold;
 pub mod input_levels;
 pub mod output;

@@ -22,6 +22,8 @@ pub enum Check {
     OutputQuantisation,
     /// The input takes few distinct values.
     InputLevels,
+    /// The input is correlated with earlier residuals: feedback.
+    Feedback,
 }
 
 impl Check {
@@ -35,6 +37,7 @@ impl Check {
             Check::OutputSaturation => "output_saturation",
             Check::OutputQuantisation => "output_quantisation",
             Check::InputLevels => "input_levels",
+            Check::Feedback => "feedback",
         }
     }
 }
