@@ -59,8 +59,9 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
         Check::Feedback => (
             "The input is correlated with earlier residuals: it was computed from the measured \
              output (closed loop), which biases the open-loop estimate toward the controller.",
-            "Identify with the logged reference (--reference-column), or record an open-loop \
-             experiment.",
+            "Record an open-loop experiment (an input not computed from the output, e.g. hsid \
+             excite). A model far from the data can also look like feedback: see the other \
+             warnings first.",
         ),
     }
 }

@@ -108,8 +108,9 @@ pub fn feedback_warning(t: &FeedbackTest) -> Option<Warning> {
                  threshold {:.1}; strongest at lag {}): the record looks closed-loop (the \
                  input computed from the measured output), which can bias the open-loop subspace \
                  estimate and the output-error fit, pulling the poles toward the controller's; \
-                 identify with the logged reference (--reference-column) or record an \
-                 open-loop experiment",
+                 record an open-loop experiment (an input not computed from the output, e.g. \
+                 hsid excite); a model far from the data (see the other warnings) can also \
+                 look like feedback",
                 t.statistic, t.lags, t.threshold, t.lag
             ),
         )
