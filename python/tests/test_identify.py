@@ -35,11 +35,13 @@ def test_default_identify_equals_hsid_identify_json(refined, record, cli, tmp_pa
 
 def test_paper_estimator_equals_hsid_identify_no_refine(record, cli, tmp_path):
     path, u, y = record
-    model = hsid.identify(u, y, -1.0, 1.0, refine=False, segments=7, f=10, p=10)
+    # The record's header comment `# ts = 0.01 s` is its sample time for the command line
+    # (its unit comments are not read); numpy arrays carry none, so it is given here.
+    model = hsid.identify(u, y, -1.0, 1.0, refine=False, segments=7, f=10, p=10, ts=0.01)
     text = cli_model(cli, tmp_path, path, "--no-refine", "--segments", "7", "--f", "10", "--p", "10")
     assert model.to_json() == text
     assert model.std is None
-    assert model.ts is None and model.units is None
+    assert model.ts == 0.01 and model.units is None
 
 
 def test_refined_poles_and_gap_match_the_plant(refined, spec):
