@@ -21,6 +21,7 @@ use super::warning::{Check, Warning, warn};
 use crate::diagnose::residual::result::LEVEL;
 use crate::diagnose::stats::chi2_quantile;
 use crate::identify::{IdentifyError, IdentifyOptions, identify};
+use crate::numerics::lstsq::{Scaling, solve_normal};
 
 /// Past residuals tested, `K`.
 pub const LAGS: usize = 10;
@@ -45,11 +46,6 @@ impl FeedbackTest {
     }
 }
 
-/// Least squares of `b` on the columns of `x`.
-fn least_squares(x: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    x.clone().svd(true, true).solve(b, 1e-12).ok()
-}
-
 /// The test on an input, the model's simulated output and its residual `y − ŷ`, of one
 /// length (the excitation part, without the hold), or `None` when there are fewer than
 /// `10 (L + 2K + 1)` samples or the regression is degenerate.
@@ -72,11 +68,13 @@ pub fn feedback_test(u: &[f64], simulated: &[f64], residual: &[f64]) -> Option<F
         }
     });
     let b = DVector::from_fn(rows, |i, _| u[i + l]);
-    let coef = least_squares(&x, &b)?;
+    // One Gram for the coefficients and their covariance.
+    let gram = x.transpose() * &x;
+    let coef = solve_normal(&gram, &(x.transpose() * &b), Scaling::UnitDiagonal)?;
     let e = &b - &x * &coef;
     // Heteroscedasticity-robust (White) covariance of the coefficients: the input's innovation
     // is not of one variance over a Table I cycle.
-    let inv = (x.transpose() * &x).try_inverse()?;
+    let inv = gram.try_inverse()?;
     let xe = DMatrix::from_fn(rows, cols, |i, j| x[(i, j)] * e[i]);
     let meat = xe.transpose() * xe;
     let cov = &inv * meat * &inv * (rows as f64 / (rows - cols) as f64);
