@@ -4,4 +4,4 @@
 
 pub mod simulate;
 
-pub use simulate::{Servo, ServoError, ServoSpec, open_loop_output, simulate_servo};
+pub use simulate::{Servo, ServoError, ServoSpec, simulate_servo};

@@ -12,9 +12,6 @@
 //! "command, `u_max`, command, `u_min`", exactly the Table I cycle with the random levels
 //! replaced by the controller's output. The record starts with a hold at `u_min` (controller
 //! off), for μ0. The input is therefore a function of past noise: a closed-loop record.
-//!
-//! [`open_loop_output`] applies a given input to the same plant with independent noise: the
-//! same input statistics without feedback, the null case of the feedback check.
 
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
@@ -125,13 +122,6 @@ pub enum ServoError {
     Setting,
     /// The reference's smoothing pole is outside `[0, 1[`.
     ReferencePole(f64),
-    /// The input given to [`open_loop_output`] is not of the spec's length.
-    Length {
-        /// Samples given.
-        given: usize,
-        /// Samples of the spec (hold and record).
-        expected: usize,
-    },
 }
 
 impl std::fmt::Display for ServoError {
@@ -148,10 +138,6 @@ impl std::fmt::Display for ServoError {
             ServoError::ReferencePole(p) => {
                 write!(f, "the reference's smoothing pole {p} must be in [0, 1[")
             }
-            ServoError::Length { given, expected } => write!(
-                f,
-                "the input has {given} samples, the servo {expected}: give hold + len samples"
-            ),
         }
     }
 }
@@ -210,28 +196,6 @@ pub fn simulate_servo(spec: &ServoSpec, seed: u64) -> Result<Servo, ServoError> 
     Ok(servo)
 }
 
-/// The output of the servo's plant for the input `u` (of `hold + len` samples) with the
-/// measurement noise of `seed`, no controller: an open-loop record of the same plant.
-pub fn open_loop_output(spec: &ServoSpec, u: &[f64], seed: u64) -> Result<Vec<f64>, ServoError> {
-    spec.check()?;
-    if u.len() != spec.hold + spec.len {
-        return Err(ServoError::Length {
-            given: u.len(),
-            expected: spec.hold + spec.len,
-        });
-    }
-    let mut rng = Pcg64::seed_from_u64(seed);
-    let mut element = spec.element();
-    element.reset();
-    let (mut g, mut gv) = (paper_plant(), paper_noise_model());
-    Ok(u.iter()
-        .map(|&ut| {
-            let e: f64 = StandardNormal.sample(&mut rng);
-            g.step(element.step(ut)) + gv.step(spec.noise_std * e)
-        })
-        .collect())
-}
-
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -283,14 +247,6 @@ mod tests {
         assert_eq!(
             simulate_servo(&spec, 0),
             Err(ServoError::ReferencePole(1.0))
-        );
-        let spec = ServoSpec::paper();
-        assert_eq!(
-            open_loop_output(&spec, &[0.0; 3], 0),
-            Err(ServoError::Length {
-                given: 3,
-                expected: 4100
-            })
         );
     }
 }
