@@ -65,4 +65,4 @@ for t in "${targets[@]}"; do
   echo "fuzz $t: $runs executions (at most ${FUZZ_RUNS:-unbounded} in at most $seconds s) in $elapsed s, no crash"
   keep
 done
-echo "fuzz smoke: ${#targets[@]} targets ran ${seconds} s each without a crash or a hang"
+echo "fuzz smoke: ${#targets[@]} targets ran (each at most ${seconds} s${FUZZ_RUNS:+ or $FUZZ_RUNS executions}) without a crash or a hang"
