@@ -7,7 +7,10 @@ use hsid::Basis;
 use hsid_host::diagnose::Nonlinearity;
 use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
 use hsid_host::model_file::{NonlinearityKind, Units};
-use hsid_host::units::{Origin, checked_ts, ts_from_column, ts_from_comments};
+use hsid_host::units::{
+    Origin, UnitsOrigin, checked_ts, resolve_units, ts_from_column, ts_from_comments,
+    units_from_comments,
+};
 
 /// How the CSV files are read.
 #[derive(Args, Clone, Debug)]
@@ -174,7 +177,9 @@ pub struct UnitArgs {
     /// rad/sample.
     #[arg(long, allow_hyphen_values = true)]
     pub ts: Option<f64>,
-    /// Unit of the input u (free text, e.g. `V`), for the reports and the model file.
+    /// Unit of the input u (free text, e.g. `V`), for the reports and the model file. Without
+    /// it, the record's header comments `# input unit = V` and `# output unit = deg` (as
+    /// `hsid simulate` writes them); every one stated must agree.
     #[arg(long, requires = "output_unit")]
     pub input_unit: Option<String>,
     /// Unit of the output y (free text, e.g. `deg`).
@@ -242,6 +247,26 @@ impl UnitArgs {
     }
 }
 
+/// `units` (from `origin`: the flags, or a model file's) checked against the units the records'
+/// header comments state (`# input unit = V`, `# output unit = deg`, as `hsid simulate` writes
+/// them); without `units`, the comments' own.
+pub fn with_comments(
+    units: Option<Units>,
+    origin: UnitsOrigin,
+    comments: &[(PathBuf, Units)],
+) -> Result<Option<Units>, String> {
+    let stated: Vec<(UnitsOrigin, Units)> = units
+        .map(|u| (origin, u))
+        .into_iter()
+        .chain(
+            comments
+                .iter()
+                .map(|(p, u)| (UnitsOrigin::Comment(p.clone()), u.clone())),
+        )
+        .collect();
+    resolve_units(&stated).map_err(|e| e.to_string())
+}
+
 /// A record read from CSV: the requested columns and, when the file has a time column, its
 /// sample time.
 pub struct Record {
@@ -250,6 +275,9 @@ pub struct Record {
     /// The sample times the record states, with where each came from: its header comment
     /// `# ts = … s` and its time column (none, one or both; `resolve_ts` checks agreement).
     pub ts: Vec<(Origin, f64)>,
+    /// The units its header comments state (`# input unit = …`, `# output unit = …`), with
+    /// the record's name.
+    pub units: Option<(PathBuf, Units)>,
 }
 
 /// Reads the columns `names` from `data` (a file, or `-` for standard input) and the time
@@ -269,13 +297,20 @@ pub fn read_record(
         .map(|v| (Origin::Comment(source.clone()), v))
         .into_iter()
         .collect();
+    let stated_units = units_from_comments(&source, &text)
+        .map_err(|e| e.to_string())?
+        .map(|u| (source.clone(), u));
     let (time, named) = units.time_column();
     let mut all = names.to_vec();
     all.push(time);
     let mut table = match parse_table(&source, &text, &all, &options) {
         Err(IoError::MissingColumn { column, .. }) if !named && column == time.trim() => {
             return parse_table(&source, &text, names, &options)
-                .map(|table| Record { table, ts })
+                .map(|table| Record {
+                    table,
+                    ts,
+                    units: stated_units,
+                })
                 .map_err(|e| e.to_string());
         }
         r => r.map_err(|e| e.to_string())?,
@@ -283,7 +318,11 @@ pub fn read_record(
     let t = table.columns.pop().unwrap_or_default();
     let column = ts_from_column(source.clone(), &t, &table.lines).map_err(|e| e.to_string())?;
     ts.push((Origin::TimeColumn(source), column));
-    Ok(Record { table, ts })
+    Ok(Record {
+        table,
+        ts,
+        units: stated_units,
+    })
 }
 
 /// Reads the columns `u, y` named by `columns` from `data` (a file, or `-` for standard input),

@@ -12,9 +12,12 @@ use hsid_host::diagnose::{
 use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::units::{Origin, resolve_ts};
+use hsid_host::model_file::Units;
+use hsid_host::units::{Origin, UnitsOrigin, resolve_ts};
 
-use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, read_record};
+use crate::args::{
+    CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, read_record, with_comments,
+};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -160,20 +163,32 @@ fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
     Ok(p(a)?..p(b)?)
 }
 
-/// Reads the two columns of a CSV file as a record, with the sample time of its time column.
+/// A record read for diagnosis, with the sample times and units its file states.
+struct Stated {
+    record: Record,
+    ts: Vec<(Origin, f64)>,
+    units: Option<(PathBuf, Units)>,
+}
+
+/// Reads the two columns of a CSV file as a record, with the sample times of its time column
+/// and header comment and the units of its header comments.
 fn record(
     path: &std::path::Path,
     names: [&str; 2],
     csv: &CsvArgs,
     units: &UnitArgs,
-) -> Result<(Record, Vec<(Origin, f64)>), String> {
+) -> Result<Stated, String> {
     let r = read_record(path, &names, csv, units)?;
     let [u, y]: [Vec<f64>; 2] = r
         .table
         .columns
         .try_into()
         .map_err(|_| "internal: two columns expected".to_string())?;
-    Ok((Record::new(u, y), r.ts))
+    Ok(Stated {
+        record: Record::new(u, y),
+        ts: r.ts,
+        units: r.units,
+    })
 }
 
 /// The identification settings: the interval (given, from the knots or from the data), the
@@ -278,8 +293,11 @@ fn not_in_the_model_file(e: Effect) -> bool {
 /// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
 /// model file.
 pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
-    let units = a.units.units()?;
-    let (est, est_ts) = record(
+    let Stated {
+        record: est,
+        ts: est_ts,
+        units: est_units,
+    } = record(
         &a.data,
         [&a.input_column, &a.output_column],
         &a.csv,
@@ -292,6 +310,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         .into_iter()
         .collect();
     stated.extend(est_ts);
+    let mut unit_comments: Vec<(PathBuf, Units)> = est_units.into_iter().collect();
     let val = match &a.validation {
         Some(path) => {
             let ic = a
@@ -302,13 +321,15 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
                 .validation_output_column
                 .as_ref()
                 .unwrap_or(&a.output_column);
-            let (r, ts) = record(path, [ic, oc], &a.csv, &a.units)?;
-            stated.extend(ts);
-            Some(r)
+            let r = record(path, [ic, oc], &a.csv, &a.units)?;
+            stated.extend(r.ts);
+            unit_comments.extend(r.units);
+            Some(r.record)
         }
         None => None,
     };
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
+    let units = with_comments(a.units.units()?, UnitsOrigin::Flags, &unit_comments)?;
     let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
     let opts = options(a, identify_options(a, &records)?)?;
     let validation = match (val, &a.holdout) {

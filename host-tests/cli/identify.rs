@@ -177,8 +177,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     if a.stream {
         return stream::run(a);
     }
-    let units = a.units.units()?;
     let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
+    let units = records.units.clone();
     records.check_junctions(umin, a.hold.settle())?;
     if a.integrating {
         to_increments(&mut records);

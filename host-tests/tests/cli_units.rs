@@ -409,6 +409,21 @@ fn bad_sample_times_and_units_are_one_line_errors() {
     )
     .success();
     assert_eq!(json(&from_comment)["sample_time"], 0.01);
+    // Its comments `# input unit = V`, `# output unit = deg` are its units, and flags that
+    // disagree are refused naming the comments.
+    assert_eq!(json(&from_comment)["units"]["input"], "V");
+    assert_eq!(json(&from_comment)["units"]["output"], "deg");
+    identify(
+        &[&servo],
+        &["--input-unit", "mV", "--output-unit", "deg", "--no-refine"],
+    )
+    .clean_error(&[
+        "--input-unit/--output-unit give u in mV and y in deg",
+        "the unit comments of",
+        "give u in V and y in deg",
+    ]);
+    let half = s.write("half.csv", "# output unit = deg\nu,y\n-1,0\n");
+    identify(&[&half], &[]).clean_error(&["half.csv line 1", "# input unit = …"]);
     identify(&[&servo], &["--ts", "0.02", "--no-refine"]).clean_error(&[
         "--ts gives a sample time of 0.02 s",
         "the `# ts` comment of",

@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 
 use hsid::Error;
 use hsid_host::identify::IdentifyError;
-use hsid_host::units::{Origin, resolve_ts};
+use hsid_host::model_file::Units;
+use hsid_host::units::{Origin, UnitsOrigin, resolve_ts};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, read_uy};
+use crate::args::{Columns, CsvArgs, UnitArgs, read_uy, with_comments};
 use crate::locate;
 
 /// The records of one identification, concatenated in the order given.
@@ -24,11 +25,14 @@ pub struct Records {
     pub y: Vec<f64>,
     /// The sample time, from `--ts` and the records' time columns, when known.
     pub ts: Option<f64>,
+    /// The units, from `--input-unit`/`--output-unit` and the records' header comments, when
+    /// known.
+    pub units: Option<Units>,
 }
 
 impl Records {
     /// Reads every file of `paths`; the sample times stated by `--ts` and by the time columns
-    /// must agree.
+    /// must agree, and so must the units stated by the flags and the header comments.
     pub fn read(
         paths: &[PathBuf],
         columns: &Columns,
@@ -44,10 +48,13 @@ impl Records {
             u: Vec::new(),
             y: Vec::new(),
             ts: None,
+            units: None,
         };
+        let mut unit_comments = Vec::new();
         for path in paths {
             let rec = read_uy(path, columns, csv, units)?;
             stated.extend(rec.ts);
+            unit_comments.extend(rec.units);
             let mut cols = rec.table.columns.into_iter();
             r.starts.push(r.u.len());
             r.u.extend(cols.next().unwrap_or_default());
@@ -55,6 +62,7 @@ impl Records {
             r.lines.push(rec.table.lines);
         }
         r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
+        r.units = with_comments(units.units()?, UnitsOrigin::Flags, &unit_comments)?;
         Ok(r)
     }
 

@@ -2,15 +2,15 @@
 //! given, whatever fails.
 
 use std::fmt;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use hsid::{checkpoint_capacity, compensated_checkpoint_capacity};
+use hsid::compensated_checkpoint_capacity;
 
 use rayon::prelude::*;
 
 use super::device::{DeviceError, DeviceResult};
 use crate::identify::{CheckpointSolve, MAX_BLOCK_ROWS, MAX_CHANNELS, solve_checkpoint};
+use crate::io::{LimitedReadError, read_limited};
 
 /// The settings every checkpoint of a fleet must have been written with: knots and horizons.
 /// A checkpoint with others is reported as [`DeviceError::ForeignSettings`].
@@ -174,17 +174,11 @@ pub fn list_dir(dir: &Path) -> Result<Vec<Entry>, FleetError> {
     Ok(out)
 }
 
-/// The largest checkpoint any capacity of the desktop front end can write (compensated sums in
-/// `f64` at the largest capacity): a larger file is no checkpoint and is not read.
-pub const MAX_CHECKPOINT_BYTES: usize = {
-    let plain = checkpoint_capacity(MAX_CHANNELS, MAX_BLOCK_ROWS, 8);
-    let compensated = compensated_checkpoint_capacity(MAX_CHANNELS, MAX_BLOCK_ROWS, 8);
-    if plain > compensated {
-        plain
-    } else {
-        compensated
-    }
-};
+/// The largest checkpoint any capacity of the desktop front end can write (compensated sums,
+/// which carry the plain checkpoint and more, in `f64` at the largest capacity): a larger file
+/// is no checkpoint and is not read.
+pub const MAX_CHECKPOINT_BYTES: usize =
+    compensated_checkpoint_capacity(MAX_CHANNELS, MAX_BLOCK_ROWS, 8);
 
 /// Checkpoints solved at once per worker thread: a chunk's results are handed on, in order,
 /// before the next chunk is read, so memory holds the listing and at most this many results
@@ -196,23 +190,16 @@ const CHUNK_PER_THREAD: usize = 64;
 fn read_checkpoint(path: &Path) -> Result<Vec<u8>, DeviceError> {
     let unreadable = |e: std::io::Error| DeviceError::Unreadable(e.to_string());
     let file = std::fs::File::open(path).map_err(unreadable)?;
-    let len = file.metadata().map_err(unreadable)?.len();
+    let meta = file.metadata().map_err(unreadable)?;
     let limit = MAX_CHECKPOINT_BYTES as u64;
-    let too_large = |bytes| DeviceError::FileTooLarge {
-        bytes,
-        limit: MAX_CHECKPOINT_BYTES,
-    };
-    if len > limit {
-        return Err(too_large(len));
-    }
-    let mut bytes = Vec::new();
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(unreadable)?;
-    if bytes.len() as u64 > limit {
-        return Err(too_large(bytes.len() as u64));
-    }
-    Ok(bytes)
+    read_limited(path, file, meta.is_file().then_some(meta.len()), limit).map_err(|e| match e {
+        // A file that grew past the limit while it was read: the bytes read, `limit + 1`.
+        LimitedReadError::TooLarge(t) => DeviceError::FileTooLarge {
+            bytes: t.bytes.unwrap_or(limit + 1),
+            limit: MAX_CHECKPOINT_BYTES,
+        },
+        LimitedReadError::File(e) => unreadable(e.source),
+    })
 }
 
 /// How many devices a batch solved, and how many of them have an error instead of a model.

@@ -1,0 +1,229 @@
+//! The signals' units from where a user or a file states them: the `--input-unit` /
+//! `--output-unit` flags, a model file, a plant specification, and a record's header comments
+//! `# input unit = V` / `# output unit = deg` (as `hsid simulate` writes them,
+//! [`crate::simulate::header`]). Every source that states them must agree.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::model_file::Units;
+
+/// Where the units were stated.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum UnitsOrigin {
+    /// The `--input-unit` and `--output-unit` flags.
+    Flags,
+    /// The `units` of a model file.
+    ModelFile(PathBuf),
+    /// The `units` of a plant specification.
+    PlantSpec(PathBuf),
+    /// A record's header comments `# input unit = …`, `# output unit = …`.
+    Comment(PathBuf),
+}
+
+impl fmt::Display for UnitsOrigin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Flags => write!(f, "--input-unit/--output-unit"),
+            Self::ModelFile(p) => write!(f, "the units of {}", p.display()),
+            Self::PlantSpec(p) => write!(f, "the units of {}", p.display()),
+            Self::Comment(p) => write!(f, "the unit comments of {}", p.display()),
+        }
+    }
+}
+
+/// Units that cannot be used.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum UnitsError {
+    /// A header comment `# input unit =` (or output) with nothing after the `=`.
+    EmptyComment {
+        /// The record.
+        source: PathBuf,
+        /// 1-based line of the comment.
+        line: usize,
+    },
+    /// The header states one signal's unit but not the other's.
+    HalfComment {
+        /// The record.
+        source: PathBuf,
+        /// 1-based line of the comment that is there.
+        line: usize,
+        /// The signal whose unit is stated (`"input"` or `"output"`).
+        stated: &'static str,
+    },
+    /// Two sources state different units.
+    Disagree {
+        /// The first source and its units.
+        first: Box<(UnitsOrigin, Units)>,
+        /// The second source and its units.
+        second: Box<(UnitsOrigin, Units)>,
+    },
+}
+
+impl fmt::Display for UnitsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::EmptyComment { source, line } => write!(
+                f,
+                "{} line {line}: a unit comment without a unit; write e.g. `# input unit = V` or drop the line",
+                source.display()
+            ),
+            Self::HalfComment {
+                source,
+                line,
+                stated,
+            } => {
+                let other = if *stated == "input" {
+                    "output"
+                } else {
+                    "input"
+                };
+                write!(
+                    f,
+                    "{} line {line}: the header states the {stated} unit but not the {other} unit; \
+                     add `# {other} unit = …` or drop the line",
+                    source.display()
+                )
+            }
+            Self::Disagree { first, second } => write!(
+                f,
+                "{} give u in {} and y in {} but {} give u in {} and y in {}; drop one or make them agree",
+                first.0, first.1.input, first.1.output, second.0, second.1.input, second.1.output
+            ),
+        }
+    }
+}
+
+impl std::error::Error for UnitsError {}
+
+/// The units a record's header comments state (the lines starting with `#` before the first
+/// other line): `# input unit = V` and `# output unit = deg`, both or neither.
+pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, UnitsError> {
+    let (mut input, mut output) = (None, None);
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        let Some(comment) = line.strip_prefix('#') else {
+            break;
+        };
+        let comment = comment.trim();
+        for (key, slot) in [("input unit", &mut input), ("output unit", &mut output)] {
+            let Some(value) = comment.strip_prefix(key).map(str::trim_start) else {
+                continue;
+            };
+            let Some(value) = value.strip_prefix('=') else {
+                continue;
+            };
+            let value = value.trim();
+            if value.is_empty() {
+                return Err(UnitsError::EmptyComment {
+                    source: source.to_path_buf(),
+                    line: i + 1,
+                });
+            }
+            *slot = Some((i + 1, value.to_string()));
+        }
+    }
+    let half = |line, stated| UnitsError::HalfComment {
+        source: source.to_path_buf(),
+        line,
+        stated,
+    };
+    match (input, output) {
+        (None, None) => Ok(None),
+        (Some((line, _)), None) => Err(half(line, "input")),
+        (None, Some((line, _))) => Err(half(line, "output")),
+        (Some((_, input)), Some((_, output))) => Ok(Some(Units { input, output })),
+    }
+}
+
+/// The units every source in `stated` agrees on (`None` when none states them), or the first
+/// disagreement.
+pub fn resolve_units(stated: &[(UnitsOrigin, Units)]) -> Result<Option<Units>, UnitsError> {
+    let Some(first) = stated.first() else {
+        return Ok(None);
+    };
+    match stated.iter().find(|(_, u)| *u != first.1) {
+        Some(other) => Err(UnitsError::Disagree {
+            first: Box::new(first.clone()),
+            second: Box::new(other.clone()),
+        }),
+        None => Ok(Some(first.1.clone())),
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::simulate::header;
+
+    fn units(i: &str, o: &str) -> Units {
+        Units {
+            input: i.into(),
+            output: o.into(),
+        }
+    }
+
+    #[test]
+    fn the_simulators_header_reads_back() {
+        let mut text: String = header(Some(0.01), Some("V"), Some("rad/s"))
+            .iter()
+            .map(|l| format!("# {l}\n"))
+            .collect();
+        text.push_str("u,y\n1,2\n# input unit = A\n");
+        let got = units_from_comments(Path::new("r.csv"), &text).unwrap();
+        assert_eq!(got, Some(units("V", "rad/s")));
+    }
+
+    #[test]
+    fn no_comment_no_units() {
+        let got = units_from_comments(Path::new("r.csv"), "# ts = 1 s\nu,y\n1,2\n").unwrap();
+        assert_eq!(got, None);
+    }
+
+    #[test]
+    fn half_or_empty_comments_are_errors() {
+        let e = units_from_comments(Path::new("r.csv"), "# ts = 1 s\n# output unit = deg\nu,y\n");
+        assert_eq!(
+            e,
+            Err(UnitsError::HalfComment {
+                source: "r.csv".into(),
+                line: 2,
+                stated: "output"
+            })
+        );
+        assert!(e.unwrap_err().to_string().contains("# input unit = …"));
+        let e = units_from_comments(Path::new("r.csv"), "# input unit =  \nu,y\n");
+        assert_eq!(
+            e,
+            Err(UnitsError::EmptyComment {
+                source: "r.csv".into(),
+                line: 1
+            })
+        );
+    }
+
+    #[test]
+    fn sources_must_agree() {
+        let a = (UnitsOrigin::Flags, units("V", "deg"));
+        let b = (UnitsOrigin::Comment("r.csv".into()), units("V", "deg"));
+        let c = (UnitsOrigin::ModelFile("m.json".into()), units("V", "rad"));
+        assert_eq!(resolve_units(&[]), Ok(None));
+        assert_eq!(
+            resolve_units(&[a.clone(), b.clone()]),
+            Ok(Some(units("V", "deg")))
+        );
+        let e = resolve_units(&[a.clone(), b, c.clone()]).unwrap_err();
+        assert_eq!(
+            e,
+            UnitsError::Disagree {
+                first: Box::new(a),
+                second: Box::new(c)
+            }
+        );
+        assert!(e.to_string().contains("m.json give u in V and y in rad"));
+    }
+}
