@@ -18,7 +18,7 @@
 //! * [`uncertainty`]: parameter standard deviations from `σ̂² (JᵀJ)⁻¹`, the poles' and the
 //!   gap's by the delta method.
 //! * [`gap`]: the play of a backlash model (input units) read from its borders.
-//! * [`file`]: the model in the project's model file (the key `"element"`).
+//! * [`file`](mod@file): the model in the project's model file (the key `"element"`).
 
 pub mod error;
 pub mod file;
