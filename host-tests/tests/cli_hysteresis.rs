@@ -12,7 +12,7 @@ use hsid_host::report::fit;
 
 mod common;
 
-use common::{Scratch, hsid, identify, p};
+use common::{Scratch, hsid, identify, p, schema_errors};
 
 const SERVO: Servo = Servo {
     kind: ElementKind::Backlash,
@@ -76,6 +76,8 @@ fn a_backlash_fitted_by_simulation_error_validates_within_the_noise_floor() {
     assert!((gap - 0.6).abs() < 0.06, "gap {gap}:\n{out}");
     let text = std::fs::read_to_string(&model).unwrap();
     assert!(text.contains("\"element\": \"play\""), "{text}");
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(schema_errors(&value), Vec::<String>::new(), "{text}");
 
     // validate runs the file through the play operator: within 1.3× the noise floor (the
     // two-path model of the same file is far off on this input, see docs/hysteresis.md).
