@@ -1,6 +1,7 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
 mod records;
+mod simulation;
 mod stream;
 
 use crate::failure::{Failure, outln};
@@ -114,6 +115,14 @@ pub struct IdentifyArgs {
     /// read (the time column is not checked).
     #[arg(long, conflicts_with_all = ["refine", "detrend", "html", "out", "true_plant"])]
     stream: bool,
+    /// `simulation`: after the identification, fit the element itself, the play operator
+    /// (backlash; also from --nonlinearity static) or the relay with borders (switch), on the
+    /// same knots with G(1) = 1 and the plant's resting level w(-1), by simulation-error
+    /// minimisation started from the identified model. For inputs that reverse inside the
+    /// range (inner loops), where two paths do not describe the element. One record; --json
+    /// writes this model (key "element").
+    #[arg(long, value_enum, conflicts_with_all = ["integrating", "stream"])]
+    fit: Option<simulation::FitArg>,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -288,7 +297,25 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             .map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
     }
-    if let Some(path) = &a.out.json {
+    if a.fit.is_some() {
+        if records.parts().len() > 1 {
+            return Err(
+                "--fit simulation takes one record (one --data): the element's state \
+                        does not carry across experiments"
+                    .to_string()
+                    .into(),
+            );
+        }
+        let fitting = simulation::Fitting {
+            u,
+            y,
+            hold,
+            nonlinearity: a.nonlinearity,
+            ts: records.ts,
+            units: units.clone(),
+        };
+        simulation::run(&fitting, &model, a.out.json.as_deref())?;
+    } else if let Some(path) = &a.out.json {
         let mut file = model.to_json(Some(a.nonlinearity.into()));
         file.noise = noise.as_ref().map(noise_file);
         file.std = std.map(|(s, _)| s);

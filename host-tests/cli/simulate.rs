@@ -5,6 +5,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use hsid_host::hysteresis::HysteresisModel;
+use hsid_host::hysteresis::simulate::simulate;
 use hsid_host::identify::HostModel;
 use hsid_host::io::{CsvOptions, write_columns_to};
 use hsid_host::model_file::{ModelFile, Units};
@@ -160,8 +162,13 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         .map(|v| (Origin::ModelFile(path.clone()), v));
     let ts = sample_time(a, stored, &input)?;
     let units: Option<Units> = a.units.units_with(file.units.clone(), path)?;
-    let out = simulate_model(&model, noise_model.as_ref(), &input, &opts)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let out = match HysteresisModel::from_file(&file) {
+        Some(h) => {
+            element_run(&h, &input, &opts).map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => simulate_model(&model, noise_model.as_ref(), &input, &opts)
+            .map_err(|e| format!("{}: {e}", path.display()))?,
+    };
     let units = units.as_ref();
     let lines = header(
         ts,
@@ -169,6 +176,28 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         units.map(|u| u.output.as_str()),
     );
     Ok(((input, out), lines))
+}
+
+/// A model file with a play or relay element: the element itself on the borders, noise-free
+/// and inside the knots only.
+fn element_run(
+    h: &HysteresisModel,
+    input: &InputRecord,
+    opts: &ModelOptions,
+) -> Result<Output, String> {
+    if opts.noise.is_some() || opts.extrapolate {
+        return Err("a play or relay model (\"element\") is simulated noise-free inside its knots: drop the noise options and --extrapolate".to_string());
+    }
+    let (lo, hi) = (h.knots[0], h.knots[h.knots.len() - 1]);
+    if let Some(i) = input.u.iter().position(|v| !(lo..=hi).contains(v)) {
+        return Err(format!(
+            "{} line {}: u = {} lies outside the model's interval [{lo}, {hi}]",
+            input.source.display(),
+            input.lines[i],
+            input.u[i]
+        ));
+    }
+    Ok(Output::clean(simulate(h, &input.u)))
 }
 
 /// The input record, with its time column when it has one (or it was named: then it must).

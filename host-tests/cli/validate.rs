@@ -8,6 +8,7 @@ use hsid_host::figures::{FigureSettings, Record, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::Element;
 use hsid_host::html::{Reproduction, figures};
+use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::NonlinearityKind;
 use hsid_host::model_file::{ModelFile, Units};
@@ -119,7 +120,18 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         )
         .into());
     }
-    let sim = m.simulate(u);
+    let element = HysteresisModel::from_file(&file);
+    if element.is_some() && noise.is_some() {
+        return Err(
+            "a play or relay model (\"element\") has no noise model or predictor: drop --noise"
+                .to_string()
+                .into(),
+        );
+    }
+    let sim = match &element {
+        Some(h) => hysteresis::simulate::simulate(h, u),
+        None => m.simulate(u),
+    };
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     if let Some(nm) = noise {
         let pred = InnovationForm::new(&m, &nm).predict(u, y);

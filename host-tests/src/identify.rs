@@ -538,6 +538,7 @@ impl HostModel {
             noise: None,
             std: None,
             integrating: false,
+            element: None,
         }
     }
 

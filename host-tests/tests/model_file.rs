@@ -54,6 +54,7 @@ fn model() -> ModelFile {
             border_desc: vec![0.03; 7],
         }),
         integrating: false,
+        element: None,
     }
 }
 

@@ -10,15 +10,11 @@ use crate::numerics::poly::observer_form;
 use crate::units::gap::gap_at;
 
 impl HysteresisModel {
-    /// The model as a [`HostModel`]: `G` in observer canonical form, `μ0 = w(−1)` (or the
-    /// border midpoint at `u_min` for a switch), and `H_a`, `H_d` as the borders on the knots.
+    /// The model as a [`HostModel`]: `G` in observer canonical form, `μ0 = w(−1)`, and `H_a`,
+    /// `H_d` as the borders on the knots.
     pub fn to_host(&self, samples: usize) -> HostModel {
         let (a, b, c, d) = observer_form(&self.b, &self.f);
-        let mu0 = if self.w0.is_finite() {
-            self.w0
-        } else {
-            0.5 * (self.border_asc[0] + self.border_desc[0])
-        };
+        let mu0 = self.w0;
         HostModel {
             order: self.f.len() - 1,
             a,

@@ -9,17 +9,19 @@
 //! * [`params`]: the ascending and descending borders `H_a`, `H_d` as values at the same
 //!   piecewise-linear knots as the two-path model, the linear part `G(q) = B(q)/F(q)` with
 //!   `G(1) = 1` (the borders carry the scale, as in the paper's assumption A.2), and the
-//!   element's initial output `w(−1)` (backlash).
+//!   element's initial output `w(−1)` (for a relay, the level the plant rests at).
 //! * [`simulate`]: the simulator's own play operator / relay on those borders feeding `G`,
-//!   which starts in the steady state of the element's initial output.
+//!   which starts in the steady state of `w(−1)`.
 //! * [`fit`]: the simulation error, its Jacobian by forward differences (justified there), the
 //!   shared Levenberg–Marquardt from the two-path or the static subspace estimate, bounded
 //!   iterations and typed errors.
 //! * [`uncertainty`]: parameter standard deviations from `σ̂² (JᵀJ)⁻¹`, the poles' and the
 //!   gap's by the delta method.
 //! * [`gap`]: the play of a backlash model (input units) read from its borders.
+//! * [`file`](mod@file): the model in the project's model file (the key `"element"`).
 
 pub mod error;
+pub mod file;
 pub mod fit;
 pub mod gap;
 pub mod params;

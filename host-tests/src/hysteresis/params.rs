@@ -1,9 +1,11 @@
 //! The parameterisation: the linear part `G = B/F` with `G(1) = 1`, the two borders at the
 //! knots, and the element's initial output.
 //!
-//! `θ = (f₁ … f_n, free b's, H_a(k₀) … H_a(k_K), H_d(k₀) … H_d(k_K), w(−1))`, the last only
-//! for a backlash (a relay has no continuous state). The numerator coefficient fixed by
-//! `G(1) = 1` is not a parameter, as in the prediction-error refinement's layout.
+//! `θ = (f₁ … f_n, free b's, H_a(k₀) … H_a(k_K), H_d(k₀) … H_d(k_K), w(−1))`: `w(−1)` is the
+//! element's output before the first sample, in whose steady state the plant rests (for a
+//! relay, which has no continuous state, only the plant's resting level). The numerator
+//! coefficient fixed by `G(1) = 1` is not a parameter, as in the prediction-error
+//! refinement's layout.
 
 use crate::refine::pem::ParamLayout;
 
@@ -65,13 +67,13 @@ impl Layout {
         let s = self.asc().end;
         s..s + self.knots
     }
-    /// `w(−1)` (backlash only).
-    pub fn w0(&self) -> Option<usize> {
-        (self.kind == ElementKind::Backlash).then_some(self.desc().end)
+    /// `w(−1)`.
+    pub fn w0(&self) -> usize {
+        self.desc().end
     }
     /// Number of parameters.
     pub fn len(&self) -> usize {
-        self.desc().end + usize::from(self.w0().is_some())
+        self.w0() + 1
     }
     /// Never empty (the borders have at least two knots).
     pub fn is_empty(&self) -> bool {
@@ -96,8 +98,8 @@ pub struct HysteresisModel {
     pub border_asc: Vec<f64>,
     /// `H_d` at the knots.
     pub border_desc: Vec<f64>,
-    /// The element's output before the first sample (backlash; the plant starts in its
-    /// steady state). For a switch, the plant starts in the steady state of the first output.
+    /// The element's output before the first sample, in whose steady state the plant starts
+    /// (for a switch, whose relay has no state, only the plant's resting level).
     pub w0: f64,
 }
 
@@ -113,7 +115,7 @@ impl HysteresisModel {
             knots: knots.to_vec(),
             border_asc: th[layout.asc()].to_vec(),
             border_desc: th[layout.desc()].to_vec(),
-            w0: layout.w0().map_or(f64::NAN, |i| th[i]),
+            w0: th[layout.w0()],
         }
     }
 
@@ -135,9 +137,7 @@ impl HysteresisModel {
         th[l.b()].copy_from_slice(&self.b[1..=l.nb()]);
         th[layout.asc()].copy_from_slice(&self.border_asc);
         th[layout.desc()].copy_from_slice(&self.border_desc);
-        if let Some(i) = layout.w0() {
-            th[i] = self.w0;
-        }
+        th[layout.w0()] = self.w0;
         th
     }
 
@@ -160,6 +160,11 @@ mod tests {
             feedthrough: false,
         };
         assert_eq!(layout.len(), 2 + 1 + 3 + 3 + 1);
+        let relay = Layout {
+            kind: ElementKind::Switch,
+            ..layout
+        };
+        assert_eq!(relay.len(), layout.len());
         let th = [-1.2, 0.5, 0.1, -1.0, 0.0, 1.0, -0.8, 0.2, 1.2, 0.3];
         let m = HysteresisModel::from_theta(&layout, &[-1.0, 0.0, 1.0], &th);
         // B = [0, 0.1, F(1) − 0.1] with F(1) = 1 − 1.2 + 0.5 = 0.3.

@@ -52,7 +52,10 @@ pub fn smoothed_input(len: usize, rng: &mut Pcg64) -> Vec<f64> {
         .skip(200)
         .collect();
     let peak = raw.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-    raw.iter().map(|v| RANGE * v / peak).collect()
+    // `RANGE · v / peak` can round one ulp past the range at the peak.
+    raw.iter()
+        .map(|v| (RANGE * v / peak).clamp(-RANGE, RANGE))
+        .collect()
 }
 
 impl Servo {

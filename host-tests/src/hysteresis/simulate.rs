@@ -1,6 +1,5 @@
 //! Simulation of a hysteresis model: the simulator's play operator or relay on the model's
-//! piecewise-linear borders, feeding `G(q)` started in the steady state of the element's
-//! initial output.
+//! piecewise-linear borders, feeding `G(q)` started in the steady state of `w(−1)`.
 
 use super::params::{ElementKind, HysteresisModel};
 use crate::identify::interpolate;
@@ -24,15 +23,14 @@ pub fn element_output(m: &HysteresisModel, u: &[f64]) -> Vec<f64> {
     u.iter().map(|&x| el.step(x)).collect()
 }
 
-/// The model's output for the input `u`: `y = w_s + G(q)[w − w_s]` from rest, with `w_s` the
-/// element's initial output (backlash) or its first output (switch), so that the plant starts
-/// in steady state (`G(1) = 1`).
+/// The model's output for the input `u`: `y = w_s + G(q)[w − w_s]` from rest, with
+/// `w_s = w(−1)`, so that the plant starts in steady state (`G(1) = 1`). For a backlash it is
+/// also the element's initial output; a relay's first output is `H_d(u(0))` whatever it is, so
+/// a plant resting elsewhere (at 0 before the element is switched on at `u_min`, say) opens
+/// the record with a transient that only this level represents.
 pub fn simulate(m: &HysteresisModel, u: &[f64]) -> Vec<f64> {
     let w = element_output(m, u);
-    let ws = match m.kind {
-        ElementKind::Backlash => m.w0,
-        ElementKind::Switch => w.first().copied().unwrap_or(0.0),
-    };
+    let ws = m.w0;
     let dev: Vec<f64> = w.iter().map(|v| v - ws).collect();
     filter(&m.b, &m.f, &dev)
         .into_iter()
@@ -77,9 +75,18 @@ mod tests {
             knots: vec![0.0, 1.0],
             border_asc: vec![0.0, 1.0],
             border_desc: vec![0.5, 1.5],
-            w0: f64::NAN,
+            w0: 1.0,
         };
         // First sample on the falling border (the relay's convention), then up, then down.
         assert_eq!(simulate(&m, &[0.5, 0.6, 0.4]), vec![1.0, 0.6, 0.9]);
+        // A plant resting at 0 (G = 0.5 q⁻¹/(1 − 0.5 q⁻¹)) starts from there.
+        let m = HysteresisModel {
+            f: vec![1.0, -0.5],
+            b: vec![0.0, 0.5],
+            feedthrough: false,
+            w0: 0.0,
+            ..m
+        };
+        assert_eq!(simulate(&m, &[0.5, 0.5]), vec![0.0, 0.5]);
     }
 }

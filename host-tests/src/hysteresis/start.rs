@@ -113,14 +113,14 @@ fn paths(m: &HostModel, gain: f64) -> Result<Paths, HysteresisError> {
 /// regressors are the hat functions of the input filtered by `G`, and the free response of a
 /// plant resting at an unknown level before the record (`1 − G·1`). Then `B` and the border
 /// alternately (the output is bilinear in them; `F` is kept, the subspace poles being good),
-/// `B` renormalised to `G(1) = 1` each round. Returns the border and `B`.
+/// `B` renormalised to `G(1) = 1` each round. Returns the border, `B` and the resting level.
 fn least_squares_centre(
     knots: &[f64],
     f: &[f64],
     b0: &[f64],
     u: &[f64],
     y: &[f64],
-) -> Option<(Vec<f64>, Vec<f64>)> {
+) -> Option<Centre> {
     let mut hats = vec![vec![0.0; u.len()]; knots.len()];
     for (t, &x) in u.iter().enumerate() {
         let (s, th) = hat_weights(knots, x);
@@ -129,12 +129,13 @@ fn least_squares_centre(
     }
     let mut b = b0.to_vec();
     let mut beta = Vec::new();
+    let mut level = f64::NAN;
     for round in 0..4 {
         let mut cols: Vec<Vec<f64>> = hats.iter().map(|h| filter(&b, f, h)).collect();
         let step = filter(&b, f, &vec![1.0; u.len()]);
         cols.push(step.iter().map(|v| 1.0 - v).collect());
         beta = lstsq_columns(&cols, y, Scaling::UnitDiagonal)?;
-        let level = beta.pop()?;
+        level = beta.pop()?;
         if round == 3 {
             break;
         }
@@ -158,7 +159,22 @@ fn least_squares_centre(
         }
         b = nb.iter().map(|v| v / gain).collect();
     }
-    (beta.iter().chain(&b).all(|v| v.is_finite())).then_some((beta, b))
+    (beta.iter().chain(&b).all(|v| v.is_finite()) && level.is_finite()).then_some(Centre {
+        border: beta,
+        b,
+        level: Some(level),
+        play: None,
+    })
+}
+
+/// A centre line for the ladder of plays: the border values at the knots, the numerator `B`
+/// that goes with it, the level the plant rested at before the record if it was estimated, and
+/// the play it was fitted for (`None`: the subspace estimate's, tried with every play).
+struct Centre {
+    border: Vec<f64>,
+    b: Vec<f64>,
+    level: Option<f64>,
+    play: Option<f64>,
 }
 
 /// The sum of squared simulation errors of `m` on the record.
@@ -181,54 +197,73 @@ pub fn start_model(
 ) -> Result<HysteresisModel, HysteresisError> {
     let (f, b, gain) = linear_part(m, feedthrough)?;
     let (knots, pa, pd) = paths(m, gain)?;
-    let mut centres: Vec<(Vec<f64>, Vec<f64>, Option<f64>)> = vec![(
-        pa.iter().zip(&pd).map(|(a, d)| 0.5 * (a + d)).collect(),
-        b.clone(),
-        None,
-    )];
+    let mut centres = vec![Centre {
+        border: pa.iter().zip(&pd).map(|(a, d)| 0.5 * (a + d)).collect(),
+        b: b.clone(),
+        level: None,
+        play: None,
+    }];
     let u0 = u.first().copied().unwrap_or(knots[0]);
-    let with = |asc: Vec<f64>, desc: Vec<f64>, centre: &[f64], b: &[f64]| HysteresisModel {
+    let with = |asc: Vec<f64>, desc: Vec<f64>, w0: f64, b: &[f64]| HysteresisModel {
         kind,
         f: f.clone(),
         b: b.to_vec(),
         feedthrough,
-        w0: extended(&knots, centre, u0),
+        w0,
         knots: knots.clone(),
         border_asc: asc,
         border_desc: desc,
     };
-    let mut candidates = vec![with(pa.clone(), pd.clone(), &centres[0].0, &b)];
     let range = knots[knots.len() - 1] - knots[0];
     for p in PLAYS {
         // A play of constant width g composed with a monotone centre line c is c applied to
         // the play of the input itself, so c is linear in y for each g: least squares.
         let z = input_play(kind, p * range, u);
-        if let Some((c, bc)) = least_squares_centre(&knots, &f, &b, &z, y) {
-            centres.push((c, bc, Some(p)));
+        if let Some(c) = least_squares_centre(&knots, &f, &b, &z, y) {
+            centres.push(Centre { play: Some(p), ..c });
         }
     }
-    for (centre, bc, g) in centres.iter().flat_map(|(c, bc, p)| match p {
-        Some(p) => vec![(c, bc, 0.5 * p * range)],
-        None => PLAYS.map(|p| (c, bc, 0.5 * p * range)).to_vec(),
-    }) {
-        let lo: Vec<f64> = knots
-            .iter()
-            .map(|&x| extended(&knots, centre, x - g))
-            .collect();
-        let hi: Vec<f64> = knots
-            .iter()
-            .map(|&x| extended(&knots, centre, x + g))
-            .collect();
-        let asc = lo.iter().zip(&hi).map(|(a, b)| a.min(*b)).collect();
-        let desc = lo.iter().zip(&hi).map(|(a, b)| a.max(*b)).collect();
-        candidates.push(with(asc, desc, centre, bc));
-    }
-    if kind == ElementKind::Backlash {
-        // The play operator needs H_a ≤ H_d: the paths are ordered where they cross.
-        let (a, d) = (&candidates[0].border_asc, &candidates[0].border_desc);
-        let (lo, hi) = a.iter().zip(d).map(|(a, d)| (a.min(*d), a.max(*d))).unzip();
-        candidates[0].border_asc = lo;
-        candidates[0].border_desc = hi;
+    // The model's first output is w(−1) (G strictly proper, resting in the steady state of
+    // w(−1)): besides the centre line at the first input, the first measured output and the
+    // least-squares resting level are tried for it. A w(−1) inside the play at the first input
+    // holds the element still and is a local minimum of the simulation error that a plant
+    // which starts away from the element's first output (at rest at 0 with the element at
+    // u_min, say) cannot leave by Levenberg–Marquardt steps.
+    let y0 = y.first().copied().unwrap_or(0.0);
+    let ordered = |a: &[f64], d: &[f64]| -> (Vec<f64>, Vec<f64>) {
+        a.iter().zip(d).map(|(a, d)| (a.min(*d), a.max(*d))).unzip()
+    };
+    let mut candidates = Vec::new();
+    let mut push = |asc: Vec<f64>, desc: Vec<f64>, c: &Centre| {
+        let mut w0s = vec![extended(&knots, &c.border, u0), y0];
+        w0s.extend(c.level);
+        for w0 in w0s {
+            candidates.push(with(asc.clone(), desc.clone(), w0, &c.b));
+        }
+    };
+    // The estimate's own paths (for a backlash ordered where they cross: H_a ≤ H_d).
+    let (a0, d0) = match kind {
+        ElementKind::Backlash => ordered(&pa, &pd),
+        ElementKind::Switch => (pa.clone(), pd.clone()),
+    };
+    push(a0, d0, &centres[0]);
+    for c in &centres {
+        let plays = match c.play {
+            Some(p) => vec![p],
+            None => PLAYS.to_vec(),
+        };
+        for g in plays.iter().map(|p| 0.5 * p * range) {
+            let lo: Vec<f64> = knots
+                .iter()
+                .map(|&x| extended(&knots, &c.border, x - g))
+                .collect();
+            let hi: Vec<f64> = knots
+                .iter()
+                .map(|&x| extended(&knots, &c.border, x + g))
+                .collect();
+            let (asc, desc) = ordered(&lo, &hi);
+            push(asc, desc, c);
+        }
     }
     candidates
         .into_iter()

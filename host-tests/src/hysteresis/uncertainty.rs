@@ -20,8 +20,8 @@ pub struct Uncertainty {
     pub border_asc: Vec<f64>,
     /// `H_d` at the knots.
     pub border_desc: Vec<f64>,
-    /// `w(−1)` (backlash).
-    pub w0: Option<f64>,
+    /// `w(−1)`.
+    pub w0: f64,
     /// The poles with theirs.
     pub poles: Vec<PoleStd>,
     /// The gap's (backlash with a gap).
@@ -78,7 +78,7 @@ pub fn uncertainty(
         sigma2,
         border_asc: layout.asc().map(sd).collect(),
         border_desc: layout.desc().map(sd).collect(),
-        w0: layout.w0().map(sd),
+        w0: sd(layout.w0()),
         poles: pole_std(&knots_model.f, &cov_f),
         gap: None,
         covariance: cov,

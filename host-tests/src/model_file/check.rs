@@ -30,7 +30,38 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
         ));
     }
     noise(m, &bad)?;
+    element(m, &bad)?;
     std(m, &bad)
+}
+
+/// A play or relay element: the kind it belongs to, one set of knots for both borders.
+fn element(m: &ModelFile, bad: &Bad) -> Checked {
+    use super::{MemoryElement, NonlinearityKind};
+    let Some(e) = m.element else {
+        return Ok(());
+    };
+    let kind = match e {
+        MemoryElement::Play => NonlinearityKind::Backlash,
+        MemoryElement::Relay => NonlinearityKind::Switch,
+    };
+    if m.nonlinearity != Some(kind) {
+        return Err(bad(
+            "element",
+            format!(
+                "{e:?} belongs to nonlinearity \"{}\", the file says {:?}",
+                kind.name(),
+                m.nonlinearity.map(NonlinearityKind::name)
+            ),
+        ));
+    }
+    if m.knots_asc != m.knots_desc {
+        return Err(bad(
+            "element",
+            "the borders of a play or relay share their knots: knots_asc and knots_desc differ"
+                .to_string(),
+        ));
+    }
+    Ok(())
 }
 
 type Bad<'a> = dyn Fn(&'static str, String) -> ModelFileError + 'a;

@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::io::{FileError, read_to_string_limited};
 
 pub use error::ModelFileError;
-pub use parts::{FormatTag, ModelStd, NoiseFile, NonlinearityKind, Units};
+pub use parts::{FormatTag, MemoryElement, ModelStd, NoiseFile, NonlinearityKind, Units};
 
 /// The largest model file read, in bytes (16 MiB). A model of the largest capacity the desktop
 /// accepts is well under 1 MB; a larger file is refused before it is read
@@ -96,6 +96,13 @@ pub struct ModelFile {
     /// of other plants are unchanged; a file without the key reads as `false`.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub integrating: bool,
+    /// The element is the play operator or the relay itself on the borders (a model fitted by
+    /// simulation error on any input), not the two paths: both borders share the knots, μ0 is
+    /// `w(−1)` (the level the plant rests at before the input) and `G(1) = 1`. Written only
+    /// when present, so an older reader refuses such a file as an unknown key rather than
+    /// simulate it as a two-path model; a file without it reads as `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub element: Option<MemoryElement>,
 }
 
 impl ModelFile {
