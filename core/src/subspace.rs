@@ -400,6 +400,89 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
     }
 }
 
+/// `S[r0 + a, c0 + b] −= x_aᵀ y_b` for the columns `x_a` of `xa` and `y_b` of `xb` (each `fm`
+/// long) into the packed `schur`, only `b <= a` if `diagonal` (`xa` and `xb` the same panel).
+fn subtract_products<T: Real>(
+    schur: &mut [T],
+    xa: &[T],
+    xb: &[T],
+    fm: usize,
+    r0: usize,
+    c0: usize,
+    diagonal: bool,
+) {
+    let fm = fm.max(1);
+    for (a, colj) in xa.chunks_exact(fm).enumerate() {
+        let width = if diagonal { a + 1 } else { usize::MAX };
+        let row = packed(r0 + a, c0);
+        let Some(dst) = schur.get_mut(row..) else {
+            return;
+        };
+        for (v, coli) in dst.iter_mut().zip(xb.chunks_exact(fm).take(width)) {
+            *v -= dot(colj, coli);
+        }
+    }
+}
+
+/// How step 2 of [`pi_moesp`] walks the `q` columns of `X = L₁₁⁻¹ G_{Z_f Q}` with a cache of
+/// a few of them: panels of `width` columns, each computed once and kept while the Schur
+/// complement's rows of the panel are formed, and the columns left of a panel regenerated
+/// `stream` at a time next to it. The pairs of columns, and so the result, are the same for
+/// every schedule; the work is not.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Schedule {
+    /// Columns per panel.
+    width: usize,
+    /// Columns regenerated at a time (`width + stream` fit in the cache).
+    stream: usize,
+}
+
+impl Schedule {
+    /// The schedule of least estimated work for a cache of `cols` columns: a regenerated
+    /// column costs a forward substitution (`(f·m)²/2` multiply-adds), a pass over the lagged
+    /// sums about `k²·m²` (`k = f + p` block rows: `k²/2` blocks of about `m²` entries, each
+    /// corrected and scattered).
+    fn choose(lay: Layout, cols: usize) -> Self {
+        let q = lay.q();
+        let column = (lay.fm() * lay.fm() / 2) as u64;
+        let k = (lay.f + lay.p) as u64;
+        let pass = k * k * (lay.m * lay.m) as u64;
+        let mut best = Self {
+            width: 1,
+            stream: 1,
+        };
+        let mut best_cost = u64::MAX;
+        for panels in 1..=q {
+            let width = q.div_ceil(panels);
+            let Some(stream) = cols.checked_sub(width) else {
+                continue;
+            };
+            if stream == 0 && width < q {
+                continue;
+            }
+            let plan = Self { width, stream };
+            let (regenerated, passes) = plan.work(q);
+            let cost = (regenerated as u64)
+                .saturating_mul(column)
+                .saturating_add((passes as u64).saturating_mul(pass));
+            if cost < best_cost {
+                (best, best_cost) = (plan, cost);
+            }
+        }
+        best
+    }
+
+    /// Columns regenerated and passes over the lagged sums for `q` columns.
+    fn work(self, q: usize) -> (usize, usize) {
+        let (mut regenerated, mut passes) = (0, 0);
+        for p0 in (0..q).step_by(self.width.max(1)) {
+            regenerated += p0;
+            passes += 1 + p0.div_ceil(self.stream.max(1));
+        }
+        (regenerated, passes)
+    }
+}
+
 /// `x ← L⁻¹ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`.
 fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
     let mut rows = l;
@@ -507,39 +590,39 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         stage: Stage::InputHankel,
     })?;
 
-    // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}, by blocks of columns.
-    let bw = lay.block().max(1);
-    let nb = q.div_ceil(bw);
-    let (xa, xb) = cache
-        .split_at_mut_checked(bw * fm)
-        .ok_or(too_small(lay, ws_len))?;
-    for jb in 0..nb {
-        let (j0, jw) = (jb * bw, bw.min(q - jb * bw));
-        cross_block(acc, knots, basis, lay, sums, lff, j0, jw, xa);
-        for ib in 0..=jb {
-            let (i0, iw) = (ib * bw, bw.min(q - ib * bw));
-            let xi: &[T] = if ib == jb {
-                xa
-            } else {
-                cross_block(acc, knots, basis, lay, sums, lff, i0, iw, xb);
-                xb
-            };
-            for cj in 0..jw {
-                let colj = sub(xa, cj * fm, (cj + 1) * fm);
-                let r = j0 + cj;
-                let iend = if ib == jb { cj + 1 } else { iw };
-                for ci in 0..iend {
-                    let coli = sub(xi, ci * fm, (ci + 1) * fm);
-                    if let Some(v) = schur.get_mut(packed(r, i0 + ci)) {
-                        *v -= dot(colj, coli);
-                    }
-                }
+    // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}: a panel of X's columns stays in the cache
+    // while the columns left of it are regenerated a few at a time (see `Schedule`).
+    let plan = Schedule::choose(lay, lay.cache() / fm.max(1));
+    let mut y_done = false;
+    for p0 in (0..q).step_by(plan.width.max(1)) {
+        let pw = plan.width.min(q - p0);
+        let (xa, rest) = cache
+            .split_at_mut_checked(pw * fm)
+            .ok_or(too_small(lay, ws_len))?;
+        cross_block(acc, knots, basis, lay, sums, lff, p0, pw, xa);
+        subtract_products(schur, xa, xa, fm, p0, p0, true);
+        let mut i0 = 0;
+        while i0 < p0 {
+            let iw = plan.stream.max(1).min(p0 - i0);
+            let xb = rest.get_mut(..iw * fm).ok_or(too_small(lay, ws_len))?;
+            cross_block(acc, knots, basis, lay, sums, lff, i0, iw, xb);
+            subtract_products(schur, xa, xb, fm, p0, i0, false);
+            i0 += iw;
+        }
+        // X_Y (the last f columns) for step 3, if this panel holds all of them.
+        if p0 <= w && w + f <= p0 + pw {
+            let from = sub(xa, (w - p0) * fm, (w - p0 + f) * fm);
+            for (d, &v) in bf.iter_mut().zip(from) {
+                *d = v;
             }
+            y_done = true;
         }
     }
 
     // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X.
-    cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
+    if !y_done {
+        cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
+    }
     for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
         for i in (0..fm).rev() {
             let mut s = at(x, i);
@@ -843,6 +926,47 @@ pub(crate) fn select_order<T: Real, const H: usize>(
             match n {
                 0 => Err(Error::NoDynamics),
                 n => Ok(n.min(lay.f - 1)),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's layout with the default cache (two blocks of 32 columns): three panels of
+    /// 50, 14 columns streamed, 150 columns regenerated in 15 passes (the two-block walk
+    /// regenerated 320 columns in 15 passes).
+    #[test]
+    fn schedule_of_the_paper_layout() {
+        let lay = Layout::new(14, 10, 10);
+        let plan = Schedule::choose(lay, lay.cache() / lay.fm());
+        assert_eq!(
+            plan,
+            Schedule {
+                width: 50,
+                stream: 14
+            }
+        );
+        assert_eq!(plan.work(lay.q()), (150, 15));
+    }
+
+    /// Every cache from the smallest (two columns) to more than `q`: the schedule fits it,
+    /// streams whenever there is more than one panel, and one panel holds all when it can.
+    #[test]
+    fn schedule_fits_every_cache() {
+        let lay = Layout::new(14, 10, 10);
+        let q = lay.q();
+        for cols in 2..=q + 10 {
+            let plan = Schedule::choose(lay, cols);
+            assert!(
+                plan.width >= 1 && plan.width + plan.stream <= cols,
+                "{cols}: {plan:?}"
+            );
+            assert!(plan.width >= q || plan.stream >= 1, "{cols}: {plan:?}");
+            if cols >= q {
+                assert_eq!(plan.work(q), (0, 1), "{cols}: {plan:?}");
             }
         }
     }
