@@ -94,6 +94,48 @@ pub(crate) fn dot<T: Real>(a: &[T], b: &[T]) -> T {
     s
 }
 
+/// Four dot products of `a` with `b[0]`, …, `b[3]` (of the shortest length), each adding in
+/// order as [`dot`] does (the same bits): `a` is read once for all four, which spares a third
+/// of the loads of four separate products.
+#[inline(always)]
+pub(crate) fn dot4<T: Real>(a: &[T], b: [&[T]; 4]) -> [T; 4] {
+    let [b0, b1, b2, b3] = b;
+    let n = a
+        .len()
+        .min(b0.len())
+        .min(b1.len())
+        .min(b2.len())
+        .min(b3.len());
+    let ((a4, ar), (c0, r0), (c1, r1)) = (head4(a, n), head4(b0, n), head4(b1, n));
+    let ((c2, r2), (c3, r3)) = (head4(b2, n), head4(b3, n));
+    let mut s = [T::zero(); 4];
+    for ((((x, y0), y1), y2), y3) in a4.iter().zip(c0).zip(c1).zip(c2).zip(c3) {
+        mac4(&mut s, x[0], [y0[0], y1[0], y2[0], y3[0]]);
+        mac4(&mut s, x[1], [y0[1], y1[1], y2[1], y3[1]]);
+        mac4(&mut s, x[2], [y0[2], y1[2], y2[2], y3[2]]);
+        mac4(&mut s, x[3], [y0[3], y1[3], y2[3], y3[3]]);
+    }
+    for ((((&x, &y0), &y1), &y2), &y3) in ar.iter().zip(r0).zip(r1).zip(r2).zip(r3) {
+        mac4(&mut s, x, [y0, y1, y2, y3]);
+    }
+    s
+}
+
+/// The first `n` entries of `x` in chunks of four, and the rest (empty if `x` is shorter).
+#[inline(always)]
+fn head4<T>(x: &[T], n: usize) -> (&[[T; 4]], &[T]) {
+    x.get(..n).unwrap_or(&[]).as_chunks::<4>()
+}
+
+/// `s[c] += x · y[c]` for the four sums of [`dot4`].
+#[inline(always)]
+fn mac4<T: Real>(s: &mut [T; 4], x: T, y: [T; 4]) {
+    s[0] += x * y[0];
+    s[1] += x * y[1];
+    s[2] += x * y[2];
+    s[3] += x * y[3];
+}
+
 /// What the Cholesky factorisation found in a row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Pivot {
@@ -516,6 +558,18 @@ mod tests {
         }
         // Unequal lengths: the shorter one.
         assert_eq!(dot(&a[..5], &b).to_bits(), dot(&a[..5], &b[..5]).to_bits());
+        // Four at a time: each the bits of its own dot product.
+        let (c, d) = (&a[1..], &b[2..]);
+        for n in 0..=19 {
+            let four = dot4(&b[..n], [&a[..n], c, d, &b[..n]]);
+            let one = [
+                dot(&b[..n], &a[..n]),
+                dot(&b[..n], c),
+                dot(&b[..n], d),
+                dot(&b[..n], &b[..n]),
+            ];
+            assert_eq!(four.map(f32::to_bits), one.map(f32::to_bits), "length {n}");
+        }
     }
 
     fn small(n: usize, entries: &[f64]) -> Small<f64, 12> {

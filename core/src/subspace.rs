@@ -13,11 +13,13 @@
 //! far above 1 for directions that carry state. The order is the number of whitened singular
 //! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
 
+use core::array::from_fn;
+
 use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{
-    Small, all_finite, at, cholesky_packed, dot, householder_qr, packed, packed_len, set, set_el,
-    sub, sub_mut, svd_small,
+    Small, all_finite, at, cholesky_packed, dot, dot4, householder_qr, packed, packed_len, set,
+    set_el, sub, sub_mut, svd_small,
 };
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
@@ -236,15 +238,26 @@ impl Layout {
     /// [`total`](Self::total).
     pub fn carve<'a, T>(&self, ws: &'a mut [T]) -> Result<[&'a mut [T]; 6], Error> {
         let err = too_small(*self, ws.len());
-        let (lff, rest) = ws.split_at_mut_checked(self.lff()).ok_or(err)?;
-        let (schur, rest) = rest.split_at_mut_checked(self.schur()).ok_or(err)?;
-        let (wgram, rest) = rest.split_at_mut_checked(self.wgram()).ok_or(err)?;
+        let [lff, schur, wgram, rest] = self.carve_front(ws)?;
         let (bf, rest) = rest.split_at_mut_checked(self.bf()).ok_or(err)?;
         let (cache, scratch) = rest.split_at_mut_checked(self.cache()).ok_or(err)?;
         if scratch.len() < self.scratch() {
             return Err(err);
         }
         Ok([lff, schur, wgram, bf, cache, scratch])
+    }
+    /// The workspace `ws` split into `[L₁₁, S, W_p Gram, the rest]`, the rest at least as long
+    /// as `B_f`, the column blocks and the scratch together (which [`carve`](Self::carve)
+    /// separates; the Schur complement's step uses them as one cache while they are idle).
+    pub fn carve_front<'a, T>(&self, ws: &'a mut [T]) -> Result<[&'a mut [T]; 4], Error> {
+        let err = too_small(*self, ws.len());
+        let (lff, rest) = ws.split_at_mut_checked(self.lff()).ok_or(err)?;
+        let (schur, rest) = rest.split_at_mut_checked(self.schur()).ok_or(err)?;
+        let (wgram, rest) = rest.split_at_mut_checked(self.wgram()).ok_or(err)?;
+        if rest.len() < self.bf() + self.cache() + self.scratch() {
+            return Err(err);
+        }
+        Ok([lff, schur, wgram, rest])
     }
     /// Row of channel `c` of block row `a` of `z` in `[Z_f; Z_p; Ȳ_f]`.
     #[inline]
@@ -364,6 +377,11 @@ fn for_each_entry<T: Real, const M: usize, const K: usize>(
 
 /// Columns `c0 .. c0 + width` of `X = L₁₁⁻¹ G_{Z_f, [Z_p; Ȳ_f]}` into `out` (column-major,
 /// leading dimension `f·m`): one pass over the Gram, then forward substitution.
+///
+/// The pass takes from each block only the entries of the cross Gram in the wanted columns
+/// (centred as [`for_each_entry`] centres them, with the same roundings): the blocks of a past
+/// block row `a` and a future one `b` give `Z_p(a) × Z_f(b)` (and `Ȳ_p(a) × Z_f(b)`), the
+/// blocks of two future block rows give `Z_f × ȳ_f` in both orders.
 #[allow(clippy::too_many_arguments)]
 fn cross_block<T: Real, const M: usize, const K: usize>(
     acc: &Accumulator<T, M, K>,
@@ -386,18 +404,50 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
     let yf = |a: usize| a >= p && in_range(pm + py + a - p);
     let want =
         |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)));
-    for_each_entry(acc, knots, basis, lay, sums, want, |r, c, v| {
-        // r >= c: the Z_f row is c, the [Z_p; Ȳ_f] column is r − fm.
-        if c < fm && r >= fm {
-            let col = r - fm;
+    let inv_j = T::one() / acc.effective_columns().max(T::one());
+    // Row sums of block row `a` (zero without centring or past `K`), and `Σȳ / j`.
+    let zs = |a: usize| match sums {
+        Some(s) => s.z.get(a).copied().unwrap_or([T::zero(); M]),
+        None => [T::zero(); M],
+    };
+    let ys = |a: usize| sums.map_or(T::zero(), |s| at(&s.y, a));
+    let centre = sums.is_some();
+    let cent = |v: T, x: T, y: T| if centre { v - x * y } else { v };
+    acc.for_each_block_where(knots, basis, want, |a, b, blk| {
+        let (za, zb) = (zs(a), zs(b));
+        // Column `col` of Q, rows of block row `blk_row` of Z_f.
+        let mut column = |col: usize, blk_row: usize, vals: &[T; M]| {
+            let Some(fut) = blk_row.checked_sub(p) else {
+                return;
+            };
             if in_range(col) {
-                set(out, (col - c0) * fm + c, v);
+                let from = (col - c0) * fm + fut * m;
+                for (d, &v) in out.iter_mut().skip(from).take(m).zip(vals) {
+                    *d = v;
+                }
             }
+        };
+        if a < p {
+            for (i, (row, &zi)) in blk.zz.iter().zip(&za).enumerate().take(m) {
+                let zi = zi * inv_j;
+                column(a * m + i, b, &from_fn(|jj| cent(row[jj], zi, zb[jj])));
+            }
+            if py > 0 {
+                let ya = ys(a) * inv_j;
+                column(pm + a, b, &from_fn(|jj| cent(blk.yz[jj], ya, zb[jj])));
+            }
+        } else {
+            // Z_f(a) × ȳ(b) (for a = b the same entries as ȳ(a) × Z_f(a), which wins).
+            let base = pm + py - p;
+            if a < b {
+                let yb = ys(b) * inv_j;
+                column(base + b, a, &from_fn(|i| cent(blk.zy[i], za[i], yb)));
+            }
+            let ya = ys(a) * inv_j;
+            column(base + a, b, &from_fn(|jj| cent(blk.yz[jj], ya, zb[jj])));
         }
     });
-    for x in out.chunks_exact_mut(fm.max(1)).take(width) {
-        forward_substitution(lff, x);
-    }
+    forward_substitution_columns(lff, out, fm, width);
 }
 
 /// `S[r0 + a, c0 + b] −= x_aᵀ y_b` for the columns `x_a` of `xa` and `y_b` of `xb` (each `fm`
@@ -418,8 +468,23 @@ fn subtract_products<T: Real>(
         let Some(dst) = schur.get_mut(row..) else {
             return;
         };
-        for (v, coli) in dst.iter_mut().zip(xb.chunks_exact(fm).take(width)) {
-            *v -= dot(colj, coli);
+        let mut dst = dst.iter_mut();
+        let mut cols = xb.chunks_exact(fm).take(width);
+        loop {
+            match (cols.next(), cols.next(), cols.next(), cols.next()) {
+                (Some(p), Some(q), Some(r), Some(s)) => {
+                    // The four products first: `zip` asks its first iterator first.
+                    for (d, v) in dot4(colj, [p, q, r, s]).into_iter().zip(dst.by_ref()) {
+                        *v -= d;
+                    }
+                }
+                (p, q, r, _) => {
+                    for (c, v) in [p, q, r].into_iter().flatten().zip(dst.by_ref()) {
+                        *v -= dot(colj, c);
+                    }
+                    break;
+                }
+            }
         }
     }
 }
@@ -483,6 +548,46 @@ impl Schedule {
     }
 }
 
+/// `X ← L⁻¹ X` for the first `width` columns (`n` long) of the column-major `x`, four at a
+/// time (the same bits as one at a time: [`dot4`]).
+fn forward_substitution_columns<T: Real>(l: &[T], x: &mut [T], n: usize, width: usize) {
+    let mut cols = x.chunks_exact_mut(n.max(1)).take(width);
+    loop {
+        match (cols.next(), cols.next(), cols.next(), cols.next()) {
+            (Some(a), Some(b), Some(c), Some(d)) => forward_substitution4(l, [a, b, c, d]),
+            (a, b, c, _) => {
+                for x in [a, b, c].into_iter().flatten() {
+                    forward_substitution(l, x);
+                }
+                return;
+            }
+        }
+    }
+}
+
+/// [`forward_substitution`] of four columns at once.
+fn forward_substitution4<T: Real>(l: &[T], mut x: [&mut [T]; 4]) {
+    let n = x.iter().fold(usize::MAX, |n, c| n.min(c.len()));
+    let mut rows = l;
+    for i in 0..n {
+        let Some((row, rest)) = rows.split_at_checked(i + 1) else {
+            return;
+        };
+        rows = rest;
+        let Some((&d, li)) = row.split_last() else {
+            return;
+        };
+        let [x0, x1, x2, x3] = &x;
+        let done = [x0, x1, x2, x3].map(|c| c.get(..i).unwrap_or(&[]));
+        let s = dot4(li, done);
+        for (col, s) in x.iter_mut().zip(s) {
+            if let Some(xi) = col.get_mut(i) {
+                *xi = (*xi - s) / d;
+            }
+        }
+    }
+}
+
 /// `x ← L⁻¹ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`.
 fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
     let mut rows = l;
@@ -536,7 +641,12 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         });
     }
     let ws_len = ws.len();
-    let [lff, schur, wgram, bf, cache, scratch] = lay.carve(ws)?;
+    let [lff, schur, wgram, tail] = lay.carve_front(ws)?;
+    // Until step 4 the raw diagonals (below) sit at the end of the tail, and the rest of it
+    // (B_f, the column blocks and the scratch) is the cache of step 2.
+    let (xs, g) = tail
+        .split_at_mut_checked(tail.len().saturating_sub(q))
+        .ok_or(too_small(lay, ws_len))?;
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
@@ -581,8 +691,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         *fl = level * at(schur, packed(r, r)).abs();
     }
     let floor = &floor[..(q - pm).min(K)];
-    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
-    for (r, g) in scratch.iter_mut().enumerate().take(q) {
+    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f].
+    for (r, g) in g.iter_mut().enumerate().take(q) {
         *g = at(schur, packed(r, r)).abs();
     }
     let tol = T::EPS * T::of_usize(8 * (d + q));
@@ -592,11 +702,11 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
 
     // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}: a panel of X's columns stays in the cache
     // while the columns left of it are regenerated a few at a time (see `Schedule`).
-    let plan = Schedule::choose(lay, lay.cache() / fm.max(1));
-    let mut y_done = false;
+    let plan = Schedule::choose(lay, xs.len() / fm.max(1));
+    let mut y_at = None;
     for p0 in (0..q).step_by(plan.width.max(1)) {
         let pw = plan.width.min(q - p0);
-        let (xa, rest) = cache
+        let (xa, rest) = xs
             .split_at_mut_checked(pw * fm)
             .ok_or(too_small(lay, ws_len))?;
         cross_block(acc, knots, basis, lay, sums, lff, p0, pw, xa);
@@ -609,20 +719,21 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
             subtract_products(schur, xa, xb, fm, p0, i0, false);
             i0 += iw;
         }
-        // X_Y (the last f columns) for step 3, if this panel holds all of them.
-        if p0 <= w && w + f <= p0 + pw {
-            let from = sub(xa, (w - p0) * fm, (w - p0 + f) * fm);
-            for (d, &v) in bf.iter_mut().zip(from) {
-                *d = v;
-            }
-            y_done = true;
-        }
+        // X_Y (the last f columns) for step 3, if this panel (the last) holds all of them.
+        y_at = (p0 <= w && w + f <= p0 + pw).then_some((w - p0) * fm);
     }
 
-    // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X.
-    if !y_done {
-        cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
+    // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X, moved
+    // from the last panel to B_f's place at the start of the cache (or computed anew).
+    let bf_len = lay.bf();
+    match y_at {
+        Some(from) if from + bf_len <= xs.len() => xs.copy_within(from..from + bf_len, 0),
+        _ => {
+            let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
+            cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
+        }
     }
+    let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
     for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
         for i in (0..fm).rev() {
             let mut s = at(x, i);
@@ -664,9 +775,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         .take(f)
     {
         let row = packed(w + r, 0);
-        let gr = at(scratch, w + r);
+        let gr = at(g, w + r);
         let (mut e, mut noise) = (T::zero(), T::zero());
-        for (i, &gi) in scratch.iter().enumerate().take(w) {
+        for (i, &gi) in g.iter().enumerate().take(w) {
             let d = at(schur, packed(i, i));
             if d > T::zero() {
                 let l = at(schur, row + i) / d;
@@ -682,6 +793,10 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
+    // The scratch (after B_f and the column blocks) is free from here on.
+    let scratch = tail
+        .get_mut(lay.bf() + lay.cache()..)
+        .ok_or(too_small(lay, ws_len))?;
     let (x, tau) = scratch
         .split_at_mut_checked(lay.qr_parts().0)
         .ok_or(too_small(lay, ws_len))?;
