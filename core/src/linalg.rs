@@ -160,7 +160,14 @@ pub(crate) fn cholesky_packed<T: Real>(
 ) -> Result<(), Pivot> {
     for i in 0..n {
         let ri = packed(i, 0);
-        for j in 0..=i {
+        // Entries left of the diagonal four at a time, the rest (and the pivot) one by one.
+        let mut j0 = 0;
+        while j0 + 4 <= i {
+            let (head, row_i) = g.split_at_mut_checked(ri).unwrap_or((&mut [], &mut []));
+            off_diagonal4(head, row_i, j0);
+            j0 += 4;
+        }
+        for j in j0..=i {
             let rj = packed(j, 0);
             let (head, row_i) = g.split_at_mut_checked(ri).unwrap_or((&mut [], &mut []));
             let s = {
@@ -188,6 +195,27 @@ pub(crate) fn cholesky_packed<T: Real>(
         }
     }
     Ok(())
+}
+
+/// Entries `j0 .. j0 + 4` (all left of the diagonal) of row `row_i` of the Cholesky factor,
+/// the rows above it in `head`: the products over the first `j0` columns four at a time
+/// ([`dot4`]), then each entry's remaining products in order, so every entry has the bits of
+/// the one-by-one loop in [`cholesky_packed`].
+#[inline(always)]
+fn off_diagonal4<T: Real>(head: &[T], row_i: &mut [T], j0: usize) {
+    let row = |r: usize| sub(head, packed(r, 0), packed(r, 0) + r + 1);
+    let rows = [row(j0), row(j0 + 1), row(j0 + 2), row(j0 + 3)];
+    let prefix = rows.map(|r| r.get(..j0).unwrap_or(&[]));
+    let mut acc = dot4(sub(row_i, 0, j0), prefix);
+    for (c, (lj, sum)) in rows.iter().zip(acc.iter_mut()).enumerate() {
+        let j = j0 + c;
+        for k in j0..j {
+            *sum += at(row_i, k) * at(lj, k);
+        }
+        let d = at(lj, j);
+        let s = at(row_i, j) - *sum;
+        set(row_i, j, if d > T::zero() { s / d } else { T::zero() });
+    }
 }
 
 /// Applies the reflector `I − t v vᵀ` (`v = [1; v[1..]]`, `v[0]` not read) to `y`.

@@ -517,14 +517,16 @@ impl Schedule {
             stream: 1,
         };
         let mut best_cost = u64::MAX;
+        let mut last = 0;
         for panels in 1..=q {
             let width = q.div_ceil(panels);
             let Some(stream) = cols.checked_sub(width) else {
                 continue;
             };
-            if stream == 0 && width < q {
+            if (stream == 0 && width < q) || width == last {
                 continue;
             }
+            last = width;
             let plan = Self { width, stream };
             let (regenerated, passes) = plan.work(q);
             let cost = (regenerated as u64)
@@ -585,6 +587,24 @@ fn forward_substitution4<T: Real>(l: &[T], mut x: [&mut [T]; 4]) {
                 *xi = (*xi - s) / d;
             }
         }
+    }
+}
+
+/// `x ← L⁻ᵀ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`: from the
+/// last row up, `x_i = (x_i − Σ_{r > i} L[r, i] x_r) / L[i, i]`, the sum in increasing `r`
+/// (column `i` of `L` walked by its packed offset, which grows by `r + 1` from row `r` on).
+fn back_substitution_transposed<T: Real>(l: &[T], x: &mut [T]) {
+    for i in (0..x.len()).rev() {
+        let Some((done, later)) = x.split_at_mut_checked(i + 1) else {
+            return;
+        };
+        let mut s = at(done, i);
+        let mut idx = packed(i + 1, i);
+        for (r, &xr) in later.iter().enumerate() {
+            s -= at(l, idx) * xr;
+            idx += i + r + 2;
+        }
+        set(done, i, s / at(l, packed(i, i)));
     }
 }
 
@@ -735,13 +755,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     }
     let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
     for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
-        for i in (0..fm).rev() {
-            let mut s = at(x, i);
-            for (r, &xr) in x.iter().enumerate().skip(i + 1) {
-                s -= at(lff, packed(r, i)) * xr;
-            }
-            set(x, i, s / at(lff, packed(i, i)));
-        }
+        back_substitution_transposed(lff, x);
     }
 
     if !all_finite(schur) || !all_finite(bf) {
@@ -1050,21 +1064,24 @@ pub(crate) fn select_order<T: Real, const H: usize>(
 mod tests {
     use super::*;
 
-    /// The paper's layout with the default cache (two blocks of 32 columns): three panels of
-    /// 50, 14 columns streamed, 150 columns regenerated in 15 passes (the two-block walk
-    /// regenerated 320 columns in 15 passes).
+    /// The paper's layout with the default workspace: B_f, the two blocks of 32 columns and
+    /// the scratch less the raw diagonals hold 83 columns of 140, so two panels of 75 with 8
+    /// columns streamed, 75 columns regenerated in 12 passes (the two-block walk regenerated
+    /// 320 columns in 16 passes, B_f's included).
     #[test]
     fn schedule_of_the_paper_layout() {
         let lay = Layout::new(14, 10, 10);
-        let plan = Schedule::choose(lay, lay.cache() / lay.fm());
+        let cols = (lay.bf() + lay.cache() + lay.scratch() - lay.q()) / lay.fm();
+        assert_eq!(cols, 83);
+        let plan = Schedule::choose(lay, cols);
         assert_eq!(
             plan,
             Schedule {
-                width: 50,
-                stream: 14
+                width: 75,
+                stream: 8
             }
         );
-        assert_eq!(plan.work(lay.q()), (150, 15));
+        assert_eq!(plan.work(lay.q()), (75, 12));
     }
 
     /// Every cache from the smallest (two columns) to more than `q`: the schedule fits it,
