@@ -13,8 +13,6 @@
 //! far above 1 for directions that carry state. The order is the number of whitened singular
 //! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
 
-use core::array::from_fn;
-
 use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{
@@ -406,48 +404,57 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
         |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)));
     let inv_j = T::one() / acc.effective_columns().max(T::one());
     // Row sums of block row `a` (zero without centring or past `K`), and `Σȳ / j`.
-    let zs = |a: usize| match sums {
-        Some(s) => s.z.get(a).copied().unwrap_or([T::zero(); M]),
-        None => [T::zero(); M],
-    };
+    let zero = [T::zero(); M];
+    let zs = |a: usize| sums.and_then(|s| s.z.get(a)).unwrap_or(&zero);
     let ys = |a: usize| sums.map_or(T::zero(), |s| at(&s.y, a));
     let centre = sums.is_some();
     let cent = |v: T, x: T, y: T| if centre { v - x * y } else { v };
+    // Where column `col` of Q, rows of block row `blk_row` of Z_f, start in `out`.
+    let from = |col: usize, blk_row: usize| {
+        let fut = blk_row.checked_sub(p)?;
+        in_range(col).then(|| (col - c0) * fm + fut * m)
+    };
     acc.for_each_block_where(knots, basis, want, |a, b, blk| {
         let (za, zb) = (zs(a), zs(b));
-        // Column `col` of Q, rows of block row `blk_row` of Z_f.
-        let mut column = |col: usize, blk_row: usize, vals: &[T; M]| {
-            let Some(fut) = blk_row.checked_sub(p) else {
-                return;
-            };
-            if in_range(col) {
-                let from = (col - c0) * fm + fut * m;
-                for (d, &v) in out.iter_mut().skip(from).take(m).zip(vals) {
-                    *d = v;
-                }
-            }
-        };
         if a < p {
-            for (i, (row, &zi)) in blk.zz.iter().zip(&za).enumerate().take(m) {
+            for (i, (row, &zi)) in blk.zz.iter().zip(za).enumerate().take(m) {
                 let zi = zi * inv_j;
-                column(a * m + i, b, &from_fn(|jj| cent(row[jj], zi, zb[jj])));
+                let dst = dest(out, from(a * m + i, b), m);
+                for (d, (&v, &zj)) in dst.iter_mut().zip(row.iter().zip(zb)) {
+                    *d = cent(v, zi, zj);
+                }
             }
             if py > 0 {
                 let ya = ys(a) * inv_j;
-                column(pm + a, b, &from_fn(|jj| cent(blk.yz[jj], ya, zb[jj])));
+                let dst = dest(out, from(pm + a, b), m);
+                for (d, (&v, &zj)) in dst.iter_mut().zip(blk.yz.iter().zip(zb)) {
+                    *d = cent(v, ya, zj);
+                }
             }
         } else {
             // Z_f(a) × ȳ(b) (for a = b the same entries as ȳ(a) × Z_f(a), which wins).
             let base = pm + py - p;
             if a < b {
                 let yb = ys(b) * inv_j;
-                column(base + b, a, &from_fn(|i| cent(blk.zy[i], za[i], yb)));
+                let dst = dest(out, from(base + b, a), m);
+                for (d, (&v, &zi)) in dst.iter_mut().zip(blk.zy.iter().zip(za)) {
+                    *d = cent(v, zi, yb);
+                }
             }
             let ya = ys(a) * inv_j;
-            column(base + a, b, &from_fn(|jj| cent(blk.yz[jj], ya, zb[jj])));
+            let dst = dest(out, from(base + a, b), m);
+            for (d, (&v, &zj)) in dst.iter_mut().zip(blk.yz.iter().zip(zb)) {
+                *d = cent(v, ya, zj);
+            }
         }
     });
     forward_substitution_columns(lff, out, fm, width);
+}
+
+/// The `m` entries of `out` from `from` on (none if `from` is `None` or out of range).
+fn dest<T>(out: &mut [T], from: Option<usize>, m: usize) -> &mut [T] {
+    from.and_then(|f| out.get_mut(f..f.saturating_add(m)))
+        .unwrap_or(&mut [])
 }
 
 /// `S[r0 + a, c0 + b] −= x_aᵀ y_b` for the columns `x_a` of `xa` and `y_b` of `xb` (each `fm`
