@@ -754,7 +754,13 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     // from the last panel to B_f's place at the start of the cache (or computed anew).
     let bf_len = lay.bf();
     match y_at {
-        Some(from) if from + bf_len <= xs.len() => xs.copy_within(from..from + bf_len, 0),
+        Some(from) if from.saturating_add(bf_len) <= xs.len() => {
+            // Forwards, entry by entry: the source lies at or after the destination.
+            for k in 0..bf_len {
+                let v = at(xs, from + k);
+                set(xs, k, v);
+            }
+        }
         _ => {
             let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
             cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
