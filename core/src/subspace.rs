@@ -62,8 +62,9 @@ pub enum Order {
 /// to count as a state direction in [`Order::Auto`].
 pub const AUTO_ORDER_MARGIN: f64 = 1.5;
 
-/// Columns of `[Z_p; Ȳ_f]` processed per block when the Schur complement is formed: the
-/// workspace holds two blocks of `L₁₁⁻¹ G_{f,·}` instead of the whole cross Gram.
+/// Columns of each of the two column blocks of the workspace. While the Schur complement is
+/// formed, the blocks, `B_f`'s place and the scratch together hold panels of
+/// `L₁₁⁻¹ G_{Z_f,[Z_p; Ȳ_f]}` (see the solve's `Schedule`) instead of the whole cross Gram.
 pub const SCHUR_BLOCK: usize = 32;
 
 /// Layout of the solve workspace for `m` channels and horizons `f`, `p`:
@@ -635,8 +636,8 @@ fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
 
 /// PI-MOESP from the accumulated Gram: `L₁₁`, the Schur complement of `[Z_p; Ȳ_f]` given
 /// `Z_f` (whose Cholesky factor holds `L₂₂`, `L₃₂`, `L₃₃`), `B_f = L₃₁L₁₁⁻¹`, and the SVD of
-/// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is regenerated from
-/// the lagged sums block of columns by block of columns, which keeps the workspace near
+/// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is formed from the
+/// lagged sums panel by panel (columns left of a panel regenerated), which keeps the workspace near
 /// `(f·m)²/2 + (p·m + f)²/2` instead of `((f + p)·m + f)²/2`.
 pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     acc: &Accumulator<T, M, K>,
