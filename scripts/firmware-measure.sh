@@ -9,8 +9,9 @@
 #   and the cost of saving it).
 # Prints a markdown table on stdout. Exits non-zero if the build or the firmware fails, and with
 # --enforce also when a budget of the table's third column is exceeded (flash ≤ 128 KiB, RAM total
-# ≤ 192 KiB, the mean per-sample update ≤ 2,000 instructions); the entries marked "goal" (RAM
-# ≤ 64 KiB, the final solve ≤ 30 M instructions) are not met yet and are reported, not enforced.
+# ≤ 192 KiB, the mean per-sample update ≤ 2,000 instructions, the final solve ≤ 30 M
+# instructions); the entry marked "goal" (RAM ≤ 64 KiB) is not met yet and is reported, not
+# enforced.
 # QEMU runs in a scratch folder, where the firmware writes its checkpoint `hsid-state.bin`;
 # `--state FILE` keeps a copy (solve it with `hsid solve --state FILE`).
 #
@@ -199,7 +200,8 @@ echo "| instructions per sample update (push), mean | $(num "$PER_SAMPLE") | ≤
 if [[ "${K[per_sample_max_instr]+x}" ]]; then
   echo "| instructions per sample update (push), max | $(num "$(key per_sample_max_instr)") | |"
 fi
-echo "| instructions for the final solve | $(num "$SOLVE") | goal ≤ 30,000,000 $(ok "$SOLVE" 30000000) (earlier aim ≤ 50,000,000 $(ok "$SOLVE" 50000000)) |"
+ok "$SOLVE" 30000000 "instructions for the final solve" >/dev/null
+echo "| instructions for the final solve | $(num "$SOLVE") | ≤ 30,000,000 $(ok "$SOLVE" 30000000) |"
 if [[ -n "${ST[bytes]:-}" ]]; then
   echo "| checkpoint exported to the host (\`hsid-state.bin\`) | $(num "${ST[bytes]}") B, crc ${ST[crc]:-?}, saved into $( [[ "${ST[buffer]:-}" == workspace ]] && echo "the idle solve workspace (no extra RAM)" || echo "a static buffer of its own" ) | |"
   echo "| instructions to save the checkpoint (\`Identifier::save\`) | $(num "${ST[save_instr]:-n/a}") | |"

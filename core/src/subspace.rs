@@ -16,8 +16,8 @@
 use crate::accumulation::{Accumulator, OutputRounding, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{
-    Small, all_finite, at, cholesky_packed, dot, householder_qr, packed, packed_len, set, set_el,
-    sub, sub_mut, svd_small,
+    Small, all_finite, at, cholesky_packed, dot, dot4, householder_qr, packed, packed_len, set,
+    set_el, sub, sub_mut, svd_small,
 };
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
@@ -62,8 +62,9 @@ pub enum Order {
 /// to count as a state direction in [`Order::Auto`].
 pub const AUTO_ORDER_MARGIN: f64 = 1.5;
 
-/// Columns of `[Z_p; Ȳ_f]` processed per block when the Schur complement is formed: the
-/// workspace holds two blocks of `L₁₁⁻¹ G_{f,·}` instead of the whole cross Gram.
+/// Columns of each of the two column blocks of the workspace. While the Schur complement is
+/// formed, the blocks, `B_f`'s place and the scratch together hold panels of
+/// `L₁₁⁻¹ G_{Z_f,[Z_p; Ȳ_f]}` (see the solve's `Schedule`) instead of the whole cross Gram.
 pub const SCHUR_BLOCK: usize = 32;
 
 /// Layout of the solve workspace for `m` channels and horizons `f`, `p`:
@@ -236,15 +237,26 @@ impl Layout {
     /// [`total`](Self::total).
     pub fn carve<'a, T>(&self, ws: &'a mut [T]) -> Result<[&'a mut [T]; 6], Error> {
         let err = too_small(*self, ws.len());
-        let (lff, rest) = ws.split_at_mut_checked(self.lff()).ok_or(err)?;
-        let (schur, rest) = rest.split_at_mut_checked(self.schur()).ok_or(err)?;
-        let (wgram, rest) = rest.split_at_mut_checked(self.wgram()).ok_or(err)?;
+        let [lff, schur, wgram, rest] = self.carve_front(ws)?;
         let (bf, rest) = rest.split_at_mut_checked(self.bf()).ok_or(err)?;
         let (cache, scratch) = rest.split_at_mut_checked(self.cache()).ok_or(err)?;
         if scratch.len() < self.scratch() {
             return Err(err);
         }
         Ok([lff, schur, wgram, bf, cache, scratch])
+    }
+    /// The workspace `ws` split into `[L₁₁, S, W_p Gram, the rest]`, the rest at least as long
+    /// as `B_f`, the column blocks and the scratch together (which [`carve`](Self::carve)
+    /// separates; the Schur complement's step uses them as one cache while they are idle).
+    pub fn carve_front<'a, T>(&self, ws: &'a mut [T]) -> Result<[&'a mut [T]; 4], Error> {
+        let err = too_small(*self, ws.len());
+        let (lff, rest) = ws.split_at_mut_checked(self.lff()).ok_or(err)?;
+        let (schur, rest) = rest.split_at_mut_checked(self.schur()).ok_or(err)?;
+        let (wgram, rest) = rest.split_at_mut_checked(self.wgram()).ok_or(err)?;
+        if rest.len() < self.bf() + self.cache() + self.scratch() {
+            return Err(err);
+        }
+        Ok([lff, schur, wgram, rest])
     }
     /// Row of channel `c` of block row `a` of `z` in `[Z_f; Z_p; Ȳ_f]`.
     #[inline]
@@ -364,6 +376,11 @@ fn for_each_entry<T: Real, const M: usize, const K: usize>(
 
 /// Columns `c0 .. c0 + width` of `X = L₁₁⁻¹ G_{Z_f, [Z_p; Ȳ_f]}` into `out` (column-major,
 /// leading dimension `f·m`): one pass over the Gram, then forward substitution.
+///
+/// The pass takes from each block only the entries of the cross Gram in the wanted columns
+/// (centred as [`for_each_entry`] centres them, with the same roundings): the blocks of a past
+/// block row `a` and a future one `b` give `Z_p(a) × Z_f(b)` (and `Ȳ_p(a) × Z_f(b)`), the
+/// blocks of two future block rows give `Z_f × ȳ_f` in both orders.
 #[allow(clippy::too_many_arguments)]
 fn cross_block<T: Real, const M: usize, const K: usize>(
     acc: &Accumulator<T, M, K>,
@@ -386,17 +403,216 @@ fn cross_block<T: Real, const M: usize, const K: usize>(
     let yf = |a: usize| a >= p && in_range(pm + py + a - p);
     let want =
         |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)));
-    for_each_entry(acc, knots, basis, lay, sums, want, |r, c, v| {
-        // r >= c: the Z_f row is c, the [Z_p; Ȳ_f] column is r − fm.
-        if c < fm && r >= fm {
-            let col = r - fm;
-            if in_range(col) {
-                set(out, (col - c0) * fm + c, v);
+    let inv_j = T::one() / acc.effective_columns().max(T::one());
+    // Row sums of block row `a` (zero without centring or past `K`), and `Σȳ / j`.
+    let zero = [T::zero(); M];
+    let zs = |a: usize| sums.and_then(|s| s.z.get(a)).unwrap_or(&zero);
+    let ys = |a: usize| sums.map_or(T::zero(), |s| at(&s.y, a));
+    let centre = sums.is_some();
+    let cent = |v: T, x: T, y: T| if centre { v - x * y } else { v };
+    // Where column `col` of Q, rows of block row `blk_row` of Z_f, start in `out`.
+    let from = |col: usize, blk_row: usize| {
+        let fut = blk_row.checked_sub(p)?;
+        in_range(col).then(|| (col - c0) * fm + fut * m)
+    };
+    acc.for_each_block_where(knots, basis, want, |a, b, blk| {
+        let (za, zb) = (zs(a), zs(b));
+        if a < p {
+            for (i, (row, &zi)) in blk.zz.iter().zip(za).enumerate().take(m) {
+                let zi = zi * inv_j;
+                let dst = dest(out, from(a * m + i, b), m);
+                for (d, (&v, &zj)) in dst.iter_mut().zip(row.iter().zip(zb)) {
+                    *d = cent(v, zi, zj);
+                }
+            }
+            if py > 0 {
+                let ya = ys(a) * inv_j;
+                let dst = dest(out, from(pm + a, b), m);
+                for (d, (&v, &zj)) in dst.iter_mut().zip(blk.yz.iter().zip(zb)) {
+                    *d = cent(v, ya, zj);
+                }
+            }
+        } else {
+            // Z_f(a) × ȳ(b) (for a = b the same entries as ȳ(a) × Z_f(a), which wins).
+            let base = pm + py - p;
+            if a < b {
+                let yb = ys(b) * inv_j;
+                let dst = dest(out, from(base + b, a), m);
+                for (d, (&v, &zi)) in dst.iter_mut().zip(blk.zy.iter().zip(za)) {
+                    *d = cent(v, zi, yb);
+                }
+            }
+            let ya = ys(a) * inv_j;
+            let dst = dest(out, from(base + a, b), m);
+            for (d, (&v, &zj)) in dst.iter_mut().zip(blk.yz.iter().zip(zb)) {
+                *d = cent(v, ya, zj);
             }
         }
     });
-    for x in out.chunks_exact_mut(fm.max(1)).take(width) {
-        forward_substitution(lff, x);
+    forward_substitution_columns(lff, out, fm, width);
+}
+
+/// The `m` entries of `out` from `from` on (none if `from` is `None` or out of range).
+fn dest<T>(out: &mut [T], from: Option<usize>, m: usize) -> &mut [T] {
+    from.and_then(|f| out.get_mut(f..f.saturating_add(m)))
+        .unwrap_or(&mut [])
+}
+
+/// `S[r0 + a, c0 + b] −= x_aᵀ y_b` for the columns `x_a` of `xa` and `y_b` of `xb` (each `fm`
+/// long) into the packed `schur`, only `b <= a` if `diagonal` (`xa` and `xb` the same panel).
+fn subtract_products<T: Real>(
+    schur: &mut [T],
+    xa: &[T],
+    xb: &[T],
+    fm: usize,
+    r0: usize,
+    c0: usize,
+    diagonal: bool,
+) {
+    let fm = fm.max(1);
+    for (a, colj) in xa.chunks_exact(fm).enumerate() {
+        let width = if diagonal { a + 1 } else { usize::MAX };
+        let row = packed(r0 + a, c0);
+        let Some(dst) = schur.get_mut(row..) else {
+            return;
+        };
+        let mut dst = dst.iter_mut();
+        let mut cols = xb.chunks_exact(fm).take(width);
+        loop {
+            match (cols.next(), cols.next(), cols.next(), cols.next()) {
+                (Some(p), Some(q), Some(r), Some(s)) => {
+                    // The four products first: `zip` asks its first iterator first.
+                    for (d, v) in dot4(colj, [p, q, r, s]).into_iter().zip(dst.by_ref()) {
+                        *v -= d;
+                    }
+                }
+                (p, q, r, _) => {
+                    for (c, v) in [p, q, r].into_iter().flatten().zip(dst.by_ref()) {
+                        *v -= dot(colj, c);
+                    }
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// How step 2 of [`pi_moesp`] walks the `q` columns of `X = L₁₁⁻¹ G_{Z_f Q}` with a cache of
+/// a few of them: panels of `width` columns, each computed once and kept while the Schur
+/// complement's rows of the panel are formed, and the columns left of a panel regenerated
+/// `stream` at a time next to it. The pairs of columns, and so the result, are the same for
+/// every schedule; the work is not.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Schedule {
+    /// Columns per panel.
+    width: usize,
+    /// Columns regenerated at a time (`width + stream` fit in the cache).
+    stream: usize,
+}
+
+impl Schedule {
+    /// The schedule of least estimated work for a cache of `cols` columns: a regenerated
+    /// column costs a forward substitution (`(f·m)²/2` multiply-adds), a pass over the lagged
+    /// sums about `k²·m²` (`k = f + p` block rows: `k²/2` blocks of about `m²` entries, each
+    /// corrected and scattered).
+    fn choose(lay: Layout, cols: usize) -> Self {
+        let q = lay.q();
+        let column = (lay.fm() * lay.fm() / 2) as u64;
+        let k = (lay.f + lay.p) as u64;
+        let pass = k * k * (lay.m * lay.m) as u64;
+        let mut best = Self {
+            width: 1,
+            stream: 1,
+        };
+        let mut best_cost = u64::MAX;
+        let mut last = 0;
+        for panels in 1..=q {
+            let width = q.div_ceil(panels);
+            let Some(stream) = cols.checked_sub(width) else {
+                continue;
+            };
+            if (stream == 0 && width < q) || width == last {
+                continue;
+            }
+            last = width;
+            let plan = Self { width, stream };
+            let (regenerated, passes) = plan.work(q);
+            let cost = (regenerated as u64)
+                .saturating_mul(column)
+                .saturating_add((passes as u64).saturating_mul(pass));
+            if cost < best_cost {
+                (best, best_cost) = (plan, cost);
+            }
+        }
+        best
+    }
+
+    /// Columns regenerated and passes over the lagged sums for `q` columns.
+    fn work(self, q: usize) -> (usize, usize) {
+        let (mut regenerated, mut passes) = (0, 0);
+        for p0 in (0..q).step_by(self.width.max(1)) {
+            regenerated += p0;
+            passes += 1 + p0.div_ceil(self.stream.max(1));
+        }
+        (regenerated, passes)
+    }
+}
+
+/// `X ← L⁻¹ X` for the first `width` columns (`n` long) of the column-major `x`, four at a
+/// time (the same bits as one at a time: [`dot4`]).
+fn forward_substitution_columns<T: Real>(l: &[T], x: &mut [T], n: usize, width: usize) {
+    let mut cols = x.chunks_exact_mut(n.max(1)).take(width);
+    loop {
+        match (cols.next(), cols.next(), cols.next(), cols.next()) {
+            (Some(a), Some(b), Some(c), Some(d)) => forward_substitution4(l, [a, b, c, d]),
+            (a, b, c, _) => {
+                for x in [a, b, c].into_iter().flatten() {
+                    forward_substitution(l, x);
+                }
+                return;
+            }
+        }
+    }
+}
+
+/// [`forward_substitution`] of four columns at once.
+fn forward_substitution4<T: Real>(l: &[T], mut x: [&mut [T]; 4]) {
+    let n = x.iter().fold(usize::MAX, |n, c| n.min(c.len()));
+    let mut rows = l;
+    for i in 0..n {
+        let Some((row, rest)) = rows.split_at_checked(i + 1) else {
+            return;
+        };
+        rows = rest;
+        let Some((&d, li)) = row.split_last() else {
+            return;
+        };
+        let [x0, x1, x2, x3] = &x;
+        let done = [x0, x1, x2, x3].map(|c| c.get(..i).unwrap_or(&[]));
+        let s = dot4(li, done);
+        for (col, s) in x.iter_mut().zip(s) {
+            if let Some(xi) = col.get_mut(i) {
+                *xi = (*xi - s) / d;
+            }
+        }
+    }
+}
+
+/// `x ← L⁻ᵀ x` for the packed lower-triangular `L` of dimension `x.len()` in `l`: from the
+/// last row up, `x_i = (x_i − Σ_{r > i} L[r, i] x_r) / L[i, i]`, the sum in increasing `r`
+/// (column `i` of `L` walked by its packed offset, which grows by `r + 1` from row `r` on).
+fn back_substitution_transposed<T: Real>(l: &[T], x: &mut [T]) {
+    for i in (0..x.len()).rev() {
+        let Some((done, later)) = x.split_at_mut_checked(i + 1) else {
+            return;
+        };
+        let mut s = at(done, i);
+        let mut idx = packed(i + 1, i);
+        for (r, &xr) in later.iter().enumerate() {
+            s -= at(l, idx) * xr;
+            idx += i + r + 2;
+        }
+        set(done, i, s / at(l, packed(i, i)));
     }
 }
 
@@ -420,8 +636,8 @@ fn forward_substitution<T: Real>(l: &[T], x: &mut [T]) {
 
 /// PI-MOESP from the accumulated Gram: `L₁₁`, the Schur complement of `[Z_p; Ȳ_f]` given
 /// `Z_f` (whose Cholesky factor holds `L₂₂`, `L₃₂`, `L₃₃`), `B_f = L₃₁L₁₁⁻¹`, and the SVD of
-/// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is regenerated from
-/// the lagged sums block of columns by block of columns, which keeps the workspace near
+/// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is formed from the
+/// lagged sums panel by panel (columns left of a panel regenerated), which keeps the workspace near
 /// `(f·m)²/2 + (p·m + f)²/2` instead of `((f + p)·m + f)²/2`.
 pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     acc: &Accumulator<T, M, K>,
@@ -453,7 +669,12 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         });
     }
     let ws_len = ws.len();
-    let [lff, schur, wgram, bf, cache, scratch] = lay.carve(ws)?;
+    let [lff, schur, wgram, tail] = lay.carve_front(ws)?;
+    // Until step 4 the raw diagonals (below) sit at the end of the tail, and the rest of it
+    // (B_f, the column blocks and the scratch) is the cache of step 2.
+    let (xs, g) = tail
+        .split_at_mut_checked(tail.len().saturating_sub(q))
+        .ok_or(too_small(lay, ws_len))?;
     let sums = centred.then(|| acc.row_sums(knots, basis));
     let sums = sums.as_ref();
 
@@ -498,8 +719,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         *fl = level * at(schur, packed(r, r)).abs();
     }
     let floor = &floor[..(q - pm).min(K)];
-    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f] (the scratch is free until step 5).
-    for (r, g) in scratch.iter_mut().enumerate().take(q) {
+    // The raw diagonal of every row of [Z_p; Ȳ_p; Ȳ_f].
+    for (r, g) in g.iter_mut().enumerate().take(q) {
         *g = at(schur, packed(r, r)).abs();
     }
     let tol = T::EPS * T::of_usize(8 * (d + q));
@@ -507,47 +728,48 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         stage: Stage::InputHankel,
     })?;
 
-    // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}, by blocks of columns.
-    let bw = lay.block().max(1);
-    let nb = q.div_ceil(bw);
-    let (xa, xb) = cache
-        .split_at_mut_checked(bw * fm)
-        .ok_or(too_small(lay, ws_len))?;
-    for jb in 0..nb {
-        let (j0, jw) = (jb * bw, bw.min(q - jb * bw));
-        cross_block(acc, knots, basis, lay, sums, lff, j0, jw, xa);
-        for ib in 0..=jb {
-            let (i0, iw) = (ib * bw, bw.min(q - ib * bw));
-            let xi: &[T] = if ib == jb {
-                xa
-            } else {
-                cross_block(acc, knots, basis, lay, sums, lff, i0, iw, xb);
-                xb
-            };
-            for cj in 0..jw {
-                let colj = sub(xa, cj * fm, (cj + 1) * fm);
-                let r = j0 + cj;
-                let iend = if ib == jb { cj + 1 } else { iw };
-                for ci in 0..iend {
-                    let coli = sub(xi, ci * fm, (ci + 1) * fm);
-                    if let Some(v) = schur.get_mut(packed(r, i0 + ci)) {
-                        *v -= dot(colj, coli);
-                    }
-                }
-            }
+    // 2. S = G_QQ − XᵀX with X = L₁₁⁻¹ G_{Z_f Q}: a panel of X's columns stays in the cache
+    // while the columns left of it are regenerated a few at a time (see `Schedule`).
+    let plan = Schedule::choose(lay, xs.len() / fm.max(1));
+    let mut y_at = None;
+    for p0 in (0..q).step_by(plan.width.max(1)) {
+        let pw = plan.width.min(q - p0);
+        let (xa, rest) = xs
+            .split_at_mut_checked(pw * fm)
+            .ok_or(too_small(lay, ws_len))?;
+        cross_block(acc, knots, basis, lay, sums, lff, p0, pw, xa);
+        subtract_products(schur, xa, xa, fm, p0, p0, true);
+        let mut i0 = 0;
+        while i0 < p0 {
+            let iw = plan.stream.max(1).min(p0 - i0);
+            let xb = rest.get_mut(..iw * fm).ok_or(too_small(lay, ws_len))?;
+            cross_block(acc, knots, basis, lay, sums, lff, i0, iw, xb);
+            subtract_products(schur, xa, xb, fm, p0, i0, false);
+            i0 += iw;
         }
+        // X_Y (the last f columns) for step 3, if this panel (the last) holds all of them.
+        y_at = (p0 <= w && w + f <= p0 + pw).then_some((w - p0) * fm);
     }
 
-    // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X.
-    cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
-    for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
-        for i in (0..fm).rev() {
-            let mut s = at(x, i);
-            for (r, &xr) in x.iter().enumerate().skip(i + 1) {
-                s -= at(lff, packed(r, i)) * xr;
+    // 3. B_f = G_{Ȳ_f Z_f} G_{Z_f Z_f}⁻¹ = (L₁₁⁻ᵀ X_Y)ᵀ, X_Y the last f columns of X, moved
+    // from the last panel to B_f's place at the start of the cache (or computed anew).
+    let bf_len = lay.bf();
+    match y_at {
+        Some(from) if from.saturating_add(bf_len) <= xs.len() => {
+            // Forwards, entry by entry: the source lies at or after the destination.
+            for k in 0..bf_len {
+                let v = at(xs, from + k);
+                set(xs, k, v);
             }
-            set(x, i, s / at(lff, packed(i, i)));
         }
+        _ => {
+            let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
+            cross_block(acc, knots, basis, lay, sums, lff, w, f, bf);
+        }
+    }
+    let bf = xs.get_mut(..bf_len).ok_or(too_small(lay, ws_len))?;
+    for x in bf.chunks_exact_mut(fm.max(1)).take(f) {
+        back_substitution_transposed(lff, x);
     }
 
     if !all_finite(schur) || !all_finite(bf) {
@@ -581,9 +803,9 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
         .take(f)
     {
         let row = packed(w + r, 0);
-        let gr = at(scratch, w + r);
+        let gr = at(g, w + r);
         let (mut e, mut noise) = (T::zero(), T::zero());
-        for (i, &gi) in scratch.iter().enumerate().take(w) {
+        for (i, &gi) in g.iter().enumerate().take(w) {
             let d = at(schur, packed(i, i));
             if d > T::zero() {
                 let l = at(schur, row + i) / d;
@@ -599,6 +821,10 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
 
     // 5. Rᵀ from the QR of L₃₂ᵀ (w × f): L₃₂ = Rᵀ Qᵀ, so the SVDs of L₃₂ reduce to f × f.
     // For N4SID the same is done for (L₃₂ L₂₂⁻¹ L_W)ᵀ below.
+    // The scratch (after B_f and the column blocks) is free from here on.
+    let scratch = tail
+        .get_mut(lay.bf() + lay.cache()..)
+        .ok_or(too_small(lay, ws_len))?;
     let (x, tau) = scratch
         .split_at_mut_checked(lay.qr_parts().0)
         .ok_or(too_small(lay, ws_len))?;
@@ -843,6 +1069,50 @@ pub(crate) fn select_order<T: Real, const H: usize>(
             match n {
                 0 => Err(Error::NoDynamics),
                 n => Ok(n.min(lay.f - 1)),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's layout with the default workspace: B_f, the two blocks of 32 columns and
+    /// the scratch less the raw diagonals hold 83 columns of 140, so two panels of 75 with 8
+    /// columns streamed, 75 columns regenerated in 12 passes (the two-block walk regenerated
+    /// 320 columns in 16 passes, B_f's included).
+    #[test]
+    fn schedule_of_the_paper_layout() {
+        let lay = Layout::new(14, 10, 10);
+        let cols = (lay.bf() + lay.cache() + lay.scratch() - lay.q()) / lay.fm();
+        assert_eq!(cols, 83);
+        let plan = Schedule::choose(lay, cols);
+        assert_eq!(
+            plan,
+            Schedule {
+                width: 75,
+                stream: 8
+            }
+        );
+        assert_eq!(plan.work(lay.q()), (75, 12));
+    }
+
+    /// Every cache from the smallest (two columns) to more than `q`: the schedule fits it,
+    /// streams whenever there is more than one panel, and one panel holds all when it can.
+    #[test]
+    fn schedule_fits_every_cache() {
+        let lay = Layout::new(14, 10, 10);
+        let q = lay.q();
+        for cols in 2..=q + 10 {
+            let plan = Schedule::choose(lay, cols);
+            assert!(
+                plan.width >= 1 && plan.width + plan.stream <= cols,
+                "{cols}: {plan:?}"
+            );
+            assert!(plan.width >= q || plan.stream >= 1, "{cols}: {plan:?}");
+            if cols >= q {
+                assert_eq!(plan.work(q), (0, 1), "{cols}: {plan:?}");
             }
         }
     }
