@@ -20,7 +20,10 @@ use cortex_m::peripheral::{SCB, SYST, syst::SystClkSource};
 use cortex_m_rt::{ExceptionFrame, exception};
 
 pub use cortex_m_rt::{STACK_PAINT_VALUE, entry};
-pub use cortex_m_semihosting::{debug, hprint, hprintln, nr, syscall};
+pub use cortex_m_semihosting::{debug, nr, syscall};
+// Plain-text output; with the `defmt` feature every line goes through defmt instead.
+#[cfg(not(feature = "defmt"))]
+pub use cortex_m_semihosting::{hprint, hprintln};
 
 use crate::{exit_failure, fail, report::out};
 

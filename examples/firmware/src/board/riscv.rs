@@ -10,7 +10,10 @@
 //! (`stack::repaint`), before the experiment starts.
 
 pub use riscv_rt::entry;
-pub use riscv_semihosting::{debug, hprint, hprintln, nr, syscall};
+pub use riscv_semihosting::{debug, nr, syscall};
+// Plain-text output; with the `defmt` feature every line goes through defmt instead.
+#[cfg(not(feature = "defmt"))]
+pub use riscv_semihosting::{hprint, hprintln};
 
 use crate::{exit_failure, report::out};
 
