@@ -29,6 +29,13 @@ pub struct FigureArgs {
     true_plant: Option<PathBuf>,
 }
 
+impl FigureArgs {
+    /// Whether figures were asked for (`--out`).
+    pub fn wanted(&self) -> bool {
+        self.out.is_some()
+    }
+}
+
 /// The true loop of `--true-plant` on `[u_min, u_max]`, or none (also drawn in the HTML report).
 pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, Failure> {
     let Some(path) = &a.true_plant else {

@@ -128,6 +128,14 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
                 .into(),
         );
     }
+    if element.is_some() && (a.figures.wanted() || a.html.is_some()) {
+        return Err(
+            "the figures and the HTML report of a play or relay model (\"element\") are not \
+             drawn yet (they would show its two-path reading): drop --out and --html"
+                .to_string()
+                .into(),
+        );
+    }
     let sim = match &element {
         Some(h) => hysteresis::simulate::simulate(h, u),
         None => m.simulate(u),

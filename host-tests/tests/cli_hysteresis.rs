@@ -113,6 +113,17 @@ fn a_backlash_fitted_by_simulation_error_validates_within_the_noise_floor() {
         "20",
     ])
     .clean_error(&["element", "noise"]);
+    let figures = dir.join("fig");
+    hsid(&[
+        "validate",
+        "--model",
+        p(&model),
+        "--data",
+        p(&check),
+        "--out",
+        p(&figures),
+    ])
+    .clean_error(&["element", "not drawn yet", "drop --out"]);
     // A second record that may be joined (it does not start at rest at u_min).
     let tail = dir.write_uy("tail.csv", &val.u[HOLD..], &val.y[HOLD..]);
     identify(
