@@ -35,9 +35,12 @@ def test_default_identify_equals_hsid_identify_json(refined, record, cli, tmp_pa
 
 def test_paper_estimator_equals_hsid_identify_no_refine(record, cli, tmp_path):
     path, u, y = record
-    # The record's header comment `# ts = 0.01 s` is its sample time for the command line
-    # (its unit comments are not read); numpy arrays carry none, so it is given here.
-    model = hsid.identify(u, y, -1.0, 1.0, refine=False, segments=7, f=10, p=10, ts=0.01)
+    # The record's header comments `# ts = 0.01 s`, `# input unit = V`, `# output unit = deg`
+    # are its sample time and units for the command line; numpy arrays carry none, so they
+    # are given here.
+    model = hsid.identify(
+        u, y, -1.0, 1.0, refine=False, segments=7, f=10, p=10, ts=0.01, units=UNITS
+    )
     text = cli_model(cli, tmp_path, path, "--no-refine", "--segments", "7", "--f", "10", "--p", "10")
     assert model.to_json() == text
     assert model.std is None
