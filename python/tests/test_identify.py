@@ -44,7 +44,7 @@ def test_paper_estimator_equals_hsid_identify_no_refine(record, cli, tmp_path):
     text = cli_model(cli, tmp_path, path, "--no-refine", "--segments", "7", "--f", "10", "--p", "10")
     assert model.to_json() == text
     assert model.std is None
-    assert model.ts == 0.01 and model.units is None
+    assert model.ts == 0.01 and model.units == UNITS
 
 
 def test_refined_poles_and_gap_match_the_plant(refined, spec):
