@@ -38,6 +38,13 @@ fn report() -> &'static Report {
             Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv"),
         )
         .unwrap();
+        // The copy states the input unit with markup too: its header comment must agree with
+        // the flag.
+        let text = text.replace("# input unit = V\n", &format!("# input unit = V{NASTY}\n"));
+        assert!(
+            text.contains(NASTY),
+            "servo.csv has no `# input unit = V` line"
+        );
         let data = dir.write(&format!("{NASTY}.csv"), &text);
         let (model, page, out) = (dir.join("m.json"), dir.join("r.html"), dir.join("figs"));
         let unit = format!("V{NASTY}");
