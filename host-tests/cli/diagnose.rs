@@ -278,10 +278,13 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
 }
 
 /// Whether an added effect changes the model beyond what a model file holds (the order, the
-/// noise model and a robust refit it does hold).
+/// noise model, a robust refit and the element with memory it does hold).
 fn not_in_the_model_file(e: Effect) -> bool {
     match e {
-        Effect::UnmodeledDynamics | Effect::ColoredNoise | Effect::Outliers => false,
+        Effect::UnmodeledDynamics
+        | Effect::ColoredNoise
+        | Effect::Outliers
+        | Effect::Hysteresis => false,
         Effect::OffsetDrift
         | Effect::InputDelay
         | Effect::OutputNonlinearity

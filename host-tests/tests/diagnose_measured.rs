@@ -140,8 +140,12 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
     assert_eq!(delay.model.structure.delay, d.dead_time.extra());
     assert!(delay.inner_p < 0.01 && delay.inner_gain > 0.0, "{delay:?}");
     assert!(delay.error_after < delay.error_before);
+    // The play operator on the voltage is added first (its inner hold-out MSE −55 %): it
+    // represents part of the coasting down when the drive returns to 0, and lowers the
+    // validation error from 8.08 rpm (the input delay alone) to 7.55.
+    assert_eq!(d.steps.first().map(|s| s.effect), Some(Effect::Hysteresis));
     assert!(
-        (d.after.rmse - 8.08).abs() < 0.005,
+        (d.after.rmse - 7.553).abs() < 0.005,
         "validation RMSE after {}",
         d.after.rmse
     );
@@ -161,18 +165,24 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
         "{:?}",
         delay.tried
     );
-    // The coast-down (direction dependence) and the quantisation are reported as found but
-    // not in the catalog.
+    // The rest of the coast-down (direction dependence beyond the play operator) and the
+    // quantisation are reported as found but not in the catalog.
     let found: Vec<&Finding> = d
         .unexplained
         .iter()
         .filter(|u| u.outside_catalog())
         .collect();
-    assert!(found.contains(&&Finding::DirectionDependence), "{found:?}");
+    assert!(
+        found.contains(&&Finding::DirectionDependenceBeyondElement),
+        "{found:?}"
+    );
     assert!(found.contains(&&Finding::Quantised), "{found:?}");
     // The verdict names them as found outside the catalog (after the effects added), not as
     // tests no effect explains.
-    for f in [Finding::DirectionDependence, Finding::Quantised] {
+    for f in [
+        Finding::DirectionDependenceBeyondElement,
+        Finding::Quantised,
+    ] {
         assert!(d.verdict.outside.contains(&f), "{:?}", d.verdict);
     }
     assert!(

@@ -37,8 +37,11 @@ pub enum Finding {
         tried: Vec<(Effect, f64, f64)>,
     },
     /// Outside the catalog: the residual depends on the input's direction although the
-    /// nonlinearity is static.
+    /// nonlinearity is static, and no element with memory was added.
     DirectionDependence,
+    /// Outside the catalog: the residual still depends on the input's direction with the
+    /// element with memory (`hysteresis`) added.
+    DirectionDependenceBeyondElement,
     /// Outside the catalog: state dependence the level-dependent stores leave.
     StateDependenceBeyondStores,
     /// Outside the catalog: state-dependent dynamics not added.
@@ -61,6 +64,7 @@ impl Finding {
         matches!(
             self,
             Finding::DirectionDependence
+                | Finding::DirectionDependenceBeyondElement
                 | Finding::StateDependenceBeyondStores
                 | Finding::StateDependence
                 | Finding::Quantised
@@ -70,16 +74,21 @@ impl Finding {
 
 /// The effects outside the catalog that the final estimation tests (`tests`) and the data
 /// checks (`warnings`) find; `shared`: a static nonlinearity, `stores`: the model has the
-/// level-dependent stores.
+/// level-dependent stores, `element`: the element with memory.
 pub fn outside_catalog(
     tests: &super::residual::TestSet,
     warnings: &[super::checks::Warning],
     shared: bool,
     stores: bool,
+    element: bool,
 ) -> Vec<Finding> {
     let mut out = Vec::new();
     if shared && tests.fired(Test::DirectionCorrelation) {
-        out.push(Finding::DirectionDependence);
+        out.push(if element {
+            Finding::DirectionDependenceBeyondElement
+        } else {
+            Finding::DirectionDependence
+        });
     }
     if tests.fired(Test::StateDependence) {
         out.push(if stores {

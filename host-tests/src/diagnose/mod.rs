@@ -202,6 +202,7 @@ fn diagnose_inner(
         &warnings,
         shared,
         stores,
+        p.current.element.is_some(),
     ));
     let verdict = verdict::Verdict::new(
         p.steps.iter().map(|s| s.effect).collect(),

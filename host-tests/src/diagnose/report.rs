@@ -75,7 +75,10 @@ impl ModelSummary {
             Nonlinearity::Switch => NonlinearityKind::Switch,
             Nonlinearity::Static => NonlinearityKind::Static,
         };
-        let mut model = m.hammerstein.to_json(Some(kind));
+        let mut model = match &m.hysteresis {
+            Some(el) => el.to_file(m.hammerstein.samples),
+            None => m.hammerstein.to_json(Some(kind)),
+        };
         // v(t) = Σ a_i v(t − i) + e(t): C = 1, D = 1 − Σ a_i q⁻ⁱ.
         model.noise = m.noise.as_ref().map(|n| NoiseFile {
             c: vec![1.0],
@@ -379,8 +382,9 @@ pub fn text(d: &Diagnosis) -> String {
 }
 
 fn poles(m: &ExtendedModel) -> String {
-    m.hammerstein
-        .poles()
+    m.hysteresis
+        .as_ref()
+        .map_or_else(|| m.hammerstein.poles(), |el| el.poles())
         .iter()
         .map(|(r, i)| {
             if i.abs() < 1e-12 {

@@ -17,6 +17,9 @@ impl Finding {
             Finding::DirectionDependence => {
                 Some("the residual depends on the direction of the input")
             }
+            Finding::DirectionDependenceBeyondElement => Some(
+                "the residual depends on the direction of the input beyond the element with memory",
+            ),
             Finding::StateDependenceBeyondStores => {
                 Some("state dependence beyond the level-dependent stores")
             }
@@ -30,7 +33,10 @@ impl Finding {
     fn outside_reason(&self) -> &'static str {
         match self {
             Finding::DirectionDependence => {
-                "direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); a backlash or switch element, or a direction-dependent model, would be needed"
+                "direction_correlation fires) although the nonlinearity is static: the plant behaves differently when the input falls (e.g. coasting down when the drive returns to 0); the play operator or relay (`hysteresis`, tried on a model without an output map or stores) was not confirmed by the estimation hold-out, so a direction-dependent model beyond them would be needed"
+            }
+            Finding::DirectionDependenceBeyondElement => {
+                "direction_correlation still fires with the play operator or relay added): the plant behaves differently when the input falls in a way a play or relay on the knots does not represent (e.g. coasting down with dry friction when the drive returns to 0); a direction-dependent model of the dynamics would be needed"
             }
             Finding::StateDependenceBeyondStores => {
                 "state_dependence still fires with them: the residual follows the level times the increment of the simulated output in a form the stores do not have); the example `tanks_dynamics` measures further model classes (a polynomial state term, an internal overflow)"
@@ -262,6 +268,7 @@ mod tests {
     fn outside_names_open_their_findings() {
         for f in [
             Finding::DirectionDependence,
+            Finding::DirectionDependenceBeyondElement,
             Finding::StateDependenceBeyondStores,
             Finding::StateDependence,
             Finding::Quantised,

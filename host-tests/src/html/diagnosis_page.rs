@@ -67,8 +67,14 @@ pub fn diagnosis_page(
     figures: Vec<InlineFigure>,
     reproduction: Reproduction,
 ) -> Page {
-    let two_path = d.nonlinearity != Nonlinearity::Static;
-    let m = &d.model.hammerstein;
+    // An element with memory added to a static model has two borders.
+    let element = d
+        .model
+        .hysteresis
+        .as_ref()
+        .map(|el| el.to_host(d.model.hammerstein.samples));
+    let two_path = d.nonlinearity != Nonlinearity::Static || element.is_some();
+    let m = element.as_ref().unwrap_or(&d.model.hammerstein);
     let r = unit_report(m, ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let mut facts = vec![

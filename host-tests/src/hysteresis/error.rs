@@ -14,6 +14,13 @@ pub enum HysteresisError {
         /// Samples of `y`.
         y: usize,
     },
+    /// The mask of samples left out of the error differs in length from the record.
+    SkipMismatch {
+        /// Samples of the record.
+        samples: usize,
+        /// Entries of the mask.
+        skip: usize,
+    },
     /// Fewer samples than a few per parameter.
     TooFewSamples {
         /// Samples given.
@@ -47,6 +54,10 @@ impl fmt::Display for HysteresisError {
             HysteresisError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")
             }
+            HysteresisError::SkipMismatch { samples, skip } => write!(
+                f,
+                "the record has {samples} samples but the mask of samples left out has {skip}: give one flag per sample, or none"
+            ),
             HysteresisError::TooFewSamples { have, need } => write!(
                 f,
                 "too few samples for the hysteresis model: {have} given, at least {need} needed (a longer record, or fewer segments per path)"

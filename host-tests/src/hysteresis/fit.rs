@@ -104,6 +104,22 @@ pub fn fit_hysteresis(
     start: Start,
     opts: &FitOptions,
 ) -> Result<HysteresisFit, HysteresisError> {
+    fit_hysteresis_skipping(u, y, &[], init, start, opts)
+}
+
+/// [`fit_hysteresis`] with the samples where `skip` is set left out of the error (an empty
+/// `skip` leaves none out). The whole input still drives the simulation, so the element's
+/// state and the plant's run through the skipped samples (a held-out block, outliers); the
+/// start is chosen with the measured output there replaced by `init`'s simulation, so the
+/// skipped outputs choose nothing.
+pub fn fit_hysteresis_skipping(
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    init: &HostModel,
+    start: Start,
+    opts: &FitOptions,
+) -> Result<HysteresisFit, HysteresisError> {
     let layout = Layout {
         kind: opts.kind,
         n: init.order,
@@ -111,12 +127,33 @@ pub fn fit_hysteresis(
         feedthrough: opts.feedthrough,
     };
     check(u, y, layout.len())?;
-    let m0 = start_model(init, opts.kind, opts.feedthrough, u, y)?;
+    if !skip.is_empty() && skip.len() != y.len() {
+        return Err(HysteresisError::SkipMismatch {
+            samples: y.len(),
+            skip: skip.len(),
+        });
+    }
+    let skipped = |t: usize| skip.get(t).copied().unwrap_or(false);
+    let used = y.len() - skip.iter().filter(|&&s| s).count();
+    let y_start: Vec<f64> = if skip.iter().any(|&s| s) {
+        let sim = init.simulate(u);
+        (0..y.len())
+            .map(|t| if skipped(t) { sim[t] } else { y[t] })
+            .collect()
+    } else {
+        y.to_vec()
+    };
+    let m0 = start_model(init, opts.kind, opts.feedthrough, u, &y_start)?;
     let knots = m0.knots.clone();
     let th0 = m0.theta(&layout);
     let residual = |th: &[f64]| -> Option<Vec<f64>> {
         let m = HysteresisModel::from_theta(&layout, &knots, th);
-        let r: Vec<f64> = simulate(&m, u).iter().zip(y).map(|(a, b)| a - b).collect();
+        let r: Vec<f64> = simulate(&m, u)
+            .iter()
+            .zip(y)
+            .enumerate()
+            .map(|(t, (a, b))| if skipped(t) { 0.0 } else { a - b })
+            .collect();
         r.iter().all(|v| v.is_finite()).then_some(r)
     };
     let admissible = |th: &[f64]| admissible(&layout, th);
@@ -158,12 +195,10 @@ pub fn fit_hysteresis(
     let min = lm::minimise(&problem, &th0, &settings)?;
     let cost = min.residual.iter().map(|v| v * v).sum::<f64>();
     let model = HysteresisModel::from_theta(&layout, &knots, &min.theta);
-    let uncertainty =
-        uncertainty(&problem, &layout, &min.theta, &min.residual, &typical).map(|s| {
-            match opts.kind {
-                ElementKind::Backlash => s.with_gap(&layout, &model),
-                ElementKind::Switch => s,
-            }
+    let uncertainty = uncertainty(&problem, &layout, &min.theta, &min.residual, used, &typical)
+        .map(|s| match opts.kind {
+            ElementKind::Backlash => s.with_gap(&layout, &model),
+            ElementKind::Switch => s,
         });
     Ok(HysteresisFit {
         uncertainty,

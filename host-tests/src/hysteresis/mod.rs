@@ -31,6 +31,6 @@ pub mod start;
 pub mod uncertainty;
 
 pub use error::HysteresisError;
-pub use fit::{FitOptions, HysteresisFit, fit_hysteresis};
+pub use fit::{FitOptions, HysteresisFit, fit_hysteresis, fit_hysteresis_skipping};
 pub use params::{ElementKind, HysteresisModel, Layout};
 pub use start::Start;

@@ -10,7 +10,8 @@
 use crate::refine::pem::ParamLayout;
 
 /// Which element with memory.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ElementKind {
     /// The play operator `w(t) = min(max(w(t−1), H_a(u)), H_d(u))`, `H_a ≤ H_d`.
     Backlash,

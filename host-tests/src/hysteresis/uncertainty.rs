@@ -52,21 +52,23 @@ fn jacobian(
     Some(jac)
 }
 
-/// The standard deviations at the optimum `theta` with residual `r`; `None` when `JᵀJ` is
+/// The standard deviations at the optimum `theta` with residual `r`, of which `used` samples
+/// count (the others are left out of the error and are 0 in `r`); `None` when `JᵀJ` is
 /// singular (a parameter the data do not determine) or there are no spare samples.
 pub fn uncertainty(
     problem: &Problem<'_>,
     layout: &Layout,
     theta: &[f64],
     r: &[f64],
+    used: usize,
     typical: &[f64],
 ) -> Option<Uncertainty> {
     let d = theta.len();
-    if r.len() <= d {
+    if used <= d {
         return None;
     }
     let jac = jacobian(problem, theta, r, typical)?;
-    let sigma2 = r.iter().map(|v| v * v).sum::<f64>() / (r.len() - d) as f64;
+    let sigma2 = r.iter().map(|v| v * v).sum::<f64>() / (used - d) as f64;
     let inv = jac.tr_mul(&jac).cholesky()?.inverse();
     let cov = inv * sigma2;
     let sd = |i: usize| cov[(i, i)].max(0.0).sqrt();

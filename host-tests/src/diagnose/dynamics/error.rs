@@ -1,5 +1,7 @@
 //! Why a model class beyond the linear dynamics could not be fitted.
 
+use crate::hysteresis::HysteresisError;
+
 /// Why a model class beyond the linear dynamics could not be fitted.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DynamicsError {
@@ -17,6 +19,8 @@ pub enum DynamicsError {
         /// The model's order.
         order: usize,
     },
+    /// The element with memory (play operator or relay) could not be fitted.
+    Hysteresis(HysteresisError),
 }
 
 impl std::fmt::Display for DynamicsError {
@@ -34,6 +38,7 @@ impl std::fmt::Display for DynamicsError {
                 f,
                 "level-dependent stores (a cascade of two stores) start from an order-2 model; the model has order {order}"
             ),
+            DynamicsError::Hysteresis(e) => write!(f, "element with memory: {e}"),
         }
     }
 }

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use crate::diagnose::model::{Dynamics, ExtendedModel, Structure};
 use crate::diagnose::residual::{Test, TestSet};
+use crate::hysteresis::ElementKind;
 
 /// The effects the diagnosis can name and add.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
@@ -28,6 +29,11 @@ pub enum Effect {
     /// seven-effect catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with
     /// them ([`Effect::PROPOSED`]).
     StateDependentDynamics,
+    /// An element with memory the static model lacks: the play operator (backlash) or the
+    /// relay with borders (switch) on the knots, simulated itself. Beyond the seven-effect
+    /// catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with them
+    /// ([`Effect::PROPOSED`]) on a static model.
+    Hysteresis,
 }
 
 impl Effect {
@@ -43,9 +49,10 @@ impl Effect {
     ];
 
     /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
-    /// for state-dependent dynamics.
-    pub const PROPOSED: [Effect; 8] = {
-        let mut all = [Effect::StateDependentDynamics; 8];
+    /// for state-dependent dynamics, then the element with memory.
+    pub const PROPOSED: [Effect; 9] = {
+        let mut all = [Effect::StateDependentDynamics; 9];
+        all[8] = Effect::Hysteresis;
         let mut i = 0;
         while i < Effect::ALL.len() {
             all[i] = Effect::ALL[i];
@@ -65,6 +72,7 @@ impl Effect {
             Effect::ColoredNoise => "colored_noise",
             Effect::Outliers => "outliers",
             Effect::StateDependentDynamics => "state_dependent_dynamics",
+            Effect::Hysteresis => "hysteresis",
         }
     }
 
@@ -101,6 +109,12 @@ impl Effect {
                 Test::RegressorCorrelation,
                 Test::Whiteness,
             ],
+            // A residual that depends on the direction of the input's last move (what a
+            // single border for both directions cannot follow), or one that is not white:
+            // behind a static model the element's memory leaves a slow, coloured error
+            // whose correlation with δ the prewhitened test often cannot resolve (as for a
+            // missing order, whiteness is the evidence that something deterministic lacks).
+            Effect::Hysteresis => &[Test::DirectionCorrelation, Test::Whiteness],
         }
     }
 
@@ -124,6 +138,9 @@ impl Effect {
             }
             Effect::StateDependentDynamics => {
                 "level-dependent stores: the order-2 linear part as a cascade of two stores with power-law outflows, the first overflowing into the second, borders refitted with them on the simulation error"
+            }
+            Effect::Hysteresis => {
+                "the element itself: play operator (backlash) or relay with borders (switch) on the knots, with G, fitted by simulation error from the static model"
             }
         }
     }
@@ -149,6 +166,8 @@ impl Effect {
             Effect::ColoredNoise => s.noise_ar_order.unwrap_or(1) as f64,
             // Exponents, offsets, overflow level and spill beyond the linear cascade.
             Effect::StateDependentDynamics => 6.0,
+            // A second border on the knots (7 for the usual 6 segments) and w(−1).
+            Effect::Hysteresis => 8.0,
         }
     }
 
@@ -163,6 +182,7 @@ impl Effect {
             Effect::ColoredNoise => s.noise_ar_order.is_some(),
             Effect::Outliers => s.robust,
             Effect::StateDependentDynamics => s.dynamics != Dynamics::Linear,
+            Effect::Hysteresis => s.element.is_some(),
         }
     }
 }
@@ -199,6 +219,17 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
                 m.outlier_k, m.flagged
             ),
             None => "MAD rule".into(),
+        },
+        Effect::Hysteresis => match model.and_then(|m| m.hysteresis.as_ref()) {
+            Some(h) => match (h.kind, h.gap()) {
+                (ElementKind::Backlash, Some(g)) => format!("play operator, gap {g:.4}"),
+                (ElementKind::Backlash, None) => "play operator".into(),
+                (ElementKind::Switch, _) => "relay with borders".into(),
+            },
+            None => match s.element {
+                Some(ElementKind::Switch) => "relay with borders".into(),
+                _ => "play operator".into(),
+            },
         },
         Effect::StateDependentDynamics => {
             let map = match s.output_map_segments {

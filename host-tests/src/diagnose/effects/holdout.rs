@@ -159,7 +159,7 @@ impl<'a> Holdout<'a> {
         let mut first: Option<ExtendedModel> = None;
         let mut evs = Vec::new();
         for f in &self.folds {
-            let m = if s.dynamics.stores().is_some() {
+            let m = if s.dynamics.stores().is_some() || s.element.is_some() {
                 fit_structure_fold(s, &f.fit_part, self.opts, self.est, f.range.clone())?
             } else {
                 fit_structure(s, &f.fit_part, self.opts)?
@@ -233,5 +233,5 @@ impl<'a> Holdout<'a> {
 /// validate, and extrapolates wildly.
 pub fn too_slow(m: &ExtendedModel, n: usize) -> bool {
     // Stores replace the linear part's simulation and drain by construction.
-    m.stores.is_none() && m.hammerstein.spectral_radius() >= 1.0 - 0.5 / n.max(4) as f64
+    m.stores.is_none() && m.spectral_radius() >= 1.0 - 0.5 / n.max(4) as f64
 }

@@ -13,6 +13,7 @@ pub mod catalog;
 pub mod delay;
 pub mod drift;
 pub mod holdout;
+pub mod hysteresis;
 pub mod noise;
 pub mod order;
 pub mod outliers;

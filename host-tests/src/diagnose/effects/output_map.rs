@@ -13,6 +13,10 @@ impl Proposal<'_> {
     /// sits at a saturation level (the map is clipped there in every setting).
     pub fn output_nonlinearity(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let effect = Effect::OutputNonlinearity;
+        // The element with memory is fitted without a map.
+        if self.current.element.is_some() {
+            return Ok(None);
+        }
         let saturated = self.holdout.opts.saturation.any();
         let segments: &[usize] = if saturated { &[1, 3, 5, 8] } else { &[3, 5, 8] };
         let opts = segments

@@ -120,6 +120,7 @@ impl Proposal<'_> {
             Effect::Outliers => self.outliers(),
             Effect::StateDependentDynamics => self.state_dependent_dynamics(),
             Effect::ColoredNoise => self.colored_noise(),
+            Effect::Hysteresis => self.hysteresis(),
         }
     }
 }

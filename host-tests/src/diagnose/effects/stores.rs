@@ -13,6 +13,10 @@ impl Proposal<'_> {
     /// The level-dependent stores (with the output map reduced, if any), against linear stores.
     pub fn state_dependent_dynamics(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let effect = Effect::StateDependentDynamics;
+        // The element with memory is fitted with the linear `G`.
+        if self.current.element.is_some() {
+            return Ok(None);
+        }
         // With stores the steady-state curve bends by itself: the output map, if
         // any, is also tried reduced to its affine part and clip.
         let mut opts = Vec::new();

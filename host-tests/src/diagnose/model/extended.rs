@@ -4,6 +4,7 @@ use crate::diagnose::noise::ArNoise;
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output};
 use crate::diagnose::stores::Stores;
+use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
 
 use super::additive::Additive;
@@ -31,16 +32,35 @@ pub struct ExtendedModel {
     pub flagged: usize,
     /// Level-dependent stores replacing `G`'s simulation ([`Dynamics::Stores`](super::structure::Dynamics::Stores)).
     pub stores: Option<Stores>,
+    /// The element with memory and `G` replacing the Hammerstein part's simulation
+    /// ([`Structure::element`]); fitted on the delayed input.
+    pub hysteresis: Option<HysteresisModel>,
 }
 
 impl ExtendedModel {
     /// Output of the Hammerstein part (delay included) for an input record.
     pub fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);
+        if let Some(el) = &self.hysteresis {
+            return crate::hysteresis::simulate::simulate(el, &ud);
+        }
         let h = nonlinearity_output(&self.hammerstein, &ud);
         match &self.stores {
             Some(st) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
             None => linear_response(&self.hammerstein, &h, &self.x0),
+        }
+    }
+
+    /// The spectral radius of the simulated linear part (`G` of the element model when there
+    /// is one).
+    pub fn spectral_radius(&self) -> f64 {
+        match &self.hysteresis {
+            Some(el) => el
+                .poles()
+                .iter()
+                .map(|(re, im)| re.hypot(*im))
+                .fold(0.0, f64::max),
+            None => self.hammerstein.spectral_radius(),
         }
     }
 

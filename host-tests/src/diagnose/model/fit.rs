@@ -12,6 +12,7 @@ use crate::identify::{HostModel, identify};
 
 use super::additive::Additive;
 use super::borders::{estimate_x0, refit_borders};
+use super::element::fit_element;
 use super::extended::ExtendedModel;
 use super::fit_options::{FitOptions, InitialState};
 use super::outliers::detect_outliers;
@@ -31,8 +32,9 @@ pub fn fit_structure(
 
 /// [`fit_structure`] for a fold of the cross-validation: `fit_part` is `whole` without the
 /// samples `block`, joined at the gap. The linear part is fitted on `fit_part`; the
-/// level-dependent stores, whose simulation error a join would corrupt, on the simulation of
-/// `whole` with the block's samples left out of the error (the input is known throughout).
+/// level-dependent stores and the element with memory, whose simulation error a join would
+/// corrupt, on the simulation of `whole` with the block's samples left out of the error (the
+/// input is known throughout).
 pub fn fit_structure_fold(
     s: &Structure,
     fit_part: &Record,
@@ -265,7 +267,18 @@ pub(super) fn fit_structure_impl(
         outlier_k: opts.outlier_k,
         flagged: flags.iter().filter(|&&f| f).count(),
         stores: None,
+        hysteresis: None,
     };
+    if let Some(kind) = s.element {
+        let shared = opts.identify.static_nonlinearity;
+        match &held {
+            Some((whole, block)) => {
+                let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
+                fit_element(&mut model, whole, &skip, kind, shared)?;
+            }
+            None => fit_element(&mut model, rec, &flags, kind, shared)?,
+        }
+    }
     if let Some(class) = s.dynamics.stores() {
         match held {
             Some((whole, block)) => {

@@ -14,6 +14,10 @@
 //! * `trend` (`offset_drift`) is a polynomial in time, the sinusoids (`periodic_disturbance`)
 //!   have fixed frequencies and least-squares amplitudes,
 //! * the AR noise model (`colored_noise`) gives one-step-ahead predictions,
+//! * `hysteresis`: the element itself — the play operator (backlash) or the relay with
+//!   borders (switch) on the knots — and `G`, fitted by simulation error from the static or
+//!   two-path subspace estimate ([`element`]), replace the Hammerstein part's simulation, so
+//!   inputs that reverse inside the range (inner loops) are represented,
 //! * `outliers`: samples flagged by the MAD rule are replaced, in the identification target,
 //!   by the model's own output (robust re-estimation), and left out of the error.
 //!
@@ -24,6 +28,7 @@
 
 pub mod additive;
 pub mod borders;
+pub mod element;
 pub mod evaluate;
 pub mod extended;
 pub mod fit;

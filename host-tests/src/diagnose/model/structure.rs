@@ -3,6 +3,7 @@
 use serde::Serialize;
 
 use crate::diagnose::stores::StoresClass;
+use crate::hysteresis::ElementKind;
 
 /// Which extensions a model has, with their settings.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -26,6 +27,10 @@ pub struct Structure {
     /// The dynamics between the input nonlinearity and the output map
     /// (`state_dependent_dynamics`).
     pub dynamics: Dynamics,
+    /// The input element simulated itself — the play operator (backlash) or the relay with
+    /// borders (switch) on the knots — with `G` refitted by simulation error in place of the
+    /// static or two-path nonlinearity (`hysteresis`).
+    pub element: Option<ElementKind>,
 }
 
 /// The dynamics between the input nonlinearity and the output map.
@@ -66,6 +71,7 @@ impl Structure {
             noise_ar_order: None,
             robust: false,
             dynamics: Dynamics::Linear,
+            element: None,
         }
     }
 

@@ -1,0 +1,59 @@
+//! The element with memory in an extended model ([`Structure::element`](super::Structure)):
+//! the play operator or relay on the knots and `G`, fitted by simulation error from the
+//! model's subspace estimate on the delayed input, the additive terms refitted after it.
+
+use crate::diagnose::dynamics::DynamicsError;
+use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::simulate::delay_input;
+use crate::hysteresis::{ElementKind, FitOptions, Start, fit_hysteresis_skipping};
+
+use super::extended::ExtendedModel;
+use super::record::Record;
+
+/// Replaces the simulation of `model`'s Hammerstein part by the element `kind` and `G`,
+/// fitted on the simulation error of `rec` without the `skip` samples (the input drives the
+/// element through them). The start is the model's static or two-path estimate
+/// (`shared`: one border for both directions).
+pub(super) fn fit_element(
+    model: &mut ExtendedModel,
+    rec: &Record,
+    skip: &[bool],
+    kind: ElementKind,
+    shared: bool,
+) -> Result<(), DiagnoseError> {
+    let ud = delay_input(&rec.u, model.structure.delay);
+    let target: Vec<f64> = rec
+        .y
+        .iter()
+        .zip(&rec.time)
+        .map(|(y, &t)| y - model.additive.eval(t))
+        .collect();
+    let start = if shared {
+        Start::Static
+    } else {
+        Start::TwoPath
+    };
+    let fit = fit_hysteresis_skipping(
+        &ud,
+        &target,
+        skip,
+        &model.hammerstein,
+        start,
+        &FitOptions::new(kind),
+    )
+    .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Hysteresis(e)))?;
+    model.hysteresis = Some(fit.model);
+    // The additive terms were fitted to the subspace model's residual: refit them to the
+    // element model's.
+    if model.additive.columns() > 0 {
+        let out = model.hammerstein_output(&rec.u);
+        let r: Vec<f64> = rec
+            .y
+            .iter()
+            .zip(&out)
+            .map(|(y, o)| y - model.output_map.as_ref().map_or(*o, |g| g.eval(*o)))
+            .collect();
+        model.additive.fit(&r, &rec.time, skip);
+    }
+    Ok(())
+}
