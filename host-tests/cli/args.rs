@@ -225,46 +225,30 @@ impl UnitArgs {
             .map_or(("t", false), |name| (name, true))
     }
 
-    /// The units: the flags' or `stored` (of a model file or plant specification at `source`);
-    /// both given and different is an error.
-    pub fn units_with(
+    /// The units every source states — the flags first, then `others` (a model file's, the
+    /// records' header comments) — checked to agree; `None` when none states them.
+    pub fn resolve_units(
         &self,
-        stored: Option<Units>,
-        source: &Path,
+        others: impl IntoIterator<Item = (UnitsOrigin, Units)>,
     ) -> Result<Option<Units>, String> {
-        match (self.units()?, stored) {
-            (Some(f), Some(s)) if f != s => Err(format!(
-                "--input-unit {} --output-unit {} disagree with the units {} and {} of {}; \
-                 drop the flags or make them agree",
-                f.input,
-                f.output,
-                s.input,
-                s.output,
-                source.display()
-            )),
-            (f, s) => Ok(f.or(s)),
-        }
+        let stated: Vec<(UnitsOrigin, Units)> = self
+            .units()?
+            .map(|u| (UnitsOrigin::Flags, u))
+            .into_iter()
+            .chain(others)
+            .collect();
+        resolve_units(&stated).map_err(|e| e.to_string())
     }
 }
 
-/// `units` (from `origin`: the flags, or a model file's) checked against the units the records'
-/// header comments state (`# input unit = V`, `# output unit = deg`, as `hsid simulate` writes
-/// them); without `units`, the comments' own.
-pub fn with_comments(
-    units: Option<Units>,
-    origin: UnitsOrigin,
-    comments: &[(PathBuf, Units)],
-) -> Result<Option<Units>, String> {
-    let stated: Vec<(UnitsOrigin, Units)> = units
-        .map(|u| (origin, u))
+/// The units records' header comments state (with the record's name), as sources for
+/// [`UnitArgs::resolve_units`].
+pub fn comment_units(
+    records: impl IntoIterator<Item = (PathBuf, Units)>,
+) -> impl Iterator<Item = (UnitsOrigin, Units)> {
+    records
         .into_iter()
-        .chain(
-            comments
-                .iter()
-                .map(|(p, u)| (UnitsOrigin::Comment(p.clone()), u.clone())),
-        )
-        .collect();
-    resolve_units(&stated).map_err(|e| e.to_string())
+        .map(|(p, u)| (UnitsOrigin::Comment(p), u))
 }
 
 /// A record read from CSV: the requested columns and, when the file has a time column, its

@@ -13,10 +13,10 @@ use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::model_file::Units;
-use hsid_host::units::{Origin, UnitsOrigin, resolve_ts};
+use hsid_host::units::{Origin, resolve_ts};
 
 use crate::args::{
-    CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, read_record, with_comments,
+    CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, comment_units, read_record,
 };
 
 /// Initial state of the simulations.
@@ -332,7 +332,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         None => None,
     };
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
-    let units = with_comments(a.units.units()?, UnitsOrigin::Flags, &unit_comments)?;
+    let units = a.units.resolve_units(comment_units(unit_comments))?;
     let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
     let opts = options(a, identify_options(a, &records)?)?;
     let validation = match (val, &a.holdout) {

@@ -15,7 +15,7 @@ use hsid_host::simulate::{
     Colour, InputRecord, Level, ModelNoise, ModelOptions, Output, PlantSpec, header, read_input,
     simulate_model, simulate_plant,
 };
-use hsid_host::units::{Origin, resolve_ts, ts_from_column};
+use hsid_host::units::{Origin, UnitsOrigin, resolve_ts, ts_from_column};
 
 use crate::args::{CsvArgs, UnitArgs};
 
@@ -161,7 +161,11 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         .sample_time
         .map(|v| (Origin::ModelFile(path.clone()), v));
     let ts = sample_time(a, stored, &input)?;
-    let units: Option<Units> = a.units.units_with(file.units.clone(), path)?;
+    let stored = file
+        .units
+        .clone()
+        .map(|u| (UnitsOrigin::ModelFile(path.clone()), u));
+    let units: Option<Units> = a.units.resolve_units(stored)?;
     let out = match HysteresisModel::from_file(&file) {
         Some(h) => {
             element_run(&h, &input, &opts).map_err(|e| format!("{}: {e}", path.display()))?

@@ -10,15 +10,15 @@ use hsid_host::html::model_words::Element;
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
+use hsid_host::model_file::ModelFile;
 use hsid_host::model_file::NonlinearityKind;
-use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
 use hsid_host::units::{Origin, UnitsOrigin, resolve_ts, unit_report};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, read_uy, with_comments};
+use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 
 /// Arguments of `hsid validate`.
 #[derive(Args)]
@@ -76,15 +76,14 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     };
     let noise = given.or(own);
     let m = HostModel::from_json(&file);
-    let units = a.units.units_with(file.units.clone(), &a.model)?;
     let record = read_uy(&a.data, &a.columns, &a.csv, &a.units)?;
-    let origin = if a.units.units()?.is_some() {
-        UnitsOrigin::Flags
-    } else {
-        UnitsOrigin::ModelFile(a.model.clone())
-    };
-    let comments: Vec<(PathBuf, Units)> = record.units.into_iter().collect();
-    let units = with_comments(units, origin, &comments)?;
+    let stored = file
+        .units
+        .clone()
+        .map(|u| (UnitsOrigin::ModelFile(a.model.clone()), u));
+    let units = a
+        .units
+        .resolve_units(stored.into_iter().chain(comment_units(record.units)))?;
     let stated: Vec<(Origin, f64)> = a
         .units
         .ts()?

@@ -453,7 +453,10 @@ fn bad_sample_times_and_units_are_one_line_errors() {
         "--output-unit",
         "deg",
     ])
-    .clean_error(&["disagree with the units V and deg"]);
+    .clean_error(&[
+        "--input-unit/--output-unit give u in mV and y in deg",
+        "m.json give u in V and y in deg",
+    ]);
     let input = s.write("in.csv", "u\n-1\n0\n");
     hsid(&[
         "simulate",

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use hsid::Error;
 use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::Units;
-use hsid_host::units::{Origin, UnitsOrigin, resolve_ts};
+use hsid_host::units::{Origin, resolve_ts};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, read_uy, with_comments};
+use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 use crate::locate;
 
 /// The records of one identification, concatenated in the order given.
@@ -62,7 +62,7 @@ impl Records {
             r.lines.push(rec.table.lines);
         }
         r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
-        r.units = with_comments(units.units()?, UnitsOrigin::Flags, &unit_comments)?;
+        r.units = units.resolve_units(comment_units(unit_comments))?;
         Ok(r)
     }
 

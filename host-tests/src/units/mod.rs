@@ -8,6 +8,7 @@
 //! * [`gap`]: the backlash gap (play) and the loop height of a two-path element as functions of
 //!   u, by the definitions of the firmware's `Model::gap_at` and `Model::loop_height`.
 //! * [`dead_band`]: the widest flat interval of a static element's border.
+//! * [`header`]: a record's header comments (`# key = value`), where both are stated.
 //! * [`stated`]: the units from the flags, a model file, a plant specification or a record's
 //!   header comments, checked to agree.
 //! * [`report`]: all of it as one [`UnitReport`], printed by `identify` and `validate`.
@@ -18,11 +19,13 @@
 pub mod dead_band;
 pub mod gain;
 pub mod gap;
+pub mod header;
 pub mod poles;
 pub mod report;
 pub mod stated;
 pub mod time;
 
+pub use header::{HeaderComment, header_comments};
 pub use report::{GapAt, UnitReport, unit_report};
 pub use stated::{UnitsError, UnitsOrigin, resolve_units, units_from_comments};
 pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column, ts_from_comments};

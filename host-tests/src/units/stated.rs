@@ -3,6 +3,7 @@
 //! `# input unit = V` / `# output unit = deg` (as `hsid simulate` writes them,
 //! [`crate::simulate::header`]). Every source that states them must agree.
 
+use super::header::header_comments;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -100,31 +101,19 @@ impl std::error::Error for UnitsError {}
 /// other line): `# input unit = V` and `# output unit = deg`, both or neither.
 pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, UnitsError> {
     let (mut input, mut output) = (None, None);
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() {
-            continue;
-        }
-        let Some(comment) = line.strip_prefix('#') else {
-            break;
+    for c in header_comments(text) {
+        let slot = match c.key {
+            "input unit" => &mut input,
+            "output unit" => &mut output,
+            _ => continue,
         };
-        let comment = comment.trim();
-        for (key, slot) in [("input unit", &mut input), ("output unit", &mut output)] {
-            let Some(value) = comment.strip_prefix(key).map(str::trim_start) else {
-                continue;
-            };
-            let Some(value) = value.strip_prefix('=') else {
-                continue;
-            };
-            let value = value.trim();
-            if value.is_empty() {
-                return Err(UnitsError::EmptyComment {
-                    source: source.to_path_buf(),
-                    line: i + 1,
-                });
-            }
-            *slot = Some((i + 1, value.to_string()));
+        if c.value.is_empty() {
+            return Err(UnitsError::EmptyComment {
+                source: source.to_path_buf(),
+                line: c.line,
+            });
         }
+        *slot = Some((c.line, c.value.to_string()));
     }
     let half = |line, stated| UnitsError::HalfComment {
         source: source.to_path_buf(),

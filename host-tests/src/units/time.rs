@@ -1,6 +1,7 @@
 //! The sample time: positive, uniform over a time column, and the same in every source that
 //! states it (a flag, the record's time column, a model file, a plant specification).
 
+use super::header::header_comments;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -188,30 +189,17 @@ pub fn ts_from_column(source: PathBuf, t: &[f64], lines: &[usize]) -> Result<f64
 /// ([`crate::simulate::header`]). `None` without such a line; a `# ts = … s` line whose value
 /// is not a positive number is an error, not ignored.
 pub fn ts_from_comments(source: &Path, text: &str) -> Result<Option<f64>, TimeError> {
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() {
-            continue;
-        }
-        let Some(comment) = line.strip_prefix('#') else {
-            return Ok(None);
-        };
-        let Some(value) = comment.trim().strip_prefix("ts").map(str::trim_start) else {
-            continue;
-        };
-        let Some(value) = value.strip_prefix('=') else {
-            continue;
-        };
-        let bad = || TimeError::BadComment {
-            source: source.to_path_buf(),
-            line: i + 1,
-            text: line.to_string(),
-        };
-        let number = value.trim().strip_suffix('s').ok_or_else(bad)?;
-        let ts: f64 = number.trim().parse().map_err(|_| bad())?;
-        return checked_ts(ts, Origin::Comment(source.to_path_buf())).map(Some);
-    }
-    Ok(None)
+    let Some(c) = header_comments(text).find(|c| c.key == "ts") else {
+        return Ok(None);
+    };
+    let bad = || TimeError::BadComment {
+        source: source.to_path_buf(),
+        line: c.line,
+        text: c.text.to_string(),
+    };
+    let number = c.value.strip_suffix('s').ok_or_else(bad)?;
+    let ts: f64 = number.trim().parse().map_err(|_| bad())?;
+    checked_ts(ts, Origin::Comment(source.to_path_buf())).map(Some)
 }
 
 /// Checks that a time column `t` increases strictly; `lines` are the rows' 1-based lines, for
