@@ -192,8 +192,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     if a.fit == simulation::FitArg::Simulation && (a.stream || a.integrating) {
         return Err(
-            "--fit simulation needs the whole record and a plant without an \
-                    integrator: drop --stream and --integrating, or --fit"
+            "--fit simulation needs the whole record (not --stream) and a plant without an \
+             integrator (not --integrating): drop those, or give --fit auto or none"
                 .to_string()
                 .into(),
         );
