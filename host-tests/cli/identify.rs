@@ -307,36 +307,18 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         None => crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?,
     };
     if let Some(path) = &a.html {
-        let names: Vec<String> = a.data.iter().map(|p| p.display().to_string()).collect();
-        let mut extra = vec![Fact::new("estimator", estimator)];
-        if fitted.is_some() {
-            extra.push(Fact::new(
-                "element",
-                "the play operator or relay was fitted after this model (printed, and in the \
-                 model file of --json); this page shows the two-path model it started from",
-            ));
-        }
         let run = ModelRun {
-            title: format!("hsid identify: {}", names.join(", ")),
+            title: format!("hsid identify: {}", names(&a.data)),
             element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
             model: &model,
             units: &in_units,
             parts: &records.parts(),
             skip: hold,
             estimation: Some(&best.options),
-            extra,
+            extra: vec![Fact::new("estimator", estimator)],
         };
         let page_figures = html_figures(a, &best, &record, records.ts, units.as_ref())?;
-        run.page(page_figures, Reproduction::of_this_run(&a.data))
-            .write(path)
-            .map_err(|e| e.to_string())?;
-        outln!("wrote {}", path.display())?;
-        if fitted.is_some() {
-            outln!(
-                "{}: the two-path model that started the element's fit (the page of an element is not drawn yet)",
-                path.display()
-            )?;
-        }
+        write_page(a, path, run, page_figures, fitted.is_some())?;
     }
     if let (Some(fit), Some(path)) = (&fitted, &a.out.json) {
         simulation::save(fit, &fitting, path)?;
@@ -351,6 +333,42 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     for line in figures {
         outln!("{line}")?;
+    }
+    Ok(())
+}
+
+/// The record files, comma-separated.
+fn names(data: &[PathBuf]) -> String {
+    let names: Vec<String> = data.iter().map(|p| p.display().to_string()).collect();
+    names.join(", ")
+}
+
+/// Writes the HTML report of `run` to `path`; after a fitted element (`fitted`) the page
+/// shows the two-path model that started the fit, and says so (the page of an element model
+/// is not drawn yet).
+fn write_page(
+    a: &IdentifyArgs,
+    path: &Path,
+    mut run: ModelRun<'_>,
+    figures: Vec<InlineFigure>,
+    fitted: bool,
+) -> Result<(), Failure> {
+    if fitted {
+        run.extra.push(Fact::new(
+            "element",
+            "the play operator or relay was fitted after this model (printed, and in the model \
+             file of --json); this page shows the two-path model it started from",
+        ));
+    }
+    run.page(figures, Reproduction::of_this_run(&a.data))
+        .write(path)
+        .map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
+    if fitted {
+        outln!(
+            "{}: the two-path model that started the element's fit (the page of an element is not drawn yet)",
+            path.display()
+        )?;
     }
     Ok(())
 }

@@ -162,7 +162,15 @@ fn the_default_fits_the_element_on_a_servo_input_and_draws_it() {
     let check = dir.write_uy("val.csv", &val.u, &val.y);
     let (model, figures) = (dir.join("m.json"), dir.join("fig"));
     let units = ["--ts", "0.01", "--input-unit", "V", "--output-unit", "deg"];
-    let mut extra = vec!["--json", p(&model), "--out", p(&figures)];
+    let page = dir.join("page.html");
+    let mut extra = vec![
+        "--json",
+        p(&model),
+        "--out",
+        p(&figures),
+        "--html",
+        p(&page),
+    ];
     extra.extend_from_slice(&units);
     let out = servo_identify(&data, &extra).success().stdout;
     // The smoothed random input reverses inside the range on nearly every run.
@@ -191,6 +199,13 @@ fn the_default_fits_the_element_on_a_servo_input_and_draws_it() {
     );
     let text = std::fs::read_to_string(&model).unwrap();
     assert!(text.contains("\"element\": \"play\""), "{text}");
+    // The HTML page is the two-path model's, and says so.
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("this page shows the two-path model it started from"));
+    assert!(
+        out.contains("the page of an element is not drawn yet"),
+        "{out}"
+    );
 
     let floor = fit(&val.y, &val.y_clean).nrmse;
     let v = hsid(&["validate", "--model", p(&model), "--data", p(&check)]).success();
