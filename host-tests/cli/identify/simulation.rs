@@ -18,8 +18,9 @@ use crate::failure::{Failure, outln};
 /// What `--fit` fits after the subspace identification.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FitArg {
-    /// The fit below when the input breaks the Table I structure (backlash and switch; see
-    /// `auto.rs` for the rule), with a note; else none.
+    /// The simulation fit, with a note, when the input breaks the Table I structure
+    /// (backlash and switch: more than one and more than a tenth of the monotone runs start
+    /// inside the range); else none.
     Auto,
     /// Keep the identified model (two paths or static).
     None,
