@@ -6,13 +6,15 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use hsid_host::choose::Best;
 use hsid_host::figures::{
-    FigureSettings, Record, TrueBorders, Uncertainty, Written, write_figures,
+    FigureSettings, Record, TrueBorders, Uncertainty, Written, write_element_figures, write_figures,
 };
+use hsid_host::hysteresis::HysteresisFit;
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::simulate::{PlantSpec, true_loop};
 
 use crate::failure::{Failure, outln};
+use crate::identify::Fitting;
 
 /// Where the figures go.
 #[derive(Args)]
@@ -76,6 +78,28 @@ pub fn identify(
         dir,
         write_figures(dir, model, record, uncertainty, &settings),
     )
+}
+
+/// The figures of the fitted element model (`--fit`) on its estimation record, as
+/// [`identify`] draws a two-path model's. Returns the lines to print (none without `--out`).
+pub fn element(
+    a: &FigureArgs,
+    fit: &HysteresisFit,
+    record: &Record<'_>,
+    r: &Fitting<'_>,
+) -> Result<Vec<String>, Failure> {
+    let Some(dir) = &a.out else {
+        return Ok(Vec::new());
+    };
+    let settings = FigureSettings {
+        ts: r.ts,
+        units: r
+            .units
+            .as_ref()
+            .map(|u| (u.input.clone(), u.output.clone())),
+        truth: truth(a, &fit.model.to_host(0))?,
+    };
+    lines(dir, write_element_figures(dir, fit, record, &settings))
 }
 
 /// The figures of a model file on a validation record; `skip` samples at the start are left

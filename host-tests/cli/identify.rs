@@ -1,5 +1,6 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
+mod auto;
 mod records;
 mod simulation;
 mod stream;
@@ -28,6 +29,7 @@ use crate::args::{
     BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, UnitArgs,
 };
 use records::Records;
+pub use simulation::Fitting;
 
 /// Arguments of `hsid identify`.
 #[derive(Args)]
@@ -120,9 +122,14 @@ pub struct IdentifyArgs {
     /// same knots with G(1) = 1 and the plant's resting level w(-1), by simulation-error
     /// minimisation started from the identified model. For inputs that reverse inside the
     /// range (inner loops), where two paths do not describe the element. One record; --json
-    /// writes this model (key "element").
-    #[arg(long, value_enum, conflicts_with_all = ["integrating", "stream"])]
-    fit: Option<simulation::FitArg>,
+    /// writes this model (key "element") and --out draws it. `auto` (the default): the same
+    /// fit, with a note, when the input breaks the Table I structure: with --nonlinearity
+    /// backlash or switch, more than one and more than a tenth of the monotone input runs
+    /// after the hold start inside [--umin, --umax] (Table I starts every run at an end);
+    /// with several --data, --integrating or --stream, where the fit cannot run, the note
+    /// says it was not run. `none`: never (the identified model as it is).
+    #[arg(long, value_enum, default_value = "auto")]
+    fit: simulation::FitArg,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -183,6 +190,14 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         )
         .into());
     }
+    if a.fit == simulation::FitArg::Simulation && (a.stream || a.integrating) {
+        return Err(
+            "--fit simulation needs the whole record (not --stream) and a plant without an \
+             integrator (not --integrating): drop those, or give --fit auto or none"
+                .to_string()
+                .into(),
+        );
+    }
     if a.stream {
         return stream::run(a);
     }
@@ -237,17 +252,12 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         e => format!("{}: {e}", records.first().display()),
     })?;
     let record = Record { u, y, skip: hold };
-    let figures = crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?;
-    let page_figures = match &a.html {
-        Some(_) => Some(html_figures(a, &best, &record, records.ts, units.as_ref())?),
-        None => None,
-    };
     for line in best.report() {
         outln!("{line}")?;
     }
     let pem = PemOptions::for_identify(&best.options);
     let mut estimator = "subspace (PI-MOESP), not refined".to_string();
-    let (model, noise, std) = if let Some(fit) = best.fit {
+    let (model, noise, std) = if let Some(fit) = &best.fit {
         estimator = format!(
             "refined by the prediction-error method: {} iterations, {} parameters, D {}",
             fit.iterations,
@@ -259,10 +269,10 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             }
         );
         outln!("{estimator}")?;
-        let (std, cov) = model_std(&fit);
-        (fit.model, Some(fit.noise), Some((std, cov)))
+        let (std, cov) = model_std(fit);
+        (fit.model.clone(), Some(fit.noise.clone()), Some((std, cov)))
     } else {
-        let model = best.model;
+        let model = best.model.clone();
         // Remark 6 for the subspace model; without it only the simulation is reported.
         let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
         if let Err(e) = &nf {
@@ -280,10 +290,25 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     for line in in_units.lines() {
         outln!("{line}")?;
     }
-    if let (Some(path), Some(figures)) = (&a.html, page_figures) {
-        let names: Vec<String> = a.data.iter().map(|p| p.display().to_string()).collect();
+    let fitting = simulation::Fitting {
+        u,
+        y,
+        hold,
+        nonlinearity: a.nonlinearity,
+        ts: records.ts,
+        units: units.clone(),
+    };
+    let fitted = match auto::decide(a, u, records.parts().len(), hold)? {
+        true => Some(simulation::run(&fitting, &model)?),
+        false => None,
+    };
+    let figures = match &fitted {
+        Some(fit) => crate::figures::element(&a.figures, fit, &record, &fitting)?,
+        None => crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?,
+    };
+    if let Some(path) = &a.html {
         let run = ModelRun {
-            title: format!("hsid identify: {}", names.join(", ")),
+            title: format!("hsid identify: {}", names(&a.data)),
             element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
             model: &model,
             units: &in_units,
@@ -292,29 +317,11 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             estimation: Some(&best.options),
             extra: vec![Fact::new("estimator", estimator)],
         };
-        run.page(figures, Reproduction::of_this_run(&a.data))
-            .write(path)
-            .map_err(|e| e.to_string())?;
-        outln!("wrote {}", path.display())?;
+        let page_figures = html_figures(a, &best, &record, records.ts, units.as_ref())?;
+        write_page(a, path, run, page_figures, fitted.is_some())?;
     }
-    if a.fit.is_some() {
-        if records.parts().len() > 1 {
-            return Err(
-                "--fit simulation takes one record (one --data): the element's state \
-                        does not carry across experiments"
-                    .to_string()
-                    .into(),
-            );
-        }
-        let fitting = simulation::Fitting {
-            u,
-            y,
-            hold,
-            nonlinearity: a.nonlinearity,
-            ts: records.ts,
-            units: units.clone(),
-        };
-        simulation::run(&fitting, &model, a.out.json.as_deref())?;
+    if let (Some(fit), Some(path)) = (&fitted, &a.out.json) {
+        simulation::save(fit, &fitting, path)?;
     } else if let Some(path) = &a.out.json {
         let mut file = model.to_json(Some(a.nonlinearity.into()));
         file.noise = noise.as_ref().map(noise_file);
@@ -326,6 +333,42 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     for line in figures {
         outln!("{line}")?;
+    }
+    Ok(())
+}
+
+/// The record files, comma-separated.
+fn names(data: &[PathBuf]) -> String {
+    let names: Vec<String> = data.iter().map(|p| p.display().to_string()).collect();
+    names.join(", ")
+}
+
+/// Writes the HTML report of `run` to `path`; after a fitted element (`fitted`) the page
+/// shows the two-path model that started the fit, and says so (the page of an element model
+/// is not drawn yet).
+fn write_page(
+    a: &IdentifyArgs,
+    path: &Path,
+    mut run: ModelRun<'_>,
+    figures: Vec<InlineFigure>,
+    fitted: bool,
+) -> Result<(), Failure> {
+    if fitted {
+        run.extra.push(Fact::new(
+            "element",
+            "the play operator or relay was fitted after this model (printed, and in the model \
+             file of --json); this page shows the two-path model it started from",
+        ));
+    }
+    run.page(figures, Reproduction::of_this_run(&a.data))
+        .write(path)
+        .map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
+    if fitted {
+        outln!(
+            "{}: the two-path model that started the element's fit (the page of an element is not drawn yet)",
+            path.display()
+        )?;
     }
     Ok(())
 }

@@ -23,4 +23,5 @@ pub mod refine;
 pub mod report;
 pub mod sim;
 pub mod simulate;
+pub mod table1;
 pub mod units;

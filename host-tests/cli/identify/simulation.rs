@@ -10,6 +10,7 @@ use hsid_host::hysteresis::{ElementKind, FitOptions, HysteresisFit, Start, fit_h
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::Units;
 use hsid_host::report::fit_report;
+use hsid_host::units::{UnitReport, unit_report};
 
 use crate::args::NonlinearityArg;
 use crate::failure::{Failure, outln};
@@ -17,6 +18,12 @@ use crate::failure::{Failure, outln};
 /// What `--fit` fits after the subspace identification.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FitArg {
+    /// The simulation fit, with a note, when the input breaks the Table I structure
+    /// (backlash and switch: more than one and more than a tenth of the monotone runs start
+    /// inside the range); else none.
+    Auto,
+    /// Keep the identified model (two paths or static).
+    None,
     /// The play operator or relay on the borders by simulation-error minimisation.
     Simulation,
 }
@@ -46,8 +53,8 @@ fn element(nl: NonlinearityArg) -> (ElementKind, Start) {
     }
 }
 
-/// Fits, prints the model and its fit, writes the model file to `json` when given.
-pub fn run(r: &Fitting<'_>, start: &HostModel, json: Option<&Path>) -> Result<(), Failure> {
+/// Fits, prints the model, its fit and its reading in units; returns the fit.
+pub fn run(r: &Fitting<'_>, start: &HostModel) -> Result<HysteresisFit, Failure> {
     let (kind, from) = element(r.nonlinearity);
     let fit = fit_hysteresis(r.u, r.y, start, from, &FitOptions::new(kind))
         .map_err(|e| format!("--fit simulation: {e}"))?;
@@ -75,13 +82,28 @@ pub fn run(r: &Fitting<'_>, start: &HostModel, json: Option<&Path>) -> Result<()
     }
     let sim = fit.simulate(r.u);
     outln!("{}", fit_report(&r.y[r.hold..], &sim[r.hold..])?)?;
-    if let Some(path) = json {
-        let mut file = fit.model.to_file(r.u.len());
-        file.sample_time = r.ts;
-        file.units = r.units.clone();
-        file.save(path).map_err(|e| e.to_string())?;
-        outln!("wrote {}", path.display())?;
+    outln!("the fitted element in units:")?;
+    for line in in_units(&fit, r).lines() {
+        outln!("{line}")?;
     }
+    Ok(fit)
+}
+
+/// The fitted element read in units: `G`'s poles and bandwidth, the static gain, and the gap
+/// of the borders `H_a`, `H_d` (input units) and the loop height (output units). Without the
+/// pole covariance: the delta-method text of the report speaks of the refinement's.
+pub fn in_units(fit: &HysteresisFit, r: &Fitting<'_>) -> UnitReport {
+    let host = fit.model.to_host(r.u.len());
+    unit_report(&host, r.ts, r.units.clone(), None, true)
+}
+
+/// Writes the fitted model's file (key `"element"`) with the record's sample time and units.
+pub fn save(fit: &HysteresisFit, r: &Fitting<'_>, path: &Path) -> Result<(), Failure> {
+    let mut file = fit.model.to_file(r.u.len());
+    file.sample_time = r.ts;
+    file.units = r.units.clone();
+    file.save(path).map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
     Ok(())
 }
 

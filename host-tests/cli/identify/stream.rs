@@ -15,7 +15,9 @@ use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::report::model_text;
 
-use super::{IdentifyArgs, options, write};
+use hsid_host::table1::{RunCounter, end_tolerance};
+
+use super::{IdentifyArgs, auto, options, write};
 use crate::failure::{Failure, outln};
 
 /// Runs `hsid identify --stream` (the arguments are checked by [`super::run`] first).
@@ -48,12 +50,19 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     };
     let (name, reader) = open(path)?;
     let stream = CsvStream::new(&name, reader, &names, &csv)?;
-    let model = identify(stream, &name, &opts)?;
+    let mut runs = RunCounter::new(a.umin, a.umax, end_tolerance(a.umin, a.umax));
+    let model = identify(stream, &name, &opts, (opts.hold, &mut runs))?;
     outln!(
         "streamed {} samples (subspace model, not refined; fits not computed)",
         model.samples
     )?;
     outln!("{}", model_text(&model))?;
+    if auto::applies(a) && runs.runs().breaks_table1() {
+        outln!(
+            "--fit auto: {}; the element's fit needs the whole record, not --stream: not run, the model is the two-path one",
+            auto::why(runs.runs(), a.umin, a.umax)
+        )?;
+    }
     if let Some(out) = &a.out.json {
         let mut file = model.to_json(Some(a.nonlinearity.into()));
         file.sample_time = ts;
@@ -75,16 +84,26 @@ fn open(path: &Path) -> Result<(std::path::PathBuf, Box<dyn BufRead + Send>), Io
     Ok((path.to_path_buf(), Box::new(BufReader::new(file))))
 }
 
-/// Pushes the rows of `stream` into the identifier; the first CSV error stops the record
-/// and is the result (never a model of the rows before it). Errors name the file.
+/// Pushes the rows of `stream` into the identifier and the inputs from the hold's last
+/// sample on (`runs.0 - 1`) into the run counter `runs.1`; the first CSV error stops the
+/// record and is the result (never a model of the rows before it). Errors name the file.
 fn identify(
     mut stream: CsvStream<Box<dyn BufRead + Send>>,
     name: &Path,
     opts: &IdentifyOptions,
+    runs: (usize, &mut RunCounter),
 ) -> Result<HostModel, String> {
     let mut failed: Option<IoError> = None;
+    let (from, counter) = runs;
+    let mut row = 0usize;
     let mut next = || match stream.next_row() {
-        Ok(Some((_, v))) => Some((v[0], v[1])),
+        Ok(Some((_, v))) => {
+            if row + 1 >= from {
+                counter.push(v[0]);
+            }
+            row += 1;
+            Some((v[0], v[1]))
+        }
         Ok(None) => None,
         Err(e) => {
             failed = Some(e);

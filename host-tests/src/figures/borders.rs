@@ -136,7 +136,7 @@ pub(super) fn write(cx: &Context, out: &mut Written) -> Result<(), FigureError> 
 }
 
 /// `GRID` evenly spaced inputs over `[lo, hi]` and every knot, increasing.
-fn grid(lo: f64, hi: f64, knots_a: &[f64], knots_d: &[f64]) -> Vec<f64> {
+pub(super) fn grid(lo: f64, hi: f64, knots_a: &[f64], knots_d: &[f64]) -> Vec<f64> {
     let mut g: Vec<f64> = (0..GRID)
         .map(|i| lo + (hi - lo) * i as f64 / (GRID - 1) as f64)
         .chain(knots_a.iter().chain(knots_d).copied())

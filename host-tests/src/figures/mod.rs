@@ -9,6 +9,12 @@
 //! | `output.svg`, `output.csv` | measured and simulated output over time |
 //! | `residual.svg`, `residual.csv`, `residual-acf.svg`, `residual-acf.csv` | measured − simulated over time and its autocorrelation with the ±1.96/√N bounds |
 //!
+//! [`write_element_figures`] draws a fitted play/relay model (`crate::hysteresis`) with the
+//! same files, `borders.*` then being the element's borders `H_a`, `H_d` with its output on
+//! the record, plus `borders-knots.csv` (values and standard deviations at the knots),
+//! `element-output.csv` (the element's output on the record) and, for a play, `element.csv`
+//! (the gap in input units).
+//!
 //! ```no_run
 //! # fn demo(model: &hsid_host::identify::HostModel, u: &[f64], y: &[f64])
 //! #     -> Result<(), hsid_host::figures::FigureError> {
@@ -23,6 +29,8 @@
 mod bode;
 mod borders;
 mod csv;
+mod element;
+mod element_borders;
 mod error;
 mod output;
 mod partial;
@@ -33,6 +41,7 @@ mod uncertainty;
 
 use std::path::{Path, PathBuf};
 
+pub use element::write_element_figures;
 pub use error::FigureError;
 pub use partial::{MIN_ENERGY, departures, impulse_response};
 pub use settings::{FigureSettings, TrueBorders};
@@ -72,6 +81,16 @@ struct Context<'a> {
     uncertainty: Option<Uncertainty<'a>>,
 }
 
+/// The settings' sample time, and a record of equal lengths with two samples after the skip.
+fn check_record(record: &Record<'_>, settings: &FigureSettings) -> Result<(), FigureError> {
+    settings.check()?;
+    let (nu, ny, skip) = (record.u.len(), record.y.len(), record.skip);
+    if nu != ny || skip + 2 > nu {
+        return Err(FigureError::InvalidRecord { u: nu, y: ny, skip });
+    }
+    Ok(())
+}
+
 /// Writes every figure of `model` on `record` into `dir` (created if missing).
 pub fn write_figures(
     dir: &Path,
@@ -80,11 +99,7 @@ pub fn write_figures(
     uncertainty: Option<Uncertainty<'_>>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {
-    settings.check()?;
-    let (nu, ny, skip) = (record.u.len(), record.y.len(), record.skip);
-    if nu != ny || skip + 2 > nu {
-        return Err(FigureError::InvalidRecord { u: nu, y: ny, skip });
-    }
+    check_record(record, settings)?;
     std::fs::create_dir_all(dir).map_err(|source| FigureError::CreateDir {
         path: dir.to_path_buf(),
         source,

@@ -28,8 +28,7 @@ impl CheckSetup<'_> {
     pub fn interval(&self) -> (f64, f64, f64) {
         let u_min = self.knots_asc.first().copied().unwrap_or(f64::NAN);
         let u_max = self.knots_asc.last().copied().unwrap_or(f64::NAN);
-        let tol = 1e-9 * (u_max - u_min).abs().max(1e-300);
-        (u_min, u_max, tol)
+        (u_min, u_max, crate::table1::end_tolerance(u_min, u_max))
     }
 
     /// One border for both directions (a static nonlinearity).

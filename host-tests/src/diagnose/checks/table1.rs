@@ -4,6 +4,7 @@
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
 use crate::diagnose::options::Nonlinearity;
+use crate::table1::{Runs, count_runs};
 
 /// Runs that do not start at an end of the interval (backlash and switch only). `ex` is the
 /// record from the last sample of the hold on (the whole record without a hold), so that the
@@ -11,31 +12,8 @@ use crate::diagnose::options::Nonlinearity;
 pub fn table1_structure(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let (u_min, u_max, tol) = s.interval();
-    // Table I: every monotone run starts at u_min (ascending) or u_max (descending).
     if s.kind != Nonlinearity::Static {
-        let (mut runs, mut bad) = (0usize, 0usize);
-        let mut dir = 0i8;
-        for w in ex.windows(2) {
-            let d = if w[1] > w[0] {
-                1
-            } else if w[1] < w[0] {
-                -1
-            } else {
-                0
-            };
-            if d != 0 && d != dir {
-                runs += 1;
-                let ok = if d > 0 {
-                    (w[0] - u_min).abs() <= tol
-                } else {
-                    (w[0] - u_max).abs() <= tol
-                };
-                if !ok {
-                    bad += 1;
-                }
-                dir = d;
-            }
-        }
+        let Runs { runs, inside: bad } = count_runs(ex, u_min, u_max, tol);
         if bad > 0 {
             let msg = match s.kind {
                 Nonlinearity::Backlash => format!(

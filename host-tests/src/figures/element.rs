@@ -1,0 +1,43 @@
+//! The figures of a model whose element is the play operator (backlash) or the relay with
+//! borders (switch) itself (`crate::hysteresis`, `identify --fit`): the borders `H_a`, `H_d`
+//! with ±2σ bands, the element's output on the record and the measured points
+//! (`element-borders.rs`), and, as for a two-path model, the Bode plot and poles of `G`
+//! (`G(1) = 1`) and the measured output against the element model's simulation with its
+//! residual. Bode and poles carry no bands: the fit's covariance is not mapped onto them.
+
+use std::path::Path;
+
+use super::error::FigureError;
+use super::{Context, FigureSettings, Record, Written, bode, element_borders, output, residual};
+use crate::hysteresis::HysteresisFit;
+
+/// Writes every figure of the fitted element model `fit` on `record` into `dir` (created
+/// if missing): `borders.*` (the element), `bode-*`, `poles.*`, `output.*`, `residual*`.
+pub fn write_element_figures(
+    dir: &Path,
+    fit: &HysteresisFit,
+    record: &Record<'_>,
+    settings: &FigureSettings,
+) -> Result<Written, FigureError> {
+    super::check_record(record, settings)?;
+    std::fs::create_dir_all(dir).map_err(|source| FigureError::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let host = fit.model.to_host(record.u.len());
+    let cx = Context {
+        dir,
+        model: &host,
+        record: *record,
+        simulated: fit.simulate(record.u),
+        settings,
+        uncertainty: None,
+    };
+    let mut out = Written::default();
+    element_borders::write(&cx, fit, &mut out)?;
+    bode::write(&cx, &mut out)?;
+    super::poles::write(&cx, &mut out)?;
+    output::write(&cx, &mut out)?;
+    residual::write(&cx, &mut out)?;
+    Ok(out)
+}

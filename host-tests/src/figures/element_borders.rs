@@ -1,0 +1,210 @@
+//! The element of a fitted play/relay model: its borders `H_a`, `H_d` (output units against
+//! input units) with ±2σ bands from the fit's covariance, the element's output `w(t)` on the
+//! record against `u(t)` (the inner loops of a play, the jumps of a relay), the measured
+//! points (the model's `w(t)` plus the least-squares departure the simulation residual shows,
+//! as in `borders.rs`) and, for a play, the gap in the title. `borders-knots.csv` holds the
+//! border values at the knots with their standard deviations, `element.csv` the gap,
+//! `element-output.csv` the element's output on the record.
+
+use super::borders::grid;
+use super::csv::{Table, band_label, save_svg};
+use super::error::FigureError;
+use super::partial::{departures, impulse_response};
+use super::{Context, Written};
+use crate::hysteresis::simulate::element_output;
+use crate::hysteresis::{ElementKind, HysteresisFit, HysteresisModel};
+use crate::identify::interpolate;
+use crate::plot::{Dash, Figure, Marker, PALETTE, Series};
+
+pub(super) fn write(
+    cx: &Context,
+    fit: &HysteresisFit,
+    out: &mut Written,
+) -> Result<(), FigureError> {
+    let (m, s) = (&fit.model, cx.settings);
+    let g = grid(m.knots[0], m.knots[m.knots.len() - 1], &m.knots, &m.knots);
+    let asc: Vec<f64> = g
+        .iter()
+        .map(|&u| interpolate(&m.knots, &m.border_asc, u))
+        .collect();
+    let desc: Vec<f64> = g
+        .iter()
+        .map(|&u| interpolate(&m.knots, &m.border_desc, u))
+        .collect();
+    let gap = (m.kind == ElementKind::Backlash).then(|| m.gap()).flatten();
+    let unit = s.units.as_ref().map_or("", |u| u.0.trim());
+    let mut fig = Figure::new(title(m.kind, gap, unit))
+        .x_label(s.input("u"))
+        .y_label(s.output("w"));
+    trajectory(cx, m, &mut fig, out)?;
+    let mut table = Table::default();
+    table.col(s.input("u"), g.clone());
+    table.col(s.output("H_a"), asc.clone());
+    table.col(s.output("H_d"), desc.clone());
+    let (c_asc, c_desc) = (PALETTE[0], PALETTE[1]);
+    if let Some(unc) = &fit.uncertainty {
+        let layout = m.layout();
+        for (v, first, color, col) in [
+            (&asc, layout.asc().start, c_asc, "H_a"),
+            (&desc, layout.desc().start, c_desc, "H_d"),
+        ] {
+            let sd: Vec<f64> = g
+                .iter()
+                .map(|&u| border_sd(&m.knots, &unc.covariance, first, u))
+                .collect();
+            let lo: Vec<f64> = v.iter().zip(&sd).map(|(v, s)| v - 2.0 * s).collect();
+            let hi: Vec<f64> = v.iter().zip(&sd).map(|(v, s)| v + 2.0 * s).collect();
+            fig.push(
+                Series::band(&g, &lo, &hi)
+                    .color(color)
+                    .opacity(0.3)
+                    .class(format!("band-{col}"))
+                    .label(band_label(col, &sd, "")),
+            );
+            table.col(s.output(&format!("{col} - 2sd")), lo);
+            table.col(s.output(&format!("{col} + 2sd")), hi);
+        }
+    }
+    if let Some(t) = &s.truth {
+        fig.push(
+            Series::line(&t.u, &t.asc)
+                .color("black")
+                .dash(Dash::Dashed)
+                .width(1.4)
+                .class("true-asc")
+                .label("true loop"),
+        );
+        fig.push(
+            Series::line(&t.u, &t.desc)
+                .color("black")
+                .dash(Dash::Dashed)
+                .width(1.4)
+                .class("true-desc"),
+        );
+    }
+    fig.push(
+        Series::line(&g, &asc)
+            .color(c_asc)
+            .width(2.4)
+            .class("border-asc")
+            .label("H_a"),
+    );
+    fig.push(
+        Series::line(&g, &desc)
+            .color(c_desc)
+            .width(2.4)
+            .class("border-desc")
+            .label("H_d"),
+    );
+    out.files.push(table.save(cx.dir, "borders")?);
+    out.files
+        .push(knots_table(fit, cx).save(cx.dir, "borders-knots")?);
+    if let Some(gap) = gap {
+        let mut t = Table::default();
+        t.col(s.input("gap"), vec![gap]);
+        if let Some(sd) = fit.uncertainty.as_ref().and_then(|u| u.gap) {
+            t.col(s.input("sd gap"), vec![sd]);
+        }
+        out.files.push(t.save(cx.dir, "element")?);
+    }
+    out.files.push(save_svg(&fig, cx.dir, "borders")?);
+    Ok(())
+}
+
+/// The figure's title: the element and, for a play, its gap in input units.
+fn title(kind: ElementKind, gap: Option<f64>, unit: &str) -> String {
+    match (kind, gap) {
+        (ElementKind::Backlash, Some(g)) => {
+            format!("Play operator (backlash): borders H_a, H_d, gap {g:.4} {unit}")
+                .trim_end()
+                .to_string()
+        }
+        (ElementKind::Backlash, None) => "Play operator (backlash): borders H_a, H_d".to_string(),
+        (ElementKind::Switch, _) => {
+            "Relay with borders (switch): H_a (u rising), H_d (u falling)".to_string()
+        }
+    }
+}
+
+/// The element's output on the record against the input, and the measured points; both
+/// after the skipped samples. Written to `element-output.csv` and `borders-points.csv` (the
+/// last samples, whose remaining record holds too little of the impulse response, have no
+/// measured point).
+fn trajectory(
+    cx: &Context,
+    m: &HysteresisModel,
+    fig: &mut Figure,
+    out: &mut Written,
+) -> Result<(), FigureError> {
+    let s = cx.settings;
+    let skip = cx.record.skip;
+    let u = &cx.record.u[skip..];
+    let w = &element_output(m, cx.record.u)[skip..];
+    let residual: Vec<f64> = cx
+        .record
+        .y
+        .iter()
+        .zip(&cx.simulated)
+        .map(|(y, s)| y - s)
+        .collect();
+    let back = departures(&impulse_response(cx.model), &residual);
+    let (pu, pw): (Vec<f64>, Vec<f64>) = u
+        .iter()
+        .zip(w)
+        .zip(&back[skip..])
+        .filter_map(|((&u, &w), d)| d.map(|d| (u, w + d)))
+        .unzip();
+    fig.push(
+        Series::scatter(&pu, &pw, Marker::Dot)
+            .size(1.3)
+            .color("#b0b0b0")
+            .class("points")
+            .label("partial residuals"),
+    );
+    let path = match m.kind {
+        ElementKind::Backlash => Series::line(u, w).width(1.0),
+        ElementKind::Switch => Series::scatter(u, w, Marker::Dot).size(1.6),
+    };
+    fig.push(
+        path.color("#303030")
+            .class("element-output")
+            .label("element output w(t) on the record"),
+    );
+    let mut t = Table::default();
+    t.col(s.input("u"), u.to_vec());
+    t.col(s.output("w"), w.to_vec());
+    out.files.push(t.save(cx.dir, "element-output")?);
+    let mut t = Table::default();
+    t.col(s.input("u"), pu);
+    t.col(s.output("w measured"), pw);
+    out.files.push(t.save(cx.dir, "borders-points")?);
+    Ok(())
+}
+
+/// The standard deviation of a border at `u`, linear between the knots: for
+/// `H(u) = (1 − λ) H_i + λ H_{i+1}`, `var = (1 − λ)² C_ii + λ² C_jj + 2 λ (1 − λ) C_ij`, the
+/// knot values at `first + i` in `cov`.
+fn border_sd(knots: &[f64], cov: &nalgebra::DMatrix<f64>, first: usize, u: f64) -> f64 {
+    let j = knots.partition_point(|&k| k < u).clamp(1, knots.len() - 1);
+    let i = j - 1;
+    let lam = ((u - knots[i]) / (knots[j] - knots[i])).clamp(0.0, 1.0);
+    let (a, b) = (first + i, first + j);
+    let var = (1.0 - lam).powi(2) * cov[(a, a)]
+        + lam * lam * cov[(b, b)]
+        + 2.0 * lam * (1.0 - lam) * cov[(a, b)];
+    var.max(0.0).sqrt()
+}
+
+/// The border values at the knots, with their standard deviations when the fit gave them.
+fn knots_table(fit: &HysteresisFit, cx: &Context) -> Table {
+    let (m, s) = (&fit.model, cx.settings);
+    let mut t = Table::default();
+    t.col(s.input("knot"), m.knots.clone());
+    t.col(s.output("H_a"), m.border_asc.clone());
+    t.col(s.output("H_d"), m.border_desc.clone());
+    if let Some(u) = &fit.uncertainty {
+        t.col(s.output("sd H_a"), u.border_asc.clone());
+        t.col(s.output("sd H_d"), u.border_desc.clone());
+    }
+    t
+}
