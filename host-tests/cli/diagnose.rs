@@ -1,5 +1,7 @@
 //! `hsid diagnose`: arguments and the run.
 
+mod integrating;
+
 use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
@@ -12,6 +14,7 @@ use hsid_host::diagnose::{
 use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::integrating::increments_options;
 use hsid_host::model_file::Units;
 use hsid_host::units::{Origin, resolve_ts};
 
@@ -142,6 +145,12 @@ pub struct DiagnoseArgs {
     /// the extensions the diagnosis added are in the JSON report only.
     #[arg(long)]
     pub model_out: Option<PathBuf>,
+    /// The plant integrates (voltage → position, a level loop): diagnose its stable part on
+    /// the output's increments y(t) − y(t − 1), one pole fixed at z = 1, as `identify
+    /// --integrating` identifies it; every error is then of the increments (output units per
+    /// sample), and the model file of --model-out records the integrator.
+    #[arg(long)]
+    pub integrating: bool,
     #[command(flatten)]
     pub csv: CsvArgs,
     /// Sample time and units (checked against the records' time columns), stored in the
@@ -334,14 +343,24 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
     let units = a.units.resolve_units(comment_units(unit_comments))?;
     let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
-    let opts = options(a, identify_options(a, &records)?)?;
-    let validation = match (val, &a.holdout) {
+    let mut opts = options(a, identify_options(a, &records)?)?;
+    let mut validation = match (val, &a.holdout) {
         (Some(v), _) => Validation::Separate {
             record: v,
             skip: a.validation_skip.unwrap_or(a.hold.hold),
         },
         (None, Some(r)) => Validation::Holdout(parse_range(r)?),
         (None, None) => Validation::Split(a.split),
+    };
+    let est = if a.integrating {
+        outln!(
+            "--integrating: the stable part G0 of the plant (one pole fixed at z = 1) on the output's increments y(t) - y(t-1); every error below is of the increments, output units per sample"
+        )?;
+        opts.identify = increments_options(&opts.identify);
+        validation = integrating::validation(validation);
+        integrating::increments(&est)
+    } else {
+        est
     };
     let d = diagnose(&est, &validation, &opts).map_err(|e| format!("{}: {e}", a.data.display()))?;
     outln!("{}", report::text(&d))?;
@@ -368,6 +387,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     }
     if let Some(path) = &a.model_out {
         let mut file = ModelSummary::of(&d.model, d.nonlinearity).model;
+        file.integrating = a.integrating;
         file.sample_time = ts;
         file.units = units;
         file.save(path).map_err(|e| e.to_string())?;

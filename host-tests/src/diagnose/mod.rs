@@ -125,6 +125,7 @@ fn diagnose_inner(
     let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
     // The feedback check needs an open-loop model's residual on the estimation record.
     let fit = model::evaluate(&base, est, hold..ne, Metric::Simulation);
+    warnings.extend(checks::integrating::integrating(&base, ne - hold.min(ne)));
     warnings.extend(checks::feedback::feedback(
         &est.u[hold.min(ne)..],
         &fit.output[hold.min(ne)..],

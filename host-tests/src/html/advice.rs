@@ -4,7 +4,7 @@
 use crate::diagnose::{Check, Test};
 
 /// Every data check, in the order `diagnose` runs them.
-pub const CHECKS: [Check; 8] = [
+pub const CHECKS: [Check; 9] = [
     Check::Table1Structure,
     Check::PathCoverage,
     Check::PersistentExcitation,
@@ -13,6 +13,7 @@ pub const CHECKS: [Check; 8] = [
     Check::OutputQuantisation,
     Check::InputLevels,
     Check::Feedback,
+    Check::Integrating,
 ];
 
 /// `(what it means, what to do)` for a data check that warns.
@@ -55,6 +56,13 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
             "The input takes few distinct values: the borders between those levels are not \
              determined.",
             "Use sweeps through many levels (hsid excite) rather than steps.",
+        ),
+        Check::Integrating => (
+            "The base model has a pole too slow for the record: the plant integrates \
+             (position from a voltage, a level) or the output drifts, and the gain \
+             normalisation G(1) = 1 is meaningless.",
+            "For an integrating plant, diagnose its stable part with --integrating (the \
+             output's increments); for a drifting sensor, let offset_drift model it.",
         ),
         Check::Feedback => (
             "The input is correlated with earlier residuals: it was computed from the measured \

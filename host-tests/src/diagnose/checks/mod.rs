@@ -6,6 +6,7 @@ pub mod excitation;
 pub mod feedback;
 pub mod hold;
 pub mod input_levels;
+pub mod integrating;
 pub mod output;
 pub mod setup;
 pub mod table1;

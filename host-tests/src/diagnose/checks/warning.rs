@@ -24,6 +24,9 @@ pub enum Check {
     InputLevels,
     /// The input is correlated with earlier residuals: feedback.
     Feedback,
+    /// The base model has a pole too slow for the record: an integrating plant or a
+    /// drifting output.
+    Integrating,
 }
 
 impl Check {
@@ -38,6 +41,7 @@ impl Check {
             Check::OutputQuantisation => "output_quantisation",
             Check::InputLevels => "input_levels",
             Check::Feedback => "feedback",
+            Check::Integrating => "integrating",
         }
     }
 }
