@@ -1,12 +1,12 @@
 //! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
 
 use crate::failure::{Failure, outln};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::html::model_words::Element;
+use hsid_host::html::model_words::{Element, element_facts};
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
@@ -16,7 +16,7 @@ use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
-use hsid_host::units::{Origin, UnitsOrigin, resolve_ts, unit_report};
+use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts, unit_report};
 
 use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 
@@ -127,14 +127,6 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
                 .into(),
         );
     }
-    if element.is_some() && (a.figures.wanted() || a.html.is_some()) {
-        return Err(
-            "the figures and the HTML report of a play or relay model (\"element\") are not \
-             drawn yet (they would show its two-path reading): drop --out and --html"
-                .to_string()
-                .into(),
-        );
-    }
     let sim = match &element {
         Some(h) => hysteresis::simulate::simulate(h, u),
         None => m.simulate(u),
@@ -163,36 +155,112 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     for line in in_units.lines() {
         outln!("{line}")?;
     }
-    crate::figures::validate(&a.figures, &file, &m, u, y, skip)?;
-    if let Some(path) = &a.html {
-        let settings = FigureSettings {
-            ts,
-            units: units.map(|u| (u.input, u.output)),
-            truth: crate::figures::truth(&a.figures, &m)?,
-        };
-        let record = Record { u, y, skip };
-        let figures = figures::of_model(&m, &record, Uncertainty::from_file(&file), &settings);
-        let run = ModelRun {
-            title: format!(
-                "hsid validate: {} on {}",
-                a.model.display(),
-                a.data.display()
-            ),
-            element: file.nonlinearity.map_or(Element::TwoPath, Element::from),
-            model: &m,
-            units: &in_units,
-            parts: &[(u, y)],
-            skip,
-            estimation: None,
-            extra: Vec::new(),
-        };
-        run.page(
-            figures.map_err(|e| e.to_string())?,
-            Reproduction::of_this_run(&[&a.model, &a.data]),
-        )
-        .write(path)
-        .map_err(|e| e.to_string())?;
-        outln!("wrote {}", path.display())?;
+    let shown = Shown {
+        file: &file,
+        model: &m,
+        element: element.as_ref(),
+        units: &in_units,
+        ts,
+        record: Record { u, y, skip },
+    };
+    match &element {
+        Some(h) => draw_element(a, h, &shown)?,
+        None => crate::figures::validate(&a.figures, &file, &m, u, y, skip)?,
     }
+    if let Some(path) = &a.html {
+        write_page(a, path, &shown)?;
+    }
+    Ok(())
+}
+
+/// The model and the record the figures and the page show.
+struct Shown<'a> {
+    file: &'a ModelFile,
+    model: &'a HostModel,
+    /// The play or relay model of a file with `"element"`.
+    element: Option<&'a HysteresisModel>,
+    units: &'a UnitReport,
+    ts: Option<f64>,
+    record: Record<'a>,
+}
+
+impl Shown<'_> {
+    /// The figure settings: the sample time and units as resolved, the true loop of
+    /// `--true-plant`.
+    fn settings(&self, a: &ValidateArgs) -> Result<FigureSettings, Failure> {
+        Ok(FigureSettings {
+            ts: self.ts,
+            units: self
+                .units
+                .units
+                .as_ref()
+                .map(|u| (u.input.clone(), u.output.clone())),
+            truth: crate::figures::truth(&a.figures, self.model)?,
+        })
+    }
+}
+
+/// `--out` for an element model: the element's figures on the record, its borders without
+/// bands (the model file keeps no covariance of them).
+fn draw_element(a: &ValidateArgs, h: &HysteresisModel, s: &Shown<'_>) -> Result<(), Failure> {
+    let Some(dir) = a.figures.dir() else {
+        return Ok(());
+    };
+    let written = write_element_model_figures(dir, h, None, &s.record, &s.settings(a)?)
+        .map_err(|e| e.to_string())?;
+    for note in &written.notes {
+        outln!("figures: {note}")?;
+    }
+    outln!(
+        "wrote {} figure files (SVG and CSV) to {}",
+        written.files.len(),
+        dir.display()
+    )?;
+    Ok(())
+}
+
+/// Writes the HTML report to `path`: the element's simulation and figures for an element
+/// model, else the model's.
+fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failure> {
+    let settings = s.settings(a)?;
+    let (element, figures) = match s.element {
+        Some(h) => (
+            Element::from(h.kind),
+            figures::of_element(h, None, &s.record, &settings),
+        ),
+        None => (
+            s.file.nonlinearity.map_or(Element::TwoPath, Element::from),
+            figures::of_model(
+                s.model,
+                &s.record,
+                Uncertainty::from_file(s.file),
+                &settings,
+            ),
+        ),
+    };
+    let run = ModelRun {
+        title: format!(
+            "hsid validate: {} on {}",
+            a.model.display(),
+            a.data.display()
+        ),
+        element,
+        model: s.model,
+        memory: s.element,
+        units: s.units,
+        parts: &[(s.record.u, s.record.y)],
+        skip: s.record.skip,
+        estimation: None,
+        extra: s
+            .element
+            .map_or_else(Vec::new, |h| element_facts(h, None, s.units)),
+    };
+    run.page(
+        figures.map_err(|e| e.to_string())?,
+        Reproduction::of_this_run(&[&a.model, &a.data]),
+    )
+    .write(path)
+    .map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
     Ok(())
 }
