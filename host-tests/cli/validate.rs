@@ -10,8 +10,8 @@ use hsid_host::html::model_words::{Element, element_facts};
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
-use hsid_host::model_file::ModelFile;
 use hsid_host::model_file::NonlinearityKind;
+use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
@@ -54,27 +54,8 @@ pub struct ValidateArgs {
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
 pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
-    let given = match &a.noise {
-        Some(p) => Some(NoiseModel::load(p)?),
-        None => None,
-    };
     let file = ModelFile::load(&a.model).map_err(|e| e.to_string())?;
-    let own = match &file.noise {
-        Some(n) if !is_stable(&n.c, 1.0) => {
-            return Err(format!(
-                "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
-                a.model.display()
-            )
-            .into());
-        }
-        Some(n) => Some(NoiseModel {
-            c: n.c.clone(),
-            d: n.d.clone(),
-            sigma2: n.sigma2,
-        }),
-        None => None,
-    };
-    let noise = given.or(own);
+    let noise = noise(a, &file)?;
     let m = HostModel::from_json(&file);
     let record = read_uy(&a.data, &a.columns, &a.csv, &a.units)?;
     let stored = file
@@ -139,22 +120,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
         )?;
     }
-    // The file keeps the standard deviations of re and im of each pole, not their
-    // correlation: taken as uncorrelated.
-    let cov: Option<Vec<[[f64; 2]; 2]>> = file.std.as_ref().map(|s| {
-        s.poles
-            .iter()
-            .map(|[a, b]| [[a * a, 0.0], [0.0, b * b]])
-            .collect()
-    });
-    if cov.is_some() {
-        outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
-    }
-    let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
-    let in_units = unit_report(&m, ts, units.clone(), cov.as_deref(), two_path);
-    for line in in_units.lines() {
-        outln!("{line}")?;
-    }
+    let in_units = reading(&file, &m, ts, units)?;
     let shown = Shown {
         file: &file,
         model: &m,
@@ -171,6 +137,53 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         write_page(a, path, &shown)?;
     }
     Ok(())
+}
+
+/// The noise model of `--noise`, else the model file's (its predictor checked stable).
+fn noise(a: &ValidateArgs, file: &ModelFile) -> Result<Option<NoiseModel>, Failure> {
+    if let Some(p) = &a.noise {
+        return Ok(Some(NoiseModel::load(p)?));
+    }
+    match &file.noise {
+        Some(n) if !is_stable(&n.c, 1.0) => Err(format!(
+            "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
+            a.model.display()
+        )
+        .into()),
+        Some(n) => Ok(Some(NoiseModel {
+            c: n.c.clone(),
+            d: n.d.clone(),
+            sigma2: n.sigma2,
+        })),
+        None => Ok(None),
+    }
+}
+
+/// The model read in units (for an element file, its `G` and borders: the reading `identify`
+/// prints after the fit), printed; the pole standard deviations are the file's.
+fn reading(
+    file: &ModelFile,
+    m: &HostModel,
+    ts: Option<f64>,
+    units: Option<Units>,
+) -> Result<UnitReport, Failure> {
+    // The file keeps the standard deviations of re and im of each pole, not their
+    // correlation: taken as uncorrelated.
+    let cov: Option<Vec<[[f64; 2]; 2]>> = file.std.as_ref().map(|s| {
+        s.poles
+            .iter()
+            .map(|[a, b]| [[a * a, 0.0], [0.0, b * b]])
+            .collect()
+    });
+    if cov.is_some() {
+        outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
+    }
+    let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
+    let in_units = unit_report(m, ts, units, cov.as_deref(), two_path);
+    for line in in_units.lines() {
+        outln!("{line}")?;
+    }
+    Ok(in_units)
 }
 
 /// The model and the record the figures and the page show.
