@@ -32,9 +32,9 @@ pub struct FigureArgs {
 }
 
 impl FigureArgs {
-    /// Whether figures were asked for (`--out`).
-    pub fn wanted(&self) -> bool {
-        self.out.is_some()
+    /// The directory of `--out`, if given.
+    pub fn dir(&self) -> Option<&Path> {
+        self.out.as_deref()
     }
 }
 

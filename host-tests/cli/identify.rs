@@ -15,7 +15,9 @@ use hsid_host::choose::{
 };
 use hsid_host::figures::{FigureSettings, Record, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
+use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
+use hsid_host::hysteresis::HysteresisFit;
 use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::integrating;
 use hsid_host::model_file::{ModelFile, Units};
@@ -306,11 +308,14 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         Some(fit) => crate::figures::element(&a.figures, fit, &record, &fitting)?,
         None => crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?,
     };
-    if let Some(path) = &a.html {
+    if let (Some(path), Some(fit)) = (&a.html, &fitted) {
+        write_element_page(a, path, fit, &fitting, &best.options, &record)?;
+    } else if let Some(path) = &a.html {
         let run = ModelRun {
             title: format!("hsid identify: {}", names(&a.data)),
             element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
             model: &model,
+            memory: None,
             units: &in_units,
             parts: &records.parts(),
             skip: hold,
@@ -318,7 +323,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
             extra: vec![Fact::new("estimator", estimator)],
         };
         let page_figures = html_figures(a, &best, &record, records.ts, units.as_ref())?;
-        write_page(a, path, run, page_figures, fitted.is_some())?;
+        write_page(a, path, run, page_figures)?;
     }
     if let (Some(fit), Some(path)) = (&fitted, &a.out.json) {
         simulation::save(fit, &fitting, path)?;
@@ -343,34 +348,68 @@ fn names(data: &[PathBuf]) -> String {
     names.join(", ")
 }
 
-/// Writes the HTML report of `run` to `path`; after a fitted element (`fitted`) the page
-/// shows the two-path model that started the fit, and says so (the page of an element model
-/// is not drawn yet).
+/// Writes the HTML report of `run` to `path`.
 fn write_page(
     a: &IdentifyArgs,
     path: &Path,
-    mut run: ModelRun<'_>,
+    run: ModelRun<'_>,
     figures: Vec<InlineFigure>,
-    fitted: bool,
 ) -> Result<(), Failure> {
-    if fitted {
-        run.extra.push(Fact::new(
-            "element",
-            "the play operator or relay was fitted after this model (printed, and in the model \
-             file of --json); this page shows the two-path model it started from",
-        ));
-    }
     run.page(figures, Reproduction::of_this_run(&a.data))
         .write(path)
         .map_err(|e| e.to_string())?;
     outln!("wrote {}", path.display())?;
-    if fitted {
-        outln!(
-            "{}: the two-path model that started the element's fit (the page of an element is not drawn yet)",
-            path.display()
-        )?;
-    }
     Ok(())
+}
+
+/// Writes the HTML report of the fitted element `fit` (`--fit`) on its estimation record:
+/// the element's simulation, figures and reading in units, as printed and drawn by `--out`.
+fn write_element_page(
+    a: &IdentifyArgs,
+    path: &Path,
+    fit: &HysteresisFit,
+    r: &Fitting<'_>,
+    options: &IdentifyOptions,
+    record: &Record<'_>,
+) -> Result<(), Failure> {
+    let host = fit.model.to_host(r.u.len());
+    let in_units = simulation::in_units(fit, r);
+    let estimator = format!(
+        "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
+        if r.nonlinearity == NonlinearityArg::Static {
+            "static"
+        } else {
+            "two-path"
+        },
+        fit.iterations,
+        fit.initial_cost,
+        fit.cost
+    );
+    let mut extra = vec![Fact::new("estimator", estimator)];
+    let gap_sd = fit.uncertainty.as_ref().and_then(|u| u.gap);
+    extra.extend(element_facts(&fit.model, gap_sd, &in_units));
+    let run = ModelRun {
+        title: format!("hsid identify: {}", names(&a.data)),
+        element: fit.model.kind.into(),
+        model: &host,
+        memory: Some(&fit.model),
+        units: &in_units,
+        parts: &[(r.u, r.y)],
+        skip: r.hold,
+        estimation: Some(options),
+        extra,
+    };
+    let settings = FigureSettings {
+        ts: r.ts,
+        units: r
+            .units
+            .as_ref()
+            .map(|u| (u.input.clone(), u.output.clone())),
+        truth: crate::figures::truth(&a.figures, &host)?,
+    };
+    let figures = figures::of_element(&fit.model, fit.uncertainty.as_ref(), record, &settings)
+        .map_err(|e| e.to_string())?;
+    write_page(a, path, run, figures)
 }
 
 /// Each record as the record of its increments: its first sample dropped, its output

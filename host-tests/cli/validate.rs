@@ -1,22 +1,22 @@
 //! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
 
 use crate::failure::{Failure, outln};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::html::model_words::Element;
+use hsid_host::html::model_words::{Element, element_facts};
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
-use hsid_host::model_file::ModelFile;
 use hsid_host::model_file::NonlinearityKind;
+use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
-use hsid_host::units::{Origin, UnitsOrigin, resolve_ts, unit_report};
+use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts, unit_report};
 
 use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 
@@ -54,27 +54,8 @@ pub struct ValidateArgs {
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
 pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
-    let given = match &a.noise {
-        Some(p) => Some(NoiseModel::load(p)?),
-        None => None,
-    };
     let file = ModelFile::load(&a.model).map_err(|e| e.to_string())?;
-    let own = match &file.noise {
-        Some(n) if !is_stable(&n.c, 1.0) => {
-            return Err(format!(
-                "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
-                a.model.display()
-            )
-            .into());
-        }
-        Some(n) => Some(NoiseModel {
-            c: n.c.clone(),
-            d: n.d.clone(),
-            sigma2: n.sigma2,
-        }),
-        None => None,
-    };
-    let noise = given.or(own);
+    let noise = noise(a, &file)?;
     let m = HostModel::from_json(&file);
     let record = read_uy(&a.data, &a.columns, &a.csv, &a.units)?;
     let stored = file
@@ -127,14 +108,6 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
                 .into(),
         );
     }
-    if element.is_some() && (a.figures.wanted() || a.html.is_some()) {
-        return Err(
-            "the figures and the HTML report of a play or relay model (\"element\") are not \
-             drawn yet (they would show its two-path reading): drop --out and --html"
-                .to_string()
-                .into(),
-        );
-    }
     let sim = match &element {
         Some(h) => hysteresis::simulate::simulate(h, u),
         None => m.simulate(u),
@@ -147,6 +120,53 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
         )?;
     }
+    let in_units = reading(&file, &m, ts, units)?;
+    let shown = Shown {
+        file: &file,
+        model: &m,
+        element: element.as_ref(),
+        units: &in_units,
+        ts,
+        record: Record { u, y, skip },
+    };
+    match &element {
+        Some(h) => draw_element(a, h, &shown)?,
+        None => crate::figures::validate(&a.figures, &file, &m, u, y, skip)?,
+    }
+    if let Some(path) = &a.html {
+        write_page(a, path, &shown)?;
+    }
+    Ok(())
+}
+
+/// The noise model of `--noise`, else the model file's (its predictor checked stable).
+fn noise(a: &ValidateArgs, file: &ModelFile) -> Result<Option<NoiseModel>, Failure> {
+    if let Some(p) = &a.noise {
+        return Ok(Some(NoiseModel::load(p)?));
+    }
+    match &file.noise {
+        Some(n) if !is_stable(&n.c, 1.0) => Err(format!(
+            "{}: field \"noise.c\": a root on or outside the unit circle (unstable predictor)",
+            a.model.display()
+        )
+        .into()),
+        Some(n) => Ok(Some(NoiseModel {
+            c: n.c.clone(),
+            d: n.d.clone(),
+            sigma2: n.sigma2,
+        })),
+        None => Ok(None),
+    }
+}
+
+/// The model read in units (for an element file, its `G` and borders: the reading `identify`
+/// prints after the fit), printed; the pole standard deviations are the file's.
+fn reading(
+    file: &ModelFile,
+    m: &HostModel,
+    ts: Option<f64>,
+    units: Option<Units>,
+) -> Result<UnitReport, Failure> {
     // The file keeps the standard deviations of re and im of each pole, not their
     // correlation: taken as uncorrelated.
     let cov: Option<Vec<[[f64; 2]; 2]>> = file.std.as_ref().map(|s| {
@@ -159,40 +179,101 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
     }
     let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
-    let in_units = unit_report(&m, ts, units.clone(), cov.as_deref(), two_path);
+    let in_units = unit_report(m, ts, units, cov.as_deref(), two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
     }
-    crate::figures::validate(&a.figures, &file, &m, u, y, skip)?;
-    if let Some(path) = &a.html {
-        let settings = FigureSettings {
-            ts,
-            units: units.map(|u| (u.input, u.output)),
-            truth: crate::figures::truth(&a.figures, &m)?,
-        };
-        let record = Record { u, y, skip };
-        let figures = figures::of_model(&m, &record, Uncertainty::from_file(&file), &settings);
-        let run = ModelRun {
-            title: format!(
-                "hsid validate: {} on {}",
-                a.model.display(),
-                a.data.display()
-            ),
-            element: file.nonlinearity.map_or(Element::TwoPath, Element::from),
-            model: &m,
-            units: &in_units,
-            parts: &[(u, y)],
-            skip,
-            estimation: None,
-            extra: Vec::new(),
-        };
-        run.page(
-            figures.map_err(|e| e.to_string())?,
-            Reproduction::of_this_run(&[&a.model, &a.data]),
-        )
-        .write(path)
-        .map_err(|e| e.to_string())?;
-        outln!("wrote {}", path.display())?;
+    Ok(in_units)
+}
+
+/// The model and the record the figures and the page show.
+struct Shown<'a> {
+    file: &'a ModelFile,
+    model: &'a HostModel,
+    /// The play or relay model of a file with `"element"`.
+    element: Option<&'a HysteresisModel>,
+    units: &'a UnitReport,
+    ts: Option<f64>,
+    record: Record<'a>,
+}
+
+impl Shown<'_> {
+    /// The figure settings: the sample time and units as resolved, the true loop of
+    /// `--true-plant`.
+    fn settings(&self, a: &ValidateArgs) -> Result<FigureSettings, Failure> {
+        Ok(FigureSettings {
+            ts: self.ts,
+            units: self
+                .units
+                .units
+                .as_ref()
+                .map(|u| (u.input.clone(), u.output.clone())),
+            truth: crate::figures::truth(&a.figures, self.model)?,
+        })
     }
+}
+
+/// `--out` for an element model: the element's figures on the record, its borders without
+/// bands (the model file keeps no covariance of them).
+fn draw_element(a: &ValidateArgs, h: &HysteresisModel, s: &Shown<'_>) -> Result<(), Failure> {
+    let Some(dir) = a.figures.dir() else {
+        return Ok(());
+    };
+    let written = write_element_model_figures(dir, h, None, &s.record, &s.settings(a)?)
+        .map_err(|e| e.to_string())?;
+    for note in &written.notes {
+        outln!("figures: {note}")?;
+    }
+    outln!(
+        "wrote {} figure files (SVG and CSV) to {}",
+        written.files.len(),
+        dir.display()
+    )?;
+    Ok(())
+}
+
+/// Writes the HTML report to `path`: the element's simulation and figures for an element
+/// model, else the model's.
+fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failure> {
+    let settings = s.settings(a)?;
+    let (element, figures) = match s.element {
+        Some(h) => (
+            Element::from(h.kind),
+            figures::of_element(h, None, &s.record, &settings),
+        ),
+        None => (
+            s.file.nonlinearity.map_or(Element::TwoPath, Element::from),
+            figures::of_model(
+                s.model,
+                &s.record,
+                Uncertainty::from_file(s.file),
+                &settings,
+            ),
+        ),
+    };
+    let run = ModelRun {
+        title: format!(
+            "hsid validate: {} on {}",
+            a.model.display(),
+            a.data.display()
+        ),
+        element,
+        model: s.model,
+        memory: s.element,
+        units: s.units,
+        parts: &[(s.record.u, s.record.y)],
+        skip: s.record.skip,
+        estimation: None,
+        extra: s
+            .element
+            .map_or_else(Vec::new, |h| element_facts(h, None, s.units)),
+    };
+    run.page(
+        figures.map_err(|e| e.to_string())?,
+        Reproduction::of_this_run(&[&a.model, &a.data]),
+    )
+    .write(path)
+    .map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
     Ok(())
 }

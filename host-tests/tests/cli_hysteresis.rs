@@ -4,7 +4,8 @@
 //! `simulate --model` running that file through the play operator, against the simulator's
 //! noise-free output and the noise floor. `--fit auto` (the default): the same fit, with a
 //! note, on that record, and none on Table I records (the same model file as `--fit none`);
-//! `--out` with the fitted element draws the element.
+//! `--out` and `--html` with the fitted element draw the element, in `identify` and in
+//! `validate` on a fresh record.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use hsid_host::hysteresis::ElementKind;
@@ -116,17 +117,6 @@ fn a_backlash_fitted_by_simulation_error_validates_within_the_noise_floor() {
         "20",
     ])
     .clean_error(&["element", "noise"]);
-    let figures = dir.join("fig");
-    hsid(&[
-        "validate",
-        "--model",
-        p(&model),
-        "--data",
-        p(&check),
-        "--out",
-        p(&figures),
-    ])
-    .clean_error(&["element", "not drawn yet", "drop --out"]);
     // A second record that may be joined (it does not start at rest at u_min).
     let tail = dir.write_uy("tail.csv", &val.u[HOLD..], &val.y[HOLD..]);
     servo_identify(&data, &["--data", p(&tail), "--fit", "simulation"])
@@ -199,14 +189,9 @@ fn the_default_fits_the_element_on_a_servo_input_and_draws_it() {
     );
     let text = std::fs::read_to_string(&model).unwrap();
     assert!(text.contains("\"element\": \"play\""), "{text}");
-    // The HTML page is the two-path model's, and says so.
+    // The HTML page is the element's: its fit, gap and reading in units as printed.
     let html = std::fs::read_to_string(&page).unwrap();
-    assert!(html.contains("this page shows the two-path model it started from"));
-    assert!(
-        out.contains("the page of an element is not drawn yet"),
-        "{out}"
-    );
-
+    element_page(&html, &out, fitted_fit_line(&out), gap);
     let floor = fit(&val.y, &val.y_clean).nrmse;
     let v = hsid(&["validate", "--model", p(&model), "--data", p(&check)]).success();
     let nrmse = number_after(&v.stdout, "NRMSE ");
@@ -239,8 +224,7 @@ fn the_default_fits_the_element_on_a_servo_input_and_draws_it() {
         .map(|r| r[2])
         .collect();
     assert_eq!(simulated.len(), est.y.len());
-    let fitted = &out[out.find("simulation-error fit of the").unwrap()..];
-    let printed = number_after(fitted, "NRMSE ");
+    let printed = number_after(fitted_fit_line(&out), "NRMSE ");
     let drawn_fit = fit(&est.y[HOLD..], &simulated[HOLD..]).nrmse;
     assert!(
         (drawn_fit - printed).abs() < 1e-3,
@@ -360,4 +344,146 @@ fn where_the_fit_cannot_run_the_default_notes_it_and_goes_on() {
         "{out}"
     );
     assert!(!out.contains("simulation-error fit"), "{out}");
+}
+
+/// The simulation fit line `identify` prints after the element's fit.
+fn fitted_fit_line(out: &str) -> &str {
+    let fitted = &out[out.find("simulation-error fit of the").unwrap()..];
+    let at = fitted.find("simulation fit on ").unwrap();
+    fitted[at..].lines().next().unwrap()
+}
+
+/// The element's reading in units as `identify` prints it after the fit (from the sample
+/// time to the mean gap).
+fn element_units(out: &str) -> Vec<&str> {
+    let part = &out[out.find("the fitted element in units:").unwrap()..];
+    part.lines()
+        .skip(1)
+        .take_while(|l| !l.starts_with("wrote"))
+        .collect()
+}
+
+/// Checks that the page `html` shows the element model: its simulation fit `fit_line`
+/// (RMSE, NRMSE), the gap `gap` of the play (printed with six decimals), each line of its
+/// reading in units as `identify` printed it in `out`, and the element's figure.
+fn element_page(html: &str, out: &str, fit_line: &str, gap: f64) {
+    let numbers = fit_line.split(':').nth(1).unwrap().trim();
+    assert!(
+        html.contains(numbers),
+        "page without the fit {numbers:?}:\n{html}"
+    );
+    assert!(
+        html.contains(&format!("{gap:.6}")),
+        "page without gap {gap}"
+    );
+    assert!(html.contains("A play operator (backlash"), "sentence");
+    assert!(html.contains("Play operator (backlash): borders H_a, H_d, gap"));
+    let poles: Vec<&str> = element_units(out)
+        .into_iter()
+        .filter(|l| l.starts_with("pole ") || l.starts_with("mean gap"))
+        .collect();
+    assert!(!poles.is_empty(), "{out}");
+    for line in poles {
+        let value = line.split_once(": ").map_or(line, |p| p.1);
+        let value = value.trim_start_matches("mean gap ");
+        assert!(html.contains(value), "page without {value:?}");
+    }
+    assert!(!html.contains("two-path model it started from"));
+}
+
+#[test]
+fn validate_draws_an_element_file_on_a_fresh_record() {
+    let dir = Scratch::new("cli-hysteresis-validate");
+    let est = SERVO.record(3000, 1);
+    let val = SERVO.record(3000, 2002);
+    let data = dir.write_uy("est.csv", &est.u, &est.y);
+    let check = dir.write_uy("val.csv", &val.u, &val.y);
+    let model = dir.join("m.json");
+    let units = ["--ts", "0.01", "--input-unit", "V", "--output-unit", "deg"];
+    let mut extra = vec!["--fit", "simulation", "--json", p(&model)];
+    extra.extend_from_slice(&units);
+    let out = servo_identify(&data, &extra).success().stdout;
+    let gap = number_after(&out, "fitted gap ");
+    let (figures, page) = (dir.join("fig"), dir.join("page.html"));
+    let hold = HOLD.to_string();
+    let validate = |model: &std::path::Path, page: &std::path::Path| {
+        hsid(&[
+            "validate",
+            "--model",
+            p(model),
+            "--data",
+            p(&check),
+            "--skip",
+            &hold,
+            "--out",
+            p(&figures),
+            "--html",
+            p(page),
+        ])
+        .success()
+        .stdout
+    };
+    let v = validate(&model, &page);
+    // validate reads the element in units as identify printed it after the fit.
+    let printed = element_units(&out);
+    let read: Vec<&str> = v
+        .lines()
+        .skip_while(|l| !l.starts_with("sample time"))
+        .take(printed.len())
+        .collect();
+    assert_eq!(read, printed, "{v}");
+    // The figures are the element's on the fresh record: the fitted gap, the borders of the
+    // file, and the output simulated by the play, whose fit is the one validate printed.
+    let drawn = rows(&figures.join("element.csv"))[0][0];
+    assert!(
+        (drawn - gap).abs() < 5e-7,
+        "drawn gap {drawn}, printed {gap}"
+    );
+    let svg = std::fs::read_to_string(figures.join("borders.svg")).unwrap();
+    assert!(svg.contains(&format!("gap {gap:.4} V")), "title");
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let knots = rows(&figures.join("borders-knots.csv"));
+    for (i, row) in knots.iter().enumerate() {
+        let h_d = file["border_desc"][i].as_f64().unwrap();
+        assert!(
+            (row[2] - h_d).abs() < 1e-9,
+            "H_d at knot {i}: {row:?}, file {h_d}"
+        );
+    }
+    let simulated: Vec<f64> = rows(&figures.join("output.csv"))
+        .iter()
+        .map(|r| r[2])
+        .collect();
+    assert_eq!(simulated.len(), val.y.len());
+    let fit_line = v
+        .lines()
+        .find(|l| l.starts_with("simulation fit on "))
+        .unwrap();
+    let drawn_fit = fit(&val.y[HOLD..], &simulated[HOLD..]).nrmse;
+    let nrmse = number_after(fit_line, "NRMSE ");
+    assert!(
+        (drawn_fit - nrmse).abs() < 1e-3,
+        "drawn {drawn_fit}, printed {nrmse}"
+    );
+    let floor = fit(&val.y, &val.y_clean).nrmse;
+    assert!(nrmse < 1.3 * floor, "NRMSE {nrmse}, floor {floor}");
+    // The page shows the same: the fit, the gap, the reading in units, the element's figure.
+    let html = std::fs::read_to_string(&page).unwrap();
+    element_page(&html, &out, fit_line, gap);
+    assert!(html.contains("out of sample, on the validation record"));
+    println!("validate --out/--html: NRMSE {nrmse:.4}, floor {floor:.4}, gap {gap:.4}");
+
+    // The same file without its "element" is a two-path model: its page fails those checks.
+    let text = std::fs::read_to_string(&model).unwrap();
+    let two_path = dir.join("two-path.json");
+    std::fs::write(&two_path, text.replace(",\n  \"element\": \"play\"", "")).unwrap();
+    let other = dir.join("two-path.html");
+    let w = validate(&two_path, &other);
+    let html = std::fs::read_to_string(&other).unwrap();
+    let numbers = fit_line.split(':').nth(1).unwrap().trim();
+    assert!(
+        !html.contains(numbers) && !html.contains("A play operator"),
+        "{w}"
+    );
 }

@@ -9,7 +9,8 @@ use std::path::Path;
 
 use super::error::FigureError;
 use super::{Context, FigureSettings, Record, Written, bode, element_borders, output, residual};
-use crate::hysteresis::HysteresisFit;
+use crate::hysteresis::uncertainty::Uncertainty;
+use crate::hysteresis::{HysteresisFit, HysteresisModel};
 
 /// Writes every figure of the fitted element model `fit` on `record` into `dir` (created
 /// if missing): `borders.*` (the element), `bode-*`, `poles.*`, `output.*`, `residual*`.
@@ -19,22 +20,35 @@ pub fn write_element_figures(
     record: &Record<'_>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {
+    write_element_model_figures(dir, &fit.model, fit.uncertainty.as_ref(), record, settings)
+}
+
+/// Writes the figures of [`write_element_figures`] for an element model read from a file
+/// (`validate`), with the borders' ±2σ bands when `uncertainty` is given (a model file keeps
+/// no covariance of the borders, so `validate` draws none).
+pub fn write_element_model_figures(
+    dir: &Path,
+    model: &HysteresisModel,
+    uncertainty: Option<&Uncertainty>,
+    record: &Record<'_>,
+    settings: &FigureSettings,
+) -> Result<Written, FigureError> {
     super::check_record(record, settings)?;
     std::fs::create_dir_all(dir).map_err(|source| FigureError::CreateDir {
         path: dir.to_path_buf(),
         source,
     })?;
-    let host = fit.model.to_host(record.u.len());
+    let host = model.to_host(record.u.len());
     let cx = Context {
         dir,
         model: &host,
         record: *record,
-        simulated: fit.simulate(record.u),
+        simulated: crate::hysteresis::simulate::simulate(model, record.u),
         settings,
         uncertainty: None,
     };
     let mut out = Written::default();
-    element_borders::write(&cx, fit, &mut out)?;
+    element_borders::write(&cx, model, uncertainty, &mut out)?;
     bode::write(&cx, &mut out)?;
     super::poles::write(&cx, &mut out)?;
     output::write(&cx, &mut out)?;

@@ -12,16 +12,18 @@ use super::error::FigureError;
 use super::partial::{departures, impulse_response};
 use super::{Context, Written};
 use crate::hysteresis::simulate::element_output;
-use crate::hysteresis::{ElementKind, HysteresisFit, HysteresisModel};
+use crate::hysteresis::uncertainty::Uncertainty;
+use crate::hysteresis::{ElementKind, HysteresisModel};
 use crate::identify::interpolate;
 use crate::plot::{Dash, Figure, Marker, PALETTE, Series};
 
 pub(super) fn write(
     cx: &Context,
-    fit: &HysteresisFit,
+    m: &HysteresisModel,
+    uncertainty: Option<&Uncertainty>,
     out: &mut Written,
 ) -> Result<(), FigureError> {
-    let (m, s) = (&fit.model, cx.settings);
+    let s = cx.settings;
     let g = grid(m.knots[0], m.knots[m.knots.len() - 1], &m.knots, &m.knots);
     let asc: Vec<f64> = g
         .iter()
@@ -42,7 +44,7 @@ pub(super) fn write(
     table.col(s.output("H_a"), asc.clone());
     table.col(s.output("H_d"), desc.clone());
     let (c_asc, c_desc) = (PALETTE[0], PALETTE[1]);
-    if let Some(unc) = &fit.uncertainty {
+    if let Some(unc) = uncertainty {
         let layout = m.layout();
         for (v, first, color, col) in [
             (&asc, layout.asc().start, c_asc, "H_a"),
@@ -98,11 +100,11 @@ pub(super) fn write(
     );
     out.files.push(table.save(cx.dir, "borders")?);
     out.files
-        .push(knots_table(fit, cx).save(cx.dir, "borders-knots")?);
+        .push(knots_table(m, uncertainty, cx).save(cx.dir, "borders-knots")?);
     if let Some(gap) = gap {
         let mut t = Table::default();
         t.col(s.input("gap"), vec![gap]);
-        if let Some(sd) = fit.uncertainty.as_ref().and_then(|u| u.gap) {
+        if let Some(sd) = uncertainty.and_then(|u| u.gap) {
             t.col(s.input("sd gap"), vec![sd]);
         }
         out.files.push(t.save(cx.dir, "element")?);
@@ -196,13 +198,13 @@ fn border_sd(knots: &[f64], cov: &nalgebra::DMatrix<f64>, first: usize, u: f64) 
 }
 
 /// The border values at the knots, with their standard deviations when the fit gave them.
-fn knots_table(fit: &HysteresisFit, cx: &Context) -> Table {
-    let (m, s) = (&fit.model, cx.settings);
+fn knots_table(m: &HysteresisModel, uncertainty: Option<&Uncertainty>, cx: &Context) -> Table {
+    let s = cx.settings;
     let mut t = Table::default();
     t.col(s.input("knot"), m.knots.clone());
     t.col(s.output("H_a"), m.border_asc.clone());
     t.col(s.output("H_d"), m.border_desc.clone());
-    if let Some(u) = &fit.uncertainty {
+    if let Some(u) = uncertainty {
         t.col(s.output("sd H_a"), u.border_asc.clone());
         t.col(s.output("sd H_d"), u.border_desc.clone());
     }

@@ -41,7 +41,7 @@ mod uncertainty;
 
 use std::path::{Path, PathBuf};
 
-pub use element::write_element_figures;
+pub use element::{write_element_figures, write_element_model_figures};
 pub use error::FigureError;
 pub use partial::{MIN_ENERGY, departures, impulse_response};
 pub use settings::{FigureSettings, TrueBorders};

@@ -22,8 +22,10 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
         Check::Table1Structure => (
             "A monotone run of the input starts inside the interval: the method's excitation \
              (Table I) has every run start at u_min or u_max, so that the element's path is known.",
-            "Record with the method's excitation (hsid excite), or identify the element as \
-             static (--nonlinearity static) if it has no memory.",
+            "Record with the method's excitation (hsid excite); or fit the play operator or \
+             relay itself by simulation error (hsid identify --fit simulation, which the \
+             default --fit auto runs on such a record); or identify the element as static \
+             (--nonlinearity static) if it has no memory.",
         ),
         Check::PathCoverage => (
             "A path is not visited over the whole interval: its border there is extrapolated.",

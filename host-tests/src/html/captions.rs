@@ -84,9 +84,34 @@ pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
     })
 }
 
+/// `(title, caption)` of a figure of an element model (the play operator or relay itself,
+/// `write_element_figures`): its own `borders` figure, the others as [`caption`] says.
+pub fn element_caption(stem: &str) -> Option<(&'static str, &'static str)> {
+    match stem {
+        "borders" => Some((
+            "The element: borders and its output on the record",
+            "The borders H_a (rising) and H_d (falling) of the play operator or relay, with \
+             ±2σ bands when the fit gave them (a model file keeps none), the element's output \
+             w(t) on the record (inner loops of a play, jumps of a relay), the measured points \
+             (partial residuals) and, dashed, the true loop when known. The title gives the \
+             play's gap. Points that leave the path systematically: a border that misses \
+             shape there.",
+        )),
+        _ => caption(stem),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::caption;
+    use super::{caption, element_caption};
+
+    #[test]
+    fn an_element_figure_has_its_own_borders_caption_and_shares_the_others() {
+        assert_ne!(element_caption("borders"), caption("borders"));
+        assert!(element_caption("borders").is_some_and(|(_, c)| c.contains("H_a")));
+        assert_eq!(element_caption("output"), caption("output"));
+        assert!(element_caption("unknown").is_none());
+    }
 
     #[test]
     fn every_figure_of_identify_and_diagnose_has_a_caption() {

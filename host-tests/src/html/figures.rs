@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::captions::caption;
+use super::captions::{caption, element_caption};
 use super::error::HtmlError;
 use super::figure::{InlineFigure, inline_svg};
 
@@ -58,6 +58,16 @@ pub fn captioned(
 pub fn drawn(
     write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, String>,
 ) -> Result<Vec<InlineFigure>, HtmlError> {
+    drawn_captioned(write, |stem| {
+        caption(stem).map(|(t, c)| (t.to_string(), c.to_string()))
+    })
+}
+
+/// [`drawn`], each figure titled and captioned by `caption` (as in [`captioned`]).
+pub fn drawn_captioned(
+    write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, String>,
+    caption: impl Fn(&str) -> Option<(String, String)>,
+) -> Result<Vec<InlineFigure>, HtmlError> {
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.subsec_nanos());
@@ -68,7 +78,7 @@ pub fn drawn(
     })?;
     let figures = write(&dir)
         .map_err(HtmlError::Figures)
-        .and_then(|files| from_files(&files, ""));
+        .and_then(|files| captioned(&files, "", caption));
     let removed = std::fs::remove_dir_all(&dir);
     let figures = figures?;
     removed.map_err(|source| HtmlError::Scratch { path: dir, source })?;
@@ -87,4 +97,22 @@ pub fn of_model(
             .map(|w| w.files)
             .map_err(|e| e.to_string())
     })
+}
+
+/// The figures of the element model `model` on `record` (those `--out` writes for it, with
+/// the element's caption of `borders`), inlined.
+pub fn of_element(
+    model: &crate::hysteresis::HysteresisModel,
+    uncertainty: Option<&crate::hysteresis::uncertainty::Uncertainty>,
+    record: &crate::figures::Record<'_>,
+    settings: &crate::figures::FigureSettings,
+) -> Result<Vec<InlineFigure>, HtmlError> {
+    drawn_captioned(
+        |dir| {
+            crate::figures::write_element_model_figures(dir, model, uncertainty, record, settings)
+                .map(|w| w.files)
+                .map_err(|e| e.to_string())
+        },
+        |stem| element_caption(stem).map(|(t, c)| (t.to_string(), c.to_string())),
+    )
 }

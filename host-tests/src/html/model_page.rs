@@ -1,5 +1,6 @@
 //! The page of a plain model on one record: `identify` (on its estimation record, with the
-//! data checks) and `validate` (on a fresh record).
+//! data checks) and `validate` (on a fresh record). A model whose element is the play
+//! operator or relay itself (`crate::hysteresis`) is simulated as that element.
 
 use super::checks::{data_rows, test_rows};
 use super::headline::{Fact, Headline};
@@ -7,6 +8,7 @@ use super::model_words::{Element, model_facts, sentence};
 use super::residual::{data_checks, residual_tests};
 use super::{InlineFigure, Page, Reproduction};
 use crate::diagnose::Nonlinearity;
+use crate::hysteresis::HysteresisModel;
 use crate::identify::{HostModel, IdentifyOptions};
 use crate::report::fit_report;
 use crate::units::UnitReport;
@@ -17,8 +19,12 @@ pub struct ModelRun<'a> {
     pub title: String,
     /// The input element.
     pub element: Element,
-    /// The model.
+    /// The model (for an element model, its [`HysteresisModel::to_host`]: the linear part,
+    /// the knots and the borders the residual tests and the reading in units use).
     pub model: &'a HostModel,
+    /// `Some` for a model whose element is the play operator or relay itself: the page's
+    /// simulation is this model's, not the two-path reading of `model`.
+    pub memory: Option<&'a HysteresisModel>,
     /// The model read in units.
     pub units: &'a UnitReport,
     /// The record's parts `(u, y)`, each simulated from rest on its own.
@@ -33,10 +39,19 @@ pub struct ModelRun<'a> {
 }
 
 impl ModelRun<'_> {
+    /// The model's simulation of the input `u` from rest: the element model's when there is
+    /// one.
+    fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        match self.memory {
+            Some(h) => crate::hysteresis::simulate::simulate(h, u),
+            None => self.model.simulate(u),
+        }
+    }
+
     fn kind(&self) -> Nonlinearity {
         match self.element {
-            Element::Backlash | Element::TwoPath => Nonlinearity::Backlash,
-            Element::Switch => Nonlinearity::Switch,
+            Element::Backlash | Element::TwoPath | Element::Play => Nonlinearity::Backlash,
+            Element::Switch | Element::Relay => Nonlinearity::Switch,
             Element::Static => Nonlinearity::Static,
         }
     }
@@ -53,11 +68,7 @@ impl ModelRun<'_> {
             .iter()
             .flat_map(|p| p.1.iter().copied())
             .collect();
-        let sim: Vec<f64> = self
-            .parts
-            .iter()
-            .flat_map(|p| self.model.simulate(p.0))
-            .collect();
+        let sim: Vec<f64> = self.parts.iter().flat_map(|p| self.simulate(p.0)).collect();
         let skip = self.skip.min(y.len());
         let on = if self.estimation.is_some() {
             "in sample, on the estimation record"

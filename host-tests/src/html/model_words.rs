@@ -17,6 +17,19 @@ pub enum Element {
     Static,
     /// Two borders, the kind not recorded (a model file without `nonlinearity`).
     TwoPath,
+    /// The play operator itself on two borders (a model with `"element": "play"`).
+    Play,
+    /// The relay with borders itself (a model with `"element": "relay"`).
+    Relay,
+}
+
+impl From<crate::hysteresis::ElementKind> for Element {
+    fn from(k: crate::hysteresis::ElementKind) -> Self {
+        match k {
+            crate::hysteresis::ElementKind::Backlash => Element::Play,
+            crate::hysteresis::ElementKind::Switch => Element::Relay,
+        }
+    }
 }
 
 impl From<crate::diagnose::Nonlinearity> for Element {
@@ -46,6 +59,8 @@ impl Element {
             Element::Switch => "switch (hysteresis)",
             Element::Static => "static nonlinearity",
             Element::TwoPath => "two-path element (backlash or switch)",
+            Element::Play => "play operator (backlash, simulated on inner loops too)",
+            Element::Relay => "relay with borders (switch, simulated on inner loops too)",
         }
     }
 }
@@ -110,6 +125,32 @@ pub fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
             ),
         ));
     }
+    facts
+}
+
+/// The facts of an element model besides its reading in units: the play's gap at mid-range
+/// (as `identify` prints it after the fit, with its standard deviation when the fit gave one)
+/// and the element's output before the record, `w(−1)`.
+pub fn element_facts(
+    m: &crate::hysteresis::HysteresisModel,
+    gap_sd: Option<f64>,
+    r: &UnitReport,
+) -> Vec<Fact> {
+    let mut facts = Vec::new();
+    if m.kind == crate::hysteresis::ElementKind::Backlash {
+        let sd = gap_sd.map_or(String::new(), |s| format!(" ± {s:.6}"));
+        facts.push(Fact::new(
+            "gap of the play at mid-range",
+            match m.gap() {
+                Some(g) => format!("{g:.6}{sd} {}", input_unit(r)),
+                None => "none: the borders do not meet at mid-range".to_string(),
+            },
+        ));
+    }
+    facts.push(Fact::new(
+        "element output before the record, w(-1)",
+        format!("{:.6}", m.w0),
+    ));
     facts
 }
 
