@@ -3,7 +3,20 @@
 
 use crate::diagnose::{Check, Test};
 
-/// Every data check, in the order `diagnose` runs them.
+/// The data checks run on a record before any fit (`diagnose::checks::check_data`), in
+/// their order: what an identification's page can report.
+pub const BEFORE_FIT: [Check; 7] = [
+    Check::Table1Structure,
+    Check::PathCoverage,
+    Check::PersistentExcitation,
+    Check::Hold,
+    Check::OutputSaturation,
+    Check::OutputQuantisation,
+    Check::InputLevels,
+];
+
+/// Every data check, in the order `diagnose` runs them: those before any fit, then the two
+/// on the base model's residual and poles.
 pub const CHECKS: [Check; 9] = [
     Check::Table1Structure,
     Check::PathCoverage,

@@ -3,9 +3,9 @@
 
 use std::fmt::Write as _;
 
-use super::advice::{CHECKS, check_advice, test_advice};
+use super::advice::{check_advice, test_advice};
 use super::escape::escape;
-use crate::diagnose::{TestSet, Warning};
+use crate::diagnose::{Check, TestSet, Warning};
 
 /// One row of the table.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,10 +26,11 @@ pub struct CheckRow {
     pub advice: String,
 }
 
-/// One row per data check: the warnings of `warnings`, the others passed.
-pub fn data_rows(warnings: &[Warning]) -> Vec<CheckRow> {
-    CHECKS
-        .iter()
+/// One row per data check of `run` (the checks that ran, [`BEFORE_FIT`](super::advice::BEFORE_FIT)
+/// or [`CHECKS`](super::advice::CHECKS)): the warnings of `warnings`, the others passed. A
+/// check that did not run has no row, rather than a "passed" it did not earn.
+pub fn data_rows(warnings: &[Warning], run: &[Check]) -> Vec<CheckRow> {
+    run.iter()
         .map(|&c| {
             let found: Vec<&str> = warnings
                 .iter()

@@ -2,6 +2,7 @@
 //! before and after each added effect, the diagnosis figures, and the data checks with the
 //! residual tests on the estimation residual and on the validation data before and after.
 
+use super::advice::CHECKS;
 use super::checks::{data_rows, test_rows};
 use super::figures::drawn;
 use super::headline::{Fact, Headline, Table};
@@ -90,7 +91,7 @@ pub fn diagnosis_page(
         Fact::new("dead time", d.dead_time.to_string()),
     ];
     facts.extend(model_facts(m.order, &r));
-    let mut checks = data_rows(&d.warnings);
+    let mut checks = data_rows(&d.warnings, &CHECKS);
     checks.extend(test_rows(&d.tests_estimation, "estimation residual"));
     checks.extend(test_rows(&d.tests_before, "validation, before"));
     checks.extend(test_rows(&d.tests_after, "validation, after"));

@@ -2,6 +2,7 @@
 //! data checks) and `validate` (on a fresh record). A model whose element is the play
 //! operator or relay itself (`crate::hysteresis`) is simulated as that element.
 
+use super::advice::BEFORE_FIT;
 use super::checks::{data_rows, test_rows};
 use super::headline::{Fact, Headline};
 use super::model_words::{Element, model_facts, sentence};
@@ -84,7 +85,7 @@ impl ModelRun<'_> {
         facts.extend(self.extra.iter().cloned());
         let shared = self.element == Element::Static;
         let mut checks = match self.estimation {
-            Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind())),
+            Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind()), &BEFORE_FIT),
             None => Vec::new(),
         };
         let tests = residual_tests(self.model, &u, &y, &sim, skip, shared);
