@@ -1,6 +1,8 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
 mod auto;
+mod page;
+mod prepare;
 mod records;
 mod simulation;
 mod stream;
@@ -13,14 +15,12 @@ use hsid_host::choose::{
     self, Best, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
     model_std, noise_file,
 };
-use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::figures::Record;
+use hsid_host::html::Fact;
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::html::model_words::element_facts;
-use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
-use hsid_host::hysteresis::HysteresisFit;
 use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::integrating;
-use hsid_host::model_file::{ModelFile, Units};
+use hsid_host::model_file::{ModelFile, ModelStd};
 use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
 use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
@@ -30,7 +30,8 @@ use hsid_host::units::unit_report;
 use crate::args::{
     BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, UnitArgs,
 };
-use records::Records;
+use page::{html_figures, names, write_element_page, write_page};
+use prepare::{read_records, refuse_bad_flags};
 pub use simulation::Fitting;
 
 /// Arguments of `hsid identify`.
@@ -169,86 +170,22 @@ fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
 
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
-    let (umin, umax) = (a.umin, a.umax);
     let hold = match a.integrating {
         true => a.hold.hold.saturating_sub(1),
         false => a.hold.hold,
     };
-    if !(umin.is_finite() && umax.is_finite() && umin < umax) {
-        return Err(format!(
-            "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
-        )
-        .into());
-    }
-    if a.segments == Some(SegmentCount::Fixed(0)) {
-        return Err("--segments 0: each path needs at least one segment"
-            .to_string()
-            .into());
-    }
-    if a.detrend && hold > 0 {
-        return Err(format!(
-            "--detrend applies to data without a hold (--hold 0); with --hold {hold} μ0 is \
-             measured by the hold: drop --detrend or give --hold 0"
-        )
-        .into());
-    }
-    if a.fit == simulation::FitArg::Simulation && (a.stream || a.integrating) {
-        return Err(
-            "--fit simulation needs the whole record (not --stream) and a plant without an \
-             integrator (not --integrating): drop those, or give --fit auto or none"
-                .to_string()
-                .into(),
-        );
-    }
+    refuse_bad_flags(a, hold)?;
     if a.stream {
         return stream::run(a);
     }
-    let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
+    let records = read_records(a, hold)?;
     let units = records.units.clone();
-    records.check_junctions(umin, a.hold.settle())?;
-    if a.integrating {
-        to_increments(&mut records);
-        outln!(
-            "integrating: one pole fixed at z = 1; the stable part G₀ is identified on the output's increments y(t) − y(t − 1) (G₀(1) = 1: μ0, the borders and the fits below are in output units per sample)"
-        )?;
-    }
-    let first = records.parts().first().map_or(0, |p| p.0.len());
-    if hold >= first {
-        return Err(format!(
-            "{}: {first} samples, all inside the hold of {hold} (--hold): nothing left to identify from",
-            records.first().display(),
-        )
-        .into());
-    }
-    if a.detrend {
-        let mean = records.y.iter().sum::<f64>() / records.y.len() as f64;
-        records.y.iter_mut().for_each(|v| *v -= mean);
-        outln!("detrended: subtracted the mean output {mean:.6} from y")?;
-    }
     let (u, y) = (&records.u, &records.y);
     let mut opts = options(a)?;
     if a.integrating {
         opts = integrating::increments_options(&opts);
     }
-    let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
-    let choices = Choices {
-        segments: match a.segments {
-            _ if knots_given => Segments::Given,
-            Some(SegmentCount::Fixed(_)) => Segments::Given,
-            Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
-            None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
-        },
-        horizons: match a.horizons.given() {
-            Some(_) => choose::Horizons::Given,
-            None => choose::Horizons::FromData,
-        },
-        estimator: if a.no_refine {
-            Estimator::Subspace
-        } else {
-            Estimator::Refined
-        },
-        ..Choices::default()
-    };
+    let choices = choices(a);
     let best = best_model(u, y, &opts, &choices).map_err(|e| match e {
         ChooseError::Identify(e) => records.sample_error(&e),
         e => format!("{}: {e}", records.first().display()),
@@ -257,31 +194,12 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     for line in best.report() {
         outln!("{line}")?;
     }
-    let pem = PemOptions::for_identify(&best.options);
-    let mut estimator = "subspace (PI-MOESP), not refined".to_string();
-    let (model, noise, std) = if let Some(fit) = &best.fit {
-        estimator = format!(
-            "refined by the prediction-error method: {} iterations, {} parameters, D {}",
-            fit.iterations,
-            fit.parameters(),
-            if fit.layout.feedthrough {
-                "estimated"
-            } else {
-                "= 0 (not significant)"
-            }
-        );
-        outln!("{estimator}")?;
-        let (std, cov) = model_std(fit);
-        (fit.model.clone(), Some(fit.noise.clone()), Some((std, cov)))
-    } else {
-        let model = best.model.clone();
-        // Remark 6 for the subspace model; without it only the simulation is reported.
-        let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
-        if let Err(e) = &nf {
-            outln!("no noise model: {e}")?;
-        }
-        (model, nf.ok().map(|f| f.model), None)
-    };
+    let Estimate {
+        model,
+        noise,
+        std,
+        estimator,
+    } = estimate(&best, u, y)?;
     report(&model, noise.as_ref(), &records.parts(), hold)?;
     if let Some((s, _)) = &std {
         outln!("{}", std_text(s))?;
@@ -342,100 +260,6 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The record files, comma-separated.
-fn names(data: &[PathBuf]) -> String {
-    let names: Vec<String> = data.iter().map(|p| p.display().to_string()).collect();
-    names.join(", ")
-}
-
-/// Writes the HTML report of `run` to `path`.
-fn write_page(
-    a: &IdentifyArgs,
-    path: &Path,
-    run: ModelRun<'_>,
-    figures: Vec<InlineFigure>,
-) -> Result<(), Failure> {
-    run.page(figures, Reproduction::of_this_run(&a.data))
-        .write(path)
-        .map_err(|e| e.to_string())?;
-    outln!("wrote {}", path.display())?;
-    Ok(())
-}
-
-/// Writes the HTML report of the fitted element `fit` (`--fit`) on its estimation record:
-/// the element's simulation, figures and reading in units, as printed and drawn by `--out`.
-fn write_element_page(
-    a: &IdentifyArgs,
-    path: &Path,
-    fit: &HysteresisFit,
-    r: &Fitting<'_>,
-    options: &IdentifyOptions,
-    record: &Record<'_>,
-) -> Result<(), Failure> {
-    let host = fit.model.to_host(r.u.len());
-    let in_units = simulation::in_units(fit, r);
-    let estimator = format!(
-        "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
-        if r.nonlinearity == NonlinearityArg::Static {
-            "static"
-        } else {
-            "two-path"
-        },
-        fit.iterations,
-        fit.initial_cost,
-        fit.cost
-    );
-    let mut extra = vec![Fact::new("estimator", estimator)];
-    let gap_sd = fit.uncertainty.as_ref().and_then(|u| u.gap);
-    extra.extend(element_facts(&fit.model, gap_sd, &in_units));
-    let run = ModelRun {
-        title: format!("hsid identify: {}", names(&a.data)),
-        element: fit.model.kind.into(),
-        model: &host,
-        memory: Some(&fit.model),
-        units: &in_units,
-        parts: &[(r.u, r.y)],
-        skip: r.hold,
-        estimation: Some(options),
-        extra,
-    };
-    let settings = FigureSettings {
-        ts: r.ts,
-        units: r
-            .units
-            .as_ref()
-            .map(|u| (u.input.clone(), u.output.clone())),
-        truth: crate::figures::truth(&a.figures, &host)?,
-    };
-    let figures = figures::of_element(&fit.model, fit.uncertainty.as_ref(), record, &settings)
-        .map_err(|e| e.to_string())?;
-    write_page(a, path, run, figures)
-}
-
-/// Each record as the record of its increments: its first sample dropped, its output
-/// differenced (`y(t) − y(t − 1)`, within the record only).
-fn to_increments(r: &mut Records) {
-    let parts: Vec<(Vec<f64>, Vec<f64>)> = r
-        .parts()
-        .into_iter()
-        .map(|(u, y)| {
-            (
-                u.get(1..).unwrap_or_default().to_vec(),
-                integrating::difference(y),
-            )
-        })
-        .collect();
-    (r.u, r.y, r.starts) = (Vec::new(), Vec::new(), Vec::new());
-    for (u, y) in parts {
-        r.starts.push(r.u.len());
-        r.u.extend(u);
-        r.y.extend(y);
-    }
-    for lines in &mut r.lines {
-        lines.drain(..lines.len().min(1));
-    }
-}
-
 /// Prints the model, its simulation fit and, with a noise model, its prediction fit; each
 /// record (`(u, y)` in `parts`) is simulated and predicted from rest on its own, the hold of
 /// the first left out of the fits.
@@ -461,22 +285,73 @@ fn report(
     Ok(())
 }
 
-/// The figures of the HTML report: those `--out` writes, drawn again into a scratch folder.
-fn html_figures(
-    a: &IdentifyArgs,
-    best: &Best,
-    record: &Record<'_>,
-    ts: Option<f64>,
-    units: Option<&Units>,
-) -> Result<Vec<InlineFigure>, Failure> {
-    let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
-    let settings = FigureSettings {
-        ts,
-        units: units.map(|u| (u.input.clone(), u.output.clone())),
-        truth: crate::figures::truth(&a.figures, model)?,
+/// What is chosen from the data and what is given: the segments, the horizons, the
+/// estimator.
+fn choices(a: &IdentifyArgs) -> Choices {
+    let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
+    Choices {
+        segments: match a.segments {
+            _ if knots_given => Segments::Given,
+            Some(SegmentCount::Fixed(_)) => Segments::Given,
+            Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
+            None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
+        },
+        horizons: match a.horizons.given() {
+            Some(_) => choose::Horizons::Given,
+            None => choose::Horizons::FromData,
+        },
+        estimator: if a.no_refine {
+            Estimator::Subspace
+        } else {
+            Estimator::Refined
+        },
+        ..Choices::default()
+    }
+}
+
+/// The model to report: the refined one with its noise model and standard deviations, or
+/// the subspace one with the noise model of its residual (Remark 6); and the estimator in
+/// words.
+struct Estimate {
+    model: HostModel,
+    noise: Option<NoiseModel>,
+    std: Option<(ModelStd, Vec<[[f64; 2]; 2]>)>,
+    estimator: String,
+}
+
+/// The [`Estimate`] of `best` on `(u, y)`, the estimator printed.
+fn estimate(best: &Best, u: &[f64], y: &[f64]) -> Result<Estimate, Failure> {
+    let pem = PemOptions::for_identify(&best.options);
+    let mut estimator = "subspace (PI-MOESP), not refined".to_string();
+    let (model, noise, std) = if let Some(fit) = &best.fit {
+        estimator = format!(
+            "refined by the prediction-error method: {} iterations, {} parameters, D {}",
+            fit.iterations,
+            fit.parameters(),
+            if fit.layout.feedthrough {
+                "estimated"
+            } else {
+                "= 0 (not significant)"
+            }
+        );
+        outln!("{estimator}")?;
+        let (std, cov) = model_std(fit);
+        (fit.model.clone(), Some(fit.noise.clone()), Some((std, cov)))
+    } else {
+        let model = best.model.clone();
+        // Remark 6 for the subspace model; without it only the simulation is reported.
+        let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
+        if let Err(e) = &nf {
+            outln!("no noise model: {e}")?;
+        }
+        (model, nf.ok().map(|f| f.model), None)
     };
-    let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
-    Ok(figures::of_model(model, record, uncertainty, &settings).map_err(|e| e.to_string())?)
+    Ok(Estimate {
+        model,
+        noise,
+        std,
+        estimator,
+    })
 }
 
 fn write(file: &ModelFile, path: &Path) -> Result<(), Failure> {

@@ -1,0 +1,106 @@
+//! The HTML report of `hsid identify`: the subspace or refined model's page, or the fitted
+//! element's (`--fit`), with the figures `--out` draws.
+
+use std::path::{Path, PathBuf};
+
+use hsid_host::choose::Best;
+use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::html::model_page::ModelRun;
+use hsid_host::html::model_words::element_facts;
+use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
+use hsid_host::hysteresis::HysteresisFit;
+use hsid_host::identify::IdentifyOptions;
+use hsid_host::model_file::Units;
+
+use super::IdentifyArgs;
+use super::simulation::{self, Fitting};
+use crate::args::NonlinearityArg;
+use crate::failure::{Failure, outln};
+
+/// The record files, comma-separated.
+pub fn names(data: &[PathBuf]) -> String {
+    let names: Vec<String> = data.iter().map(|p| p.display().to_string()).collect();
+    names.join(", ")
+}
+
+/// Writes the HTML report of `run` to `path`.
+pub fn write_page(
+    a: &IdentifyArgs,
+    path: &Path,
+    run: ModelRun<'_>,
+    figures: Vec<InlineFigure>,
+) -> Result<(), Failure> {
+    run.page(figures, Reproduction::of_this_run(&a.data))
+        .write(path)
+        .map_err(|e| e.to_string())?;
+    outln!("wrote {}", path.display())?;
+    Ok(())
+}
+
+/// Writes the HTML report of the fitted element `fit` (`--fit`) on its estimation record:
+/// the element's simulation, figures and reading in units, as printed and drawn by `--out`.
+pub fn write_element_page(
+    a: &IdentifyArgs,
+    path: &Path,
+    fit: &HysteresisFit,
+    r: &Fitting<'_>,
+    options: &IdentifyOptions,
+    record: &Record<'_>,
+) -> Result<(), Failure> {
+    let host = fit.model.to_host(r.u.len());
+    let in_units = simulation::in_units(fit, r);
+    let estimator = format!(
+        "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
+        if r.nonlinearity == NonlinearityArg::Static {
+            "static"
+        } else {
+            "two-path"
+        },
+        fit.iterations,
+        fit.initial_cost,
+        fit.cost
+    );
+    let mut extra = vec![Fact::new("estimator", estimator)];
+    let gap_sd = fit.uncertainty.as_ref().and_then(|u| u.gap);
+    extra.extend(element_facts(&fit.model, gap_sd, &in_units));
+    let run = ModelRun {
+        title: format!("hsid identify: {}", names(&a.data)),
+        element: fit.model.kind.into(),
+        model: &host,
+        memory: Some(&fit.model),
+        units: &in_units,
+        parts: &[(r.u, r.y)],
+        skip: r.hold,
+        estimation: Some(options),
+        extra,
+    };
+    let settings = FigureSettings {
+        ts: r.ts,
+        units: r
+            .units
+            .as_ref()
+            .map(|u| (u.input.clone(), u.output.clone())),
+        truth: crate::figures::truth(&a.figures, &host)?,
+    };
+    let figures = figures::of_element(&fit.model, fit.uncertainty.as_ref(), record, &settings)
+        .map_err(|e| e.to_string())?;
+    write_page(a, path, run, figures)
+}
+
+/// The figures of the HTML report: those `--out` writes, drawn again into a scratch folder.
+pub fn html_figures(
+    a: &IdentifyArgs,
+    best: &Best,
+    record: &Record<'_>,
+    ts: Option<f64>,
+    units: Option<&Units>,
+) -> Result<Vec<InlineFigure>, Failure> {
+    let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
+    let settings = FigureSettings {
+        ts,
+        units: units.map(|u| (u.input.clone(), u.output.clone())),
+        truth: crate::figures::truth(&a.figures, model)?,
+    };
+    let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
+    Ok(figures::of_model(model, record, uncertainty, &settings).map_err(|e| e.to_string())?)
+}
