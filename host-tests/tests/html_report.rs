@@ -149,7 +149,7 @@ fn user_strings_are_escaped() {
     let doc = Html::parse_document(&r.html);
     let title = text(doc.select(&sel("h1")).next().unwrap());
     assert!(title.contains(NASTY), "{title}");
-    let gap = fact(&doc, "mean gap (play)");
+    let gap = fact(&doc, "mean gap (between the borders)");
     assert!(gap.ends_with(&format!(" V{NASTY}")), "{gap}");
 }
 
@@ -176,7 +176,7 @@ fn the_sections_hold_the_models_numbers() {
     let want = unit_report(&m, Some(0.01), None, None, true)
         .mean_gap
         .unwrap();
-    let gap = fact(&doc, "mean gap (play)");
+    let gap = fact(&doc, "mean gap (between the borders)");
     let shown: f64 = gap.split(' ').next().unwrap().parse().unwrap();
     assert!((shown - want).abs() <= 5e-6, "{gap} against {want}");
     // The servo's truth: a play of 0.2 V, 3 Hz, damping 0.4.

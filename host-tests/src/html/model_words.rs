@@ -111,7 +111,7 @@ pub fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
         }
     }
     if let Some(g) = gap_text(r) {
-        facts.push(Fact::new("mean gap (play)", g));
+        facts.push(Fact::new("mean gap (between the borders)", g));
     }
     if let Some(d) = &r.dead_band {
         facts.push(Fact::new(
@@ -177,7 +177,7 @@ mod tests {
         );
         let facts = model_facts(1, &r);
         let value = |l: &str| facts.iter().find(|f| f.label == l).unwrap().value.clone();
-        assert_eq!(value("mean gap (play)"), "0.50000 V");
+        assert_eq!(value("mean gap (between the borders)"), "0.50000 V");
         assert_eq!(value("pole 0.90000+0.00000j"), "time constant 0.09491 s");
         assert!(value("static gain").contains("deg per V"));
     }
