@@ -38,6 +38,21 @@ impl FigureArgs {
     }
 }
 
+/// The figures' settings: the sample time and units as stated, the true borders of
+/// `--true-plant` read against `model`.
+pub fn settings(
+    a: &FigureArgs,
+    ts: Option<f64>,
+    units: Option<&Units>,
+    model: &HostModel,
+) -> Result<FigureSettings, Failure> {
+    Ok(FigureSettings {
+        ts,
+        units: units.map(|u| (u.input.clone(), u.output.clone())),
+        truth: truth(a, model)?,
+    })
+}
+
 /// The true loop of `--true-plant` on `[u_min, u_max]`, or none (also drawn in the HTML report).
 pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, Failure> {
     let Some(path) = &a.true_plant else {
@@ -69,11 +84,7 @@ pub fn identify(
     };
     let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
     let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
-    let settings = FigureSettings {
-        ts,
-        units: units.map(|u| (u.input.clone(), u.output.clone())),
-        truth: truth(a, model)?,
-    };
+    let settings = settings(a, ts, units, model)?;
     lines(
         dir,
         write_figures(dir, model, record, uncertainty, &settings),
@@ -91,14 +102,7 @@ pub fn element(
     let Some(dir) = &a.out else {
         return Ok(Vec::new());
     };
-    let settings = FigureSettings {
-        ts: r.ts,
-        units: r
-            .units
-            .as_ref()
-            .map(|u| (u.input.clone(), u.output.clone())),
-        truth: truth(a, &fit.model.to_host(0))?,
-    };
+    let settings = settings(a, r.ts, r.units.as_ref(), &fit.model.to_host(0))?;
     lines(dir, write_element_figures(dir, fit, record, &settings))
 }
 
@@ -116,14 +120,7 @@ pub fn validate(
     let Some(dir) = &a.out else {
         return Ok(());
     };
-    let settings = FigureSettings {
-        ts: file.sample_time,
-        units: file
-            .units
-            .as_ref()
-            .map(|u| (u.input.clone(), u.output.clone())),
-        truth: truth(a, model)?,
-    };
+    let settings = settings(a, file.sample_time, file.units.as_ref(), model)?;
     let record = Record { u, y, skip };
     let written = write_figures(dir, model, &record, Uncertainty::from_file(file), &settings);
     for line in lines(dir, written)? {

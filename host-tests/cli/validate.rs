@@ -201,15 +201,7 @@ impl Shown<'_> {
     /// The figure settings: the sample time and units as resolved, the true loop of
     /// `--true-plant`.
     fn settings(&self, a: &ValidateArgs) -> Result<FigureSettings, Failure> {
-        Ok(FigureSettings {
-            ts: self.ts,
-            units: self
-                .units
-                .units
-                .as_ref()
-                .map(|u| (u.input.clone(), u.output.clone())),
-            truth: crate::figures::truth(&a.figures, self.model)?,
-        })
+        crate::figures::settings(&a.figures, self.ts, self.units.units.as_ref(), self.model)
     }
 }
 

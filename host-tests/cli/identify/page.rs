@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use hsid_host::choose::Best;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty};
+use hsid_host::figures::{Record, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
@@ -74,14 +74,7 @@ pub fn write_element_page(
         estimation: Some(options),
         extra,
     };
-    let settings = FigureSettings {
-        ts: r.ts,
-        units: r
-            .units
-            .as_ref()
-            .map(|u| (u.input.clone(), u.output.clone())),
-        truth: crate::figures::truth(&a.figures, &host)?,
-    };
+    let settings = crate::figures::settings(&a.figures, r.ts, r.units.as_ref(), &host)?;
     let figures = figures::of_element(&fit.model, fit.uncertainty.as_ref(), record, &settings)
         .map_err(|e| e.to_string())?;
     write_page(a, path, run, figures)
@@ -96,11 +89,7 @@ pub fn html_figures(
     units: Option<&Units>,
 ) -> Result<Vec<InlineFigure>, Failure> {
     let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
-    let settings = FigureSettings {
-        ts,
-        units: units.map(|u| (u.input.clone(), u.output.clone())),
-        truth: crate::figures::truth(&a.figures, model)?,
-    };
+    let settings = crate::figures::settings(&a.figures, ts, units, model)?;
     let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
     Ok(figures::of_model(model, record, uncertainty, &settings).map_err(|e| e.to_string())?)
 }
