@@ -22,6 +22,12 @@ pub fn difference(y: &[f64]) -> Vec<f64> {
     y.windows(2).map(|w| w[1] - w[0]).collect()
 }
 
+/// The samples of the stable part's record: the input from the second sample on (the first
+/// has no increment) and the output's increments ([`difference`]).
+pub fn increments(u: &[f64], y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    (u.get(1..).unwrap_or_default().to_vec(), difference(y))
+}
+
 /// The running sum `y(t) = y₀ + Σ_{s ≤ t} Δy(s)` (the inverse of [`difference`] given the
 /// sample before the first increment).
 pub fn integrate(increments: &[f64], y0: f64) -> Vec<f64> {
@@ -48,8 +54,8 @@ pub fn increments_record(
             y: y.len(),
         });
     }
-    let u1 = u.get(1..).unwrap_or_default().to_vec();
-    Ok((u1, difference(y), increments_options(opts)))
+    let (u1, dy) = increments(u, y);
+    Ok((u1, dy, increments_options(opts)))
 }
 
 /// The settings of a record for the record of its increments: the hold and the settling

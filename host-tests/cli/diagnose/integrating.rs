@@ -7,14 +7,15 @@
 //! scored.
 
 use hsid_host::diagnose::{Record, Validation};
-use hsid_host::integrating::difference;
+use hsid_host::integrating;
 
 /// The record of the increments: the first sample (which has no increment) dropped, the
 /// output differenced, each sample keeping its time in the file.
 pub fn increments(r: &Record) -> Record {
+    let (u, y) = integrating::increments(&r.u, &r.y);
     Record {
-        u: r.u.get(1..).unwrap_or_default().to_vec(),
-        y: difference(&r.y),
+        u,
+        y,
         time: r.time.get(1..).unwrap_or_default().to_vec(),
     }
 }

@@ -75,12 +75,7 @@ fn to_increments(r: &mut Records) {
     let parts: Vec<(Vec<f64>, Vec<f64>)> = r
         .parts()
         .into_iter()
-        .map(|(u, y)| {
-            (
-                u.get(1..).unwrap_or_default().to_vec(),
-                integrating::difference(y),
-            )
-        })
+        .map(|(u, y)| integrating::increments(u, y))
         .collect();
     (r.u, r.y, r.starts) = (Vec::new(), Vec::new(), Vec::new());
     for (u, y) in parts {
