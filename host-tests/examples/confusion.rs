@@ -77,4 +77,8 @@ fn main() {
         outcomes.iter().filter(|o| !o.harmful.is_empty()).count(),
         outcomes.len()
     );
+    let significant: usize = outcomes.iter().map(|o| o.harmful_significant.len()).sum();
+    println!(
+        "of those, raised significantly (paired Diebold–Mariano on the validation samples, one-sided p < 0.05): {significant}"
+    );
 }

@@ -34,6 +34,10 @@ pub struct Outcome {
     /// Steps added that raised the validation error (each step's error after above its error
     /// before, in the step's metric): steps that hurt.
     pub harmful: Vec<Effect>,
+    /// Of those, the steps whose raise is significant at 5 % ([`Step::p_worse`]).
+    ///
+    /// [`Step::p_worse`]: crate::diagnose::Step::p_worse
+    pub harmful_significant: Vec<Effect>,
     /// Wall time, ms.
     pub millis: u128,
 }
@@ -107,6 +111,12 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
             .steps
             .iter()
             .filter(|s| s.error_after > s.error_before)
+            .map(|s| s.effect)
+            .collect(),
+        harmful_significant: d
+            .steps
+            .iter()
+            .filter(|s| s.error_after > s.error_before && s.p_worse < 0.05)
             .map(|s| s.effect)
             .collect(),
         millis,

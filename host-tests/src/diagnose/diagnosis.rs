@@ -40,6 +40,10 @@ pub struct Step {
     pub error_before: f64,
     /// Validation error after this step, output units.
     pub error_after: f64,
+    /// One-sided p-value that the step raised the validation error: a paired Diebold–Mariano
+    /// test of the squared errors after against before, on the samples neither model
+    /// excludes. A raise with a large p-value is within the validation record's noise.
+    pub p_worse: f64,
     /// NRMSE after.
     pub nrmse_after: f64,
     /// Fit % after.

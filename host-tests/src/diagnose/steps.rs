@@ -8,6 +8,7 @@ use std::ops::Range;
 use super::checks::{Check, Warning};
 use super::delay::DeadTime;
 use super::diagnosis::{Rejected, Step};
+use super::effects::candidate::compare_common;
 use super::effects::{self, Candidate, Effect, Holdout, Proposal};
 use super::error::DiagnoseError;
 use super::evidence::{Tried, evidence};
@@ -368,6 +369,7 @@ impl Context<'_> {
             metric,
             error_before,
             error_after: after.rmse,
+            p_worse: compare_common(&after, prev).1,
             nrmse_after: after.nrmse,
             fit_after: after.fit_percent,
             excluded: after.excluded.iter().filter(|&&e| e).count(),

@@ -11,16 +11,32 @@ use super::catalog::Effect;
 /// Relative MSE reduction and one-sided Diebold–Mariano p-value of `cand` against `base`.
 /// Excluded samples (outliers) count with the model's mean loss.
 pub fn compare(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
-    let lb = base.losses();
-    let lc = cand.losses();
+    diebold_mariano(&base.losses(), &cand.losses())
+}
+
+/// [`compare`] on the samples that neither model excludes: for two settings of the same
+/// extension, whose outliers differ, so that neither wins by leaving out what the other keeps.
+pub fn compare_common(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
+    let (mut lb, mut lc) = (base.losses(), cand.losses());
+    for (b, c) in lb.iter_mut().zip(lc.iter_mut()) {
+        if b.is_none() || c.is_none() {
+            (*b, *c) = (None, None);
+        }
+    }
+    diebold_mariano(&lb, &lc)
+}
+
+/// Relative reduction of the mean loss `lb` → `lc` and its one-sided Diebold–Mariano p-value
+/// (`None` losses count with their model's mean loss).
+fn diebold_mariano(lb: &[Option<f64>], lc: &[Option<f64>]) -> (f64, f64) {
     let mean_of = |l: &[Option<f64>]| {
         let v: Vec<f64> = l.iter().flatten().copied().collect();
         v.iter().sum::<f64>() / v.len().max(1) as f64
     };
-    let (mb, mc) = (mean_of(&lb), mean_of(&lc));
+    let (mb, mc) = (mean_of(lb), mean_of(lc));
     let d: Vec<f64> = lb
         .iter()
-        .zip(&lc)
+        .zip(lc)
         .map(|(b, c)| b.unwrap_or(mb) - c.unwrap_or(mc))
         .collect();
     if d.is_empty() || mb <= 0.0 {

@@ -23,7 +23,7 @@ pub enum Effect {
     PeriodicDisturbance,
     /// Coloured noise: an AR noise model for one-step-ahead prediction.
     ColoredNoise,
-    /// Isolated outliers: robust re-estimation.
+    /// Isolated outliers: left out of the error, the model re-estimated if that pays.
     Outliers,
     /// State-dependent dynamics: level-dependent stores instead of the linear `G`. Beyond the
     /// seven-effect catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with
@@ -134,7 +134,7 @@ impl Effect {
             }
             Effect::ColoredNoise => "AR noise model (order by BIC) for one-step-ahead prediction",
             Effect::Outliers => {
-                "robust re-estimation: outliers by the MAD rule replaced by the model output, left out of the error"
+                "outliers by the MAD rule left out of the error; the model re-estimated with them replaced by its output when that improves the estimation hold-out significantly"
             }
             Effect::StateDependentDynamics => {
                 "level-dependent stores: the order-2 linear part as a cascade of two stores with power-law outflows, the first overflowing into the second, borders refitted with them on the simulation error"
@@ -215,8 +215,14 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
         Effect::ColoredNoise => format!("AR({}) noise model", s.noise_ar_order.unwrap_or(0)),
         Effect::Outliers => match model {
             Some(m) => format!(
-                "MAD rule at {} robust σ, {} estimation samples flagged",
-                m.outlier_k, m.flagged
+                "MAD rule at {} robust σ, {} estimation samples flagged, model {}",
+                m.outlier_k,
+                m.flagged,
+                if s.robust_refit {
+                    "re-estimated"
+                } else {
+                    "kept"
+                }
             ),
             None => "MAD rule".into(),
         },

@@ -1,20 +1,60 @@
-//! Outliers: robust re-estimation by the MAD rule, if it flags at most 3 % of the samples.
+//! Outliers: samples flagged by the MAD rule and left out of the error, the model re-estimated
+//! without them only when that pays on the estimation hold-out; kept if the rule flags at most
+//! 3 % of the samples.
 
-use super::candidate::Candidate;
+use super::candidate::{Candidate, compare_common};
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
+use crate::diagnose::residual::LEVEL;
 
 impl Proposal<'_> {
     /// The MAD rule, kept only while the outliers are rare.
+    ///
+    /// Two settings are scored on the inner hold-out: the current model with the flagged
+    /// samples left out of the error, and the model re-estimated with them replaced by its own
+    /// output. The re-estimation is chosen only when it beats the kept model significantly
+    /// (Diebold–Mariano at the diagnosis's level, on the samples neither flags): replacing samples by the model's output
+    /// also pulls the estimate towards the model, and on spikes that did not bias it the
+    /// re-estimate is no better and can be marginally worse on new data.
     pub fn outliers(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let effect = Effect::Outliers;
-        let opts = vec![("MAD rule".to_string(), self.with(|s| s.robust = true))];
-        let c = self.best_of(effect, opts, Metric::Simulation)?;
+        let kept = self.best_of(
+            effect,
+            vec![(
+                "MAD rule, model kept".into(),
+                self.with(|s| s.robust = true),
+            )],
+            Metric::Simulation,
+        )?;
+        let refit = self.best_of(
+            effect,
+            vec![(
+                "MAD rule, re-estimated".into(),
+                self.with(|s| {
+                    s.robust = true;
+                    s.robust_refit = true;
+                }),
+            )],
+            Metric::Simulation,
+        )?;
+        let chosen = match (kept, refit) {
+            (Some(k), Some(r)) => {
+                let (gain, p) = compare_common(&k.evaluation, &r.evaluation);
+                let (mut win, lose) = if p < LEVEL && gain > 0.0 {
+                    (r, k)
+                } else {
+                    (k, r)
+                };
+                win.tried.extend(lose.tried);
+                Some(win)
+            }
+            (k, r) => k.or(r),
+        };
         // Outliers are rare: beyond 3 % of the samples flagged, the "outliers" are the
         // tails of a model error, and leaving them out of the error would hide it.
-        Ok(c.filter(|c| {
+        Ok(chosen.filter(|c| {
             let n = c.evaluation.excluded.len().max(1);
             let k = c.evaluation.excluded.iter().filter(|&&e| e).count();
             k * 100 <= 3 * n && c.inner_model.flagged * 100 <= 3 * self.holdout.fit_part.len()

@@ -125,6 +125,8 @@ pub(super) fn fit_structure_impl(
     };
     let mut map: Option<OutputMap> = None;
     let mut flags = vec![false; n];
+    // Outliers flagged without a re-estimation: left out of the error and of the noise model.
+    let mut excluded = vec![false; n];
     let mut lin_prev: Option<Vec<f64>> = None;
     let rounds = s.rounds().min(opts.rounds.max(1));
     let mut last: Option<(HostModel, Vec<f64>)> = None;
@@ -222,7 +224,7 @@ pub(super) fn fit_structure_impl(
         let r: Vec<f64> = rec.y.iter().zip(&out).map(|(y, o)| y - o).collect();
         // With an output map, a later round (identified on the inverted output) is kept only if
         // it fits better: the inversion can mislead the subspace step.
-        if s.output_map_segments.is_some() && !s.robust {
+        if s.output_map_segments.is_some() && !s.robust_refit {
             let sse: f64 = r
                 .iter()
                 .zip(&rec.time)
@@ -246,7 +248,13 @@ pub(super) fn fit_structure_impl(
                 .zip(&rec.time)
                 .map(|(v, &t)| v - additive.eval(t))
                 .collect();
-            flags = detect_outliers(&res, opts.outlier_k);
+            // Flags feed the next round's imputation only for a re-estimation.
+            let detected = detect_outliers(&res, opts.outlier_k);
+            if s.robust_refit {
+                flags = detected;
+            } else {
+                excluded = detected;
+            }
         }
         lin_prev = Some(lin);
         last = Some((m, x0));
@@ -265,7 +273,11 @@ pub(super) fn fit_structure_impl(
         additive,
         noise: None,
         outlier_k: opts.outlier_k,
-        flagged: flags.iter().filter(|&&f| f).count(),
+        flagged: flags
+            .iter()
+            .zip(&excluded)
+            .filter(|(a, b)| **a || **b)
+            .count(),
         stores: None,
         hysteresis: None,
     };
@@ -294,8 +306,8 @@ pub(super) fn fit_structure_impl(
             .y
             .iter()
             .zip(&sim)
-            .zip(&flags)
-            .map(|((y, s), &f)| if f { 0.0 } else { y - s })
+            .zip(flags.iter().zip(&excluded))
+            .map(|((y, s), (&f, &e))| if f || e { 0.0 } else { y - s })
             .collect();
         model.noise = fit_ar(&r, p);
     }

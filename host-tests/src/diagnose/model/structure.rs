@@ -22,8 +22,14 @@ pub struct Structure {
     pub output_map_segments: Option<usize>,
     /// Order of the AR noise model (`colored_noise`).
     pub noise_ar_order: Option<usize>,
-    /// Robust re-estimation with outliers flagged by the MAD rule (`outliers`).
+    /// Outliers flagged by the MAD rule and left out of the error (`outliers`).
     pub robust: bool,
+    /// With [`robust`](Self::robust): the model re-estimated with the flagged samples replaced
+    /// by its own output. Without it the deterministic model is the one fitted without the
+    /// rule; the re-estimation is chosen only when it improves the estimation hold-out
+    /// significantly (it can fit the imputed samples' own errors).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub robust_refit: bool,
     /// The dynamics between the input nonlinearity and the output map
     /// (`state_dependent_dynamics`).
     pub dynamics: Dynamics,
@@ -70,15 +76,16 @@ impl Structure {
             output_map_segments: None,
             noise_ar_order: None,
             robust: false,
+            robust_refit: false,
             dynamics: Dynamics::Linear,
             element: None,
         }
     }
 
-    /// Backfitting rounds: 3 with an output map or outliers (the identification target is
-    /// imputed), 2 with additive terms only, 1 otherwise.
+    /// Backfitting rounds: 3 with an output map or a robust re-estimation (the identification
+    /// target is imputed), 2 with additive terms only, 1 otherwise.
     pub(super) fn rounds(&self) -> usize {
-        if self.output_map_segments.is_some() || self.robust {
+        if self.output_map_segments.is_some() || self.robust_refit {
             3
         } else if self.trend_degree.is_some() || !self.frequencies.is_empty() {
             2
