@@ -77,8 +77,29 @@ fn main() {
         outcomes.iter().filter(|o| !o.harmful.is_empty()).count(),
         outcomes.len()
     );
-    let significant: usize = outcomes.iter().map(|o| o.harmful_significant.len()).sum();
+    let all_steps: Vec<_> = outcomes.iter().flat_map(|o| &o.steps).collect();
+    let significant = all_steps
+        .iter()
+        .filter(|s| s.raised_significantly())
+        .count();
     println!(
         "of those, raised significantly (paired Diebold–Mariano on the validation samples, one-sided p < 0.05): {significant}"
+    );
+    let outliers: Vec<_> = all_steps
+        .iter()
+        .filter(|s| s.effect == Effect::Outliers)
+        .collect();
+    let kept = outliers
+        .iter()
+        .filter(|s| s.setting.ends_with("model kept"))
+        .count();
+    let lowered = outliers
+        .iter()
+        .filter(|s| !s.setting.ends_with("model kept") && s.error_after < s.error_before)
+        .count();
+    println!(
+        "outliers steps: {} added, {kept} kept the model, {} re-estimated it ({lowered} of those lowered the validation error on the samples not flagged)",
+        outliers.len(),
+        outliers.len() - kept
     );
 }

@@ -34,12 +34,38 @@ pub struct Outcome {
     /// Steps added that raised the validation error (each step's error after above its error
     /// before, in the step's metric): steps that hurt.
     pub harmful: Vec<Effect>,
-    /// Of those, the steps whose raise is significant at 5 % ([`Step::p_worse`]).
-    ///
-    /// [`Step::p_worse`]: crate::diagnose::Step::p_worse
-    pub harmful_significant: Vec<Effect>,
+    /// Every step added, in order, with its validation errors.
+    pub steps: Vec<StepOutcome>,
     /// Wall time, ms.
     pub millis: u128,
+}
+
+/// One step of a run: its effect and setting, its validation error before and after (in the
+/// step's metric) and the p-value that it raised the error.
+#[derive(Clone, Debug)]
+pub struct StepOutcome {
+    /// The effect added.
+    pub effect: Effect,
+    /// Its setting, in words.
+    pub setting: String,
+    /// Validation error before the step.
+    pub error_before: f64,
+    /// Validation error after the step.
+    pub error_after: f64,
+    /// One-sided p-value of a raise ([`Step::p_worse`](crate::diagnose::Step::p_worse)).
+    pub p_worse: f64,
+}
+
+impl StepOutcome {
+    /// Whether the step raised the validation error.
+    pub fn raised(&self) -> bool {
+        self.error_after > self.error_before
+    }
+
+    /// Whether it raised it significantly at 5 %.
+    pub fn raised_significantly(&self) -> bool {
+        self.raised() && self.p_worse < 0.05
+    }
 }
 
 impl Outcome {
@@ -65,7 +91,7 @@ impl Outcome {
     pub fn line(&self) -> String {
         let s = &self.scenario;
         format!(
-            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful steps {} | {} ms",
+            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful steps {}{} | {} ms",
             if self.passes() { "ok  " } else { "FAIL" },
             s.effect.map_or("clean", Effect::name),
             s.plant.name(),
@@ -82,6 +108,18 @@ impl Outcome {
             self.floor,
             self.error_after_first / self.floor,
             self.harmful.len(),
+            self.steps
+                .iter()
+                .filter(|st| st.raised())
+                .map(|st| format!(
+                    " ({} {:.6} → {:.6}, {:+.2} %, p {:.2})",
+                    st.effect.name(),
+                    st.error_before,
+                    st.error_after,
+                    100.0 * (st.error_after / st.error_before - 1.0),
+                    st.p_worse
+                ))
+                .collect::<String>(),
             self.millis
         )
     }
@@ -113,11 +151,16 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
             .filter(|s| s.error_after > s.error_before)
             .map(|s| s.effect)
             .collect(),
-        harmful_significant: d
+        steps: d
             .steps
             .iter()
-            .filter(|s| s.error_after > s.error_before && s.p_worse < 0.05)
-            .map(|s| s.effect)
+            .map(|s| StepOutcome {
+                effect: s.effect,
+                setting: s.setting.clone(),
+                error_before: s.error_before,
+                error_after: s.error_after,
+                p_worse: s.p_worse,
+            })
             .collect(),
         millis,
     })
