@@ -2,9 +2,11 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use hsid_host::closed_loop::{ReferenceError, identify_closed_loop};
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
-use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record};
+use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
 use hsid_host::fleet::wear::gap;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify};
 use hsid_host::numerics::poly::roots;
@@ -35,6 +37,9 @@ fn the_feedback_check_separates_closed_from_open_loop_servos() {
             "seed {seed:2}: closed χ² {:6.1} (lag {:2}), open χ² {:5.1} (lag {:2}), threshold {:.1}",
             c.statistic, c.lag, o.statistic, o.lag, c.threshold
         );
+        if let Some(w) = feedback_warning(&c) {
+            assert!(w.message.contains("hsid identify --reference-column NAME"));
+        }
         fired_closed += usize::from(c.fires());
         fired_open += usize::from(o.fires());
         sum_open += o.statistic;
@@ -219,4 +224,47 @@ fn a_constant_or_short_reference_is_a_typed_error() {
     let n = spec.hold + 400;
     let e = identify_closed_loop(&s.u[..n], &s.y[..n], &s.r[..n], &opts, 2).unwrap_err();
     assert!(matches!(e, ReferenceError::TooShort { .. }), "{e}");
+}
+
+#[test]
+fn hsid_identify_takes_the_reference_column() {
+    let spec = ServoSpec::coloured();
+    let s = simulate_servo(&spec, 7).unwrap();
+    let dir = common::Scratch::new("reference-column");
+    let data = dir.join("servo.csv");
+    hsid_host::io::write_columns(&data, &["u", "y", "r"], &[&s.u, &s.y, &s.r]).unwrap();
+    let json = dir.join("model.json");
+    let fixed = [
+        "--segments",
+        "6",
+        "--hold",
+        "100",
+        "--f",
+        "10",
+        "--p",
+        "10",
+        "--order",
+        "2",
+    ];
+    let mut args = fixed.to_vec();
+    args.extend(["--reference-column", "r", "--json", common::p(&json)]);
+    let run = common::identify(&data, &args).success();
+    eprintln!("{}", run.stdout);
+    assert!(
+        run.stdout
+            .contains("instruments from the reference column \"r\"")
+    );
+    // The model written is the library's closed-loop estimate with the same options.
+    let file = hsid_host::model_file::ModelFile::load(&json).unwrap();
+    let mut opts = options(&spec);
+    opts.order = Some(2);
+    let lib = identify_closed_loop(&s.u, &s.y, &s.r, &opts, 2).unwrap();
+    let (cli, lib) = (upper_pole(&HostModel::from_json(&file)), upper_pole(&lib));
+    assert!((cli.0 - lib.0).abs() < 1e-9 && (cli.1 - lib.1).abs() < 1e-9);
+    let t = true_pole();
+    assert!((cli.0 - t.0).hypot(cli.1 - t.1) < 0.02, "{cli:?}");
+    // An unknown column names the columns there are.
+    let mut args = fixed.to_vec();
+    args.extend(["--reference-column", "setpoint"]);
+    common::identify(&data, &args).clean_error(&["no column \"setpoint\"", "\"u\", \"y\", \"r\""]);
 }
