@@ -86,9 +86,6 @@ fn check(
     if !mu0.is_finite() || u.iter().chain(y).any(|v| !v.is_finite()) {
         return Err(RefError::NonFinite.into());
     }
-    if r.iter().all(|&v| v == r[0]) {
-        return Err(ReferenceError::ConstantReference);
-    }
     let k = cfg.f + cfg.p;
     // W W^T is k m × k m: twice as many columns as rows at least.
     let needed = 2 * k * cfg.m() + k - 1;
@@ -97,6 +94,9 @@ fn check(
             needed,
             got: u.len(),
         });
+    }
+    if r.iter().all(|&v| v == r[0]) {
+        return Err(ReferenceError::ConstantReference);
     }
     Ok(u.len() - k + 1)
 }
