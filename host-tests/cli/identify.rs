@@ -4,6 +4,7 @@ mod auto;
 mod page;
 mod prepare;
 mod records;
+mod reference;
 mod simulation;
 mod stream;
 
@@ -133,6 +134,13 @@ pub struct IdentifyArgs {
     /// says it was not run. `none`: never (the identified model as it is).
     #[arg(long, value_enum, default_value = "auto")]
     fit: simulation::FitArg,
+    /// A closed-loop record: the column holding the controller's reference (setpoint), logged
+    /// with u and y. The model is then the closed-loop consistent estimate (PI-MOESP on the
+    /// data projected on instruments built from the reference, docs/closed-loop.md) with the
+    /// knots, horizons and order of the open-loop estimate, not refined. Two-path elements,
+    /// one --data file; not with --stream, --integrating or --refine.
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["stream", "integrating", "refine"])]
+    reference_column: Option<String>,
 }
 
 /// The identification settings from the arguments (knots checked against the interval).
@@ -186,10 +194,13 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         opts = integrating::increments_options(&opts);
     }
     let choices = choices(a);
-    let best = best_model(u, y, &opts, &choices).map_err(|e| match e {
+    let mut best = best_model(u, y, &opts, &choices).map_err(|e| match e {
         ChooseError::Identify(e) => records.sample_error(&e),
         e => format!("{}: {e}", records.first().display()),
     })?;
+    if let Some(name) = &a.reference_column {
+        reference::closed_loop(&mut best, &records, name)?;
+    }
     let record = Record { u, y, skip: hold };
     for line in best.report() {
         outln!("{line}")?;
@@ -198,8 +209,11 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         model,
         noise,
         std,
-        estimator,
+        mut estimator,
     } = estimate(&best, u, y)?;
+    if a.reference_column.is_some() {
+        estimator = reference::ESTIMATOR.to_string();
+    }
     report(&model, noise.as_ref(), &records.parts(), hold)?;
     if let Some((s, _)) = &std {
         outln!("{}", std_text(s))?;
@@ -300,7 +314,7 @@ fn choices(a: &IdentifyArgs) -> Choices {
             Some(_) => choose::Horizons::Given,
             None => choose::Horizons::FromData,
         },
-        estimator: if a.no_refine {
+        estimator: if a.no_refine || a.reference_column.is_some() {
             Estimator::Subspace
         } else {
             Estimator::Refined

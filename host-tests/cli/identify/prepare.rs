@@ -39,13 +39,14 @@ pub fn refuse_bad_flags(a: &IdentifyArgs, hold: usize) -> Result<(), Failure> {
                 .into(),
         );
     }
-    Ok(())
+    super::reference::refuse_bad_flags(a)
 }
 
 /// The records as identified: read, their junctions checked, as increments for an
 /// integrating plant, their mean removed with `--detrend`; the first must outlast the hold.
 pub fn read_records(a: &IdentifyArgs, hold: usize) -> Result<Records, Failure> {
-    let mut records = Records::read(&a.data, &a.columns, &a.csv, &a.units)?;
+    let reference = a.reference_column.as_deref();
+    let mut records = Records::read(&a.data, &a.columns, reference, &a.csv, &a.units)?;
     records.check_junctions(a.umin, a.hold.settle())?;
     if a.integrating {
         to_increments(&mut records);

@@ -8,7 +8,7 @@ use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::Units;
 use hsid_host::units::{Origin, resolve_ts};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
+use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_record, read_uy};
 use crate::locate;
 
 /// The records of one identification, concatenated in the order given.
@@ -23,6 +23,8 @@ pub struct Records {
     pub u: Vec<f64>,
     /// All outputs.
     pub y: Vec<f64>,
+    /// The reference column's values (`--reference-column`), empty without it.
+    pub r: Vec<f64>,
     /// The sample time, from `--ts` and the records' time columns, when known.
     pub ts: Option<f64>,
     /// The units, from `--input-unit`/`--output-unit` and the records' header comments, when
@@ -31,11 +33,13 @@ pub struct Records {
 }
 
 impl Records {
-    /// Reads every file of `paths`; the sample times stated by `--ts` and by the time columns
-    /// must agree, and so must the units stated by the flags and the header comments.
+    /// Reads every file of `paths` (and the column `reference`, when named); the sample times
+    /// stated by `--ts` and by the time columns must agree, and so must the units stated by the
+    /// flags and the header comments.
     pub fn read(
         paths: &[PathBuf],
         columns: &Columns,
+        reference: Option<&str>,
         csv: &CsvArgs,
         units: &UnitArgs,
     ) -> Result<Self, String> {
@@ -47,18 +51,30 @@ impl Records {
             lines: Vec::new(),
             u: Vec::new(),
             y: Vec::new(),
+            r: Vec::new(),
             ts: None,
             units: None,
         };
         let mut unit_comments = Vec::new();
         for path in paths {
-            let rec = read_uy(path, columns, csv, units)?;
+            let rec = match reference {
+                Some(name) => {
+                    let names = [
+                        columns.input_column.as_str(),
+                        columns.output_column.as_str(),
+                        name,
+                    ];
+                    read_record(path, &names, csv, units)?
+                }
+                None => read_uy(path, columns, csv, units)?,
+            };
             stated.extend(rec.ts);
             unit_comments.extend(rec.units);
             let mut cols = rec.table.columns.into_iter();
             r.starts.push(r.u.len());
             r.u.extend(cols.next().unwrap_or_default());
             r.y.extend(cols.next().unwrap_or_default());
+            r.r.extend(cols.next().unwrap_or_default());
             r.lines.push(rec.table.lines);
         }
         r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;

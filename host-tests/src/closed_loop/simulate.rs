@@ -18,7 +18,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg64;
 
 use crate::identify::interpolate;
-use crate::sim::{Backlash, Nonlinearity, paper_noise_model, paper_plant};
+use crate::sim::{Backlash, Lti, Nonlinearity, paper_plant};
 
 /// The servo's settings (config, not state).
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +39,9 @@ pub struct ServoSpec {
     pub reference_pole: f64,
     /// Standard deviation of the white noise `e` driving the measurement noise `G_v(q) e`.
     pub noise_std: f64,
+    /// Pole `a` of the noise filter `G_v(q) = (1 + 0.5 q⁻¹) / (1 − a q⁻¹)`, in `[0, 1[`
+    /// (the paper's: 0.85).
+    pub noise_pole: f64,
 }
 
 impl ServoSpec {
@@ -56,6 +59,23 @@ impl ServoSpec {
             reference_std: (1.0 - 0.97f64 * 0.97).sqrt(),
             reference_pole: 0.97,
             noise_std: 0.1,
+            noise_pole: 0.85,
+        }
+    }
+
+    /// The paper's servo with slowly coloured noise and a livelier reference, a record on which
+    /// the open-loop estimate's poles are biased: noise pole 0.97 with `std(e) = 0.045` (so
+    /// that `v = G_v e` keeps a standard deviation of about 0.28, as in [`ServoSpec::paper`]),
+    /// a reference smoothed by the pole 0.5 (standard deviation 1), 20000 samples after the
+    /// hold.
+    pub fn coloured() -> Self {
+        Self {
+            len: 20_000,
+            reference_std: (1.0 - 0.5f64 * 0.5).sqrt(),
+            reference_pole: 0.5,
+            noise_std: 0.045,
+            noise_pole: 0.97,
+            ..Self::paper()
         }
     }
 
@@ -95,6 +115,9 @@ impl ServoSpec {
         if !(0.0..1.0).contains(&self.reference_pole) {
             return Err(ServoError::ReferencePole(self.reference_pole));
         }
+        if !(0.0..1.0).contains(&self.noise_pole) {
+            return Err(ServoError::NoisePole(self.noise_pole));
+        }
         Ok(())
     }
 
@@ -122,6 +145,8 @@ pub enum ServoError {
     Setting,
     /// The reference's smoothing pole is outside `[0, 1[`.
     ReferencePole(f64),
+    /// The noise filter's pole is outside `[0, 1[`.
+    NoisePole(f64),
 }
 
 impl std::fmt::Display for ServoError {
@@ -137,6 +162,9 @@ impl std::fmt::Display for ServoError {
             ),
             ServoError::ReferencePole(p) => {
                 write!(f, "the reference's smoothing pole {p} must be in [0, 1[")
+            }
+            ServoError::NoisePole(p) => {
+                write!(f, "the noise filter's pole {p} must be in [0, 1[")
             }
         }
     }
@@ -164,7 +192,9 @@ pub fn simulate_servo(spec: &ServoSpec, seed: u64) -> Result<Servo, ServoError> 
     let (mid, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
     let mut element = spec.element();
     element.reset();
-    let (mut g, mut gv) = (paper_plant(), paper_noise_model());
+    let mut g = paper_plant();
+    let mut gv = Lti::new(vec![1.0, 0.5], vec![1.0, -spec.noise_pole])
+        .map_err(|_| ServoError::NoisePole(spec.noise_pole))?;
     let mut servo = Servo {
         r: Vec::with_capacity(n),
         u: Vec::with_capacity(n),

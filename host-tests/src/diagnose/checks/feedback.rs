@@ -107,8 +107,10 @@ pub fn feedback_warning(t: &FeedbackTest) -> Option<Warning> {
                  input computed from the measured output), which can bias the open-loop subspace \
                  estimate and the output-error fit, pulling the poles toward the controller's; \
                  record an open-loop experiment (an input not computed from the output, e.g. \
-                 hsid excite); a model far from the data (see the other warnings) can also \
-                 look like feedback",
+                 hsid excite) or, with the controller's reference logged as a column, take the \
+                 closed-loop estimate: hsid identify --reference-column NAME \
+                 (docs/closed-loop.md); a model far from the data (see the other warnings) can \
+                 also look like feedback",
                 t.statistic, t.lags, t.threshold, t.lag
             ),
         )
