@@ -6,6 +6,7 @@
 pub mod choose;
 pub mod closed_loop;
 pub mod diagnose;
+pub mod family_b;
 pub mod figures;
 pub mod fleet;
 pub mod generality;

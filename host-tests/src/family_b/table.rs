@@ -1,0 +1,159 @@
+//! The family's confusion table and its summary: named right per class and overall, false
+//! alarms on clean runs, harmful steps.
+
+use std::fmt::Write as _;
+
+use super::class::Class;
+use super::run::Outcome;
+use crate::diagnose::{Check, Effect};
+
+/// The data checks shown beside the table.
+pub const CHECKS: [Check; 3] = [Check::Feedback, Check::Integrating, Check::OutputSaturation];
+
+/// The confusion table (Markdown): rows the true class, columns the effect named first (and
+/// "error" for a failed diagnosis), then how many runs each data check fired in, the runs and
+/// the runs named right.
+pub fn confusion_table(outcomes: &[Outcome]) -> String {
+    let mut cols: Vec<Option<Effect>> = vec![None];
+    cols.extend(Effect::PROPOSED.into_iter().map(Some));
+    let mut s = String::from("| true \\ named first |");
+    for c in &cols {
+        let _ = write!(s, " {} |", c.map_or("none", Effect::name));
+    }
+    s.push_str(" error |");
+    for c in CHECKS {
+        let _ = write!(s, " check {} |", c.name());
+    }
+    s.push_str(" runs | named right |\n|---|");
+    s.push_str(&"---|".repeat(cols.len() + CHECKS.len() + 3));
+    s.push('\n');
+    for class in Class::ALL {
+        let mine: Vec<&Outcome> = outcomes
+            .iter()
+            .filter(|o| o.scenario.class == class)
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let _ = write!(s, "| **{}** |", class.name());
+        let cell = |k: usize| {
+            if k == 0 {
+                "·".to_string()
+            } else {
+                k.to_string()
+            }
+        };
+        for c in &cols {
+            let k = mine
+                .iter()
+                .filter(|o| o.error.is_none() && o.first() == *c)
+                .count();
+            let _ = write!(s, " {} |", cell(k));
+        }
+        let errors = mine.iter().filter(|o| o.error.is_some()).count();
+        let _ = write!(s, " {} |", cell(errors));
+        for c in CHECKS {
+            let k = mine.iter().filter(|o| o.fired.contains(&c)).count();
+            let _ = write!(s, " {} |", cell(k));
+        }
+        let right = mine.iter().filter(|o| o.right()).count();
+        let _ = writeln!(s, " {} | {right} |", mine.len());
+    }
+    s
+}
+
+/// The summary lines: named right per class and overall, false alarms on clean runs (an
+/// effect added; the feedback or integrating check firing), the feedback and integrating
+/// checks on the other classes, harmful steps.
+pub fn summary(outcomes: &[Outcome]) -> String {
+    let mut s = String::new();
+    let pct = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+    for class in Class::ALL {
+        let mine: Vec<&Outcome> = outcomes
+            .iter()
+            .filter(|o| o.scenario.class == class)
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let right = mine.iter().filter(|o| o.right()).count();
+        let _ = writeln!(
+            s,
+            "named right, {}: {right} of {} ({:.0} %)",
+            class.name(),
+            mine.len(),
+            pct(right, mine.len())
+        );
+    }
+    let right = outcomes.iter().filter(|o| o.right()).count();
+    let _ = writeln!(
+        s,
+        "named right, overall: {right} of {} ({:.1} %)",
+        outcomes.len(),
+        pct(right, outcomes.len())
+    );
+    let with: Vec<&Outcome> = outcomes
+        .iter()
+        .filter(|o| o.scenario.class != Class::Clean)
+        .collect();
+    let r = with.iter().filter(|o| o.right()).count();
+    let _ = writeln!(
+        s,
+        "named right, runs with an effect: {r} of {} ({:.1} %)",
+        with.len(),
+        pct(r, with.len())
+    );
+    let clean: Vec<&Outcome> = outcomes
+        .iter()
+        .filter(|o| o.scenario.class == Class::Clean)
+        .collect();
+    let alarms = clean.iter().filter(|o| !o.named.is_empty()).count();
+    let _ = writeln!(
+        s,
+        "false alarms on clean runs (an effect added): {alarms} of {} ({:.1} %)",
+        clean.len(),
+        pct(alarms, clean.len())
+    );
+    let checks = clean
+        .iter()
+        .filter(|o| {
+            o.fired
+                .iter()
+                .any(|c| matches!(c, Check::Feedback | Check::Integrating))
+        })
+        .count();
+    let _ = writeln!(
+        s,
+        "clean runs where the feedback or integrating check fired: {checks} of {}",
+        clean.len()
+    );
+    for (check, class) in [
+        (Check::Feedback, Class::ClosedLoop),
+        (Check::Integrating, Class::Integrating),
+    ] {
+        let others: Vec<&&Outcome> = with.iter().filter(|o| o.scenario.class != class).collect();
+        let k = others.iter().filter(|o| o.fired.contains(&check)).count();
+        let _ = writeln!(
+            s,
+            "runs with an effect other than {} where the {} check fired: {k} of {}",
+            class.name(),
+            check.name(),
+            others.len()
+        );
+    }
+    let harmful: usize = outcomes.iter().map(|o| o.harmful.len()).sum();
+    let steps: usize = outcomes.iter().map(|o| o.named.len()).sum();
+    let runs = outcomes.iter().filter(|o| !o.harmful.is_empty()).count();
+    let _ = writeln!(
+        s,
+        "steps that raised the validation error: {harmful} of {steps} steps added, in {runs} of {} runs",
+        outcomes.len()
+    );
+    let errors = outcomes.iter().filter(|o| o.error.is_some()).count();
+    let _ = writeln!(
+        s,
+        "diagnoses that failed with an error: {errors} of {}",
+        outcomes.len()
+    );
+    s
+}
