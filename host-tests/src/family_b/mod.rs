@@ -6,7 +6,7 @@
 //! backlash or switch behind a static model, a closed loop, an integrating plant and a
 //! saturating output.
 //!
-//! A scenario is `(class, seed)` ([`Scenario`]); [`generate`] gives its estimation and
+//! A scenario is `(class, seed)` ([`Scenario`]); [`generate()`] gives its estimation and
 //! validation records, the diagnosis's options and the truth; [`Class::named_right`] says in
 //! one place what the diagnosis must do on each class; [`run::run_all`] and
 //! [`table::confusion_table`] make the table (example `confusion_b`).
