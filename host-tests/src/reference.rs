@@ -432,7 +432,7 @@ impl RefModel {
 
 /// Cholesky factorisation of a symmetric positive definite Gram matrix, rejecting numerically
 /// singular ones (squared ratio of smallest to largest pivot below `1e-13`).
-fn spd_factor(
+pub(crate) fn spd_factor(
     g: DMatrix<f64>,
     which: &'static str,
 ) -> Result<nalgebra::Cholesky<f64, nalgebra::Dyn>, RefError> {
@@ -449,7 +449,7 @@ fn spd_factor(
 }
 
 /// Least-squares solution of `M X = R` through the SVD of `M`.
-fn least_squares(
+pub(crate) fn least_squares(
     m: DMatrix<f64>,
     r: &DMatrix<f64>,
     which: &'static str,
@@ -508,7 +508,6 @@ pub fn identify_weighted(
         });
     }
     let (f, p, n, m) = (cfg.f, cfg.p, cfg.order, cfg.m());
-    let n_a = cfg.n_asc();
     let k = f + p;
     let j = u.len() - k + 1;
 
@@ -602,13 +601,27 @@ pub fn identify_weighted(
 
     // Step 2: bold B and D (MOESP, [26]): U_2ᵀ Ξ_f = U_2ᵀ Ȳ_f Z_fᵀ (Z_f Z_fᵀ)^{-1}.
     let rhs_all = &u2t * chol_zf.solve(&(&zf * yf.transpose())).transpose(); // (f-n) × f m
-    let q = f - n;
-    // C A^l for l = 0..f-2.
+    let x_db = bold_bd(&u2t, &c, &a, &rhs_all, m)?;
+    // Step 3: rank-1 split (eq. 14) and γ for G(1) = 1.
+    split_model(x_db, a, c, singular_values, mu0, cfg, j)
+}
+
+/// Bold `[D; B]` (`(n + 1) × m`, MOESP step 2) from `U₂ᵀ` (`(f − n) × f`), `C`, `A` and the
+/// right-hand side `U₂ᵀ Ȳ_f Z_fᵀ (Z_f Z_fᵀ)⁻¹` (`(f − n) × f·m`), by least squares.
+pub(crate) fn bold_bd(
+    u2t: &DMatrix<f64>,
+    c: &RowDVector<f64>,
+    a: &DMatrix<f64>,
+    rhs_all: &DMatrix<f64>,
+    m: usize,
+) -> Result<DMatrix<f64>, RefError> {
+    let (q, f, n) = (u2t.nrows(), u2t.ncols(), a.nrows());
+    // C A^l for l = 0..f-1.
     let mut ca = Vec::with_capacity(f);
     let mut cur = c.clone();
     for _ in 0..f {
         ca.push(cur.clone());
-        cur = &cur * &a;
+        cur = &cur * a;
     }
     let mut coef = DMatrix::zeros(f * q, n + 1);
     let mut rhs = DMatrix::zeros(f * q, m);
@@ -623,11 +636,23 @@ pub fn identify_weighted(
         rhs.view_mut((jj * q, 0), (q, m))
             .copy_from(&rhs_all.view((0, jj * m), (q, m)));
     }
-    let x_db = least_squares(coef, &rhs, "Xi_f system")?; // (n+1) × m = [bold D; bold B]
+    least_squares(coef, &rhs, "Xi_f system") // (n+1) × m = [bold D; bold B]
+}
+
+/// The model from bold `[D; B]`, `A` and `C`: the rank-1 split (eq. 14), `γ` for `G(1) = 1`,
+/// the slopes `μ` and the borders from `μ0`.
+pub(crate) fn split_model(
+    x_db: DMatrix<f64>,
+    a: DMatrix<f64>,
+    c: RowDVector<f64>,
+    singular_values: Vec<f64>,
+    mu0: f64,
+    cfg: &RefConfig,
+    j: usize,
+) -> Result<RefModel, RefError> {
+    let (n, n_a) = (a.nrows(), cfg.n_asc());
     let d_over = x_db.rows(0, 1).into_owned();
     let b_over = x_db.rows(1, n).into_owned();
-
-    // Step 3: rank-1 split (eq. 14) and γ for G(1) = 1.
     let svd2 = nalgebra::SVD::try_new(x_db, true, true, f64::EPSILON, 10_000)
         .ok_or(RefError::SvdFailed("[bold D; bold B]"))?;
     let uu = svd2.u.ok_or(RefError::SvdFailed("[bold D; bold B]"))?;

@@ -31,13 +31,14 @@
 //! Assumption: the samples at `u_min` and `u_max` (the Table I excursions) are scheduled, not
 //! decided by the controller from the measured output; they are kept in `ũ` as they are.
 
-use nalgebra::{DMatrix, DVector, RowDVector};
+use nalgebra::{DMatrix, RowDVector};
 
 use crate::closed_loop::error::ReferenceError;
 use crate::closed_loop::instruments::{PREDICTOR_LAGS, instruments, predicted_input};
 use crate::closed_loop::linalg::{least_squares, project, spd_factor};
-use crate::numerics::poly::eigenvalues;
-use crate::reference::{RefConfig, RefError, RefModel, block_hankel, regressors};
+use crate::reference::{
+    RefConfig, RefError, RefModel, block_hankel, bold_bd, regressors, split_model,
+};
 
 /// The estimate of `u`, `y` (excitation only, no hold; the system at rest at `u_min` before
 /// it), `μ0` and the reference `r` logged with them, with the knots, horizons and order of
@@ -57,11 +58,24 @@ pub fn identify_with_reference(
     let zf = block_hankel(&regressors(u, cfg), p, f, j);
     let zf_w = project(&zf, &w, &gram_w);
     let yf_w = project(&block_hankel(&ybar, p, f, j), &w, &gram_w);
-    let space = column_space(&yf_w, &zf_w, cfg.order)?;
-    let x_db = bold_bd(&space, &yf_w, &zf_w, cfg)?;
-    let mut model = split(x_db, &space, mu0, cfg)?;
-    model.j = j;
-    Ok(model)
+    let chol = spd_factor(&zf_w * zf_w.transpose(), "the projected Z_f Z_f^T")?;
+    // Ȳ_f^W Z_f^Wᵀ (Z_f^W Z_f^Wᵀ)⁻¹, for Π⊥_{Z_f^W} and for MOESP's B, D step.
+    let coef = chol.solve(&(&zf_w * yf_w.transpose())).transpose();
+    let space = column_space(&yf_w, &zf_w, &coef, cfg.order)?;
+    let x_db = bold_bd(
+        &space.u2t,
+        &space.c,
+        &space.a,
+        &(&space.u2t * &coef),
+        cfg.m(),
+    )?;
+    let ColumnSpace {
+        c,
+        a,
+        singular_values,
+        ..
+    } = space;
+    Ok(split_model(x_db, a, c, singular_values, mu0, cfg, j)?)
 }
 
 /// Checks the data and returns the Hankel columns `j = N − f − p + 1`.
@@ -110,14 +124,15 @@ struct ColumnSpace {
     singular_values: Vec<f64>,
 }
 
+/// `coef` is `Ȳ_f^W Z_f^Wᵀ (Z_f^W Z_f^Wᵀ)⁻¹`.
 fn column_space(
     yf_w: &DMatrix<f64>,
     zf_w: &DMatrix<f64>,
+    coef: &DMatrix<f64>,
     n: usize,
 ) -> Result<ColumnSpace, ReferenceError> {
     let (f, j) = (yf_w.nrows(), yf_w.ncols());
-    let chol = spd_factor(zf_w * zf_w.transpose(), "the projected Z_f Z_f^T")?;
-    let o_f = yf_w - chol.solve(&(zf_w * yf_w.transpose())).transpose() * zf_w;
+    let o_f = yf_w - coef * zf_w;
     let svd = nalgebra::SVD::try_new(o_f, true, false, f64::EPSILON, 10_000)
         .ok_or(ReferenceError::NoConvergence("O_f"))?;
     let u_full = svd.u.ok_or(ReferenceError::NoConvergence("O_f"))?;
@@ -137,97 +152,4 @@ fn column_space(
         u2t,
         singular_values: s.iter().map(|v| v / sqrt_j).collect(),
     })
-}
-
-/// Bold `[D; B]` (`(n + 1) × m`) from `U₂ᵀ Ξ_f(B, D) = U₂ᵀ Ȳ_f^W Z_f^Wᵀ (Z_f^W Z_f^Wᵀ)⁻¹`.
-fn bold_bd(
-    s: &ColumnSpace,
-    yf_w: &DMatrix<f64>,
-    zf_w: &DMatrix<f64>,
-    cfg: &RefConfig,
-) -> Result<DMatrix<f64>, ReferenceError> {
-    let (f, n, m) = (cfg.f, s.a.nrows(), cfg.m());
-    let q = f - n;
-    let chol = spd_factor(zf_w * zf_w.transpose(), "the projected Z_f Z_f^T")?;
-    let rhs_all = &s.u2t * chol.solve(&(zf_w * yf_w.transpose())).transpose();
-    let mut ca = Vec::with_capacity(f);
-    let mut cur = s.c.clone();
-    for _ in 0..f {
-        ca.push(cur.clone());
-        cur = &cur * &s.a;
-    }
-    let mut coef = DMatrix::zeros(f * q, n + 1);
-    let mut rhs = DMatrix::zeros(f * q, m);
-    for jj in 0..f {
-        coef.view_mut((jj * q, 0), (q, 1))
-            .copy_from(&s.u2t.column(jj));
-        let mut acc = DMatrix::zeros(q, n);
-        for i in (jj + 1)..f {
-            acc += s.u2t.column(i) * &ca[i - jj - 1];
-        }
-        coef.view_mut((jj * q, 1), (q, n)).copy_from(&acc);
-        rhs.view_mut((jj * q, 0), (q, m))
-            .copy_from(&rhs_all.view((0, jj * m), (q, m)));
-    }
-    least_squares(coef, &rhs, "the Xi_f system")
-}
-
-/// The rank-1 split of bold `[D; B]` (eq. 14), `γ` for `G(1) = 1`, the borders from `μ0`.
-fn split(
-    x_db: DMatrix<f64>,
-    s: &ColumnSpace,
-    mu0: f64,
-    cfg: &RefConfig,
-) -> Result<RefModel, ReferenceError> {
-    let n = s.a.nrows();
-    let d_over = x_db.rows(0, 1).into_owned();
-    let b_over = x_db.rows(1, n).into_owned();
-    let svd = nalgebra::SVD::try_new(x_db, true, true, f64::EPSILON, 10_000)
-        .ok_or(ReferenceError::NoConvergence("[bold D; bold B]"))?;
-    let uu = svd
-        .u
-        .ok_or(ReferenceError::NoConvergence("[bold D; bold B]"))?;
-    let vt = svd
-        .v_t
-        .ok_or(ReferenceError::NoConvergence("[bold D; bold B]"))?;
-    let s1 = svd.singular_values[0];
-    let u_b: DVector<f64> = uu.column(0).rows(1, n).into_owned();
-    let i_a = DMatrix::identity(n, n) - &s.a;
-    let x_static = i_a.lu().solve(&u_b).ok_or(RefError::PoleAtOne)?;
-    let denom = s1 * ((&s.c * x_static)[(0, 0)] + uu[(0, 0)]);
-    if !(denom.is_finite() && denom.abs() > f64::MIN_POSITIVE.sqrt()) {
-        return Err(RefError::ZeroStaticGain.into());
-    }
-    let gamma = 1.0 / denom;
-    let mu: Vec<f64> = vt.row(0).iter().map(|v| v / gamma).collect();
-    let (mu_asc, mu_desc) = (mu[..cfg.n_asc()].to_vec(), mu[cfg.n_asc()..].to_vec());
-    Ok(RefModel {
-        singular_values: s.singular_values.clone(),
-        poles: eigenvalues(s.a.clone()).ok_or(RefError::EigenFailed)?,
-        a: s.a.clone(),
-        b: &u_b * (gamma * s1),
-        c: s.c.clone(),
-        d: gamma * s1 * uu[(0, 0)],
-        mu0,
-        border_asc: borders(&cfg.knots_asc, &mu_asc, mu0),
-        border_desc: borders(&cfg.knots_desc, &mu_desc, mu0),
-        mu_asc,
-        mu_desc,
-        b_over,
-        d_over,
-        knots_asc: cfg.knots_asc.clone(),
-        knots_desc: cfg.knots_desc.clone(),
-        j: 0,
-    })
-}
-
-/// The border's values at the knots: `μ0`, then the running sum of slope × segment width.
-fn borders(knots: &[f64], slopes: &[f64], mu0: f64) -> Vec<f64> {
-    let mut acc = mu0;
-    let mut out = vec![mu0];
-    for (w, s) in knots.windows(2).zip(slopes) {
-        acc += s * (w[1] - w[0]);
-        out.push(acc);
-    }
-    out
 }
