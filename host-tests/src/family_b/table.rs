@@ -62,6 +62,17 @@ pub fn confusion_table(outcomes: &[Outcome]) -> String {
     s
 }
 
+/// `named right, {label}: k of n (p %)` for `runs`, the percentage with `decimals` digits.
+fn named_right_line(s: &mut String, label: &str, runs: &[&Outcome], decimals: usize) {
+    let right = runs.iter().filter(|o| o.right()).count();
+    let pct = 100.0 * right as f64 / runs.len().max(1) as f64;
+    let _ = writeln!(
+        s,
+        "named right, {label}: {right} of {} ({pct:.decimals$} %)",
+        runs.len()
+    );
+}
+
 /// The summary lines: named right per class and overall, false alarms on clean runs (an
 /// effect added; the feedback or integrating check firing), the feedback and integrating
 /// checks on the other classes, harmful steps.
@@ -76,33 +87,15 @@ pub fn summary(outcomes: &[Outcome]) -> String {
         if mine.is_empty() {
             continue;
         }
-        let right = mine.iter().filter(|o| o.right()).count();
-        let _ = writeln!(
-            s,
-            "named right, {}: {right} of {} ({:.0} %)",
-            class.name(),
-            mine.len(),
-            pct(right, mine.len())
-        );
+        named_right_line(&mut s, class.name(), &mine, 0);
     }
-    let right = outcomes.iter().filter(|o| o.right()).count();
-    let _ = writeln!(
-        s,
-        "named right, overall: {right} of {} ({:.1} %)",
-        outcomes.len(),
-        pct(right, outcomes.len())
-    );
+    let all: Vec<&Outcome> = outcomes.iter().collect();
+    named_right_line(&mut s, "overall", &all, 1);
     let with: Vec<&Outcome> = outcomes
         .iter()
         .filter(|o| o.scenario.class != Class::Clean)
         .collect();
-    let r = with.iter().filter(|o| o.right()).count();
-    let _ = writeln!(
-        s,
-        "named right, runs with an effect: {r} of {} ({:.1} %)",
-        with.len(),
-        pct(r, with.len())
-    );
+    named_right_line(&mut s, "runs with an effect", &with, 1);
     let clean: Vec<&Outcome> = outcomes
         .iter()
         .filter(|o| o.scenario.class == Class::Clean)
