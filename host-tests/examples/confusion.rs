@@ -46,7 +46,7 @@ fn main() {
         .iter()
         .filter(|o| o.scenario.effect.is_none())
         .collect();
-    let alarms = clean.iter().filter(|o| !o.named.is_empty()).count();
+    let alarms = clean.iter().filter(|o| !o.steps.is_empty()).count();
     println!(
         "false alarms on clean data: {alarms} of {} runs ({:.1} %)",
         clean.len(),
@@ -70,11 +70,11 @@ fn main() {
         .map(|o| o.error_after_first / o.error_before)
         .fold(0.0f64, f64::max);
     println!("largest after / floor: {worst:.2}; largest after / before: {worst_ratio:.2}");
-    let harmful: usize = outcomes.iter().map(|o| o.harmful.len()).sum();
-    let steps: usize = outcomes.iter().map(|o| o.named.len()).sum();
+    let harmful: usize = outcomes.iter().map(|o| o.harmful().len()).sum();
+    let steps: usize = outcomes.iter().map(|o| o.steps.len()).sum();
     println!(
         "steps that raised the validation error: {harmful} of {steps} steps added, in {} of {} runs",
-        outcomes.iter().filter(|o| !o.harmful.is_empty()).count(),
+        outcomes.iter().filter(|o| !o.harmful().is_empty()).count(),
         outcomes.len()
     );
     let all_steps: Vec<_> = outcomes.iter().flat_map(|o| &o.steps).collect();

@@ -30,7 +30,7 @@ fn no_added_step_raises_the_validation_error() {
         })
         .collect();
     for o in &outcomes {
-        assert!(o.harmful.is_empty(), "{}: {:?}", o.line(), o.harmful);
+        assert!(o.harmful().is_empty(), "{}: {:?}", o.line(), o.harmful());
         assert!(o.passes(), "{}", o.line());
     }
 }

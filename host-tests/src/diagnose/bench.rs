@@ -17,8 +17,6 @@ use super::scenario::{Scenario, generate};
 pub struct Outcome {
     /// The scenario.
     pub scenario: Scenario,
-    /// Effects added, in order.
-    pub named: Vec<Effect>,
     /// Validation error of the model before (simulation RMSE).
     pub error_before: f64,
     /// Validation error after the first effect, in its metric (prediction for
@@ -31,9 +29,6 @@ pub struct Outcome {
     pub floor: f64,
     /// Tests that fired on the validation residual before.
     pub fired_before: Vec<String>,
-    /// Steps added that raised the validation error (each step's error after above its error
-    /// before, in the step's metric): steps that hurt.
-    pub harmful: Vec<Effect>,
     /// Every step added, in order, with its validation errors.
     pub steps: Vec<StepOutcome>,
     /// Wall time, ms.
@@ -69,16 +64,31 @@ impl StepOutcome {
 }
 
 impl Outcome {
+    /// Effects added, in order.
+    pub fn named(&self) -> Vec<Effect> {
+        self.steps.iter().map(|st| st.effect).collect()
+    }
+
+    /// Steps added that raised the validation error (each step's error after above its error
+    /// before, in the step's metric): steps that hurt.
+    pub fn harmful(&self) -> Vec<Effect> {
+        self.steps
+            .iter()
+            .filter(|st| st.raised())
+            .map(|st| st.effect)
+            .collect()
+    }
+
     /// The first effect named, if any.
     pub fn first(&self) -> Option<Effect> {
-        self.named.first().copied()
+        self.steps.first().map(|st| st.effect)
     }
 
     /// Whether the diagnosis did what the issue asks: the right effect named first, the error
     /// after ≤ 0.7 × before and ≤ 1.3 × the noise floor; on clean data, nothing added.
     pub fn passes(&self) -> bool {
         match self.scenario.effect {
-            None => self.named.is_empty(),
+            None => self.steps.is_empty(),
             Some(e) => {
                 self.first() == Some(e)
                     && self.error_after_first <= 0.7 * self.error_before
@@ -97,7 +107,7 @@ impl Outcome {
             s.plant.name(),
             s.kind.name(),
             s.seed,
-            self.named
+            self.named()
                 .iter()
                 .map(|e| e.name())
                 .collect::<Vec<_>>()
@@ -107,7 +117,7 @@ impl Outcome {
             self.error_after_first / self.error_before,
             self.floor,
             self.error_after_first / self.floor,
-            self.harmful.len(),
+            self.harmful().len(),
             self.steps
                 .iter()
                 .filter(|st| st.raised())
@@ -135,7 +145,6 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
     let prediction = first.is_some_and(|f| f.metric == Metric::Prediction);
     Ok(Outcome {
         scenario: *s,
-        named: d.steps.iter().map(|s| s.effect).collect(),
         error_before: d.before.rmse,
         error_after_first: first.map_or(d.before.rmse, |f| f.error_after),
         error_final: d.after.rmse,
@@ -145,12 +154,6 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
             data.noise_floor
         },
         fired_before: d.tests_before.fired_names(),
-        harmful: d
-            .steps
-            .iter()
-            .filter(|s| s.error_after > s.error_before)
-            .map(|s| s.effect)
-            .collect(),
         steps: d
             .steps
             .iter()
