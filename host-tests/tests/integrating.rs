@@ -396,3 +396,55 @@ fn diagnose_integrating_diagnoses_the_stable_part() {
     };
     assert!(file.integrating);
 }
+
+/// The data check `integrating` is the ARX unit-root test: on the second scenario family (an
+/// independent generator: orders 1–5 with the integrator, Table I and ordinary inputs) it
+/// keeps the unit root on every integrating plant — seeds 1 and 3 among them, whose base
+/// models keep every pole inside the circle, which the former pole-radius rule missed — and
+/// rejects it on two seeds of every other class (periodic seed 3 among them, a slow order-4
+/// plant whose base model has a pole at the circle). A diagnosis of an integrating plant adds
+/// nothing and ends with the route.
+#[test]
+fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
+    use hsid_host::diagnose::unit_root::unit_root;
+    use hsid_host::diagnose::verdict::End;
+    use hsid_host::diagnose::{Check, Nonlinearity, diagnose, residual};
+    use hsid_host::family_b::class::Class;
+    use hsid_host::family_b::generate::generate;
+    use hsid_host::family_b::scenario::Scenario;
+
+    let tau = |class, seed| {
+        let d = generate(&Scenario::new(class, seed));
+        let id = &d.options.identify;
+        let shared = d.options.nonlinearity == Nonlinearity::Static;
+        let desc = if shared {
+            &id.knots_asc
+        } else {
+            &id.knots_desc
+        };
+        let (_, z, _, _) = residual::regressor(&d.record.u, &id.knots_asc, desc, shared);
+        let lags = d.options.max_delay + 1;
+        let Some(t) = unit_root(&z, &d.record.y, &d.record.time, lags) else {
+            panic!("{class:?} {seed}: the test could not run");
+        };
+        t
+    };
+    for seed in 1..=6 {
+        let t = tau(Class::Integrating, seed);
+        assert!(!t.rejected() && t.tau > -2.0, "integrating {seed}: {t:?}");
+    }
+    for class in Class::ALL.into_iter().filter(|&c| c != Class::Integrating) {
+        for seed in [1, 3] {
+            let t = tau(class, seed);
+            assert!(t.rejected() && t.tau < -6.0, "{class:?} {seed}: {t:?}");
+        }
+    }
+    let d = generate(&Scenario::new(Class::Integrating, 1));
+    let Ok(dg) = diagnose(&d.record, &d.validation, &d.options) else {
+        panic!("the diagnosis runs");
+    };
+    assert!(dg.warnings.iter().any(|w| w.check == Check::Integrating));
+    assert!(dg.steps.is_empty(), "{:?}", dg.steps.len());
+    assert_eq!(dg.verdict.end, End::Integrating);
+    assert!(dg.verdict.to_string().contains("--integrating"));
+}

@@ -9,13 +9,13 @@
 //! reject too often, which shortens the dead time found: the test errs towards *no* extra
 //! delay.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use serde::Serialize;
 
+use super::arx::{continuous_rows, lagged, rss};
 use super::residual::LEVEL;
 use super::stats::chi2_sf;
 use crate::identify::HostModel;
-use crate::numerics::lstsq::lstsq_min_norm;
 use crate::numerics::select::{Criterion, best};
 
 /// The dead time found in the data.
@@ -62,26 +62,6 @@ impl std::fmt::Display for DeadTime {
     }
 }
 
-/// Residual sum of squares of `y` on the columns `cols` over the rows `rows`.
-fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
-    let n = rows.len();
-    let k = cols.len();
-    if n <= k + 10 {
-        return None;
-    }
-    let x = DMatrix::from_fn(n, k, |r, c| cols[c][rows[r]]);
-    let yy = DVector::from_iterator(n, rows.iter().map(|&t| y[t]));
-    let beta = lstsq_min_norm(&x, &yy)?;
-    let e = &yy - &x * beta;
-    Some(e.norm_squared())
-}
-
-fn lagged(x: &[f64], lag: usize) -> Vec<f64> {
-    (0..x.len())
-        .map(|t| if t >= lag { x[t - lag] } else { 0.0 })
-        .collect()
-}
-
 /// The first lag of the model's impulse response above 1 % of its largest (`D`, `CB`, `CAB`,
 /// …).
 pub fn model_dead_time(m: &HostModel, max_lag: usize) -> usize {
@@ -115,9 +95,7 @@ pub fn dead_time(
         .collect();
     let yl: Vec<Vec<f64>> = (1..=6).map(|i| lagged(y, i)).collect();
     let start = span.max(6);
-    let rows: Vec<usize> = (start..y.len())
-        .filter(|&t| (time[t] - time[t - start] - start as f64).abs() < 0.5)
-        .collect();
+    let rows = continuous_rows(time, start);
     let n = rows.len() as f64;
     let cols_for = |na: usize, first: usize| -> Vec<&[f64]> {
         let mut c: Vec<&[f64]> = vec![&ones];

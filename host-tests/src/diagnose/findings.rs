@@ -48,6 +48,9 @@ pub enum Finding {
     StateDependence,
     /// Outside the catalog: the output is quantised.
     Quantised,
+    /// The output integrates (data check `integrating`): nothing is scored against a model
+    /// normalised to `G(1) = 1`.
+    Integrating,
 }
 
 impl Finding {

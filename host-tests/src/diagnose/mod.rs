@@ -27,6 +27,7 @@
 
 use crate::identify::{IdentifyError, IdentifyOptions};
 
+pub mod arx;
 pub mod bench;
 pub mod checks;
 pub mod delay;
@@ -53,6 +54,7 @@ pub mod split;
 pub mod stats;
 pub mod steps;
 pub mod stores;
+pub mod unit_root;
 pub mod verdict;
 
 pub use checks::{Check, Warning};
@@ -125,7 +127,6 @@ fn diagnose_inner(
     let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
     // The feedback check needs an open-loop model's residual on the estimation record.
     let fit = model::evaluate(&base, est, hold..ne, Metric::Simulation);
-    warnings.extend(checks::integrating::integrating(&base, ne - hold.min(ne)));
     warnings.extend(checks::feedback::feedback(
         &est.u[hold.min(ne)..],
         &fit.output[hold.min(ne)..],
@@ -140,6 +141,8 @@ fn diagnose_inner(
         inner.describe(ne)
     );
     let (_, est_z, _, _) = residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
+    let root = unit_root::unit_root(&est_z, &est.y, &est.time, opts.max_delay + 1);
+    warnings.extend(checks::integrating::integrating(root.as_ref()));
     let dead = delay::dead_time(
         &est_z,
         &est.y,

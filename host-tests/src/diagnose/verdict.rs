@@ -55,6 +55,9 @@ impl Finding {
 impl fmt::Display for Finding {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Finding::Integrating => f.write_str(
+                "the output integrates (data check integrating): no extension is scored against a model normalised to G(1) = 1; run `hsid diagnose --integrating`",
+            ),
             Finding::FoldsUnfittable { error } => write!(
                 f,
                 "the estimation data cannot score extensions: the current model cannot be fitted without one of the inner validation's blocks ({error})"
@@ -117,6 +120,8 @@ pub enum Ending {
 /// How the diagnosis ends, for the verdict.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum End {
+    /// Nothing added: the output integrates.
+    Integrating,
     /// Nothing added: the estimation data cannot score any extension.
     Unscorable,
     /// Nothing added: no test fires on the estimation residual.
@@ -171,7 +176,9 @@ impl Verdict {
         after_rmse: f64,
     ) -> Self {
         let unscorable = findings.iter().any(Finding::unscorable);
+        let integrating = findings.contains(&Finding::Integrating);
         let end = match added.last() {
+            None if integrating => End::Integrating,
             None if unscorable => End::Unscorable,
             None if fired.is_empty() => End::Consistent,
             None => End::NotIdentified,
@@ -201,6 +208,12 @@ impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let fired = self.fired.join(", ");
         let rest = match self.end {
+            End::Integrating => {
+                return write!(
+                    f,
+                    "The output integrates (data check integrating): the model's normalisation G(1) = 1 does not hold, so no extension is scored against it and nothing is added; `hsid diagnose --integrating` diagnoses the plant's stable part on the output's increments."
+                );
+            }
             End::Unscorable => {
                 return write!(
                     f,

@@ -24,8 +24,8 @@ pub enum Check {
     InputLevels,
     /// The input is correlated with earlier residuals: feedback.
     Feedback,
-    /// The base model has a pole too slow for the record: an integrating plant or a
-    /// drifting output.
+    /// The output keeps a unit root (an ARX unit-root test does not reject it): an
+    /// integrating plant.
     Integrating,
 }
 
