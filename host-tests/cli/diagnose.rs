@@ -151,6 +151,15 @@ pub struct DiagnoseArgs {
     /// sample), and the model file of --model-out records the integrator.
     #[arg(long)]
     pub integrating: bool,
+    /// Column of the estimation file holding the controller's reference (setpoint) of a
+    /// closed-loop record: the base model and every refit are then the closed-loop consistent
+    /// estimate (PI-MOESP on instruments from the reference, order of the open-loop estimate
+    /// unless --order; poles not refined by the output error) instead of the open-loop one,
+    /// which feedback biases (docs/closed-loop.md). Needs a two-path element (not
+    /// --nonlinearity static), a hold or --mu0, and no --integrating; the validation file
+    /// needs no reference.
+    #[arg(long, value_name = "NAME")]
+    pub reference_column: Option<String>,
     #[command(flatten)]
     pub csv: CsvArgs,
     /// Sample time and units (checked against the records' time columns), stored in the
@@ -179,22 +188,27 @@ struct Stated {
     units: Option<(PathBuf, Units)>,
 }
 
-/// Reads the two columns of a CSV file as a record, with the sample times of its time column
-/// and header comment and the units of its header comments.
+/// Reads the input and output columns (and the reference column, when named) of a CSV file
+/// as a record, with the sample times of its time column and header comment and the units of
+/// its header comments.
 fn record(
     path: &std::path::Path,
     names: [&str; 2],
+    reference: Option<&str>,
     csv: &CsvArgs,
     units: &UnitArgs,
 ) -> Result<Stated, String> {
-    let r = read_record(path, &names, csv, units)?;
-    let [u, y]: [Vec<f64>; 2] = r
-        .table
-        .columns
-        .try_into()
-        .map_err(|_| "internal: two columns expected".to_string())?;
+    let all: Vec<&str> = names.into_iter().chain(reference).collect();
+    let r = read_record(path, &all, csv, units)?;
+    let mut columns = r.table.columns.into_iter();
+    let (Some(u), Some(y)) = (columns.next(), columns.next()) else {
+        return Err("internal: two columns expected".to_string());
+    };
     Ok(Stated {
-        record: Record::new(u, y),
+        record: match columns.next() {
+            Some(r) => Record::with_reference(u, y, r),
+            None => Record::new(u, y),
+        },
         ts: r.ts,
         units: r.units,
     })
@@ -302,9 +316,31 @@ fn not_in_the_model_file(e: Effect) -> bool {
     }
 }
 
+/// Refuses what the closed-loop estimate from `--reference-column` does not cover: a static
+/// element, the increments of an integrating plant.
+fn refuse_bad_flags(a: &DiagnoseArgs) -> Result<(), Failure> {
+    let Some(name) = &a.reference_column else {
+        return Ok(());
+    };
+    if a.nonlinearity == NonlinearityArg::Static {
+        return Err(format!(
+            "--reference-column {name} estimates a two-path element (backlash or switch): drop --nonlinearity static"
+        )
+        .into());
+    }
+    if a.integrating {
+        return Err(format!(
+            "--reference-column {name} is not available with --integrating (the closed-loop estimate is for the output itself, not its increments): drop one of them"
+        )
+        .into());
+    }
+    Ok(())
+}
+
 /// Runs `hsid diagnose`: prints the text report, writes the figures, the JSON report and the
 /// model file.
 pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
+    refuse_bad_flags(a)?;
     let Stated {
         record: est,
         ts: est_ts,
@@ -312,6 +348,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     } = record(
         &a.data,
         [&a.input_column, &a.output_column],
+        a.reference_column.as_deref(),
         &a.csv,
         &a.units,
     )?;
@@ -333,7 +370,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
                 .validation_output_column
                 .as_ref()
                 .unwrap_or(&a.output_column);
-            let r = record(path, [ic, oc], &a.csv, &a.units)?;
+            let r = record(path, [ic, oc], None, &a.csv, &a.units)?;
             stated.extend(r.ts);
             unit_comments.extend(r.units);
             Some(r.record)

@@ -6,6 +6,7 @@ mod common;
 
 use hsid_host::closed_loop::{ReferenceError, identify_closed_loop};
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
+use hsid_host::diagnose::Estimator;
 use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
 use hsid_host::fleet::wear::gap;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify};
@@ -37,7 +38,7 @@ fn the_feedback_check_separates_closed_from_open_loop_servos() {
             "seed {seed:2}: closed χ² {:6.1} (lag {:2}), open χ² {:5.1} (lag {:2}), threshold {:.1}",
             c.statistic, c.lag, o.statistic, o.lag, c.threshold
         );
-        if let Some(w) = feedback_warning(&c) {
+        if let Some(w) = feedback_warning(&c, Estimator::OpenLoop) {
             assert!(w.message.contains("hsid identify --reference-column NAME"));
         }
         fired_closed += usize::from(c.fires());

@@ -17,6 +17,7 @@ pub fn increments(r: &Record) -> Record {
         u,
         y,
         time: r.time.get(1..).unwrap_or_default().to_vec(),
+        reference: r.reference.as_ref().map(|v| v[1.min(v.len())..].to_vec()),
     }
 }
 

@@ -99,6 +99,8 @@ pub struct Diagnosis {
     /// Validation simulation of the base model (the paper's structure, borders, `B`, `D` and
     /// poles refit on the estimation data): the error before.
     pub before: Evaluation,
+    /// The estimator of the Hammerstein part of the base model and of every refit.
+    pub estimator: super::model::Estimator,
     /// Whether the reported models have their poles refined.
     pub poles_refined: bool,
     /// Validation simulation of the final model.

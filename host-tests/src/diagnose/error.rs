@@ -3,6 +3,7 @@
 use std::fmt;
 
 use super::dynamics;
+use crate::closed_loop::ReferenceError;
 use crate::identify::IdentifyError;
 
 /// Why a diagnosis could not run.
@@ -58,6 +59,9 @@ pub enum DiagnoseError {
         /// Its neighbours (the segments the input never visits), when known.
         segment: Option<(f64, f64)>,
     },
+    /// The closed-loop estimate from the record's reference failed, or the reference is
+    /// unusable (length, non-finite, constant, too short, a static element).
+    Reference(ReferenceError),
     /// A model class beyond the linear dynamics could not be fitted.
     Dynamics(dynamics::DynamicsError),
     /// A figure or report could not be written.
@@ -69,6 +73,7 @@ impl fmt::Display for DiagnoseError {
         match self {
             DiagnoseError::Identify(e) => write!(f, "identification failed: {e}"),
             DiagnoseError::Dynamics(e) => write!(f, "{e}"),
+            DiagnoseError::Reference(e) => write!(f, "the reference: {e}"),
             DiagnoseError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")
             }

@@ -6,7 +6,10 @@
 //!    paths over the whole interval, persistent excitation, the hold for μ0, saturation,
 //!    quantisation, input levels, and feedback (a closed-loop record) against the base model's
 //!    residual;
-//! 2. identifies the paper's model and simulates it on the validation data;
+//! 2. identifies the paper's model — or, for a record that carries the controller's reference
+//!    ([`Record::with_reference`]), the closed-loop consistent estimate
+//!    ([`model::Estimator`]), for the base model and every refit — and simulates it on the
+//!    validation data;
 //! 3. tests the residual ([`residual`]): whiteness, independence from the input, δ and the
 //!    regressor, structure against the input per path and against the simulated output,
 //!    trend and offset, spectral lines, heavy tails, state dependence, the lag of the
@@ -63,7 +66,7 @@ pub use effects::Effect;
 pub use error::DiagnoseError;
 pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
-pub use model::{Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
+pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
 pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation};
 pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
@@ -125,12 +128,13 @@ fn diagnose_inner(
     let (hold, ne) = (id.hold, est.len());
     let base = model::fit_structure(&Structure::base(), est, &plan.reported)?;
     let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
-    // The feedback check needs an open-loop model's residual on the estimation record.
+    // The feedback check tests the base model's residual on the estimation record.
     let fit = model::evaluate(&base, est, hold..ne, Metric::Simulation);
     warnings.extend(checks::feedback::feedback(
         &est.u[hold.min(ne)..],
         &fit.output[hold.min(ne)..],
         &fit.residual,
+        model::Estimator::of(est),
     ));
     let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
     let inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
@@ -231,7 +235,9 @@ fn diagnose_inner(
         verdict,
         paper,
         before,
-        poles_refined: opts.refine_poles != PoleRefinement::Never,
+        estimator: model::Estimator::of(est),
+        poles_refined: opts.refine_poles != PoleRefinement::Never
+            && model::Estimator::of(est).refines_poles(),
         after,
         after_prediction,
         tests_before,

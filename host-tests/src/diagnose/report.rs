@@ -103,6 +103,9 @@ pub struct DiagnosisJson {
     pub nonlinearity: String,
     /// How estimation and validation data were formed.
     pub data: String,
+    /// The estimator of the Hammerstein part (`open_loop`, or `reference` for the
+    /// closed-loop estimate from the logged reference).
+    pub estimator: super::model::Estimator,
     /// Estimation samples.
     pub estimation_samples: usize,
     /// Validation samples scored.
@@ -193,6 +196,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
     DiagnosisJson {
         nonlinearity: d.nonlinearity.name().into(),
         data: d.data_description.clone(),
+        estimator: d.estimator,
         estimation_samples: d.estimation_samples,
         validation_samples: d.validation_samples,
         warnings: d.warnings.clone(),
@@ -256,6 +260,7 @@ pub fn text(d: &Diagnosis) -> String {
     }
     let _ = writeln!(s);
     let b = &d.base.hammerstein;
+    let _ = writeln!(s, "estimator: {}", d.estimator.describe());
     let _ = writeln!(s, "base model: order {}, poles {}", b.order, poles(&d.base));
     if let Some(p) = &d.paper {
         let _ = writeln!(

@@ -6,6 +6,7 @@ use std::ops::Range;
 use super::error::DiagnoseError;
 use super::model::Record;
 use super::options::Validation;
+use crate::closed_loop::ReferenceError;
 use crate::identify::IdentifyOptions;
 
 /// Estimation and validation data.
@@ -56,6 +57,34 @@ pub fn check_record(
     Ok(())
 }
 
+/// A closed-loop record's reference, if it has one: one finite value per sample, not constant
+/// after the hold, and a two-path element (the closed-loop estimate is for backlash or
+/// switch).
+pub fn check_reference(rec: &Record, id: &IdentifyOptions) -> Result<(), DiagnoseError> {
+    let Some(r) = &rec.reference else {
+        return Ok(());
+    };
+    let err = |e| Err(DiagnoseError::Reference(e));
+    if id.static_nonlinearity {
+        return err(ReferenceError::StaticElement);
+    }
+    if r.len() != rec.len() {
+        return err(ReferenceError::LengthMismatch {
+            u: rec.u.len(),
+            y: rec.y.len(),
+            r: r.len(),
+        });
+    }
+    if let Some(at) = r.iter().position(|v| !v.is_finite()) {
+        return err(ReferenceError::NonFiniteReference { at });
+    }
+    let moving = &r[id.hold.min(r.len())..];
+    if moving.iter().all(|&v| v == moving[0]) {
+        return err(ReferenceError::ConstantReference);
+    }
+    Ok(())
+}
+
 /// Splits `record` (the estimation record, or the whole record for [`Validation::Split`] and
 /// [`Validation::Holdout`]) as `validation` says.
 pub fn split(
@@ -74,6 +103,7 @@ pub fn split(
             need: min_len,
         });
     }
+    check_reference(record, id)?;
     let split = match validation {
         Validation::Separate { record: v, skip } => {
             check_record(v, "validation", u_min, u_max)?;
@@ -136,6 +166,8 @@ pub fn split(
             }
         }
     };
+    // The estimation part alone must still move the reference.
+    check_reference(&split.estimation, id)?;
     if split.estimation.len() < min_len {
         return Err(DiagnoseError::TooShort {
             samples: split.estimation.len(),

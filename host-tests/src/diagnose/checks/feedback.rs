@@ -18,6 +18,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::warning::{Check, Warning, warn};
+use crate::diagnose::model::Estimator;
 use crate::diagnose::residual::result::LEVEL;
 use crate::diagnose::stats::chi2_quantile;
 use crate::identify::{IdentifyError, IdentifyOptions, identify};
@@ -96,33 +97,56 @@ pub fn feedback_test(u: &[f64], simulated: &[f64], residual: &[f64]) -> Option<F
     })
 }
 
-/// The warning of a test that fires.
-pub fn feedback_warning(t: &FeedbackTest) -> Option<Warning> {
+/// The warning of a test that fires, for a model from `estimator`: with the open-loop
+/// estimate, the advice to log the reference and take the closed-loop estimate; with the
+/// closed-loop estimate from the reference, that the base model already is it.
+pub fn feedback_warning(t: &FeedbackTest, estimator: Estimator) -> Option<Warning> {
     t.fires().then(|| {
-        warn(
-            Check::Feedback,
-            format!(
-                "earlier residuals of the open-loop model predict the input (χ² = {:.1} over {} lags, \
-                 threshold {:.1}; strongest at lag {}): the record looks closed-loop (the \
-                 input computed from the measured output), which can bias the open-loop subspace \
-                 estimate and the output-error fit, pulling the poles toward the controller's; \
-                 record an open-loop experiment (an input not computed from the output, e.g. \
-                 hsid excite) or, with the controller's reference logged as a column, take the \
-                 closed-loop estimate: hsid identify --reference-column NAME \
-                 (docs/closed-loop.md); a model far from the data (see the other warnings) can \
-                 also look like feedback",
-                t.statistic, t.lags, t.threshold, t.lag
-            ),
-        )
+        let found = format!(
+            "earlier residuals of the {} model predict the input (χ² = {:.1} over {} lags, \
+             threshold {:.1}; strongest at lag {}): the record looks closed-loop (the input \
+             computed from the measured output)",
+            match estimator {
+                Estimator::OpenLoop => "open-loop",
+                Estimator::Reference => "base",
+            },
+            t.statistic,
+            t.lags,
+            t.threshold,
+            t.lag
+        );
+        let advice = match estimator {
+            Estimator::OpenLoop => {
+                "which can bias the open-loop subspace estimate and the output-error fit, \
+                 pulling the poles toward the controller's; record an open-loop experiment (an \
+                 input not computed from the output, e.g. hsid excite) or, with the \
+                 controller's reference logged as a column, take the closed-loop estimate: hsid \
+                 identify --reference-column NAME (docs/closed-loop.md); a model far from the \
+                 data (see the other warnings) can also look like feedback"
+            }
+            Estimator::Reference => {
+                "as expected with a reference column: the base model and every refit are the \
+                 closed-loop-consistent estimate from the reference (instruments from the \
+                 reference, poles not refined by the output error; docs/closed-loop.md), so \
+                 the feedback does not bias their poles; the input stays correlated with the \
+                 earlier noise, which the controller feeds back"
+            }
+        };
+        warn(Check::Feedback, format!("{found}, {advice}"))
     })
 }
 
-/// The check on an input, the model's simulated output and its residual (the excitation
-/// part, without the hold).
-pub fn feedback(u: &[f64], simulated: &[f64], residual: &[f64]) -> Option<Warning> {
+/// The check on an input, the simulated output and the residual (the excitation part, without
+/// the hold) of a model from `estimator`.
+pub fn feedback(
+    u: &[f64],
+    simulated: &[f64],
+    residual: &[f64],
+    estimator: Estimator,
+) -> Option<Warning> {
     feedback_test(u, simulated, residual)
         .as_ref()
-        .and_then(feedback_warning)
+        .and_then(|t| feedback_warning(t, estimator))
 }
 
 /// The simulated output `ŷ` and the residual `y − ŷ` of the open-loop identification of
@@ -175,7 +199,7 @@ mod tests {
         assert_eq!(t.lag, 3);
         assert!(t.statistic > 200.0 && t.statistic < 350.0, "{t:?}");
         assert!((t.threshold - 23.21).abs() < 0.01, "{t:?}");
-        assert!(feedback(&u, &white(3000, 5), &e).is_some());
+        assert!(feedback(&u, &white(3000, 5), &e, Estimator::OpenLoop).is_some());
     }
 
     #[test]

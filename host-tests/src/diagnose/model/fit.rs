@@ -8,11 +8,12 @@ use crate::diagnose::noise::fit_ar;
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output, rest_state};
 use crate::diagnose::stores::{self, StoresClass};
-use crate::identify::{HostModel, identify};
+use crate::identify::HostModel;
 
 use super::additive::Additive;
 use super::borders::{estimate_x0, refit_borders};
 use super::element::fit_element;
+use super::estimator::{Estimator, estimate};
 use super::extended::ExtendedModel;
 use super::fit_options::{FitOptions, InitialState};
 use super::outliers::detect_outliers;
@@ -91,11 +92,14 @@ pub(super) fn fit_structure_impl(
 ) -> Result<ExtendedModel, DiagnoseError> {
     // Stores start from the linear part refined on the simulation error: the subspace
     // estimate of a slow, well-damped plant can put a lightly damped complex pair where the
-    // plant has two real poles.
+    // plant has two real poles. The closed-loop estimate from a reference is not refined (see
+    // [`Estimator`]).
     let refined;
-    let opts = if s.dynamics.stores().is_some() && !opts.refine_poles {
+    let refine =
+        Estimator::of(rec).refines_poles() && (opts.refine_poles || s.dynamics.stores().is_some());
+    let opts = if refine != opts.refine_poles {
         refined = FitOptions {
-            refine_poles: true,
+            refine_poles: refine,
             ..opts.clone()
         };
         &refined
@@ -104,6 +108,7 @@ pub(super) fn fit_structure_impl(
     };
     let n = rec.len();
     let ud = delay_input(&rec.u, s.delay);
+    let rd = rec.reference.as_ref().map(|r| delay_input(r, s.delay));
     let mut idopts = opts.identify.clone();
     // The subspace estimate is only the start: the poles are refined on the simulation error
     // below and a model too slow for the record is refused there, so a slow plant's pole that
@@ -157,7 +162,7 @@ pub(super) fn fit_structure_impl(
                 }
             }
         }
-        let m = identify(&ud, &target, &idopts).map_err(DiagnoseError::Identify)?;
+        let m = estimate(&ud, &target, rd.as_deref(), &idopts)?;
         let refit = if opts.refit {
             refit_borders(
                 &m,

@@ -25,10 +25,14 @@
 //! samples on a flat part of `g` imputed from the previous iterate), then `g` is fitted from the
 //! simulated Hammerstein output to `y − additive`, then the additive terms to `y − g(·)`, then
 //! the outliers are flagged again; three rounds.
+//!
+//! The Hammerstein part is the open-loop subspace estimate, or, for a record that carries the
+//! controller's reference, the closed-loop consistent estimate ([`estimator`]).
 
 pub mod additive;
 pub mod borders;
 pub mod element;
+pub mod estimator;
 pub mod evaluate;
 pub mod extended;
 pub mod fit;
@@ -42,6 +46,7 @@ pub mod structure;
 
 pub use additive::Additive;
 pub use borders::{BorderBasis, refit_borders};
+pub use estimator::Estimator;
 pub use evaluate::{Evaluation, Metric, evaluate};
 pub use extended::ExtendedModel;
 pub use fit::{fit_structure, fit_structure_fold};

@@ -1,4 +1,5 @@
-//! An input/output record with the time of each sample.
+//! An input/output record with the time of each sample, and the controller's reference when
+//! the record is closed-loop and the reference was logged.
 
 use std::ops::Range;
 
@@ -12,13 +13,30 @@ pub struct Record {
     pub y: Vec<f64>,
     /// Time of each sample, in samples.
     pub time: Vec<f64>,
+    /// The controller's reference logged with a closed-loop record, one value per sample:
+    /// with it the Hammerstein part is the closed-loop consistent estimate
+    /// ([`Estimator::Reference`](super::estimator::Estimator::Reference)).
+    pub reference: Option<Vec<f64>>,
 }
 
 impl Record {
     /// A record whose time is the sample index `0, 1, …`.
     pub fn new(u: Vec<f64>, y: Vec<f64>) -> Self {
         let time = (0..u.len()).map(|t| t as f64).collect();
-        Self { u, y, time }
+        Self {
+            u,
+            y,
+            time,
+            reference: None,
+        }
+    }
+
+    /// A closed-loop record with the controller's reference `r` (one value per sample).
+    pub fn with_reference(u: Vec<f64>, y: Vec<f64>, r: Vec<f64>) -> Self {
+        Self {
+            reference: Some(r),
+            ..Self::new(u, y)
+        }
     }
 
     /// Samples.
@@ -36,7 +54,8 @@ impl Record {
         Record {
             u: self.u[r.clone()].to_vec(),
             y: self.y[r.clone()].to_vec(),
-            time: self.time[r].to_vec(),
+            time: self.time[r.clone()].to_vec(),
+            reference: self.reference.as_ref().map(|v| v[r].to_vec()),
         }
     }
 
@@ -46,11 +65,15 @@ impl Record {
             u: Vec::new(),
             y: Vec::new(),
             time: Vec::new(),
+            reference: self.reference.as_ref().map(|_| Vec::new()),
         };
         for r in ranges {
             out.u.extend_from_slice(&self.u[r.clone()]);
             out.y.extend_from_slice(&self.y[r.clone()]);
             out.time.extend_from_slice(&self.time[r.clone()]);
+            if let (Some(o), Some(v)) = (&mut out.reference, &self.reference) {
+                o.extend_from_slice(&v[r.clone()]);
+            }
         }
         out
     }
