@@ -78,3 +78,25 @@ impl Record {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slices_and_parts_cut_the_reference_like_the_input() {
+        let n = 10;
+        let u: Vec<f64> = (0..n).map(|t| t as f64).collect();
+        let r: Vec<f64> = u.iter().map(|v| 100.0 + v).collect();
+        let rec = Record::with_reference(u, vec![0.0; n], r);
+        let s = rec.slice(2..5);
+        assert_eq!(s.reference, Some(vec![102.0, 103.0, 104.0]));
+        let p = rec.parts(&[0..2, 8..10]);
+        assert_eq!(p.u, vec![0.0, 1.0, 8.0, 9.0]);
+        assert_eq!(p.reference, Some(vec![100.0, 101.0, 108.0, 109.0]));
+        assert_eq!(
+            Record::new(vec![1.0], vec![2.0]).slice(0..1).reference,
+            None
+        );
+    }
+}
