@@ -188,6 +188,7 @@ impl From<DiagnoseError> for Failure {
             DiagnoseError::InvalidSplit(_) => (Class::Settings, "invalid_split"),
             DiagnoseError::InvalidHoldout { .. } => (Class::Settings, "invalid_holdout"),
             DiagnoseError::Dynamics(_) => (Class::Identification, "dynamics"),
+            DiagnoseError::Reference(_) => (Class::Data, "reference"),
             DiagnoseError::Output(_) => (Class::Identification, "output"),
         };
         Failure::new(class, kind, e.to_string())
