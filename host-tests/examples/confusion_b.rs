@@ -4,15 +4,32 @@
 //! plants of orders 1–4, three sample times, 10–40 dB, Table I and ordinary inputs.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example confusion_b -- [SEEDS] [CLEAN_SEEDS] [THREADS]
+//! cargo run --release -p hsid-host --example confusion_b -- [SEEDS] [CLEAN_SEEDS] [THREADS] [CLASS [SEED]]
 //! ```
 //!
 //! Prints one line per run (stderr), then the table (true class × named first, with the
 //! data checks that fired), named right per class and overall, false alarms on clean runs,
 //! the steps that raised the validation error, and the wall time.
+//!
+//! With `CLASS` (a class name as in the table, e.g. `static_hysteresis`) and optionally
+//! `SEED`, only the matching scenarios of the family run, and each one's whole diagnosis
+//! report (`hsid_host::diagnose::report::text`) is printed after its line; the table then
+//! covers only those runs.
 
+use hsid_host::diagnose::{diagnose, report};
+use hsid_host::family_b::generate::generate;
 use hsid_host::family_b::run::{family, run_all};
+use hsid_host::family_b::scenario::Scenario;
 use hsid_host::family_b::table::{confusion_table, summary};
+
+/// Prints the whole diagnosis report of one scenario (diagnosed again, for the filter).
+fn print_report(s: &Scenario) {
+    let data = generate(s);
+    match diagnose(&data.record, &data.validation, &data.options) {
+        Ok(d) => eprintln!("{}", report::text(&d)),
+        Err(e) => eprintln!("diagnosis failed: {e}"),
+    }
+}
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -22,10 +39,25 @@ fn main() {
         .next()
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
-    let scenarios = family(seeds, clean);
+    let class = args.next();
+    let seed: Option<u64> = args.next().and_then(|s| s.parse().ok());
+    let filtered = class.is_some();
+    let mut scenarios = family(seeds, clean);
+    scenarios.retain(|s| {
+        class.as_deref().is_none_or(|c| s.class.name() == c) && seed.is_none_or(|n| s.seed == n)
+    });
+    if filtered && scenarios.is_empty() {
+        eprintln!("no scenario matches class {class:?} seed {seed:?}: names are as in the table");
+        std::process::exit(2);
+    }
     eprintln!("{} runs on {threads} threads", scenarios.len());
     let clock = std::time::Instant::now();
-    let outcomes = run_all(&scenarios, threads, &|o| eprintln!("{}", o.line()));
+    let outcomes = run_all(&scenarios, threads, &|o| {
+        eprintln!("{}", o.line());
+        if filtered {
+            print_report(&o.scenario);
+        }
+    });
     println!("{}", confusion_table(&outcomes));
     print!("{}", summary(&outcomes));
     println!(

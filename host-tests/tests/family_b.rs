@@ -218,3 +218,28 @@ fn diagnosis_names_these_seeds_right() {
         }
     }
 }
+
+/// The element must carry its own gain: on a static plant whose current model fits the inner
+/// hold-out poorly (clean seed 8: order 4, smoothed input), the relay's gain came from its
+/// refit of `G` (its borders collapsed onto their mean lost nothing), so `hysteresis` is not
+/// added and no step raises the validation error; a backlash behind a static model whose
+/// element fit also improves `G` (static_hysteresis seed 6) is still named first.
+#[test]
+fn hysteresis_is_named_only_for_its_memory() {
+    let clean = run_one(&Scenario::new(Class::Clean, 8));
+    assert!(clean.error.is_none(), "{}", clean.line());
+    assert!(
+        !clean.named.contains(&Effect::Hysteresis),
+        "{}",
+        clean.line()
+    );
+    assert!(clean.harmful.is_empty(), "{}", clean.line());
+    let element = run_one(&Scenario::new(Class::StaticHysteresis, 6));
+    assert_eq!(
+        element.first(),
+        Some(Effect::Hysteresis),
+        "{}",
+        element.line()
+    );
+    assert!(element.harmful.is_empty(), "{}", element.line());
+}

@@ -1,17 +1,29 @@
 //! An element with memory on a static model: the play operator and the relay with borders on
 //! the static model's knots, each fitted with `G` by simulation error from the static
 //! estimate.
+//!
+//! The element's fit refits `G` by simulation error as well, so its inner hold-out gain over
+//! the current model can come from the refit of `G` alone, with borders that barely differ:
+//! a static plant whose current fit is poor on the inner hold-out would then be named
+//! hysteretic. The gain must be the memory's: the fitted element is scored again with its
+//! two borders collapsed onto their mean (the same `G`, the same static curve, no memory),
+//! and the element is proposed only if it beats that collapse significantly (one-sided
+//! Diebold–Mariano at the catalog's level). The size of the gain is still judged against the
+//! current model (`effects::choose`); a real element whose fit also improves `G` keeps the
+//! whole gain.
 
-use super::candidate::Candidate;
+use super::candidate::{Candidate, compare};
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
-use crate::diagnose::model::{Dynamics, Metric};
+use crate::diagnose::model::{Dynamics, Metric, evaluate};
+use crate::diagnose::residual::LEVEL;
 use crate::hysteresis::ElementKind;
 
 impl Proposal<'_> {
     /// The play operator (backlash), then the relay with borders (switch), on a static model
-    /// without an output map or stores (the element's fit holds `G` and the borders alone).
+    /// without an output map or stores (the element's fit holds `G` and the borders alone);
+    /// `None` when the element's memory does not carry its gain (see the module doc).
     pub fn hysteresis(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let c = self.current;
         let plain = c.output_map_segments.is_none() && c.dynamics == Dynamics::Linear;
@@ -25,6 +37,27 @@ impl Proposal<'_> {
         .into_iter()
         .map(|(label, kind)| (label.to_string(), self.with(|s| s.element = Some(kind))))
         .collect();
-        self.best_of(Effect::Hysteresis, opts, Metric::Simulation)
+        let cand = self.best_of(Effect::Hysteresis, opts, Metric::Simulation)?;
+        Ok(cand.filter(|c| self.memory_carries_gain(c)))
+    }
+
+    /// Whether the candidate's element beats its own memoryless collapse on the first fold's
+    /// block significantly (see the module doc).
+    fn memory_carries_gain(&self, cand: &Candidate) -> bool {
+        if cand.inner_model.hysteresis.is_none() {
+            return true;
+        }
+        let mut collapsed = cand.inner_model.clone();
+        if let Some(ch) = collapsed.hysteresis.as_mut() {
+            for (a, d) in ch.border_asc.iter_mut().zip(ch.border_desc.iter_mut()) {
+                let mid = 0.5 * (*a + *d);
+                (*a, *d) = (mid, mid);
+            }
+        }
+        let (est, range) = (self.holdout.est, self.holdout.range.clone());
+        let with = evaluate(&cand.inner_model, est, range.clone(), Metric::Simulation);
+        let without = evaluate(&collapsed, est, range.clone(), Metric::Simulation);
+        let (_, p) = compare(&without, &with);
+        p < LEVEL
     }
 }
