@@ -323,10 +323,7 @@ fn refuse_bad_flags(a: &DiagnoseArgs) -> Result<(), Failure> {
         return Ok(());
     };
     if a.nonlinearity == NonlinearityArg::Static {
-        return Err(format!(
-            "--reference-column {name} estimates a two-path element (backlash or switch): drop --nonlinearity static"
-        )
-        .into());
+        return Err(crate::identify::reference::static_refused(name));
     }
     if a.integrating {
         return Err(format!(

@@ -4,7 +4,7 @@ mod auto;
 mod page;
 mod prepare;
 mod records;
-mod reference;
+pub mod reference;
 mod simulation;
 mod stream;
 

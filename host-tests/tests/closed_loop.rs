@@ -4,13 +4,13 @@
 
 mod common;
 
+use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, identify_closed_loop};
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
 use hsid_host::diagnose::Estimator;
 use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
 use hsid_host::fleet::wear::gap;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify};
-use hsid_host::numerics::poly::roots;
 
 const SEEDS: u64 = 20;
 
@@ -74,19 +74,6 @@ fn a_weak_controller_is_found_less_often_than_a_strong_one() {
     let (w, s) = (mean(&weak), mean(&strong));
     eprintln!("mean χ²: K_p = 0.3 {w:.1}, K_p = 1.5 {s:.1}");
     assert!(s > 3.0 * w, "weak {w}, strong {s}");
-}
-
-/// The true plant's upper pole (`G(q)` of the simulator, `1 − 1.8858 q⁻¹ + 0.9048 q⁻²`).
-fn true_pole() -> (f64, f64) {
-    roots(&[1.0, -1.8858, 0.9048]).unwrap()[0]
-}
-
-/// The pole with the largest imaginary part.
-fn upper_pole(m: &HostModel) -> (f64, f64) {
-    m.poles().into_iter().fold(
-        (f64::NAN, f64::NEG_INFINITY),
-        |a, p| if p.1 > a.1 { p } else { a },
-    )
 }
 
 /// The element's borders at the knots as the two-path model sees them after the hold at

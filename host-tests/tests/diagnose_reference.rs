@@ -4,13 +4,15 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, ServoSpec, simulate_servo};
 use hsid_host::diagnose::{
     Check, DiagnoseError, DiagnoseOptions, Diagnosis, Estimator, Nonlinearity, Record, Validation,
     diagnose,
 };
-use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::numerics::poly::roots;
+use hsid_host::identify::IdentifyOptions;
 
 const SEEDS: u64 = 10;
 
@@ -22,19 +24,6 @@ fn options(spec: &ServoSpec) -> DiagnoseOptions {
     // steps refit through the same estimator (the command-line test takes one).
     opts.max_steps = 0;
     opts
-}
-
-/// The true plant's upper pole (`G(q)` of the simulator, `1 − 1.8858 q⁻¹ + 0.9048 q⁻²`).
-fn true_pole() -> (f64, f64) {
-    roots(&[1.0, -1.8858, 0.9048]).unwrap()[0]
-}
-
-/// The pole with the largest imaginary part.
-fn upper_pole(m: &HostModel) -> (f64, f64) {
-    m.poles().into_iter().fold(
-        (f64::NAN, f64::NEG_INFINITY),
-        |a, p| if p.1 > a.1 { p } else { a },
-    )
 }
 
 /// `|mean(p̂ − p)|` of the upper poles, as a complex number.

@@ -13,16 +13,22 @@ use crate::failure::{Failure, outln};
 pub const ESTIMATOR: &str =
     "closed-loop subspace (PI-MOESP on instruments from the reference column), not refined";
 
+/// The refusal of `--reference-column NAME` with `--nonlinearity static` (identify's and
+/// diagnose's).
+pub fn static_refused(name: &str) -> Failure {
+    format!(
+        "--reference-column {name} estimates a two-path element (backlash or switch): drop --nonlinearity static"
+    )
+    .into()
+}
+
 /// Refuses what the closed-loop estimate does not cover: a static element, several records.
 pub fn refuse_bad_flags(a: &IdentifyArgs) -> Result<(), Failure> {
     let Some(name) = &a.reference_column else {
         return Ok(());
     };
     if a.nonlinearity == NonlinearityArg::Static {
-        return Err(format!(
-            "--reference-column {name} estimates a two-path element (backlash or switch): drop --nonlinearity static"
-        )
-        .into());
+        return Err(static_refused(name));
     }
     if a.data.len() > 1 {
         return Err(format!(
