@@ -102,36 +102,31 @@ pub fn feedback_test(u: &[f64], simulated: &[f64], residual: &[f64]) -> Option<F
 /// closed-loop estimate from the reference, that the base model already is it.
 pub fn feedback_warning(t: &FeedbackTest, estimator: Estimator) -> Option<Warning> {
     t.fires().then(|| {
-        let found = format!(
-            "earlier residuals of the {} model predict the input (χ² = {:.1} over {} lags, \
-             threshold {:.1}; strongest at lag {}): the record looks closed-loop (the input \
-             computed from the measured output)",
-            match estimator {
-                Estimator::OpenLoop => "open-loop",
-                Estimator::Reference => "base",
-            },
-            t.statistic,
-            t.lags,
-            t.threshold,
-            t.lag
-        );
-        let advice = match estimator {
-            Estimator::OpenLoop => {
+        let (model, advice) = match estimator {
+            Estimator::OpenLoop => (
+                "open-loop",
                 "which can bias the open-loop subspace estimate and the output-error fit, \
                  pulling the poles toward the controller's; record an open-loop experiment (an \
                  input not computed from the output, e.g. hsid excite) or, with the \
                  controller's reference logged as a column, take the closed-loop estimate: hsid \
                  identify --reference-column NAME (docs/closed-loop.md); a model far from the \
-                 data (see the other warnings) can also look like feedback"
-            }
-            Estimator::Reference => {
+                 data (see the other warnings) can also look like feedback",
+            ),
+            Estimator::Reference => (
+                "base",
                 "as expected with a reference column: the base model and every refit are the \
                  closed-loop-consistent estimate from the reference (instruments from the \
                  reference, poles not refined by the output error; docs/closed-loop.md), so \
                  the feedback does not bias their poles; the input stays correlated with the \
-                 earlier noise, which the controller feeds back"
-            }
+                 earlier noise, which the controller feeds back",
+            ),
         };
+        let found = format!(
+            "earlier residuals of the {model} model predict the input (χ² = {:.1} over {} lags, \
+             threshold {:.1}; strongest at lag {}): the record looks closed-loop (the input \
+             computed from the measured output)",
+            t.statistic, t.lags, t.threshold, t.lag
+        );
         warn(Check::Feedback, format!("{found}, {advice}"))
     })
 }

@@ -44,17 +44,15 @@ impl Proposal<'_> {
     /// Whether the candidate's element beats its own memoryless collapse on the first fold's
     /// block significantly (see the module doc).
     fn memory_carries_gain(&self, cand: &Candidate) -> bool {
-        if cand.inner_model.hysteresis.is_none() {
-            return true;
-        }
         let mut collapsed = cand.inner_model.clone();
-        if let Some(ch) = collapsed.hysteresis.as_mut() {
-            for (a, d) in ch.border_asc.iter_mut().zip(ch.border_desc.iter_mut()) {
-                let mid = 0.5 * (*a + *d);
-                (*a, *d) = (mid, mid);
-            }
+        let Some(ch) = collapsed.hysteresis.as_mut() else {
+            return true;
+        };
+        for (a, d) in ch.border_asc.iter_mut().zip(ch.border_desc.iter_mut()) {
+            let mid = 0.5 * (*a + *d);
+            (*a, *d) = (mid, mid);
         }
-        let (est, range) = (self.holdout.est, self.holdout.range.clone());
+        let (est, range) = (self.holdout.est, &self.holdout.range);
         let with = evaluate(&cand.inner_model, est, range.clone(), Metric::Simulation);
         let without = evaluate(&collapsed, est, range.clone(), Metric::Simulation);
         let (_, p) = compare(&without, &with);
