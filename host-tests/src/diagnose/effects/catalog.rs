@@ -122,7 +122,7 @@ impl Effect {
     pub fn extension(self) -> &'static str {
         match self {
             Effect::OffsetDrift => {
-                "polynomial output trend in time, degree chosen on the estimation hold-out"
+                "polynomial output trend in time, or an offset with an exponential settling, chosen on the estimation hold-out"
             }
             Effect::InputDelay => "input shifted by d samples, d chosen on the estimation hold-out",
             Effect::UnmodeledDynamics => "higher model order, chosen on the estimation hold-out",
@@ -155,7 +155,9 @@ impl Effect {
     pub fn complexity(self, s: &Structure, base_order: usize) -> f64 {
         match self {
             Effect::InputDelay => 1.0,
-            Effect::OffsetDrift => s.trend_degree.map_or(1, |d| d + 1) as f64,
+            Effect::OffsetDrift => {
+                (s.trend_degree.map_or(1, |d| d + 1) + 2 * usize::from(s.settling.is_some())) as f64
+            }
             Effect::PeriodicDisturbance => 3.0,
             Effect::Outliers => 2.0,
             Effect::OutputNonlinearity => s.output_map_segments.unwrap_or(3) as f64 + 1.0,
@@ -195,7 +197,13 @@ pub fn has_evidence(effect: Effect, tests: &TestSet) -> bool {
 /// The effect's setting, in words, for a structure that has it.
 pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> String {
     match effect {
-        Effect::OffsetDrift => format!("trend degree {}", s.trend_degree.unwrap_or(0)),
+        Effect::OffsetDrift => {
+            match model.and_then(|m| m.additive.settling.map(|(k, _)| k * m.additive.scale)) {
+                Some(t) => format!("offset and exponential settling, time constant {t:.0} samples"),
+                None if s.settling.is_some() => "offset and exponential settling".to_string(),
+                None => format!("trend degree {}", s.trend_degree.unwrap_or(0)),
+            }
+        }
         Effect::InputDelay => format!("delay {} samples", s.delay),
         Effect::UnmodeledDynamics => match s.horizon {
             Some(h) => format!("order {}, horizons f = p = {h}", s.order.unwrap_or(0)),

@@ -123,6 +123,7 @@ pub(super) fn fit_structure_impl(
     }
     let mut additive = Additive {
         trend: vec![0.0; s.trend_degree.map_or(0, |d| d + 1)],
+        settling: s.settling.map(|k| (k, 0.0)),
         frequencies: s.frequencies.clone(),
         sin_cos: vec![(0.0, 0.0); s.frequencies.len()],
         center: opts.time_center,

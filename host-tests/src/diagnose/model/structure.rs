@@ -16,6 +16,11 @@ pub struct Structure {
     pub horizon: Option<usize>,
     /// Degree of the polynomial output trend in time (`offset_drift`).
     pub trend_degree: Option<usize>,
+    /// Time constant of an exponential settling term `c · exp(−(t − t₀)/T)` added to the
+    /// trend (`offset_drift`), in half-lengths of the estimation record (`t₀` its first
+    /// sample): a sensor or plant warming up after it is switched on.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settling: Option<f64>,
     /// Frequencies of additive sinusoids, radians per sample (`periodic_disturbance`).
     pub frequencies: Vec<f64>,
     /// Segments of the monotone output map (`output_nonlinearity`).
@@ -72,6 +77,7 @@ impl Structure {
             order: None,
             horizon: None,
             trend_degree: None,
+            settling: None,
             frequencies: Vec::new(),
             output_map_segments: None,
             noise_ar_order: None,
