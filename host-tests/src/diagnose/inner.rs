@@ -19,6 +19,13 @@ pub struct InnerValidation {
     pub block: Range<usize>,
     /// The blocks scored: the single block, or the cross-validation folds.
     pub folds: Vec<Range<usize>>,
+    /// With a single block at the record's end: a block of its length inside the record (see
+    /// [`Holdout::interior_block`]), which scores the steps after a term in time is added.
+    pub interior: Option<Range<usize>>,
+    /// Whether the blocks can score extensions: the base structure fitted without the block
+    /// simulates it within 3 × the in-sample error, or at least two cross-validation blocks
+    /// do.
+    pub scorable: bool,
 }
 
 impl InnerValidation {
@@ -38,25 +45,39 @@ impl InnerValidation {
         let (_, _, bins, count) =
             residual::regressor(&est.u, &id.knots_asc, &id.knots_desc, shared);
         let block = Holdout::choose_block(est, hold, block_len, &bins, count, estimated);
-        let folds: Vec<Range<usize>> = if scorable(est, fit, base, &block) {
-            vec![block.clone()]
+        let (folds, scorable): (Vec<Range<usize>>, bool) = if scorable(est, fit, base, &block) {
+            (vec![block.clone()], true)
         } else {
             let good = cross_folds(est, fit, base);
             if good.len() >= 2 {
-                good
+                (good, true)
             } else {
-                vec![block.clone()]
+                (vec![block.clone()], false)
             }
         };
-        Self { block, folds }
+        let interior = (folds.len() == 1 && block.end == ne)
+            .then(|| Holdout::interior_block(est, hold, block.len(), &bins, count))
+            .flatten();
+        Self {
+            block,
+            folds,
+            interior,
+            scorable,
+        }
     }
 
     /// How the settings and effects are chosen, in words, for `ne` estimation samples.
     pub fn describe(&self, ne: usize) -> String {
         let block = &self.block;
         if self.folds.len() == 1 {
+            let interior = self.interior.as_ref().map_or(String::new(), |r| {
+                format!(
+                    " (once a trend or settling in time is added, without samples {}..{} inside the record, across which it interpolates)",
+                    r.start, r.end
+                )
+            });
             format!(
-                "every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them",
+                "every setting and every effect is chosen on the estimation data: fitted without its samples {}..{} (of {ne}), scored on them{interior}",
                 block.start, block.end
             )
         } else {
@@ -72,6 +93,33 @@ impl InnerValidation {
                 block.end
             )
         }
+    }
+}
+
+/// Whether the base structure fitted without the blocks `folds` simulates them (pooled) worse
+/// than the base model `base` fits the whole record by more than the smallest gain an
+/// extension must show (`1/√(1 − min_gain)` in RMSE): an extension could then gain on the
+/// inner score by a better fit of the same dynamics, not by the effect it adds.
+pub fn weak(
+    est: &Record,
+    fit: &FitOptions,
+    base: &ExtendedModel,
+    folds: &[Range<usize>],
+    min_gain: f64,
+) -> bool {
+    let (hold, ne) = (fit.identify.hold, est.len());
+    let in_sample = model::evaluate(base, est, hold..ne, Metric::Simulation).rmse;
+    let holdout = Holdout::with_folds(est, folds.to_vec(), fit);
+    match holdout.evaluate_folds(&Structure::base(), Metric::Simulation, false) {
+        // A NaN on either side (a fit that cannot simulate) counts as weak.
+        Ok(Some((_, ev))) => {
+            let limit = in_sample / (1.0 - min_gain).max(1e-9).sqrt();
+            !matches!(
+                ev.rmse.partial_cmp(&limit),
+                Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+            )
+        }
+        _ => true,
     }
 }
 

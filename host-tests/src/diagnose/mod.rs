@@ -121,7 +121,7 @@ fn diagnose_inner(
         None => String::new(),
     };
     let mut warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
-    let plan = fit_plan::FitPlan::new(opts, &id, est);
+    let mut plan = fit_plan::FitPlan::new(opts, &id, est);
     let paper = model::fit_structure(&Structure::base(), est, &plan.paper)
         .map(|m| model::evaluate(&m, vrec, vrange.clone(), Metric::Simulation))
         .ok();
@@ -137,10 +137,22 @@ fn diagnose_inner(
         model::Estimator::of(est),
     ));
     let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
-    let inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
+    let mut inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
+    // The inner fits keep the subspace poles unless asked; when those fitted without the
+    // blocks cannot simulate them (an unstable or far-off subspace estimate), the poles are
+    // refined there too, as in the reported models, before the record is declared unscorable.
+    let mut refined_inner = "";
+    if !plan.inner.refine_poles
+        && model::Estimator::of(est).refines_poles()
+        && (!inner.scorable || inner::weak(est, &plan.inner, &base, &inner.folds, opts.min_gain))
+    {
+        plan.inner.refine_poles = true;
+        inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
+        refined_inner = "; these fits refine their poles on the simulation error (with the subspace poles alone, the base model fitted without the blocks simulated them worse than the minimum gain allows)";
+    }
     let holdout = effects::Holdout::with_folds(est, inner.folds.clone(), &plan.inner);
     let description = format!(
-        "{}{segment_choice}; {}",
+        "{}{segment_choice}; {}{refined_inner}",
         data.description,
         inner.describe(ne)
     );
@@ -163,6 +175,10 @@ fn diagnose_inner(
     };
     let delay_holdout = (delay_folds.len() >= 2)
         .then(|| effects::Holdout::with_folds(est, delay_folds, &plan.inner));
+    let interior = inner
+        .interior
+        .clone()
+        .map(|r| (effects::Holdout::new(est, r.clone(), &plan.inner), r));
     let context = steps::Context {
         est,
         validation: vrec,
@@ -174,6 +190,7 @@ fn diagnose_inner(
         warnings: &warnings,
         dead: &dead,
         delay_holdout: delay_holdout.as_ref(),
+        interior: interior.as_ref().map(|(h, r)| (h, r)),
     };
     let mut p = steps::Progress {
         current: Structure::base(),

@@ -85,7 +85,10 @@ pub enum PoleRefinement {
     /// Never: every model is the subspace estimate with its borders, `B` and `D` refit.
     Never,
     /// In the models reported (the base model and the model after each step), not in the
-    /// inner hold-out fits that choose the effects (they are many).
+    /// inner hold-out fits that choose the effects (they are many) — unless the base model
+    /// fitted that way without the hold-out blocks simulates them worse than the minimum gain
+    /// allows ([`inner::weak`](crate::diagnose::inner::weak)), or not within 3 × the in-sample
+    /// error: then in those too.
     Final,
     /// In every fit.
     Always,

@@ -217,6 +217,33 @@ impl<'a> Holdout<'a> {
         }
     }
 
+    /// A block of `len` samples inside the record, away from its ends: the one nearest its
+    /// middle (stepped by a quarter of the length) whose removal leaves every excited knot
+    /// segment excited; `None` if there is none, or if no such block has samples on both of
+    /// its sides. Terms in time fitted without it interpolate across it instead of
+    /// extrapolating past the record's end.
+    pub fn interior_block(
+        est: &Record,
+        hold: usize,
+        len: usize,
+        bins: &[usize],
+        count: usize,
+    ) -> Option<std::ops::Range<usize>> {
+        let n = est.len();
+        let len = len.min(n.saturating_sub(hold + 2) / 2);
+        if len == 0 {
+            return None;
+        }
+        let middle = hold + (n - hold - len) / 2;
+        let step = (len / 4).max(1);
+        (0..=(n - hold) / step)
+            .flat_map(|i| [middle.checked_sub(i * step), Some(middle + i * step)])
+            .flatten()
+            .filter(|&a| a > hold && a + len < n)
+            .find(|&a| leaves_every_segment(bins, count, a, a + len))
+            .map(|a| a..a + len)
+    }
+
     /// Fits `s` on every fold's fitting part and scores it on the blocks; `None` when a fitted
     /// model has a mode too slow to be validated (see [`too_slow`]).
     pub fn score(
@@ -234,4 +261,38 @@ impl<'a> Holdout<'a> {
 pub fn too_slow(m: &ExtendedModel, n: usize) -> bool {
     // Stores replace the linear part's simulation and drain by construction.
     m.stores.is_none() && m.spectral_radius() >= 1.0 - 0.5 / n.max(4) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a record of 1000 samples whose bins are all one segment, the interior block of 300
+    /// after a hold of 100 is the middle one, 400..700. With a second segment visited only at
+    /// 450..550, the middle block and the one a quarter before it would leave it unvisited, so
+    /// the block moves a quarter after it, 475..775. A block asked longer than half the record
+    /// after the hold is shortened to leave samples on both of its sides.
+    #[test]
+    fn the_interior_block_is_the_middle_one_that_leaves_every_segment() -> Result<(), String> {
+        let n = 1000;
+        let rec = Record::new(vec![0.0; n], vec![0.0; n]);
+        let flat = vec![0usize; n];
+        let middle = Holdout::interior_block(&rec, 100, 300, &flat, 1);
+        if middle != Some(400..700) {
+            return Err(format!("flat bins: {middle:?}"));
+        }
+        let mut bins = flat.clone();
+        for b in &mut bins[450..550] {
+            *b = 1;
+        }
+        let moved = Holdout::interior_block(&rec, 100, 300, &bins, 2);
+        if moved != Some(475..775) {
+            return Err(format!("segment 1 at 450..550: {moved:?}"));
+        }
+        let long = Holdout::interior_block(&rec, 100, 900, &flat, 1);
+        if long != Some(325..774) {
+            return Err(format!("a block of 900 asked: {long:?}"));
+        }
+        Ok(())
+    }
 }
