@@ -195,15 +195,18 @@ fn clean_output(d: &hsid_host::family_b::Data) -> Vec<f64> {
 }
 
 /// Diagnosis outcomes that hold today on fixed seeds: nothing added on two clean runs (Table
-/// I with a backlash, a multisine on a static element), the delay named first, `hysteresis`
-/// behind a static model, the saturating output named `output_nonlinearity` with the
-/// saturation check, and the integrating check on an integrating plant.
+/// I with a backlash, a multisine on a static element), the delay named first, the settling
+/// drift of seed 3 named `offset_drift` (a polynomial fitted without the record's last 30 %
+/// did not carry it there), `hysteresis` behind a static model, the saturating output named
+/// `output_nonlinearity` with the saturation check, and the integrating check on an
+/// integrating plant.
 #[test]
 fn diagnosis_names_these_seeds_right() {
     let cases = [
         (Class::Clean, 1),
         (Class::Clean, 2),
-        (Class::Delay, 1),
+        (Class::Delay, 3),
+        (Class::Drift, 3),
         (Class::StaticHysteresis, 1),
         (Class::Saturation, 1),
         (Class::Integrating, 2),
@@ -219,21 +222,18 @@ fn diagnosis_names_these_seeds_right() {
     }
 }
 
-/// The element must carry its own gain: on a static plant whose current model fits the inner
-/// hold-out poorly (clean seed 8: order 4, smoothed input), the relay's gain came from its
-/// refit of `G` (its borders collapsed onto their mean lost nothing), so `hysteresis` is not
-/// added and no step raises the validation error; a backlash behind a static model whose
-/// element fit also improves `G` (static_hysteresis seed 6) is still named first.
+/// The element must carry its own gain, and no extension may gain by a better fit of the same
+/// dynamics: on a static plant whose base model fitted without the inner block (subspace
+/// poles) simulates it poorly (clean seed 8: order 4, smoothed input), the relay's gain came
+/// from its refit of `G` (its borders collapsed onto their mean lost nothing), and a delay
+/// gained 46 % there; with the inner fits' poles refined, nothing is added. A backlash behind a
+/// static model whose element fit also improves `G` (static_hysteresis seed 6) is still named
+/// first.
 #[test]
 fn hysteresis_is_named_only_for_its_memory() {
     let clean = run_one(&Scenario::new(Class::Clean, 8));
     assert!(clean.error.is_none(), "{}", clean.line());
-    assert!(
-        !clean.named.contains(&Effect::Hysteresis),
-        "{}",
-        clean.line()
-    );
-    assert!(clean.harmful.is_empty(), "{}", clean.line());
+    assert!(clean.named.is_empty(), "{}", clean.line());
     let element = run_one(&Scenario::new(Class::StaticHysteresis, 6));
     assert_eq!(
         element.first(),
