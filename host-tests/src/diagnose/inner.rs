@@ -26,9 +26,37 @@ pub struct InnerValidation {
     /// simulates it within 3 × the in-sample error, or at least two cross-validation blocks
     /// do.
     pub scorable: bool,
+    /// Whether the inner fits refine their poles because, with the subspace poles, the blocks
+    /// were weak or unscorable (see [`InnerValidation::choose_refining`]).
+    pub refined_poles: bool,
 }
 
 impl InnerValidation {
+    /// [`InnerValidation::choose`], then, if the inner fits keep the subspace poles
+    /// (`fit.refine_poles` unset) and the estimator refines poles at all, again with the poles
+    /// refined in `fit` when the base structure fitted that way without the blocks cannot
+    /// score them or is [`weak`] there: an extension must not gain on the inner score by a
+    /// better fit of the same dynamics.
+    pub fn choose_refining(
+        est: &Record,
+        opts: &DiagnoseOptions,
+        fit: &mut FitOptions,
+        base: &ExtendedModel,
+    ) -> Self {
+        let inner = Self::choose(est, opts, fit, base);
+        let refine = !fit.refine_poles
+            && model::Estimator::of(est).refines_poles()
+            && (!inner.scorable || weak(est, fit, base, &inner.folds, opts.min_gain));
+        if !refine {
+            return inner;
+        }
+        fit.refine_poles = true;
+        Self {
+            refined_poles: true,
+            ..Self::choose(est, opts, fit, base)
+        }
+    }
+
     /// Chooses the blocks for the estimation record `est`, fitted with `fit` (knots chosen),
     /// its base model `base` fitted on all of it.
     pub fn choose(
@@ -63,11 +91,22 @@ impl InnerValidation {
             folds,
             interior,
             scorable,
+            refined_poles: false,
         }
     }
 
     /// How the settings and effects are chosen, in words, for `ne` estimation samples.
     pub fn describe(&self, ne: usize) -> String {
+        let refined = if self.refined_poles {
+            "; these fits refine their poles on the simulation error (with the subspace poles alone, the base model fitted without the blocks simulated them worse than the minimum gain allows)"
+        } else {
+            ""
+        };
+        format!("{}{refined}", self.describe_blocks(ne))
+    }
+
+    /// How the blocks are chosen and scored, in words.
+    fn describe_blocks(&self, ne: usize) -> String {
         let block = &self.block;
         if self.folds.len() == 1 {
             let interior = self.interior.as_ref().map_or(String::new(), |r| {

@@ -137,22 +137,10 @@ fn diagnose_inner(
         model::Estimator::of(est),
     ));
     let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
-    let mut inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
-    // The inner fits keep the subspace poles unless asked; when those fitted without the
-    // blocks cannot simulate them (an unstable or far-off subspace estimate), the poles are
-    // refined there too, as in the reported models, before the record is declared unscorable.
-    let mut refined_inner = "";
-    if !plan.inner.refine_poles
-        && model::Estimator::of(est).refines_poles()
-        && (!inner.scorable || inner::weak(est, &plan.inner, &base, &inner.folds, opts.min_gain))
-    {
-        plan.inner.refine_poles = true;
-        inner = inner::InnerValidation::choose(est, opts, &plan.inner, &base);
-        refined_inner = "; these fits refine their poles on the simulation error (with the subspace poles alone, the base model fitted without the blocks simulated them worse than the minimum gain allows)";
-    }
+    let inner = inner::InnerValidation::choose_refining(est, opts, &mut plan.inner, &base);
     let holdout = effects::Holdout::with_folds(est, inner.folds.clone(), &plan.inner);
     let description = format!(
-        "{}{segment_choice}; {}{refined_inner}",
+        "{}{segment_choice}; {}",
         data.description,
         inner.describe(ne)
     );
@@ -178,7 +166,7 @@ fn diagnose_inner(
     let interior = inner
         .interior
         .clone()
-        .map(|r| (effects::Holdout::new(est, r.clone(), &plan.inner), r));
+        .map(|r| effects::Holdout::new(est, r, &plan.inner));
     let context = steps::Context {
         est,
         validation: vrec,
@@ -190,7 +178,7 @@ fn diagnose_inner(
         warnings: &warnings,
         dead: &dead,
         delay_holdout: delay_holdout.as_ref(),
-        interior: interior.as_ref().map(|(h, r)| (h, r)),
+        interior: interior.as_ref(),
     };
     let mut p = steps::Progress {
         current: Structure::base(),

@@ -44,9 +44,10 @@ pub struct Context<'a> {
     /// be cross-validated: a delay shows only at the input's changes, which one block may
     /// hold few of, while the test that found it used the whole record.
     pub delay_holdout: Option<&'a Holdout<'a>>,
-    /// A single held-out block inside the record and that block, scoring the steps once the
-    /// structure has a trend or settling in time (see [`InnerValidation::interior`](super::inner::InnerValidation::interior)).
-    pub interior: Option<(&'a Holdout<'a>, &'a Range<usize>)>,
+    /// A single held-out block inside the record, scoring the steps once the structure has a
+    /// trend or settling in time (see
+    /// [`InnerValidation::interior`](super::inner::InnerValidation::interior)).
+    pub interior: Option<&'a Holdout<'a>>,
 }
 
 /// What the loop has done so far.
@@ -83,7 +84,7 @@ impl Context<'_> {
     /// order fitted it in the second family's drift seed 3, and raised the validation error).
     fn inner(&self, current: &Structure) -> (&Holdout<'_>, &Range<usize>) {
         match self.interior {
-            Some((h, b)) if current.trend_degree.is_some() => (h, b),
+            Some(h) if current.trend_degree.is_some() => (h, &h.range),
             _ => (self.holdout, self.block),
         }
     }
