@@ -115,6 +115,10 @@ impl fmt::Display for IdentifyError {
                 f,
                 "{e}; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) with one pole fixed at z = 1 (hsid identify --integrating; the borders are then the output's rate per sample)"
             ),
+            IdentifyError::Core(e @ hsid::Error::ZeroStaticGain) => write!(
+                f,
+                "{e}; an estimate of more states than the record supports (a slowly sampled plant, an output curve) can also put a zero near z = 1: try a lower --order"
+            ),
             IdentifyError::Core(e) => write!(f, "{e}"),
             IdentifyError::LengthMismatch { u, y } => {
                 write!(f, "u has {u} samples but y has {y}: give one y per u")

@@ -31,6 +31,7 @@
 use crate::identify::{IdentifyError, IdentifyOptions};
 
 pub mod arx;
+pub mod base_order;
 pub mod bench;
 pub mod checks;
 pub mod delay;
@@ -122,11 +123,12 @@ fn diagnose_inner(
     };
     let mut warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
     let mut plan = fit_plan::FitPlan::new(opts, &id, est);
+    let (base, lowered) = base_order::fit_base(est, opts, &mut id, &mut plan)?;
+    warnings.extend(lowered);
     let paper = model::fit_structure(&Structure::base(), est, &plan.paper)
         .map(|m| model::evaluate(&m, vrec, vrange.clone(), Metric::Simulation))
         .ok();
     let (hold, ne) = (id.hold, est.len());
-    let base = model::fit_structure(&Structure::base(), est, &plan.reported)?;
     let before = model::evaluate(&base, vrec, vrange.clone(), Metric::Simulation);
     // The feedback check tests the base model's residual on the estimation record.
     let fit = model::evaluate(&base, est, hold..ne, Metric::Simulation);

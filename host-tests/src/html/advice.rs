@@ -78,6 +78,14 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
             "For an integrating plant, diagnose its stable part with --integrating (the \
              output's increments); for a drifting sensor, let offset_drift model it.",
         ),
+        Check::Order => (
+            "The estimate of the declared order has a static gain that cannot be told from \
+             zero, so it cannot be normalised to G(1) = 1: the record supports fewer states \
+             (or the plant differentiates its input, which is outside the model class). The \
+             diagnosis started from the highest order that can be normalised.",
+            "Give that order (--order); the unmodeled_dynamics step says whether more states \
+             pay on the extended model. Sample faster or record longer to support more.",
+        ),
         Check::Feedback => (
             "The input is correlated with earlier residuals: it was computed from the measured \
              output (closed loop), which biases the open-loop estimate toward the controller.",

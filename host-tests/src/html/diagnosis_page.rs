@@ -8,7 +8,7 @@ use super::figures::drawn;
 use super::headline::{Fact, Headline, Table};
 use super::model_words::{model_facts, sentence};
 use super::{HtmlError, InlineFigure, Page, Reproduction};
-use crate::diagnose::{Diagnosis, Evaluation, Nonlinearity, figures};
+use crate::diagnose::{Check, Diagnosis, Evaluation, Nonlinearity, figures};
 use crate::model_file::Units;
 use crate::units::unit_report;
 
@@ -91,7 +91,13 @@ pub fn diagnosis_page(
         Fact::new("dead time", d.dead_time.to_string()),
     ];
     facts.extend(model_facts(m.order, &r));
-    let mut checks = data_rows(&d.warnings, &CHECKS);
+    // The order check has a row only when it lowered the declared order: it runs on a
+    // declared order alone.
+    let mut ran = CHECKS.to_vec();
+    if d.warnings.iter().any(|w| w.check == Check::Order) {
+        ran.push(Check::Order);
+    }
+    let mut checks = data_rows(&d.warnings, &ran);
     checks.extend(test_rows(&d.tests_estimation, "estimation residual"));
     checks.extend(test_rows(&d.tests_before, "validation, before"));
     checks.extend(test_rows(&d.tests_after, "validation, after"));

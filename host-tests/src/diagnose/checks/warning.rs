@@ -27,6 +27,9 @@ pub enum Check {
     /// The output keeps a unit root (an ARX unit-root test does not reject it): an
     /// integrating plant.
     Integrating,
+    /// The estimate of the declared order can be normalised: its static gain `G(1)` is told
+    /// from zero.
+    Order,
 }
 
 impl Check {
@@ -42,6 +45,7 @@ impl Check {
             Check::InputLevels => "input_levels",
             Check::Feedback => "feedback",
             Check::Integrating => "integrating",
+            Check::Order => "order",
         }
     }
 }
