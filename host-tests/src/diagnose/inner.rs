@@ -174,6 +174,41 @@ fn scorable(est: &Record, fit: &FitOptions, base: &ExtendedModel, r: &Range<usiz
     })
 }
 
+/// The hold-outs the steps are scored on (see [`steps::Context`](super::steps::Context)).
+pub struct Holdouts<'a> {
+    /// The inner validation's blocks.
+    pub main: Holdout<'a>,
+    /// The dead-time test's delay scored by cross-validation over the whole record: when the
+    /// test finds extra dead time and the inner validation is the single block, and at least
+    /// two folds are scorable.
+    pub delay: Option<Holdout<'a>>,
+    /// The block inside the record ([`InnerValidation::interior`]).
+    pub interior: Option<Holdout<'a>>,
+}
+
+impl InnerValidation {
+    /// The hold-outs of these blocks on `est`, fitted with `fit`; `extra_dead_time` is the
+    /// dead-time test's delay beyond the base model's.
+    pub fn holdouts<'a>(
+        &self,
+        est: &'a Record,
+        fit: &'a FitOptions,
+        base: &ExtendedModel,
+        extra_dead_time: usize,
+    ) -> Holdouts<'a> {
+        let delay_folds = if extra_dead_time > 0 && self.folds.len() == 1 {
+            cross_folds(est, fit, base)
+        } else {
+            Vec::new()
+        };
+        Holdouts {
+            main: Holdout::with_folds(est, self.folds.clone(), fit),
+            delay: (delay_folds.len() >= 2).then(|| Holdout::with_folds(est, delay_folds, fit)),
+            interior: self.interior.clone().map(|r| Holdout::new(est, r, fit)),
+        }
+    }
+}
+
 /// The blocks of leave-block-out cross-validation over tenths of the estimation record that
 /// can be scored: their removal leaves every knot segment excited, the first is not one of
 /// them with an estimated initial state, and the base model fitted without each simulates it

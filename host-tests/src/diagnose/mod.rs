@@ -140,7 +140,6 @@ fn diagnose_inner(
     ));
     let tests_before = residual_tests(&base, vrec, vrange.clone(), &before, shared);
     let inner = inner::InnerValidation::choose_refining(est, opts, &mut plan.inner, &base);
-    let holdout = effects::Holdout::with_folds(est, inner.folds.clone(), &plan.inner);
     let description = format!(
         "{}{segment_choice}; {}",
         data.description,
@@ -156,31 +155,19 @@ fn diagnose_inner(
         opts.max_delay + 1,
         delay::model_dead_time(&base.hammerstein, opts.max_delay + 1),
     );
-    // The dead-time test's delay is scored by cross-validation over the whole record when the
-    // record can be cross-validated (see `steps::Context::delay_holdout`).
-    let delay_folds = if dead.extra() > 0 && inner.folds.len() == 1 {
-        inner::cross_folds(est, &plan.inner, &base)
-    } else {
-        Vec::new()
-    };
-    let delay_holdout = (delay_folds.len() >= 2)
-        .then(|| effects::Holdout::with_folds(est, delay_folds, &plan.inner));
-    let interior = inner
-        .interior
-        .clone()
-        .map(|r| effects::Holdout::new(est, r, &plan.inner));
+    let holdouts = inner.holdouts(est, &plan.inner, &base, dead.extra());
     let context = steps::Context {
         est,
         validation: vrec,
         range: vrange.clone(),
         opts,
-        holdout: &holdout,
+        holdout: &holdouts.main,
         block: &inner.block,
         reported: &plan.reported,
         warnings: &warnings,
         dead: &dead,
-        delay_holdout: delay_holdout.as_ref(),
-        interior: interior.as_ref(),
+        delay_holdout: holdouts.delay.as_ref(),
+        interior: holdouts.interior.as_ref(),
     };
     let mut p = steps::Progress {
         current: Structure::base(),
