@@ -2,41 +2,37 @@
 //! sums a few columns at a time instead of stored whole.
 
 use super::Layout;
+use super::gram::Source;
 use super::triangular::forward_substitution_columns;
-use crate::accumulation::{Accumulator, RowSums};
 use crate::linalg::at;
-use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 
 /// Columns `c0 .. c0 + width` of `X = L₁₁⁻¹ G_{Z_f, [Z_p; Ȳ_f]}` into `out` (column-major,
 /// leading dimension `f·m`): one pass over the Gram, then forward substitution.
 ///
 /// The pass takes from each block only the entries of the cross Gram in the wanted columns
-/// (centred as [`for_each_entry`](super::gram::for_each_entry) centres them, with the same roundings): the blocks of a past
+/// (centred as the Gram's diagonal blocks are, with the same roundings,): the blocks of a past
 /// block row `a` and a future one `b` give `Z_p(a) × Z_f(b)` (and `Ȳ_p(a) × Z_f(b)`), the
 /// blocks of two future block rows give `Z_f × ȳ_f` in both orders.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn cross_block<T: Real, const M: usize, const K: usize>(
-    acc: &Accumulator<T, M, K>,
-    knots: &Knots<T, M>,
-    basis: Basis,
-    lay: Layout,
-    sums: Option<&RowSums<T, M, K>>,
+    src: &Source<'_, T, M, K>,
     lff: &[T],
     c0: usize,
     width: usize,
     out: &mut [T],
 ) {
+    let Source {
+        acc,
+        knots,
+        basis,
+        lay,
+        sums,
+    } = *src;
     let (fm, p, m) = (lay.fm(), lay.p, lay.m);
     let pm = p * m;
     let in_range = |col: usize| col >= c0 && col < c0 + width;
-    // Block rows whose Z_p channels, or whose ȳ (in Ȳ_f), fall in the wanted columns.
     let py = lay.py();
-    let zp = |b: usize| b < p && c0 < (b + 1) * m && b * m < c0 + width;
-    let yp = |b: usize| b < p && py > 0 && in_range(pm + b);
-    let yf = |a: usize| a >= p && in_range(pm + py + a - p);
-    let want =
-        |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)));
+    let want = wanted_blocks(lay, c0, width);
     let inv_j = T::one() / acc.effective_columns().max(T::one());
     // Row sums of block row `a` (zero without centring or past `K`), and `Σȳ / j`.
     let zero = [T::zero(); M];
@@ -84,6 +80,20 @@ pub(super) fn cross_block<T: Real, const M: usize, const K: usize>(
         }
     });
     forward_substitution_columns(lff, out, fm, width);
+}
+
+/// Whether the block of block rows `(x, y)` holds entries of the columns `c0 .. c0 + width`
+/// of the cross Gram: the block rows whose `Z_p` channels, or whose `ȳ` (in `Ȳ_p` or `Ȳ_f`),
+/// fall in those columns.
+fn wanted_blocks(lay: Layout, c0: usize, width: usize) -> impl Fn(usize, usize) -> bool {
+    let (p, m, py) = (lay.p, lay.m, lay.py());
+    let pm = p * m;
+    let in_range = move |col: usize| col >= c0 && col < c0 + width;
+    // Block rows whose Z_p channels, or whose ȳ (in Ȳ_f), fall in the wanted columns.
+    let zp = move |b: usize| b < p && c0 < (b + 1) * m && b * m < c0 + width;
+    let yp = move |b: usize| b < p && py > 0 && in_range(pm + b);
+    let yf = move |a: usize| a >= p && in_range(pm + py + a - p);
+    move |x: usize, y: usize| (x < p && y >= p && (zp(x) || yp(x))) || (x >= p && (yf(x) || yf(y)))
 }
 
 /// The `m` entries of `out` from `from` on (none if `from` is `None` or out of range).

@@ -3,21 +3,92 @@
 
 use super::Layout;
 use crate::accumulation::{Accumulator, RowSums};
-use crate::linalg::at;
+use crate::error::{Error, Stage};
+use crate::linalg::{all_finite, at, packed, set};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 
+/// Where the Gram's entries come from: the accumulator's blocks of lagged sums (read with
+/// `knots` and `basis`), the layout of the rows, and the row sums that centre them (if the
+/// solve centres).
+pub(super) struct Source<'a, T, const M: usize, const K: usize> {
+    /// The accumulated lagged sums.
+    pub acc: &'a Accumulator<T, M, K>,
+    /// The knots the regressor was accumulated with.
+    pub knots: &'a Knots<T, M>,
+    /// The regressor's basis.
+    pub basis: Basis,
+    /// The rows of `[Z_f; Z_p; Ȳ_p; Ȳ_f]`.
+    pub lay: Layout,
+    /// The row sums, if the rows are centred.
+    pub sums: Option<&'a RowSums<T, M, K>>,
+}
+
+impl<'a, T, const M: usize, const K: usize> Source<'a, T, M, K> {
+    /// The source of the accumulator's Gram for `knots`, `basis` and `lay`, centred with
+    /// `sums` if given.
+    pub(super) fn new(
+        acc: &'a Accumulator<T, M, K>,
+        knots: &'a Knots<T, M>,
+        basis: Basis,
+        lay: Layout,
+        sums: Option<&'a RowSums<T, M, K>>,
+    ) -> Self {
+        Self {
+            acc,
+            knots,
+            basis,
+            lay,
+            sums,
+        }
+    }
+}
+
+/// Step 1 of the solve: `G_{Z_f Z_f}` into the packed `lff`, `G_QQ` (`Q = [Z_p; Ȳ_f]`) into
+/// the packed `schur` and its leading `W_p` block into `wgram`, in one pass. Both must be
+/// finite: an overflow of the sums (y² above the scalar's range) is reported as such, before
+/// any factorisation (a non-finite cross block `G_{Z_f Q}` shows in the Schur complement).
+pub(super) fn diagonal_blocks<T: Real, const M: usize, const K: usize>(
+    src: &Source<'_, T, M, K>,
+    lff: &mut [T],
+    schur: &mut [T],
+    wgram: &mut [T],
+) -> Result<(), Error> {
+    let (fm, w) = (src.lay.fm(), src.lay.w());
+    for_each_entry(
+        src,
+        |_, _| true,
+        |r, c, v| {
+            if r < fm {
+                set(lff, packed(r, c), v);
+            } else if c >= fm {
+                set(schur, packed(r - fm, c - fm), v);
+                if r < fm + w {
+                    set(wgram, packed(r - fm, c - fm), v);
+                }
+            }
+        },
+    );
+    if !all_finite(lff) || !all_finite(schur) {
+        return Err(Error::Overflow { stage: Stage::Sums });
+    }
+    Ok(())
+}
+
 /// Visits every entry `(r, c, v)`, `r >= c`, of the Gram of `[Z_f; Z_p; Ȳ_f]` (rows centred
-/// if `sums` is given), block by block from the accumulator.
-pub(super) fn for_each_entry<T: Real, const M: usize, const K: usize>(
-    acc: &Accumulator<T, M, K>,
-    knots: &Knots<T, M>,
-    basis: Basis,
-    lay: Layout,
-    sums: Option<&RowSums<T, M, K>>,
+/// if `src` has row sums), block by block from the accumulator.
+fn for_each_entry<T: Real, const M: usize, const K: usize>(
+    src: &Source<'_, T, M, K>,
     want: impl Fn(usize, usize) -> bool,
     mut sink: impl FnMut(usize, usize, T),
 ) {
+    let Source {
+        acc,
+        knots,
+        basis,
+        lay,
+        sums,
+    } = *src;
     let m = lay.m;
     let inv_j = T::one() / acc.effective_columns().max(T::one());
     let mut put = |ra: usize, rb: usize, v: T| sink(ra.max(rb), ra.min(rb), v);

@@ -13,15 +13,19 @@
 //! far above 1 for directions that carry state. The order is the number of whitened singular
 //! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
 
+mod bf;
+mod blocks;
 mod cross;
 mod dense;
 mod gram;
 mod layout;
 mod order;
 mod projection;
+mod rounding;
 mod schedule;
 mod schur;
 mod triangular;
+mod weighting;
 mod workspace;
 
 pub(crate) use layout::Layout;
