@@ -1,0 +1,80 @@
+//! PI-MOESP (eq. 11) from the accumulated Gram: the projection, its SVD and the order.
+//!
+//! With `M = [Z_f; Z_p; Ȳ_f] = L Q` (LQ factorisation) the projection of eq. (11) is
+//! `O_f = Ȳ_f Φᵀ(ΦΦᵀ)⁻¹Φ Π⊥_{Z_f} = L₃₂ Q₂`, so `O_f` and `L₃₂` have the same singular values
+//! and left singular vectors. `L` is the Cholesky factor of `M Mᵀ`, which the accumulator
+//! provides block by block; `Q` is never formed. The SVD of the `f × p·m` block `L₃₂` is taken
+//! through the QR of `L₃₂ᵀ`, leaving an `f × f` SVD.
+//!
+//! **Order selection** ([`Order::Auto`]): the residual block `L₃₃` estimates the part of `Ȳ_f`
+//! that no input explains. Whitening `L₃₂` with it, `W = √((j − d)/(p·m)) · L₃₃⁻¹ L₃₂`
+//! (`d = (f+p)·m`), gives singular values near 1 for directions that carry only noise
+//! (between `1 ± √(f/(p·m))`, the Marchenko–Pastur edges for an `f × p·m` noise matrix) and
+//! far above 1 for directions that carry state. The order is the number of whitened singular
+//! values above [`AUTO_ORDER_MARGIN`] times the upper edge, capped at `f − 1`.
+
+mod bf;
+mod blocks;
+mod cross;
+mod dense;
+mod gram;
+mod layout;
+mod order;
+mod projection;
+mod rounding;
+mod schedule;
+mod schur;
+mod triangular;
+mod weighting;
+mod workspace;
+
+pub(crate) use layout::Layout;
+pub(crate) use order::select_order;
+pub(crate) use projection::{Projection, pi_moesp};
+pub(crate) use workspace::too_small;
+pub use workspace::{workspace_len, workspace_len_with_block};
+
+/// The subspace weighting (Remark 4): which instruments and which weights enter the SVD that
+/// gives `Γ_f`. All four share the accumulation, the Schur complement and the `B`, `D` step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Method {
+    /// PI-MOESP, the paper's eq. (11): past inputs as instruments, SVD of `L₃₂`.
+    #[default]
+    PiMoesp,
+    /// PO-MOESP: past inputs and past outputs `[Z_p; Ȳ_p]` as instruments, SVD of `L₃₂`.
+    PoMoesp,
+    /// N4SID (unit weights): SVD of the oblique projection of `Ȳ_f` along `Z_f` on
+    /// `W_p = [Z_p; Ȳ_p]`, i.e. of `L₃₂ L₂₂⁻¹ chol(W_p W_pᵀ)`.
+    N4sid,
+    /// CVA: PO-MOESP with the left weight `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` (canonical correlations);
+    /// `Γ_f = L_yy U₁ S₁^½`.
+    Cva,
+}
+
+impl Method {
+    /// Whether past outputs enter the instruments.
+    pub const fn past_outputs(self) -> bool {
+        !matches!(self, Method::PiMoesp)
+    }
+}
+
+/// How the model order is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Order {
+    /// From the whitened singular values (see the [module docs](self)).
+    #[default]
+    Auto,
+    /// Given by the user (`1 <= n < f`).
+    Fixed(usize),
+}
+
+/// Margin over the noise-only edge `1 + √(f/(p·m))` that a whitened singular value must clear
+/// to count as a state direction in [`Order::Auto`].
+pub const AUTO_ORDER_MARGIN: f64 = 1.5;
+
+/// Columns of each of the two column blocks of the workspace. While the Schur complement is
+/// formed, the blocks, `B_f`'s place and the scratch together hold panels of
+/// `L₁₁⁻¹ G_{Z_f,[Z_p; Ȳ_f]}` (see the solve's `Schedule`) instead of the whole cross Gram.
+pub const SCHUR_BLOCK: usize = 32;
