@@ -29,9 +29,42 @@ pub struct Outcome {
     /// when the first step's metric is the one-step prediction.
     pub floor: f64,
     /// Steps whose validation error after is above their error before.
-    pub harmful: Vec<Effect>,
+    pub harmful: Vec<Harm>,
     /// Wall time of the diagnosis, ms.
     pub millis: u128,
+}
+
+/// A step that raised the validation error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Harm {
+    /// The effect added.
+    pub effect: Effect,
+    /// Validation error before the step, in the step's metric.
+    pub before: f64,
+    /// Validation error after it.
+    pub after: f64,
+    /// One-sided p-value of the raise (paired Diebold–Mariano on the validation samples,
+    /// [`Step::p_worse`](crate::diagnose::Step::p_worse)).
+    pub p_worse: f64,
+}
+
+impl Harm {
+    /// Whether the raise is significant at 5 %.
+    pub fn significant(&self) -> bool {
+        self.p_worse < 0.05
+    }
+
+    /// In words: `outliers 0.012402 → 0.012548, +1.18 %, p 0.21`.
+    pub fn describe(&self) -> String {
+        format!(
+            "{} {:.6} → {:.6}, +{:.2} %, p {:.2}",
+            self.effect.name(),
+            self.before,
+            self.after,
+            100.0 * (self.after / self.before - 1.0),
+            self.p_worse
+        )
+    }
 }
 
 impl Outcome {
@@ -51,7 +84,7 @@ impl Outcome {
         let named: Vec<&str> = self.named.iter().map(|e| e.name()).collect();
         let fired: Vec<&str> = self.fired.iter().map(|c| c.name()).collect();
         format!(
-            "{} {:<17} seed {:>2} | n {} ts {:.2} {:<9} {:<8} {:<15} snr {:>4.1} dB | named {:<36} | checks {:<32} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful {} | {} ms{}",
+            "{} {:<17} seed {:>2} | n {} ts {:.2} {:<9} {:<8} {:<15} snr {:>4.1} dB | named {:<36} | checks {:<32} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful {}{} | {} ms{}",
             if self.right() { "ok  " } else { "MISS" },
             s.class.name(),
             s.seed,
@@ -77,6 +110,12 @@ impl Outcome {
             self.floor,
             self.error_after_first / self.floor,
             self.harmful.len(),
+            if self.harmful.is_empty() {
+                String::new()
+            } else {
+                let h: Vec<String> = self.harmful.iter().map(Harm::describe).collect();
+                format!(" ({})", h.join("; "))
+            },
             self.millis,
             self.error
                 .as_ref()
@@ -119,7 +158,12 @@ pub fn run_one(s: &Scenario) -> Outcome {
                 .steps
                 .iter()
                 .filter(|s| s.error_after > s.error_before)
-                .map(|s| s.effect)
+                .map(|s| Harm {
+                    effect: s.effect,
+                    before: s.error_before,
+                    after: s.error_after,
+                    p_worse: s.p_worse,
+                })
                 .collect();
         }
     }

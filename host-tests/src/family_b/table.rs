@@ -143,6 +143,15 @@ pub fn summary(outcomes: &[Outcome]) -> String {
         "steps that raised the validation error: {harmful} of {steps} steps added, in {runs} of {} runs",
         outcomes.len()
     );
+    let significant = outcomes
+        .iter()
+        .flat_map(|o| &o.harmful)
+        .filter(|h| h.significant())
+        .count();
+    let _ = writeln!(
+        s,
+        "of those, raised significantly (paired Diebold–Mariano on the validation samples, one-sided p < 0.05): {significant}"
+    );
     resolution_lines(&mut s, &with);
     let errors = outcomes.iter().filter(|o| o.error.is_some()).count();
     let _ = writeln!(
