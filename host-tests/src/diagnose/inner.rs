@@ -133,6 +133,27 @@ impl InnerValidation {
             )
         }
     }
+
+    /// The hold-outs of these blocks on `est`, fitted with `fit`; `extra_dead_time` is the
+    /// dead-time test's delay beyond the base model's.
+    pub fn holdouts<'a>(
+        &self,
+        est: &'a Record,
+        fit: &'a FitOptions,
+        base: &ExtendedModel,
+        extra_dead_time: usize,
+    ) -> Holdouts<'a> {
+        let delay_folds = if extra_dead_time > 0 && self.folds.len() == 1 {
+            cross_folds(est, fit, base)
+        } else {
+            Vec::new()
+        };
+        Holdouts {
+            main: Holdout::with_folds(est, self.folds.clone(), fit),
+            delay: (delay_folds.len() >= 2).then(|| Holdout::with_folds(est, delay_folds, fit)),
+            interior: self.interior.clone().map(|r| Holdout::new(est, r, fit)),
+        }
+    }
 }
 
 /// Whether the base structure fitted without the blocks `folds` simulates them (pooled) worse
@@ -184,29 +205,6 @@ pub struct Holdouts<'a> {
     pub delay: Option<Holdout<'a>>,
     /// The block inside the record ([`InnerValidation::interior`]).
     pub interior: Option<Holdout<'a>>,
-}
-
-impl InnerValidation {
-    /// The hold-outs of these blocks on `est`, fitted with `fit`; `extra_dead_time` is the
-    /// dead-time test's delay beyond the base model's.
-    pub fn holdouts<'a>(
-        &self,
-        est: &'a Record,
-        fit: &'a FitOptions,
-        base: &ExtendedModel,
-        extra_dead_time: usize,
-    ) -> Holdouts<'a> {
-        let delay_folds = if extra_dead_time > 0 && self.folds.len() == 1 {
-            cross_folds(est, fit, base)
-        } else {
-            Vec::new()
-        };
-        Holdouts {
-            main: Holdout::with_folds(est, self.folds.clone(), fit),
-            delay: (delay_folds.len() >= 2).then(|| Holdout::with_folds(est, delay_folds, fit)),
-            interior: self.interior.clone().map(|r| Holdout::new(est, r, fit)),
-        }
-    }
 }
 
 /// The blocks of leave-block-out cross-validation over tenths of the estimation record that

@@ -9,9 +9,9 @@ use crate::diagnose::model::Metric;
 
 /// Time constants of the settling term tried, in half-lengths of the estimation record, in
 /// steps of √2: from a settling over the record's first tenth to one still far from its level
-/// at the end (close to a ramp there). Chosen on the hold-out like the degree: a time constant estimated with
-/// the dynamics is traded against slow poles, and on the fitting part alone it came out at
-/// ramp-like values where the hold-out preferred a settling.
+/// at the end (close to a ramp there). Chosen on the hold-out like the degree: a time
+/// constant estimated with the dynamics is traded against slow poles, and on the fitting part
+/// alone it came out at ramp-like values where the hold-out preferred a settling.
 pub const SETTLING: [f64; 9] = [0.125, 0.177, 0.25, 0.354, 0.5, 0.707, 1.0, 1.414, 2.0];
 
 impl Proposal<'_> {
