@@ -159,6 +159,7 @@ impl Context<'_> {
             order: p.model.hammerstein.order,
             f: p.current.horizon.unwrap_or(self.reported.identify.f),
             max_delay: self.opts.max_delay,
+            min_gain: self.opts.min_gain,
             residual: &ev.residual,
             input: &self.est.u[hold..],
             tests: &tests,

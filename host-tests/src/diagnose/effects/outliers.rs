@@ -14,8 +14,9 @@ impl Proposal<'_> {
     ///
     /// Two settings are scored on the inner hold-out: the current model with the flagged
     /// samples left out of the error, and the model re-estimated with them replaced by its own
-    /// output. The re-estimation is chosen only when it beats the kept model significantly
-    /// (Diebold–Mariano at the diagnosis's level, on the samples neither flags): replacing samples by the model's output
+    /// output. The re-estimation is chosen only when it beats the kept model by the rule every
+    /// step meets (Diebold–Mariano at the diagnosis's level, on the samples neither flags, and
+    /// at least the minimum gain): replacing samples by the model's output
     /// also pulls the estimate towards the model, and on spikes that did not bias it the
     /// re-estimate is no better and can be marginally worse on new data.
     pub fn outliers(&self) -> Result<Option<Candidate>, DiagnoseError> {
@@ -42,7 +43,7 @@ impl Proposal<'_> {
         let chosen = match (kept, refit) {
             (Some(k), Some(r)) => {
                 let (gain, p) = compare_common(&k.evaluation, &r.evaluation);
-                let (mut win, lose) = if p < LEVEL && gain > 0.0 {
+                let (mut win, lose) = if p < LEVEL && gain >= self.min_gain {
                     (r, k)
                 } else {
                     (k, r)

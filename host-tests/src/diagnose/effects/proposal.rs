@@ -25,6 +25,8 @@ pub struct Proposal<'a> {
     pub f: usize,
     /// Largest delay tried.
     pub max_delay: usize,
+    /// The least relative MSE reduction a step needs ([`DiagnoseOptions::min_gain`](crate::diagnose::DiagnoseOptions::min_gain)).
+    pub min_gain: f64,
     /// In-sample residual of the current model on the estimation record (after the hold).
     pub residual: &'a [f64],
     /// Input over the same samples.
