@@ -1,8 +1,9 @@
 //! The hysteresis model fitted by simulation error on a servo driven by an ordinary input
 //! (smoothed random, many reversals inside the range, no Table I sweeps), 20 dB SNR, fixed
 //! seeds: the validation NRMSE against the noise floor's and the gap, from the two-path and
-//! from the static subspace estimate; and the true parameters, which the fit must match.
-//! Run time: about 2 s in release (16 fits of 3300 samples).
+//! from the static subspace estimate; the true parameters, which the fit must match; and the
+//! pole radius the fit is given, which it must keep.
+//! Run time: about 1 s in release (18 fits of 3300 samples).
 
 use std::time::Instant;
 
@@ -95,6 +96,71 @@ fn switch_from_an_ordinary_input() -> Outcome {
         assert!(ratio < before, "seed {seed}: {ratio} ≥ {before}");
         assert!(ratio < 1.3, "seed {seed}: NRMSE/floor {ratio}");
     }
+    Ok(())
+}
+
+/// The pole radius the fit admits: outside (0, 1] is refused; a start at or beyond it is
+/// refused with its radius; a radius between the start's and the unconstrained optimum's keeps
+/// the fitted `G` inside it, at a cost between the start's and the unconstrained one's (the
+/// backlash servo, seed 1, from the static estimate, whose pole the fit moves outwards).
+#[test]
+fn the_fit_keeps_g_inside_the_pole_radius_it_is_given() -> Outcome {
+    use hsid_host::hysteresis::HysteresisError;
+    let servo = Servo {
+        kind: ElementKind::Backlash,
+        width: 0.6,
+        snr_db: 20.0,
+    };
+    let est = servo.record(LEN, 1);
+    let init = identify(&est.u, &est.y, &options(true))?;
+    let fit_with = |r: f64| {
+        let opts = FitOptions {
+            max_pole_radius: r,
+            ..FitOptions::new(servo.kind)
+        };
+        fit_hysteresis(&est.u, &est.y, &init, Start::Static, &opts)
+    };
+    let radius = |f: &HysteresisFit| {
+        f.model
+            .poles()
+            .iter()
+            .map(|(re, im)| re.hypot(*im))
+            .fold(0.0, f64::max)
+    };
+    for r in [0.0, 1.5, f64::NAN] {
+        match fit_with(r) {
+            Err(HysteresisError::PoleRadius(_)) => {}
+            other => return Err(format!("radius {r}: {other:?}").into()),
+        }
+    }
+    let start = init.spectral_radius();
+    match fit_with(start) {
+        Err(HysteresisError::StartTooSlow { radius, limit }) => {
+            assert!(
+                (radius - start).abs() < 1e-9 && limit == start,
+                "{radius} {limit}"
+            );
+        }
+        other => return Err(format!("limit at the start's radius {start}: {other:?}").into()),
+    }
+    let free = fit_with(1.0)?;
+    let free_radius = radius(&free);
+    println!("start radius {start:.6}, unconstrained optimum {free_radius:.6}");
+    assert!(
+        free_radius > start + 1e-4,
+        "the optimum is not slower than the start"
+    );
+    let limit = 0.5 * (start + free_radius);
+    let held = fit_with(limit)?;
+    println!(
+        "limit {limit:.6}: radius {:.6}, cost {:.4} (start {:.4}, unconstrained {:.4})",
+        radius(&held),
+        held.cost,
+        held.initial_cost,
+        free.cost
+    );
+    assert!(radius(&held) < limit);
+    assert!(held.cost < held.initial_cost && held.cost >= free.cost);
     Ok(())
 }
 

@@ -39,6 +39,16 @@ pub enum HysteresisError {
     InvalidStart(String),
     /// The starting model does not simulate (its `F(q)` is unstable or the borders cross).
     StartDoesNotSimulate,
+    /// The starting model is stable, but has a pole at or beyond the radius the fit admits
+    /// ([`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius)).
+    StartTooSlow {
+        /// The start's spectral radius.
+        radius: f64,
+        /// The radius admitted.
+        limit: f64,
+    },
+    /// [`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius) is not in (0, 1].
+    PoleRadius(f64),
     /// The parameters ran away or became non-finite.
     Diverged {
         /// Iteration (from 1).
@@ -72,6 +82,14 @@ impl fmt::Display for HysteresisError {
             ),
             HysteresisError::StartDoesNotSimulate => f.write_str(
                 "the starting model does not simulate (unstable linear part, or crossing borders): start from a stable subspace estimate",
+            ),
+            HysteresisError::StartTooSlow { radius, limit } => write!(
+                f,
+                "the starting model has a pole of radius {radius:.6}, at or beyond the {limit:.6} admitted (a mode slower than the record can validate): a longer record, or a lower order"
+            ),
+            HysteresisError::PoleRadius(r) => write!(
+                f,
+                "the largest pole radius admitted is {r}, which is not in (0, 1]: give 1 to admit every stable linear part"
             ),
             HysteresisError::Diverged { iteration } => write!(
                 f,

@@ -33,15 +33,21 @@ pub struct FitOptions {
     pub max_iter: usize,
     /// Whether `G` has a direct feed-through (usually not for a sampled plant).
     pub feedthrough: bool,
+    /// The fit admits only `G` whose poles lie strictly inside this radius: 1 admits every
+    /// stable `G`; below 1 keeps out modes slower than the record can validate (a pole at
+    /// 0.99997 on 2400 samples acts as a drift), so the fit finds the best model among those
+    /// instead of one that must then be refused.
+    pub max_pole_radius: f64,
 }
 
 impl FitOptions {
-    /// A fit of `kind` with 60 iterations and a strictly proper `G`.
+    /// A fit of `kind` with 60 iterations and a strictly proper, stable `G`.
     pub fn new(kind: ElementKind) -> Self {
         Self {
             kind,
             max_iter: 60,
             feedthrough: false,
+            max_pole_radius: 1.0,
         }
     }
 }
@@ -156,7 +162,7 @@ pub fn fit_hysteresis_skipping(
             .collect();
         r.iter().all(|v| v.is_finite()).then_some(r)
     };
-    let admissible = |th: &[f64]| admissible(&layout, th);
+    let admissible = |th: &[f64]| admissible(&layout, th, opts.max_pole_radius);
     let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-9);
     let typical: Vec<f64> = (0..layout.len())
         .map(|j| {
@@ -184,6 +190,16 @@ pub fn fit_hysteresis_skipping(
         exhausted: Exhausted::ReturnBest,
         ..base
     };
+    if !(f64::MIN_POSITIVE..=1.0).contains(&opts.max_pole_radius) {
+        return Err(HysteresisError::PoleRadius(opts.max_pole_radius));
+    }
+    let radius = spectral_radius(&layout.linear().polynomials(&th0[layout.plant()]).f);
+    if radius < 1.0 && radius >= opts.max_pole_radius {
+        return Err(HysteresisError::StartTooSlow {
+            radius,
+            limit: opts.max_pole_radius,
+        });
+    }
     if !admissible(&th0) {
         return Err(HysteresisError::StartDoesNotSimulate);
     }
@@ -211,14 +227,14 @@ pub fn fit_hysteresis_skipping(
     })
 }
 
-/// A stable `F(q)`, and for a backlash `H_a ≤ H_d` at every knot (the play operator's
-/// condition).
-fn admissible(layout: &Layout, th: &[f64]) -> bool {
+/// `F(q)`'s roots inside `max_radius` (1: stable), and for a backlash `H_a ≤ H_d` at every
+/// knot (the play operator's condition).
+fn admissible(layout: &Layout, th: &[f64], max_radius: f64) -> bool {
     let p = layout.linear().polynomials(&th[layout.plant()]);
     let ordered = layout.kind == ElementKind::Switch
         || th[layout.asc()]
             .iter()
             .zip(&th[layout.desc()])
             .all(|(a, d)| a <= d);
-    ordered && spectral_radius(&p.f) < 1.0
+    ordered && spectral_radius(&p.f) < max_radius
 }

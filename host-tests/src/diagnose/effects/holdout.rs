@@ -260,7 +260,7 @@ impl<'a> Holdout<'a> {
 /// validate, and extrapolates wildly.
 pub fn too_slow(m: &ExtendedModel, n: usize) -> bool {
     // Stores replace the linear part's simulation and drain by construction.
-    m.stores.is_none() && m.spectral_radius() >= 1.0 - 0.5 / n.max(4) as f64
+    m.stores.is_none() && m.spectral_radius() >= ExtendedModel::validatable_radius(n)
 }
 
 #[cfg(test)]

@@ -13,13 +13,17 @@ use super::record::Record;
 /// Replaces the simulation of `model`'s Hammerstein part by the element `kind` and `G`,
 /// fitted on the simulation error of `rec` without the `skip` samples (the input drives the
 /// element through them). The start is the model's static or two-path estimate
-/// (`shared`: one border for both directions).
+/// (`shared`: one border for both directions). `G` is kept to the poles a record of
+/// `fitted` samples can validate ([`ExtendedModel::validatable_radius`]): the inner
+/// validation refuses a model with a slower mode, so the fit must look for its best model
+/// among the others.
 pub(super) fn fit_element(
     model: &mut ExtendedModel,
     rec: &Record,
     skip: &[bool],
     kind: ElementKind,
     shared: bool,
+    fitted: usize,
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
     let target: Vec<f64> = rec
@@ -39,7 +43,10 @@ pub(super) fn fit_element(
         skip,
         &model.hammerstein,
         start,
-        &FitOptions::new(kind),
+        &FitOptions {
+            max_pole_radius: ExtendedModel::validatable_radius(fitted),
+            ..FitOptions::new(kind)
+        },
     )
     .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Hysteresis(e)))?;
     model.hysteresis = Some(fit.model);

@@ -51,6 +51,14 @@ impl ExtendedModel {
         }
     }
 
+    /// The largest spectral radius a model fitted on `n` samples can have and still be
+    /// validated: a pole at `1 − 1/(2n)` or beyond has a time constant over twice the record
+    /// and acts as a drift the data cannot tell from one (see
+    /// [`too_slow`](crate::diagnose::effects::too_slow)).
+    pub fn validatable_radius(n: usize) -> f64 {
+        1.0 - 0.5 / n.max(4) as f64
+    }
+
     /// The spectral radius of the simulated linear part (`G` of the element model when there
     /// is one).
     pub fn spectral_radius(&self) -> f64 {

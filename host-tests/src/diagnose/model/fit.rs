@@ -292,9 +292,9 @@ pub(super) fn fit_structure_impl(
         match &held {
             Some((whole, block)) => {
                 let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
-                fit_element(&mut model, whole, &skip, kind, shared)?;
+                fit_element(&mut model, whole, &skip, kind, shared, rec.len())?;
             }
-            None => fit_element(&mut model, rec, &flags, kind, shared)?,
+            None => fit_element(&mut model, rec, &flags, kind, shared, rec.len())?,
         }
     }
     if let Some(class) = s.dynamics.stores() {
