@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::checks::Warning;
 use super::delay;
-use super::effects::Effect;
+use super::effects::{Effect, Significance};
 use super::evidence::{Evidence, Tried};
 use super::findings::Finding;
 use super::inner::InnerValidation;
@@ -27,8 +27,10 @@ pub struct Step {
     pub setting: String,
     /// Relative reduction of the inner hold-out MSE.
     pub inner_gain: f64,
-    /// Diebold–Mariano p-value of that reduction.
+    /// p-value of that reduction (by `inner_test`).
     pub inner_p: f64,
+    /// The test behind `inner_p`.
+    pub inner_test: Significance,
     /// Settings tried with their inner hold-out RMSE.
     pub tried: Vec<Tried>,
     /// Other effects evaluated at this step: `(effect, gain, p)`.
@@ -63,8 +65,10 @@ pub struct Rejected {
     pub evidence: Vec<Evidence>,
     /// Relative inner hold-out MSE reduction of its extension.
     pub inner_gain: f64,
-    /// Its Diebold–Mariano p-value.
+    /// Its p-value (by `inner_test`).
     pub inner_p: f64,
+    /// The test behind `inner_p`.
+    pub inner_test: Significance,
 }
 
 /// The outcome of [`diagnose`](super::diagnose).

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::checks::Warning;
 use super::diagnosis::Diagnosis;
-use super::effects::{Effect, has_evidence};
+use super::effects::{Effect, Significance, has_evidence};
 use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::options::Nonlinearity;
@@ -30,8 +30,11 @@ pub struct EffectJson {
     pub extension: String,
     /// Relative reduction of the inner hold-out MSE (estimation data).
     pub inner_gain: f64,
-    /// One-sided Diebold–Mariano p-value of that reduction.
+    /// One-sided p-value of that reduction, by `inner_test`.
     pub inner_p: f64,
+    /// The test behind `inner_p`: `diebold_mariano` (the hold-out losses against the model
+    /// before), or `heavy_tails` (the `outliers` step that keeps the model).
+    pub inner_test: Significance,
     /// Settings tried on the inner hold-out with their RMSE.
     pub tried: Vec<Tried>,
     /// Metric of `error_before` / `error_after`.
@@ -166,6 +169,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
             extension: s.effect.extension().into(),
             inner_gain: s.inner_gain,
             inner_p: s.inner_p,
+            inner_test: s.inner_test,
             tried: s.tried.clone(),
             metric: Some(s.metric),
             error_before: Some(s.error_before),
@@ -184,6 +188,7 @@ pub fn to_json(d: &Diagnosis) -> DiagnosisJson {
             extension: r.effect.extension().into(),
             inner_gain: r.inner_gain,
             inner_p: r.inner_p,
+            inner_test: r.inner_test,
             tried: Vec::new(),
             metric: None,
             error_before: None,
@@ -301,8 +306,9 @@ pub fn text(d: &Diagnosis) -> String {
             .collect();
         let _ = writeln!(
             s,
-            "  estimation hold-out: MSE {:+.1} % (Diebold–Mariano p = {:.2e}); tried {}",
+            "  estimation hold-out: MSE {:+.1} % ({} p = {:.2e}); tried {}",
             -100.0 * st.inner_gain,
+            st.inner_test.label(),
             st.inner_p,
             tried.join(", ")
         );
@@ -335,9 +341,10 @@ pub fn text(d: &Diagnosis) -> String {
     for r in &d.rejected {
         let _ = writeln!(
             s,
-            "not added: {} (estimation hold-out MSE {:+.1} %, p = {:.2})",
+            "not added: {} (estimation hold-out MSE {:+.1} %, {} p = {:.2})",
             r.effect.name(),
             -100.0 * r.inner_gain,
+            r.inner_test.label(),
             r.inner_p
         );
     }

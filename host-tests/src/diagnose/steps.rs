@@ -276,6 +276,7 @@ impl Context<'_> {
             evaluation: ev,
             gain,
             p_value,
+            significance: effects::Significance::DieboldMariano,
             complexity: 1.0,
         });
         let last = cands.len() - 1;
@@ -326,6 +327,7 @@ impl Context<'_> {
                 evidence: evidence(c.effect, &tests, self.dead, self.warnings),
                 inner_gain: c.gain,
                 inner_p: c.p_value,
+                inner_test: c.significance,
             })
             .collect();
         for t in tests.tests.iter().filter(|t| t.fired) {
@@ -382,6 +384,7 @@ impl Context<'_> {
             setting: effects::setting(c.effect, &c.structure, Some(&new_model)),
             inner_gain: c.gain,
             inner_p: c.p_value,
+            inner_test: c.significance,
             tried: c.tried.clone(),
             competitors: cands
                 .iter()

@@ -49,6 +49,29 @@ fn diebold_mariano(lb: &[Option<f64>], lc: &[Option<f64>]) -> (f64, f64) {
     (1.0 - mc / mb, normal_sf(stat))
 }
 
+/// The test behind a candidate's p-value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Significance {
+    /// The one-sided Diebold–Mariano test of the inner hold-out losses against the current
+    /// model's ([`compare`]).
+    DieboldMariano,
+    /// The heavy-tails test on the current model's estimation residual (samples beyond 5
+    /// robust σ against the Gaussian count): for the `outliers` step that keeps the model,
+    /// whose hold-out losses differ from the current model's only at the samples it flags.
+    HeavyTails,
+}
+
+impl Significance {
+    /// How the report names it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Significance::DieboldMariano => "Diebold–Mariano",
+            Significance::HeavyTails => "heavy-tails",
+        }
+    }
+}
+
 /// A proposed extension with its inner hold-out score.
 #[derive(Clone, Debug)]
 pub struct Candidate {
@@ -62,8 +85,10 @@ pub struct Candidate {
     pub evaluation: Evaluation,
     /// Relative reduction of the inner hold-out MSE against the current model.
     pub gain: f64,
-    /// One-sided Diebold–Mariano p-value of that reduction.
+    /// The p-value of that reduction, by the test `significance` names.
     pub p_value: f64,
+    /// The test behind `p_value`.
+    pub significance: Significance,
     /// Complexity (parameters added), for ties.
     pub complexity: f64,
     /// Settings tried, with their inner hold-out RMSE.

@@ -134,7 +134,7 @@ impl Effect {
             }
             Effect::ColoredNoise => "AR noise model (order by BIC) for one-step-ahead prediction",
             Effect::Outliers => {
-                "outliers by the MAD rule left out of the error; the model re-estimated with them replaced by its output when that improves the estimation hold-out significantly"
+                "outliers by the MAD rule left out of the error; the model re-estimated with them replaced by its output when that improves the estimation hold-out significantly and by the minimum gain"
             }
             Effect::StateDependentDynamics => {
                 "level-dependent stores: the order-2 linear part as a cascade of two stores with power-law outflows, the first overflowing into the second, borders refitted with them on the simulation error"

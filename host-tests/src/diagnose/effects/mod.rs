@@ -22,7 +22,7 @@ pub mod periodic;
 pub mod proposal;
 pub mod stores;
 
-pub use candidate::{Candidate, choose, compare};
+pub use candidate::{Candidate, Significance, choose, compare};
 pub use catalog::{Effect, has_evidence, setting};
 pub use holdout::{Fold, Holdout, too_slow};
 pub use periodic::refine_frequency;

@@ -1,7 +1,7 @@
 //! The proposal of an effect's extension: the settings of each effect (one file per effect)
 //! scored on the inner validation, the simplest of the best kept.
 
-use super::candidate::{Candidate, compare};
+use super::candidate::{Candidate, Significance, compare};
 use super::catalog::Effect;
 use super::holdout::Holdout;
 use crate::diagnose::error::DiagnoseError;
@@ -103,6 +103,7 @@ impl Proposal<'_> {
             evaluation: ev,
             gain,
             p_value,
+            significance: Significance::DieboldMariano,
             tried,
         }))
     }
