@@ -133,6 +133,9 @@ pub fn fit_hysteresis_skipping(
         feedthrough: opts.feedthrough,
     };
     check(u, y, layout.len())?;
+    if !(f64::MIN_POSITIVE..=1.0).contains(&opts.max_pole_radius) {
+        return Err(HysteresisError::PoleRadius(opts.max_pole_radius));
+    }
     if !skip.is_empty() && skip.len() != y.len() {
         return Err(HysteresisError::SkipMismatch {
             samples: y.len(),
@@ -190,9 +193,6 @@ pub fn fit_hysteresis_skipping(
         exhausted: Exhausted::ReturnBest,
         ..base
     };
-    if !(f64::MIN_POSITIVE..=1.0).contains(&opts.max_pole_radius) {
-        return Err(HysteresisError::PoleRadius(opts.max_pole_radius));
-    }
     let radius = spectral_radius(&layout.linear().polynomials(&th0[layout.plant()]).f);
     if radius < 1.0 && radius >= opts.max_pole_radius {
         return Err(HysteresisError::StartTooSlow {

@@ -95,11 +95,17 @@ pub struct Candidate {
     pub tried: Vec<Tried>,
 }
 
-/// Picks the effect to add among candidates: significant at 1 % and at least `min_gain`; the
-/// largest gain wins, and within `tie` of it the simplest extension.
+/// The rule every step meets: a reduction `gain` significant at the diagnosis's level (`p`)
+/// and at least `min_gain`.
+pub fn passes(gain: f64, p: f64, min_gain: f64) -> bool {
+    p < LEVEL && gain >= min_gain
+}
+
+/// Picks the effect to add among candidates that [`passes`]; the largest gain wins, and
+/// within `tie` of it the simplest extension.
 pub fn choose(cands: &[Candidate], min_gain: f64, tie: f64) -> Option<usize> {
     let ok: Vec<usize> = (0..cands.len())
-        .filter(|&i| cands[i].p_value < LEVEL && cands[i].gain >= min_gain)
+        .filter(|&i| passes(cands[i].gain, cands[i].p_value, min_gain))
         .collect();
     let top = ok
         .iter()

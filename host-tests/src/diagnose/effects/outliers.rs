@@ -2,12 +2,12 @@
 //! without them only when that pays on the estimation hold-out; kept if the rule flags at most
 //! 3 % of the samples.
 
-use super::candidate::{Candidate, Significance, compare_common};
+use super::candidate::{Candidate, Significance, compare_common, passes};
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
-use crate::diagnose::residual::{LEVEL, Test};
+use crate::diagnose::residual::Test;
 
 impl Proposal<'_> {
     /// The MAD rule, kept only while the outliers are rare.
@@ -54,7 +54,7 @@ impl Proposal<'_> {
         let chosen = match (kept, refit) {
             (Some(k), Some(r)) => {
                 let (gain, p) = compare_common(&k.evaluation, &r.evaluation);
-                let (mut win, lose) = if p < LEVEL && gain >= self.min_gain {
+                let (mut win, lose) = if passes(gain, p, self.min_gain) {
                     (r, k)
                 } else {
                     (with_tails(k), r)
