@@ -2,20 +2,29 @@
 //! effect (or none), over both plants, both elements and several seeds.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example confusion -- [SEEDS] [CLEAN_SEEDS]
+//! cargo run --release -p hsid-host --example confusion -- [--min-gain G] [--propose-every] [SEEDS] [CLEAN_SEEDS]
 //! ```
+//!
+//! `--min-gain G` runs the diagnosis with another minimum gain (`hsid diagnose --min-gain`,
+//! default 0.2), and `--propose-every` has every step fit and score every deterministic
+//! effect, with or without a residual test's evidence (`Proposing::Every`): the measurements
+//! of what the estimation data can show in docs/closing-the-loop.md.
 //!
 //! Prints one line per run, the confusion table (true effect × effect named first), the
 //! false-alarm rate on clean data and the count of added steps that raised the validation
 //! error.
 
 use hsid_host::diagnose::Effect;
-use hsid_host::diagnose::Nonlinearity;
-use hsid_host::diagnose::bench::{confusion_table, run_all};
+use hsid_host::diagnose::bench::{confusion_table, run_all, take_bench_flags};
 use hsid_host::diagnose::scenario::{Plant, Scenario};
+use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity};
 
 fn main() {
-    let mut args = std::env::args().skip(1);
+    let (bench, rest) = take_bench_flags(std::env::args().skip(1).collect()).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2)
+    });
+    let mut args = rest.into_iter();
     let seeds: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(3);
     let clean_seeds: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(10);
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
@@ -33,7 +42,8 @@ fn main() {
         }
     }
     eprintln!("{} runs on {threads} threads", scenarios.len());
-    let results = run_all(&scenarios, threads, &|o| eprintln!("{}", o.line()));
+    let adjust = |o: &mut DiagnoseOptions| bench.apply(o);
+    let results = run_all(&scenarios, threads, &adjust, &|o| eprintln!("{}", o.line()));
     let mut outcomes = Vec::new();
     for r in results {
         match r {

@@ -32,7 +32,9 @@ fn every_effect_is_named_first_and_fixed() {
             }
         }
     }
-    let results = run_all(&scenarios, threads(), &|o| println!("{}", o.line()));
+    let results = run_all(&scenarios, threads(), &|_| {}, &|o| {
+        println!("{}", o.line())
+    });
     let outcomes: Vec<Outcome> = results.into_iter().map(|r| r.unwrap()).collect();
     let failed: Vec<String> = outcomes
         .iter()

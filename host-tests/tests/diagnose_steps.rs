@@ -22,13 +22,14 @@ fn no_added_step_raises_the_validation_error() {
     .map(|e| Scenario::new(e, Plant::FirstOrder, kind, 1))
     .collect();
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let outcomes: Vec<Outcome> = run_all(&scenarios, threads, &|o| eprintln!("{}", o.line()))
-        .into_iter()
-        .map(|r| match r {
-            Ok(o) => o,
-            Err(e) => panic!("{e}"),
-        })
-        .collect();
+    let outcomes: Vec<Outcome> =
+        run_all(&scenarios, threads, &|_| {}, &|o| eprintln!("{}", o.line()))
+            .into_iter()
+            .map(|r| match r {
+                Ok(o) => o,
+                Err(e) => panic!("{e}"),
+            })
+            .collect();
     for o in &outcomes {
         assert!(o.harmful().is_empty(), "{}: {:?}", o.line(), o.harmful());
         assert!(o.passes(), "{}", o.line());

@@ -10,6 +10,7 @@ use super::diagnose;
 use super::effects::Effect;
 use super::error::DiagnoseError;
 use super::model::Metric;
+use super::options::{DiagnoseOptions, Proposing};
 use super::scenario::{Scenario, generate};
 
 /// The outcome of one scenario.
@@ -135,9 +136,19 @@ impl Outcome {
     }
 }
 
-/// Simulates and diagnoses one scenario.
+/// Simulates and diagnoses one scenario with its options.
 pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
-    let data = generate(s).map_err(DiagnoseError::Output)?;
+    run_adjusted(s, &|_| {})
+}
+
+/// Simulates and diagnoses one scenario with its options as `adjust` leaves them (e.g.
+/// another minimum gain, for a sweep of the step rule).
+pub fn run_adjusted(
+    s: &Scenario,
+    adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync),
+) -> Result<Outcome, DiagnoseError> {
+    let mut data = generate(s).map_err(DiagnoseError::Output)?;
+    adjust(&mut data.options);
     let t = std::time::Instant::now();
     let d = diagnose(&data.record, &data.validation, &data.options)?;
     let millis = t.elapsed().as_millis();
@@ -169,10 +180,12 @@ pub fn run_one(s: &Scenario) -> Result<Outcome, DiagnoseError> {
     })
 }
 
-/// Runs scenarios on `threads` threads; `progress` is called after each.
+/// Runs scenarios on `threads` threads with the options `adjust` leaves (see
+/// [`run_adjusted`]); `progress` is called after each.
 pub fn run_all(
     scenarios: &[Scenario],
     threads: usize,
+    adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync),
     progress: &(dyn Fn(&Outcome) + Sync),
 ) -> Vec<Result<Outcome, String>> {
     let next = AtomicUsize::new(0);
@@ -183,7 +196,7 @@ pub fn run_all(
                 loop {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(s) = scenarios.get(i) else { break };
-                    let r = run_one(s).map_err(|e| e.to_string());
+                    let r = run_adjusted(s, adjust).map_err(|e| e.to_string());
                     if let Ok(o) = &r {
                         progress(o);
                     }
@@ -239,4 +252,97 @@ pub fn confusion_table(outcomes: &[Outcome]) -> String {
         let _ = writeln!(s, " {} | {passed} |", mine.len());
     }
     s
+}
+
+/// What a bench changes in each scenario's diagnosis options, from its flags `--min-gain G`
+/// and `--propose-every`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BenchSettings {
+    /// [`DiagnoseOptions::min_gain`] (`None`: the scenario's own).
+    pub min_gain: Option<f64>,
+    /// [`Proposing::Every`] instead of the scenario's own.
+    pub propose_every: bool,
+}
+
+impl BenchSettings {
+    /// Sets the options the flags name.
+    pub fn apply(&self, o: &mut DiagnoseOptions) {
+        if let Some(g) = self.min_gain {
+            o.min_gain = g;
+        }
+        if self.propose_every {
+            o.proposing = Proposing::Every;
+        }
+    }
+}
+
+/// The bench flags `--min-gain G` and `--propose-every` taken out of a bench's arguments: the
+/// [`BenchSettings`] and the other arguments in order; an error when `G` is missing or not in
+/// [0, 1).
+pub fn take_bench_flags(args: Vec<String>) -> Result<(BenchSettings, Vec<String>), String> {
+    let mut settings = BenchSettings::default();
+    let mut rest = Vec::new();
+    let mut it = args.into_iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--propose-every" => settings.propose_every = true,
+            "--min-gain" => {
+                let g = it
+                    .next()
+                    .and_then(|v| v.parse::<f64>().ok())
+                    .filter(|g| (0.0..1.0).contains(g))
+                    .ok_or("--min-gain takes a number in [0, 1): the least relative MSE reduction of a step")?;
+                settings.min_gain = Some(g);
+            }
+            _ => rest.push(a),
+        }
+    }
+    Ok((settings, rest))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{BenchSettings, DiagnoseOptions, Proposing, take_bench_flags};
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn the_bench_flags_are_taken_out_and_checked() -> Result<(), String> {
+        let (b, rest) = take_bench_flags(args(&["6", "--min-gain", "0.1", "10"]))?;
+        assert_eq!(
+            b,
+            BenchSettings {
+                min_gain: Some(0.1),
+                propose_every: false
+            }
+        );
+        assert_eq!(rest, args(&["6", "10"]));
+        let (b, rest) = take_bench_flags(args(&["--propose-every", "6", "10"]))?;
+        assert!(b.propose_every && b.min_gain.is_none());
+        assert_eq!(rest, args(&["6", "10"]));
+        let (b, rest) = take_bench_flags(args(&["6", "10"]))?;
+        assert_eq!((b, rest), (BenchSettings::default(), args(&["6", "10"])));
+        for bad in [
+            &["--min-gain"][..],
+            &["--min-gain", "1"],
+            &["--min-gain", "x"],
+        ] {
+            match take_bench_flags(args(bad)) {
+                Err(e) => assert!(e.contains("[0, 1)"), "{e}"),
+                Ok(v) => return Err(format!("{bad:?} taken as {v:?}")),
+            }
+        }
+        let id = crate::identify::IdentifyOptions::uniform(0.0, 1.0, 4, 0);
+        let mut o = DiagnoseOptions::new(id, crate::diagnose::Nonlinearity::Static);
+        assert_eq!(o.proposing, Proposing::WithEvidence);
+        BenchSettings {
+            min_gain: Some(0.05),
+            propose_every: true,
+        }
+        .apply(&mut o);
+        assert_eq!((o.min_gain, o.proposing), (0.05, Proposing::Every));
+        Ok(())
+    }
 }

@@ -68,7 +68,7 @@ pub use error::DiagnoseError;
 pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
 pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
-pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Validation};
+pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Proposing, Validation};
 pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
 

@@ -76,6 +76,21 @@ pub struct DiagnoseOptions {
     /// Choose the number of uniform segments per path in this range by the BIC of the
     /// estimation simulation error (the knots given are then replaced).
     pub select_segments: Option<std::ops::RangeInclusive<usize>>,
+    /// Which effects a step proposes.
+    pub proposing: Proposing,
+}
+
+/// Which deterministic effects a step of the diagnosis fits and scores.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Proposing {
+    /// Those whose residual test fires on the estimation residual (and an output
+    /// nonlinearity on an output the data checks find pinned at an extreme).
+    WithEvidence,
+    /// Every one, with or without evidence: a measurement of what the estimation data can
+    /// show at all (what the inner hold-out gives the true effect where no test fires), at
+    /// the cost of fitting every effect at every step. The step rule is the same.
+    Every,
 }
 
 /// Where [`FitOptions::refine_poles`](super::model::FitOptions::refine_poles) is used.
@@ -109,6 +124,7 @@ impl DiagnoseOptions {
             outlier_k: 5.0,
             refine_poles: PoleRefinement::Final,
             select_segments: None,
+            proposing: Proposing::WithEvidence,
         }
     }
 }

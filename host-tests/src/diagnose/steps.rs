@@ -14,7 +14,7 @@ use super::error::DiagnoseError;
 use super::evidence::{Tried, evidence};
 use super::findings::Finding;
 use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
-use super::options::DiagnoseOptions;
+use super::options::{DiagnoseOptions, Proposing};
 use super::residual::TestSet;
 use super::scoring::residual_tests;
 use super::verdict::Ending;
@@ -201,7 +201,8 @@ impl Context<'_> {
                     .warnings
                     .iter()
                     .any(|w| w.check == Check::OutputSaturation);
-            if !e.deterministic() || !(effects::has_evidence(e, tests) || saturated) {
+            let every = self.opts.proposing == Proposing::Every;
+            if !e.deterministic() || !(effects::has_evidence(e, tests) || saturated || every) {
                 continue;
             }
             if let Some(c) = proposal.propose(e)? {

@@ -26,5 +26,5 @@ pub mod table;
 
 pub use class::{Class, Expect};
 pub use generate::{Data, Truth, generate};
-pub use run::{Harm, Outcome, run_all, run_one};
+pub use run::{Harm, Outcome, run_adjusted, run_all, run_one};
 pub use scenario::{Design, Scenario};

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use super::class::Class;
 use super::generate::{Truth, generate};
 use super::scenario::Scenario;
-use crate::diagnose::{Check, Effect, Metric, diagnose};
+use crate::diagnose::{Check, DiagnoseOptions, Effect, Metric, diagnose};
 
 /// The outcome of one scenario.
 #[derive(Clone, Debug)]
@@ -32,6 +32,8 @@ pub struct Outcome {
     pub harmful: Vec<Harm>,
     /// Wall time of the diagnosis, ms.
     pub millis: u128,
+    /// The minimum gain the diagnosis ran with ([`DiagnoseOptions::min_gain`]).
+    pub min_gain: f64,
 }
 
 /// A step that raised the validation error.
@@ -124,9 +126,16 @@ impl Outcome {
     }
 }
 
-/// Simulates and diagnoses one scenario.
+/// Simulates and diagnoses one scenario with the family's options.
 pub fn run_one(s: &Scenario) -> Outcome {
-    let data = generate(s);
+    run_adjusted(s, &|_| {})
+}
+
+/// Simulates and diagnoses one scenario with the family's options as `adjust` leaves them
+/// (e.g. another minimum gain, for a sweep of the step rule).
+pub fn run_adjusted(s: &Scenario, adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync)) -> Outcome {
+    let mut data = generate(s);
+    adjust(&mut data.options);
     let clock = std::time::Instant::now();
     let result = diagnose(&data.record, &data.validation, &data.options);
     let millis = clock.elapsed().as_millis();
@@ -141,6 +150,7 @@ pub fn run_one(s: &Scenario) -> Outcome {
         floor: data.truth.noise_floor,
         harmful: Vec::new(),
         millis,
+        min_gain: data.options.min_gain,
     };
     match result {
         Err(e) => o.error = Some(e.to_string()),
@@ -181,11 +191,12 @@ pub fn family(seeds: u64, clean: u64) -> Vec<Scenario> {
     out
 }
 
-/// Runs scenarios on `threads` threads, calling `progress` after each; the outcomes in the
-/// scenarios' order.
+/// Runs scenarios on `threads` threads with the options `adjust` leaves (see
+/// [`run_adjusted`]), calling `progress` after each; the outcomes in the scenarios' order.
 pub fn run_all(
     scenarios: &[Scenario],
     threads: usize,
+    adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync),
     progress: &(dyn Fn(&Outcome) + Sync),
 ) -> Vec<Outcome> {
     let next = AtomicUsize::new(0);
@@ -196,7 +207,7 @@ pub fn run_all(
                 loop {
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(s) = scenarios.get(i) else { break };
-                    let o = run_one(s);
+                    let o = run_adjusted(s, adjust);
                     progress(&o);
                     if let Ok(mut v) = out.lock() {
                         v.push((i, o));

@@ -4,7 +4,6 @@
 use std::fmt::Write as _;
 
 use super::class::{Class, Expect};
-use super::generate::options;
 use super::run::Outcome;
 use crate::diagnose::{Check, Effect};
 
@@ -164,14 +163,14 @@ pub fn summary(outcomes: &[Outcome]) -> String {
 
 /// Whether the run's effect shows in the base model's validation error beyond the diagnosis's
 /// resolution: an effect is added only when it lowers the inner hold-out MSE by the minimum
-/// gain `g` (20 %), so one whose perfect model could lower the validation MSE from the base
+/// gain `g` (20 % by default; the run's own, [`Outcome::min_gain`]), so one whose perfect model could lower the validation MSE from the base
 /// model's to the noise floor's by less — `before < floor / √(1 − g)` — is below what the
 /// diagnosis claims to find. `None` for the classes not scored by a deterministic effect in
 /// the simulation error (clean, coloured noise, and the data-check classes).
 pub fn shown(o: &Outcome) -> Option<bool> {
     let deterministic =
         matches!(o.scenario.class.expect(), Expect::First(e) if e != Effect::ColoredNoise);
-    let g = options(&o.truth).min_gain;
+    let g = o.min_gain;
     (deterministic && o.error.is_none())
         .then(|| o.error_before >= o.truth.noise_floor / (1.0 - g).sqrt())
 }
@@ -231,6 +230,7 @@ mod tests {
             floor: truth.noise_floor,
             harmful: Vec::new(),
             millis: 0,
+            min_gain: 0.20,
             truth,
         }
     }
