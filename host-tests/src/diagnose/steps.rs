@@ -192,6 +192,7 @@ impl Context<'_> {
         current: &Structure,
     ) -> Result<(Vec<Candidate>, Option<usize>), DiagnoseError> {
         let (min_gain, tie) = (self.opts.min_gain, self.opts.tie);
+        let every = self.opts.proposing == Proposing::Every;
         let mut cands = Vec::new();
         for e in Effect::PROPOSED {
             // A saturated output found by the data checks is direct evidence of an output
@@ -201,7 +202,6 @@ impl Context<'_> {
                     .warnings
                     .iter()
                     .any(|w| w.check == Check::OutputSaturation);
-            let every = self.opts.proposing == Proposing::Every;
             if !e.deterministic() || !(effects::has_evidence(e, tests) || saturated || every) {
                 continue;
             }

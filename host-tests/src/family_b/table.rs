@@ -163,9 +163,9 @@ pub fn summary(outcomes: &[Outcome]) -> String {
 
 /// Whether the run's effect shows in the base model's validation error beyond the diagnosis's
 /// resolution: an effect is added only when it lowers the inner hold-out MSE by the minimum
-/// gain `g` (20 % by default; the run's own, [`Outcome::min_gain`]), so one whose perfect model could lower the validation MSE from the base
-/// model's to the noise floor's by less — `before < floor / √(1 − g)` — is below what the
-/// diagnosis claims to find. `None` for the classes not scored by a deterministic effect in
+/// gain `g` (20 % by default; the run's own, [`Outcome::min_gain`]), so one whose perfect
+/// model could lower the validation MSE from the base model's to the noise floor's by less —
+/// `before < floor / √(1 − g)` — is below what the diagnosis claims to find. `None` for the classes not scored by a deterministic effect in
 /// the simulation error (clean, coloured noise, and the data-check classes).
 pub fn shown(o: &Outcome) -> Option<bool> {
     let deterministic =
