@@ -769,7 +769,7 @@ impl<T: Real, const M: usize, const K: usize> Accumulator<T, M, K> {
     }
 
     /// Sample `t` if it is still stored (among the first `k` or the last `k`).
-    fn sample(&self, t: u64) -> Option<&Entry<T>> {
+    pub(crate) fn sample(&self, t: u64) -> Option<&Entry<T>> {
         let k = self.k.clamp(1, K);
         if t < k as u64 {
             return self.head.get(t as usize);

@@ -33,6 +33,32 @@ impl fmt::Display for KnotEnd {
     }
 }
 
+/// What breaks the Gram's shift structure that the structured solve
+/// ([`Identifier::solve_structured`](crate::Identifier::solve_structured)) relies on: its rows
+/// must be lags of one sequence with equal weights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ShiftBreak {
+    /// The rows are centred on their own means (μ0 estimated, `MuZero::Estimate`).
+    Centred,
+    /// Old samples are forgotten (a forgetting factor below 1).
+    Forgetting,
+    /// The weighting's instruments hold past outputs (only PI-MOESP's do not).
+    PastOutputs,
+}
+
+impl fmt::Display for ShiftBreak {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ShiftBreak::Centred => "rows centred on their means (mu0 estimated)",
+            ShiftBreak::Forgetting => "a forgetting factor below 1",
+            ShiftBreak::PastOutputs => {
+                "past outputs among the instruments (a weighting other than PI-MOESP)"
+            }
+        })
+    }
+}
+
 /// The step of the solve an error comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -242,6 +268,11 @@ pub enum Error {
     },
     /// The identifier was created with `Identifier::EMPTY` and not configured with `reset`.
     Unconfigured,
+    /// The structured solve cannot take these settings (see [`ShiftBreak`]).
+    NotShiftStructured {
+        /// What breaks the structure.
+        cause: ShiftBreak,
+    },
     /// The caller-provided workspace is too small.
     WorkspaceTooSmall {
         /// Scalars needed.
@@ -275,6 +306,7 @@ impl Error {
             | Error::HoldTooShort { .. }
             | Error::InvalidMu0 { .. }
             | Error::InvalidForgetting { .. }
+            | Error::NotShiftStructured { .. }
             | Error::Unconfigured => true,
             Error::HoldNotAtMin { .. }
             | Error::NonFinite { .. }
@@ -429,6 +461,10 @@ impl fmt::Display for Error {
             Error::Unconfigured => write!(
                 f,
                 "the identifier is not configured: call reset with its settings first"
+            ),
+            Error::NotShiftStructured { cause } => write!(
+                f,
+                "the structured solve needs a Gram whose rows are lags of one sequence, which {cause} breaks: use the dense solve (Identifier::solve, hsid::workspace_len scalars)"
             ),
             Error::WorkspaceTooSmall { need, have } => write!(
                 f,

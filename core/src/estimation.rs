@@ -17,7 +17,7 @@ use crate::linalg::{
 use crate::model::Model;
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
-use crate::subspace::{Layout, Projection, too_small};
+use crate::subspace::{Layout, Projection, Slots, bf_at, too_small};
 
 /// Relative rank tolerance of the small least-squares problems.
 fn rank_tol<T: Real>(dim: usize) -> T {
@@ -60,6 +60,26 @@ pub(crate) enum Mu0<T, const M: usize> {
     },
 }
 
+/// Where the model's step reads `B_f = L₃₁ L₁₁⁻¹` (`f × f·m`).
+#[derive(Clone, Copy)]
+pub(crate) enum BfSource<'a, T> {
+    /// Row-major in the dense solve's workspace.
+    Dense(&'a [T]),
+    /// Over the identity slots of the structured solve's generator.
+    Slots(&'a [T], Slots),
+}
+
+impl<T: Real> BfSource<'_, T> {
+    /// `B_f[i, jj·m + c]`.
+    #[inline]
+    fn at(&self, i: usize, jj: usize, c: usize, m: usize, fm: usize) -> T {
+        match *self {
+            BfSource::Dense(bf) => at(bf, i * fm + jj * m + c),
+            BfSource::Slots(x, sl) => bf_at(x, &sl, i, jj, c),
+        }
+    }
+}
+
 /// Builds the model of order `n` from the factored Gram in `ws` and the projection.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn estimate<T: Real, const M: usize, const K: usize, const H: usize>(
@@ -72,6 +92,47 @@ pub(crate) fn estimate<T: Real, const M: usize, const K: usize, const H: usize>(
     mu0: Mu0<T, M>,
     poles: Poles,
 ) -> Result<Model<T, M, H>, Error> {
+    let err = too_small(lay, ws.len());
+    let [_, _, _, bf, _, scratch] = lay.carve(ws)?;
+    let out = Outcome {
+        knots,
+        basis,
+        mu0,
+        poles,
+    };
+    estimate_from::<T, M, K, H>(proj, n, lay, BfSource::Dense(bf), scratch, err, out)
+}
+
+/// What the model is made of besides the subspace step: the regressor and μ0, and which
+/// poles are accepted.
+pub(crate) struct Outcome<'a, T, const M: usize> {
+    /// The knots the regressor was accumulated with.
+    pub knots: &'a Knots<T, M>,
+    /// The regressor's basis.
+    pub basis: Basis,
+    /// Where μ0 comes from.
+    pub mu0: Mu0<T, M>,
+    /// Which poles are accepted.
+    pub poles: Poles,
+}
+
+/// [`estimate`] with `B_f` read from `bf` and the steps' scratch in `scratch` (`err` if it is
+/// too short).
+pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: usize>(
+    proj: &Projection<T, H>,
+    n: usize,
+    lay: Layout,
+    bf: BfSource<'_, T>,
+    scratch: &mut [T],
+    err: Error,
+    out: Outcome<'_, T, M>,
+) -> Result<Model<T, M, H>, Error> {
+    let Outcome {
+        knots,
+        basis,
+        mu0,
+        poles,
+    } = out;
     let (f, m) = (lay.f, lay.m);
     let fm = f * m;
     // Both refused by `Identifier::new` (and `n` by `select_order`); kept here so that no
@@ -87,8 +148,6 @@ pub(crate) fn estimate<T: Real, const M: usize, const K: usize, const H: usize>(
     if n == 0 || n >= f {
         return Err(Error::InvalidOrder { order: n, f });
     }
-    let err = too_small(lay, ws.len());
-    let [_, _, _, bf, _, scratch] = lay.carve(ws)?;
 
     // 1. Γ_f (first n columns of the weighting's estimate), C = first row, A from
     // Γ_under A = Γ_over.
@@ -202,7 +261,7 @@ pub(crate) fn estimate<T: Real, const M: usize, const K: usize, const H: usize>(
             for c in 0..m {
                 let mut s = T::zero();
                 for i in 0..f {
-                    s += el(&u2, i, r) * at(bf, i * fm + jj * m + c);
+                    s += el(&u2, i, r) * bf.at(i, jj, c, m, fm);
                 }
                 set(rhs, row + c * rows, s);
             }

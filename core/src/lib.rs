@@ -27,7 +27,7 @@ pub use checkpoint::{
     CHECKPOINT_VERSION, checkpoint_capacity, compensated_checkpoint_capacity, crc32,
 };
 pub use direction::Direction;
-pub use error::{CheckpointError, Error, KnotEnd, Signal, Stage};
+pub use error::{CheckpointError, Error, KnotEnd, ShiftBreak, Signal, Stage};
 pub use estimation::Poles;
 pub use excitation::Excitation;
 pub use hold::{HoldMean, MuZero};
@@ -36,5 +36,6 @@ pub use model::{DEFAULT_HORIZON, Model, ModelState};
 pub use regressor::{Basis, Knots, Located};
 pub use scalar::Real;
 pub use subspace::{
-    AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK, workspace_len, workspace_len_with_block,
+    AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK, structured_workspace_len, workspace_len,
+    workspace_len_with_block,
 };

@@ -667,6 +667,26 @@ pub fn checkpoint_header(bytes: &[u8]) -> Result<CheckpointHeader, IdentifyError
 /// precision: an `f32` state solved here gives the model the device's solve gives, up to the
 /// differences between the two targets' floating-point code (`libm` vs the host's `std`).
 pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> {
+    solve_checkpoint_with(bytes, Solver::Dense)
+}
+
+/// Which of the core's solves [`solve_checkpoint_with`] runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Solver {
+    /// `Identifier::solve`: the Gram's blocks, any settings.
+    #[default]
+    Dense,
+    /// `Identifier::solve_structured`: the Gram's displacement generator, as the firmware
+    /// solves by default (PI-MOESP, μ0 not estimated, no forgetting).
+    Structured,
+}
+
+/// [`solve_checkpoint`] with the solve of `solver`: the on-target model of a firmware that
+/// solved with the same one, to `f32` rounding.
+pub fn solve_checkpoint_with(
+    bytes: &[u8],
+    solver: Solver,
+) -> Result<CheckpointSolve, IdentifyError> {
     let header = checkpoint_header(bytes)?;
     let (m, k) = (header.channel_capacity, header.f + header.p);
     let too_large = IdentifyError::TooLarge {
@@ -676,6 +696,7 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
     let job = RestoreAndSolve {
         kind: (header.scalar_bytes == 4, header.compensated),
         bytes,
+        solver,
     };
     let solved = with_capacity(&job, m, header.f, k).unwrap_or(Err(too_large));
     let (model, shared_knots) = solved?;
@@ -691,31 +712,37 @@ pub fn solve_checkpoint(bytes: &[u8]) -> Result<CheckpointSolve, IdentifyError> 
 struct RestoreAndSolve<'a> {
     kind: (bool, bool),
     bytes: &'a [u8],
+    solver: Solver,
 }
 
 impl SizedJob for RestoreAndSolve<'_> {
     type Out = Result<(HostModel, bool), IdentifyError>;
     fn run<const M: usize, const K: usize, const H: usize>(&self) -> Self::Out {
         use hsid::{Compensated, Plain};
-        let bytes = self.bytes;
+        let (bytes, solver) = (self.bytes, self.solver);
         match self.kind {
-            (true, false) => restore_and_solve::<f32, M, K, Plain, H>(bytes),
-            (false, false) => restore_and_solve::<f64, M, K, Plain, H>(bytes),
-            (true, true) => restore_and_solve::<f32, M, K, Compensated, H>(bytes),
-            (false, true) => restore_and_solve::<f64, M, K, Compensated, H>(bytes),
+            (true, false) => restore_and_solve::<f32, M, K, Plain, H>(bytes, solver),
+            (false, false) => restore_and_solve::<f64, M, K, Plain, H>(bytes, solver),
+            (true, true) => restore_and_solve::<f32, M, K, Compensated, H>(bytes, solver),
+            (false, true) => restore_and_solve::<f64, M, K, Compensated, H>(bytes, solver),
         }
     }
 }
 
 fn restore_and_solve<T: hsid::Real, const M: usize, const K: usize, S, const H: usize>(
     bytes: &[u8],
+    solver: Solver,
 ) -> Result<(HostModel, bool), IdentifyError>
 where
     S: hsid::Summation<T, M, K>,
 {
     let id = Box::new(Identifier::<T, M, K, S, H>::restore(bytes)?);
-    let mut ws = vec![T::zero(); workspace_len(&id)];
-    let m = id.solve(&mut ws)?;
+    let m = match solver {
+        Solver::Dense => id.solve(&mut vec![T::zero(); workspace_len(&id)])?,
+        Solver::Structured => {
+            id.solve_structured(&mut vec![T::zero(); id.structured_workspace_len()])?
+        }
+    };
     let wide = |v: &[T]| v.iter().map(|x| x.to_f64()).collect::<Vec<f64>>();
     let n = m.order();
     let settings = id.settings();

@@ -93,6 +93,7 @@ fn core_kind(e: &Error) -> (Class, &'static str) {
         Error::InvalidForgetting { .. } => (Settings, "invalid_forgetting"),
         Error::Unconfigured => (Settings, "unconfigured"),
         Error::WorkspaceTooSmall { .. } => (Settings, "workspace_too_small"),
+        Error::NotShiftStructured { .. } => (Settings, "not_shift_structured"),
         Error::HoldNotAtMin { .. } => (Data, "hold_not_at_min"),
         Error::NonFinite { .. } => (Data, "non_finite"),
         Error::InputOutOfRange { .. } => (Data, "input_out_of_range"),

@@ -107,3 +107,15 @@ pub(super) fn product<T: Real, const H: usize>(
     }
     p
 }
+
+/// `Uᵀ` (lower) of the upper triangle of the leading `n × n` block of `u`.
+pub(super) fn transpose_lower<T: Real, const H: usize>(u: &Small<T, H>, n: usize) -> Small<T, H> {
+    let n = n.min(H);
+    let mut t = Small::<T, H>::zeros();
+    for i in 0..n {
+        for j in i..n {
+            t[(j, i)] = u[(i, j)];
+        }
+    }
+    t
+}

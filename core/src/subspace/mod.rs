@@ -24,6 +24,7 @@ mod projection;
 mod rounding;
 mod schedule;
 mod schur;
+mod structured;
 mod triangular;
 mod weighting;
 mod workspace;
@@ -31,6 +32,7 @@ mod workspace;
 pub(crate) use layout::Layout;
 pub(crate) use order::select_order;
 pub(crate) use projection::{Projection, pi_moesp};
+pub(crate) use structured::{Slots, bf_at, pi_moesp_structured, structured_len};
 pub(crate) use workspace::too_small;
 pub use workspace::{workspace_len, workspace_len_with_block};
 
@@ -78,3 +80,13 @@ pub const AUTO_ORDER_MARGIN: f64 = 1.5;
 /// formed, the blocks, `B_f`'s place and the scratch together hold panels of
 /// `L₁₁⁻¹ G_{Z_f,[Z_p; Ȳ_f]}` (see the solve's `Schedule`) instead of the whole cross Gram.
 pub const SCHUR_BLOCK: usize = 32;
+
+/// Scalars the structured solve ([`Identifier::solve_structured`](crate::Identifier::solve_structured))
+/// needs for `m` channels and horizons `f`, `p`: the generator of the Gram's displacement,
+/// `((f + p + 1)·m + f) × max(2m + 4, f)`, and a few vectors of `m + 1` (or `B_f` and the model
+/// step's scratch, if longer). Size a static array with it, e.g.
+/// `[0.0f32; hsid::structured_workspace_len(14, 10, 10)]` (9,983 scalars against
+/// [`workspace_len`]'s 33,041).
+pub const fn structured_workspace_len(m: usize, f: usize, p: usize) -> usize {
+    structured_len(Layout::new(m, f, p))
+}

@@ -128,7 +128,7 @@ fn input_blocks<T: Real, const M: usize, const K: usize>(
 
 /// The horizons' checks: both refused by `Identifier::new`; kept here so that no layout can
 /// index past the QR or the small matrices.
-fn check_horizons<const K: usize, const H: usize>(lay: Layout) -> Result<(), Error> {
+pub(super) fn check_horizons<const K: usize, const H: usize>(lay: Layout) -> Result<(), Error> {
     let f = lay.f;
     if !(2..=H).contains(&f) {
         return Err(Error::InvalidHorizon {
@@ -150,7 +150,7 @@ fn check_horizons<const K: usize, const H: usize>(lay: Layout) -> Result<(), Err
 }
 
 /// The first `n` entries of `v`, zero after them.
-fn leading<T: Real, const H: usize>(v: &[T; H], n: usize) -> [T; H] {
+pub(super) fn leading<T: Real, const H: usize>(v: &[T; H], n: usize) -> [T; H] {
     let mut out = [T::zero(); H];
     for (o, &s) in out.iter_mut().zip(v).take(n) {
         *o = s;

@@ -67,31 +67,52 @@ impl<T: Real> Rounding<T> {
         dof: f64,
     ) -> ([T; H], [T; H]) {
         let (f, w) = (lay.f, lay.w());
-        let (level, level_y) = (self.level, self.level_y);
-        let per_col = T::of(dof / w as f64);
-        let mut res_floor = [T::zero(); H];
-        let mut white_floor = [T::zero(); H];
-        for (r, (v, wf)) in res_floor
+        let mut g_y = [T::zero(); H];
+        let mut e = [T::zero(); H];
+        let mut noise = [T::zero(); H];
+        for (r, ((gy, e), noise)) in g_y
             .iter_mut()
-            .zip(white_floor.iter_mut())
+            .zip(e.iter_mut())
+            .zip(noise.iter_mut())
             .enumerate()
             .take(f)
         {
             let row = packed(w + r, 0);
-            let gr = at(g, w + r);
-            let (mut e, mut noise) = (T::zero(), T::zero());
+            *gy = at(g, w + r);
             for (i, &gi) in g.iter().enumerate().take(w) {
                 let d = at(schur, packed(i, i));
                 if d > T::zero() {
                     let l = at(schur, row + i) / d;
-                    e += (l + l) * l * gi;
-                    noise += gr * gi / (d * d);
+                    *e += (l + l) * l * gi;
+                    *noise += gi / (d * d);
                 }
             }
+        }
+        self.floors(&g_y, &e, &noise, dof, lay)
+    }
+
+    /// The floors of [`residual_floors`](Self::residual_floors) from, per output row, its raw
+    /// diagonal `g_y`, `e = Σ_i 2 (L₃₂[r,i] / d_i)² g_i` and `noise = Σ_i g_i / d_i²`.
+    pub(super) fn floors<const H: usize>(
+        &self,
+        g_y: &[T; H],
+        e: &[T; H],
+        noise: &[T; H],
+        dof: f64,
+        lay: Layout,
+    ) -> ([T; H], [T; H]) {
+        let (level, level_y) = (self.level, self.level_y);
+        let per_col = T::of(dof / lay.w() as f64);
+        let mut res_floor = [T::zero(); H];
+        let mut white_floor = [T::zero(); H];
+        let rows = g_y.iter().zip(e).zip(noise).take(lay.f);
+        for ((v, wf), ((&gr, &e), &noise)) in
+            res_floor.iter_mut().zip(white_floor.iter_mut()).zip(rows)
+        {
             // The row's own diagonal and the cross products are output sums; the pivots d_i
             // come from the input sums.
             *v = level_y * gr + level * e;
-            *wf = v.max(level_y * level_y * noise * per_col);
+            *wf = v.max(level_y * level_y * gr * noise * per_col);
         }
         (res_floor, white_floor)
     }

@@ -43,9 +43,7 @@ impl<T: Real, const H: usize> Weighting<'_, T, H> {
                 let ot = self.oblique(wgram, x, tau)?;
                 self.scaled(svd_small(ot, self.lay.f, Stage::Projection, false)?)
             }
-            Method::PiMoesp | Method::PoMoesp => {
-                self.scaled(svd_small(*self.rt, self.lay.f, Stage::Projection, false)?)
-            }
+            Method::PiMoesp | Method::PoMoesp => pi_moesp_gamma(self.rt, self.lay.f, self.sqrt_j),
         }
     }
 
@@ -95,11 +93,34 @@ impl<T: Real, const H: usize> Weighting<'_, T, H> {
     }
 
     /// `Γ_f = U S^½` and the singular values over `√j` from an SVD.
-    fn scaled(&self, (u, s, _): Svd<T, H>) -> Result<(Small<T, H>, [T; H]), Error> {
-        let mut sv = s;
-        for v in sv.iter_mut() {
-            *v /= self.sqrt_j;
-        }
-        Ok((scale_columns(u, &s, self.lay.f, T::one()), sv))
+    fn scaled(&self, svd: Svd<T, H>) -> Result<(Small<T, H>, [T; H]), Error> {
+        Ok(scaled(svd, self.lay.f, self.sqrt_j))
     }
+}
+
+/// PI-MOESP's (and PO-MOESP's) `Γ_f` and singular values of `O_f / √j` from `Rᵀ` (`L₃₂ =
+/// Rᵀ Qᵀ`): the SVD of `Rᵀ`, `f × f`.
+pub(super) fn pi_moesp_gamma<T: Real, const H: usize>(
+    rt: &Small<T, H>,
+    f: usize,
+    sqrt_j: T,
+) -> Result<(Small<T, H>, [T; H]), Error> {
+    Ok(scaled(
+        svd_small(*rt, f, Stage::Projection, false)?,
+        f,
+        sqrt_j,
+    ))
+}
+
+/// `Γ_f = U S^½` and the singular values over `sqrt_j` from an SVD.
+fn scaled<T: Real, const H: usize>(
+    (u, s, _): Svd<T, H>,
+    f: usize,
+    sqrt_j: T,
+) -> (Small<T, H>, [T; H]) {
+    let mut sv = s;
+    for v in sv.iter_mut() {
+        *v /= sqrt_j;
+    }
+    (scale_columns(u, &s, f, T::one()), sv)
 }

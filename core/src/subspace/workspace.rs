@@ -64,11 +64,17 @@ impl Layout {
     pub const fn gain_parts(&self, n: usize) -> (usize, usize, usize) {
         (n * n, n, n)
     }
-    /// Scratch for the QR/least-squares steps: the largest of the step sizes above over every
-    /// order `1 <= n < f` (the slicing in the solve uses the same functions).
+    /// Scratch for the QR/least-squares steps: the projection's QR or the model's steps
+    /// ([`estimate_scratch`](Self::estimate_scratch)), whichever is longer.
     pub const fn scratch(&self) -> usize {
         let (x, tau) = self.qr_parts();
-        let mut need = x + tau;
+        let est = self.estimate_scratch();
+        if x + tau > est { x + tau } else { est }
+    }
+    /// Scratch of the model's steps: the largest of the step sizes above over every order
+    /// `1 <= n < f` (the slicing in the solve uses the same functions).
+    pub const fn estimate_scratch(&self) -> usize {
+        let mut need = 0;
         let mut n = 1;
         while n < self.f {
             let (a, b, c) = self.u2_parts(n);

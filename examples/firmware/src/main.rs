@@ -28,7 +28,11 @@ use core::panic::PanicInfo;
 use board::debug;
 #[cfg(not(feature = "store"))]
 use hsid::Excitation;
-use hsid::{Identifier, Knots, Model, MuZero, Settings, workspace_len};
+#[cfg(not(feature = "dense-solve"))]
+use hsid::structured_workspace_len;
+#[cfg(feature = "dense-solve")]
+use hsid::workspace_len;
+use hsid::{Identifier, Knots, Model, MuZero, Settings};
 #[cfg(not(feature = "store"))]
 use rand_core::SeedableRng;
 #[cfg(not(feature = "store"))]
@@ -89,7 +93,12 @@ type Summation = hsid::Compensated;
 /// the chosen summation.
 type Id = Identifier<f32, M, K, Summation, F>;
 
-/// Scalars of the solve workspace.
+/// Scalars of the solve workspace: the structured solve's (`Identifier::solve_structured`,
+/// the Gram's displacement generator, 40 KB at the paper's configuration), or with the
+/// `dense-solve` feature the dense solve's (`Identifier::solve`, the Gram's blocks, 132 KB).
+#[cfg(not(feature = "dense-solve"))]
+const WORKSPACE_LEN: usize = structured_workspace_len(M, F, P);
+#[cfg(feature = "dense-solve")]
 const WORKSPACE_LEN: usize = workspace_len(M, F, P);
 /// The solve workspace, in `.bss` (zero-initialised at compile time, handed out once).
 static WORKSPACE: ConstStaticCell<[f32; WORKSPACE_LEN]> =
@@ -181,7 +190,10 @@ fn stored_crc(bytes: &[u8]) -> u32 {
 /// in this frame only while it runs, not in `main`'s during the whole experiment.
 #[inline(never)]
 fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M, F>, hsid::Error>, u64) {
-    cost::measure_with(|| id.solve(ws))
+    #[cfg(not(feature = "dense-solve"))]
+    return cost::measure_with(|| id.solve_structured(ws));
+    #[cfg(feature = "dense-solve")]
+    return cost::measure_with(|| id.solve(ws));
 }
 
 #[board::entry]
@@ -220,6 +232,11 @@ fn main() -> ! {
         noise_seed: plant::NOISE_SEED,
         noise_amplitude: plant::NOISE_AMPLITUDE,
         workspace_len: WORKSPACE_LEN,
+        solve: if cfg!(feature = "dense-solve") {
+            "dense"
+        } else {
+            "structured"
+        },
     });
 
     // The experiment: one sample per period, apply u(t), read y(t), accumulate.

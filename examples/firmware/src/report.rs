@@ -40,12 +40,15 @@ pub struct Config {
     pub noise_seed: u64,
     pub noise_amplitude: f32,
     pub workspace_len: usize,
+    /// Which solve runs: `structured` (`Identifier::solve_structured`) or `dense`
+    /// (`Identifier::solve`, the `dense-solve` feature).
+    pub solve: &'static str,
 }
 
 /// `HSID config u_min=.. u_max=.. segments=.. f=.. p=.. hold=.. settle=.. samples=.. ...`
 pub fn config(c: &Config) {
     out!(
-        "HSID config u_min={} u_max={} segments={} f={} p={} hold={} settle={} samples={} excitation_seed={} noise_seed={} noise_amplitude={} workspace_len={}",
+        "HSID config u_min={} u_max={} segments={} f={} p={} hold={} settle={} samples={} excitation_seed={} noise_seed={} noise_amplitude={} workspace_len={} solve={}",
         c.u_min,
         c.u_max,
         c.segments,
@@ -57,7 +60,8 @@ pub fn config(c: &Config) {
         c.excitation_seed,
         c.noise_seed,
         c.noise_amplitude,
-        c.workspace_len
+        c.workspace_len,
+        c.solve
     );
 }
 

@@ -8,8 +8,8 @@
 //! - `cargo build --release`: the per-sample path — the Table I generator, δ(t), the hold,
 //!   z(t) and the accumulation of one sample — as the firmware runs it (`f32`, plain sums),
 //!   with inputs the optimiser cannot see (`black_box`), NaN among them;
-//! - `cargo build --release --features solve`: the same, plus `Identifier::solve` on the
-//!   accumulated statistics, for `f32` with plain and with compensated output sums and for
+//! - `cargo build --release --features solve`: the same, plus `Identifier::solve` and
+//!   `Identifier::solve_structured` on the accumulated statistics, for `f32` with plain and with compensated output sums and for
 //!   `f64`, with every choice of the settings (method, order, basis, μ0, forgetting, `f`, `p`)
 //!   and the workspace length hidden from the optimiser, so that every branch is kept.
 //!
@@ -101,6 +101,20 @@ fn main() -> ! {
             black_box(
                 id_64
                     .solve_with(ws_64.get_mut(..n).unwrap_or(&mut []), poles)
+                    .is_ok(),
+            );
+            // The structured solve, with the same hidden lengths and settings.
+            black_box(
+                id.solve_structured_with(ws.get_mut(..n).unwrap_or(&mut []), poles)
+                    .is_ok(),
+            );
+            black_box(
+                id_c.solve_structured(ws.get_mut(..n).unwrap_or(&mut []))
+                    .is_ok(),
+            );
+            black_box(
+                id_64
+                    .solve_structured_with(ws_64.get_mut(..n).unwrap_or(&mut []), poles)
                     .is_ok(),
             );
         }
