@@ -12,7 +12,8 @@ use heapless::Vec;
 use crate::direction::Direction;
 use crate::error::{Error, Stage};
 use crate::linalg::{
-    Small, apply_q, at, el, householder_qr, least_squares, set, set_el, spectral_radius, svd_small,
+    Small, apply_q, at, el, householder_qr, least_squares, set, set_el, spectral_radius,
+    svd_in_place,
 };
 use crate::model::Model;
 use crate::regressor::{Basis, Knots};
@@ -151,12 +152,7 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
 
     // 1. Γ_f (first n columns of the weighting's estimate), C = first row, A from
     // Γ_under A = Γ_over.
-    let mut gamma = Small::<T, H>::zeros();
-    for c in 0..n {
-        for r in 0..f {
-            set_el(&mut gamma, r, c, el(&proj.gamma, r, c));
-        }
-    }
+    let gamma = &proj.gamma;
     // U₂: an orthonormal basis of the complement of range(Γ_f), from the QR of Γ_f.
     let mut u2 = Small::<T, H>::zeros();
     {
@@ -167,7 +163,7 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
         let e = take(&mut rest, le, err)?;
         for c in 0..n {
             for r in 0..f {
-                set(g, r + c * f, el(&gamma, r, c));
+                set(g, r + c * f, el(gamma, r, c));
             }
         }
         householder_qr(g, f, n, tau);
@@ -190,8 +186,8 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
         let tau = take(&mut rest, lt, err)?;
         for c in 0..n {
             for r in 0..rows {
-                set(ga, r + c * rows, el(&gamma, r, c));
-                set(gb, r + c * rows, el(&gamma, r + 1, c));
+                set(ga, r + c * rows, el(gamma, r, c));
+                set(gb, r + c * rows, el(gamma, r + 1, c));
             }
         }
         least_squares::<T, H>(ga, rows, n, gb, n, tau, rank_tol(rows)).map_err(|()| {
@@ -215,7 +211,7 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
     }
     let mut cvec = [T::zero(); H];
     for (c, v) in cvec.iter_mut().enumerate().take(n) {
-        *v = el(&gamma, 0, c);
+        *v = el(gamma, 0, c);
     }
 
     // 2. B_f = L₃₁ L₁₁⁻¹ (f × f·m) was left in the workspace by the projection step.
@@ -277,14 +273,7 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
     // 4. Rank-1 split (eq. 14): X ≈ s u vᵀ.
     let (s1, s2, uvec, vvec) = dominant_triple::<T, M, H>(rhs, rows, cols, m, split, err)?;
 
-    // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1.
-    let mut ia = Small::<T, H>::zeros();
-    for r in 0..n {
-        for c in 0..n {
-            let eye = if r == c { T::one() } else { T::zero() };
-            set_el(&mut ia, r, c, eye - el(&a, r, c));
-        }
-    }
+    // 5. γ: G(1) = γ s (C (I − A)⁻¹ u_B + u_D) = 1, from (I − A) x = u_B.
     let mut xb = [T::zero(); H];
     {
         let (la, lb, lt) = lay.gain_parts(n);
@@ -295,7 +284,8 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
         for r in 0..n {
             set(mb, r, at(&uvec, 1 + r));
             for c in 0..n {
-                set(ma, r + c * n, el(&ia, r, c));
+                let eye = if r == c { T::one() } else { T::zero() };
+                set(ma, r + c * n, eye - el(&a, r, c));
             }
         }
         least_squares::<T, H>(ma, n, n, mb, 1, tau, rank_tol(n))
@@ -399,8 +389,9 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
 /// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading
 /// dimension `ld` in `x`. Returns `(s₁, s₂, u (n+1), v (m))` (`s₂` the second singular value,
 /// 0 for a single row or column); `buf` is scratch of at least
-/// `m·(n+1) + m + n + 1` scalars (`err` if it is shorter).
-#[inline(always)]
+/// `m·(n+1) + m + n + 1` scalars (`err` if it is shorter). Not inlined: its two small
+/// matrices are on the stack only while it runs.
+#[inline(never)]
 fn dominant_triple<T: Real, const M: usize, const H: usize>(
     x: &[T],
     ld: usize,
@@ -429,10 +420,11 @@ fn dominant_triple<T: Real, const M: usize, const H: usize>(
                 set_el(&mut rt, i, k, at(xt, k + i * m));
             }
         }
-        let (uu, s, w) = svd_small(rt, rows, Stage::RankOneSplit, true)?;
+        let mut w = Small::<T, H>::identity();
+        let s = svd_in_place(&mut rt, Some(&mut w), rows, Stage::RankOneSplit)?;
         y.fill(T::zero());
         for i in 0..rows {
-            set(&mut u, i, el(&uu, i, 0));
+            set(&mut u, i, el(&rt, i, 0));
             set(y, i, el(&w, i, 0));
         }
         apply_q(xt, m, rows, tau, y);
@@ -458,10 +450,11 @@ fn dominant_triple<T: Real, const M: usize, const H: usize>(
                 set_el(&mut r, k, c, at(xc, k + c * rows));
             }
         }
-        let (uu, s, w) = svd_small(r, m, Stage::RankOneSplit, true)?;
+        let mut w = Small::<T, H>::identity();
+        let s = svd_in_place(&mut r, Some(&mut w), m, Stage::RankOneSplit)?;
         y.fill(T::zero());
         for i in 0..m {
-            set(y, i, el(&uu, i, 0));
+            set(y, i, el(&r, i, 0));
             set(&mut v, i, el(&w, i, 0));
         }
         apply_q(xc, rows, m, tau, y);

@@ -10,7 +10,8 @@ use crate::model::{DEFAULT_HORIZON, Model};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use crate::subspace::{
-    Layout, Method, Order, Slots, pi_moesp, pi_moesp_structured, select_order, structured_len,
+    Layout, Method, Order, Projection, Slots, pi_moesp, pi_moesp_structured, select_order,
+    structured_len,
 };
 
 /// Identification settings (validated by [`Identifier::new`]).
@@ -392,28 +393,35 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: us
     /// ([`Error::NotShiftStructured`] otherwise).
     ///
     /// ```
-    /// use hsid::{Identifier, Knots, MuZero, Settings, structured_workspace_len};
+    /// use hsid::{Excitation, Identifier, Knots, MuZero, Order, Settings, structured_workspace_len};
+    /// use rand_core::SeedableRng;
     ///
-    /// let knots = Knots::<f64, 4>::uniform(-1.0, 1.0, 2, 2).unwrap();
-    /// let mut id = Identifier::<f64, 4, 6>::new(Settings::new(knots, 3, 3, MuZero::Known(0.0)))
-    ///     .unwrap();
-    /// // A second-order plant with backlash-like paths: a triangle sweep.
-    /// let (mut y1, mut y2, mut x1) = (0.0, 0.0, 0.0);
-    /// for t in 0..4000 {
-    ///     let u = 0.9 * ((t as f64 * 0.37).sin() * (t as f64 * 0.011).cos());
-    ///     let y = 1.3 * y1 - 0.42 * y2 + 0.12 * x1;
-    ///     (y2, y1, x1) = (y1, y, u);
+    /// // The paper's configuration: 7 segments per path, f = p = 10, μ0 from a hold.
+    /// let knots = Knots::<f32, 14>::uniform(-3.0, 3.0, 7, 7).unwrap();
+    /// let mut settings = Settings::new(knots, 10, 10, MuZero::Hold { len: 300, settle: 150 });
+    /// settings.order = Order::Fixed(2);
+    /// let mut id = Identifier::<f32, 14, 20>::new(settings).unwrap();
+    /// // A backlash of gap 0.4 in front of the paper's G(q).
+    /// let rng = rand_pcg::Pcg32::seed_from_u64(1);
+    /// let (mut w, mut w1, mut w2, mut y1, mut y2) = (-3.0f32, 0.0, 0.0, 0.0, 0.0);
+    /// for u in Excitation::new(-3.0, 3.0, 300, rng).unwrap().take(4319) {
+    ///     w = w.clamp(u - 0.2, u + 0.2);
+    ///     let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
+    ///     (w2, w1, y2, y1) = (w1, w, y1, y);
     ///     id.push(u, y);
     /// }
-    /// let mut ws = vec![0.0; structured_workspace_len(4, 3, 3)];
-    /// let structured = id.solve_structured(&mut ws).unwrap();
-    /// let mut dense_ws = vec![0.0; id.workspace_len()];
+    /// let mut ws = vec![0.0f32; structured_workspace_len(14, 10, 10)]; // 40 KB
+    /// let model = id.solve_structured(&mut ws).unwrap();
+    /// let mut dense_ws = vec![0.0f32; id.workspace_len()]; // 132 KB
     /// let dense = id.solve(&mut dense_ws).unwrap();
-    /// assert_eq!(structured.order(), dense.order());
-    /// for k in 0..6 {
-    ///     let (a, b) = (structured.markov(k), dense.markov(k));
-    ///     assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{k}: {a} {b}");
-    /// }
+    /// // The same poles: trace and determinant of A (0.9429 ± 0.1255 j: 1.8858, 0.9048).
+    /// let tr_det = |m: &hsid::Model<f32, 14>| {
+    ///     let a = |i, j| m.a(i, j);
+    ///     (a(0, 0) + a(1, 1), a(0, 0) * a(1, 1) - a(0, 1) * a(1, 0))
+    /// };
+    /// let ((t, d), (t_ref, d_ref)) = (tr_det(&model), tr_det(&dense));
+    /// assert!((t - t_ref).abs() < 1e-4 && (d - d_ref).abs() < 1e-4);
+    /// assert!((t - 1.8858).abs() < 5e-3 && (d - 0.9048).abs() < 5e-3, "{t} {d}");
     /// ```
     pub fn solve_structured(&self, ws: &mut [T]) -> Result<Model<T, M, H>, Error> {
         self.solve_structured_with(ws, Poles::Stable)
@@ -451,13 +459,15 @@ impl<T: Real, const M: usize, const K: usize, S: Summation<T, M, K>, const H: us
         }
         self.ready()?;
         let (knots, basis) = (&self.settings.knots, self.settings.basis);
-        let proj = pi_moesp_structured::<T, M, K, H>(
+        let mut proj = Projection::empty();
+        pi_moesp_structured::<T, M, K, H>(
             &self.acc,
             knots,
             basis,
             lay,
             S::OUTPUT_ROUNDING,
             ws,
+            &mut proj,
         )?;
         let n = select_order(self.settings.order, &proj, lay)?;
         let sl = Slots::of(lay);

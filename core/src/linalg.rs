@@ -423,11 +423,34 @@ fn svd_small_bounded<T: Real, const H: usize>(
     want_v: bool,
     sweeps: usize,
 ) -> Result<Svd<T, H>, Error> {
+    let mut v = Small::<T, H>::identity();
+    let s = svd_in_place_bounded(&mut a, want_v.then_some(&mut v), n, stage, sweeps)?;
+    Ok((a, s, v))
+}
+
+/// [`svd_small`] in place, for callers short of stack: `a` becomes `U`, `v` (if given, the
+/// identity on entry) `V`; returns the singular values.
+pub(crate) fn svd_in_place<T: Real, const H: usize>(
+    a: &mut Small<T, H>,
+    v: Option<&mut Small<T, H>>,
+    n: usize,
+    stage: Stage,
+) -> Result<[T; H], Error> {
+    svd_in_place_bounded(a, v, n, stage, JACOBI_SWEEPS)
+}
+
+/// [`svd_in_place`] with at most `sweeps` sweeps.
+fn svd_in_place_bounded<T: Real, const H: usize>(
+    a: &mut Small<T, H>,
+    mut v: Option<&mut Small<T, H>>,
+    n: usize,
+    stage: Stage,
+    sweeps: usize,
+) -> Result<[T; H], Error> {
     if !all_finite(a.as_slice()) {
         return Err(Error::Overflow { stage });
     }
     let n = n.min(H);
-    let mut v = Small::<T, H>::identity();
     let tol = T::EPS * T::of_usize(n.max(1));
     let big = T::one() / T::EPS.sqrt();
     let mut converged = false;
@@ -436,7 +459,7 @@ fn svd_small_bounded<T: Real, const H: usize>(
         for p in 0..n {
             for q in (p + 1)..n {
                 let (mut alpha, mut beta, mut gamma) = (T::zero(), T::zero(), T::zero());
-                let (cp, cq) = columns(&mut a, p, q, n);
+                let (cp, cq) = columns(a, p, q, n);
                 for (&ap, &aq) in cp.iter().zip(cq.iter()) {
                     alpha += ap * ap;
                     beta += aq * aq;
@@ -458,8 +481,8 @@ fn svd_small_bounded<T: Real, const H: usize>(
                 for (ap, aq) in cp.iter_mut().zip(cq.iter_mut()) {
                     (*ap, *aq) = (c * *ap - s * *aq, s * *ap + c * *aq);
                 }
-                if want_v {
-                    let (vp, vq) = columns(&mut v, p, q, n);
+                if let Some(v) = v.as_deref_mut() {
+                    let (vp, vq) = columns(v, p, q, n);
                     for (vp, vq) in vp.iter_mut().zip(vq.iter_mut()) {
                         (*vp, *vq) = (c * *vp - s * *vq, s * *vp + c * *vq);
                     }
@@ -496,18 +519,24 @@ fn svd_small_bounded<T: Real, const H: usize>(
         if k != i && k < n {
             s.swap(i, k);
             a.swap_columns(i, k);
-            v.swap_columns(i, k);
-        }
-    }
-    let mut u = Small::<T, H>::zeros();
-    for (c, &sc) in s.iter().enumerate().take(n) {
-        if sc > T::zero() {
-            for r in 0..n {
-                u[(r, c)] = a[(r, c)] / sc;
+            if let Some(v) = v.as_deref_mut() {
+                v.swap_columns(i, k);
             }
         }
     }
-    Ok((u, s, v))
+    // U: the columns over their norms (zero columns stay zero), and nothing outside n × n.
+    for c in 0..H {
+        let sc = at(&s, c);
+        for r in 0..H {
+            let x = a[(r, c)];
+            a[(r, c)] = if c < n && r < n && sc > T::zero() {
+                x / sc
+            } else {
+                T::zero()
+            };
+        }
+    }
+    Ok(s)
 }
 
 /// Squarings of [`spectral_radius`]: `‖A^N‖^{1/N}` with `N = 2^24`.
@@ -519,6 +548,7 @@ pub(crate) const SPECTRAL_SQUARINGS: usize = 24;
 /// logarithms of the scales accumulated in `f64`. A bounded computation without iterations
 /// to converge: the estimate is `ρ · c^{1/N}` with `c` the conditioning of `A`'s eigenvector
 /// basis, so within a relative 1e-5 of ρ for any `c` below 1e30. A nilpotent matrix gives 0.
+#[inline(never)]
 pub(crate) fn spectral_radius<T: Real, const H: usize>(a: &Small<T, H>, n: usize) -> f64 {
     let n = n.min(H);
     let mut b = Small::<T, H>::zeros();

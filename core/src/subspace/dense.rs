@@ -4,6 +4,21 @@
 use crate::linalg::Small;
 use crate::scalar::Real;
 
+/// Columns `i < f` of `t` times `√s_i`, in place.
+pub(super) fn scale_columns_in_place<T: Real, const H: usize>(
+    t: &mut Small<T, H>,
+    s: &[T; H],
+    f: usize,
+) {
+    let f = f.min(H);
+    for (c, &sc) in s.iter().enumerate().take(f) {
+        let w = sc.sqrt();
+        for r in 0..f {
+            t[(r, c)] *= w;
+        }
+    }
+}
+
 /// Columns `i < f` of `t` times `√s_i` (`s` raw singular values times `scale`).
 pub(super) fn scale_columns<T: Real, const H: usize>(
     mut t: Small<T, H>,
@@ -57,8 +72,18 @@ pub(super) fn lower_solve<T: Real, const H: usize>(
     b: &Small<T, H>,
     n: usize,
 ) -> Small<T, H> {
-    let n = n.min(H);
     let mut x = *b;
+    lower_solve_in_place(l, &mut x, n);
+    x
+}
+
+/// [`lower_solve`] in place: `x ← L⁻¹ x` on the leading `n × n` block.
+pub(super) fn lower_solve_in_place<T: Real, const H: usize>(
+    l: &Small<T, H>,
+    x: &mut Small<T, H>,
+    n: usize,
+) {
+    let n = n.min(H);
     for c in 0..n {
         for r in 0..n {
             let mut v = x[(r, c)];
@@ -69,7 +94,6 @@ pub(super) fn lower_solve<T: Real, const H: usize>(
             x[(r, c)] = if d > T::zero() { v / d } else { T::zero() };
         }
     }
-    x
 }
 
 /// `A Aᵀ` of the leading `n × n` block (zero outside it).

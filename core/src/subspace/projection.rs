@@ -28,6 +28,18 @@ pub(crate) struct Projection<T, const H: usize> {
     pub gamma: Small<T, H>,
 }
 
+impl<T: Real, const H: usize> Projection<T, H> {
+    /// Nothing yet (no columns, zero singular values and `Γ_f`), to be filled in place.
+    pub(crate) fn empty() -> Self {
+        Self {
+            j: 0,
+            sv: [T::zero(); H],
+            sv_white: [T::zero(); H],
+            gamma: Small::zeros(),
+        }
+    }
+}
+
 /// PI-MOESP from the accumulated Gram: `L₁₁`, the Schur complement of `[Z_p; Ȳ_f]` given
 /// `Z_f` (whose Cholesky factor holds `L₂₂`, `L₃₂`, `L₃₃`), `B_f = L₃₁L₁₁⁻¹`, and the SVD of
 /// `L₃₂`. The cross block `G_{Z_f,[Z_p; Ȳ_f]}` is never stored whole: it is formed from the
@@ -80,8 +92,8 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     // singular values.
     let (x, tau) = qr_scratch(lay, tail, ws_len)?;
     load_l32(x, schur, w, f);
-    let rt = r_transposed::<T, H>(x, tau, w, f);
-    let l33 = l33::<T, H>(schur, w, f);
+    let mut rt = r_transposed::<T, H>(x, tau, w, f);
+    let mut l33 = l33::<T, H>(schur, w, f);
     let (gamma, sv) = Weighting {
         lay,
         schur,
@@ -95,7 +107,7 @@ pub(crate) fn pi_moesp<T: Real, const M: usize, const K: usize, const H: usize>(
     .gamma(wgram, x, tau)?;
 
     // 6. Whitened singular values for the order.
-    let sv_white = whitened(&l33, &white_floor, &rt, dof, lay)?;
+    let sv_white = whitened(&mut l33, &white_floor, &mut rt, dof, lay)?;
     Ok(Projection {
         j: acc.columns(),
         sv: leading(&sv, f),

@@ -2,10 +2,12 @@
 //! `Rᵀ` (`L₃₂ = Rᵀ Qᵀ`), `L₃₃` and, for N4SID, the instruments' Gram.
 
 use super::blocks::{load_l32, r_transposed};
-use super::dense::{lower_solve, outer_gram, product, scale_columns, small_cholesky};
+use super::dense::{
+    lower_solve, outer_gram, product, scale_columns, scale_columns_in_place, small_cholesky,
+};
 use super::{Layout, Method};
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, Svd, at, cholesky_packed, packed, set, svd_small};
+use crate::linalg::{Small, Svd, at, cholesky_packed, packed, set, svd_in_place, svd_small};
 use crate::scalar::Real;
 
 /// What the weightings read: the factored Schur complement and the pieces of step 4 and 5.
@@ -105,11 +107,14 @@ pub(super) fn pi_moesp_gamma<T: Real, const H: usize>(
     f: usize,
     sqrt_j: T,
 ) -> Result<(Small<T, H>, [T; H]), Error> {
-    Ok(scaled(
-        svd_small(*rt, f, Stage::Projection, false)?,
-        f,
-        sqrt_j,
-    ))
+    let mut u = *rt;
+    let s = svd_in_place(&mut u, None, f, Stage::Projection)?;
+    let mut sv = s;
+    for v in sv.iter_mut() {
+        *v /= sqrt_j;
+    }
+    scale_columns_in_place(&mut u, &s, f);
+    Ok((u, sv))
 }
 
 /// `Γ_f = U S^½` and the singular values over `sqrt_j` from an SVD.

@@ -24,6 +24,7 @@ mod resume;
 mod stack;
 
 use core::panic::PanicInfo;
+use core::sync::atomic::{Ordering, compiler_fence};
 
 use board::debug;
 #[cfg(not(feature = "store"))]
@@ -186,14 +187,15 @@ fn stored_crc(bytes: &[u8]) -> u32 {
     u32::from_le_bytes(last)
 }
 
-/// The final solve, measured. Not inlined, like [`identifier`]: the solve's temporaries live
-/// in this frame only while it runs, not in `main`'s during the whole experiment.
+/// The final solve. Not inlined, like [`identifier`]: the solve's temporaries live in this
+/// frame only while it runs, and the model is built in the caller's slot (no copy on the
+/// stack).
 #[inline(never)]
-fn solve(id: &Id, ws: &mut [f32]) -> (Result<Model<f32, M, F>, hsid::Error>, u64) {
+fn solve(id: &Id, ws: &mut [f32]) -> Result<Model<f32, M, F>, hsid::Error> {
     #[cfg(not(feature = "dense-solve"))]
-    return cost::measure_with(|| id.solve_structured(ws));
+    return id.solve_structured(ws);
     #[cfg(feature = "dense-solve")]
-    return cost::measure_with(|| id.solve(ws));
+    return id.solve(ws);
 }
 
 #[board::entry]
@@ -208,17 +210,6 @@ fn main() -> ! {
     calibrate();
 
     let id = identifier();
-    #[cfg(not(feature = "store"))]
-    let mut excitation = Excitation::new(
-        U_MIN,
-        U_MAX,
-        HOLD_LEN,
-        Pcg32::seed_from_u64(EXCITATION_SEED),
-    )
-    .unwrap_or_else(|e| fail_with("excitation", &e));
-    #[cfg(not(feature = "store"))]
-    let mut servo = plant::plant();
-
     report::config(&report::Config {
         u_min: U_MIN,
         u_max: U_MAX,
@@ -242,6 +233,38 @@ fn main() -> ! {
     // The experiment: one sample per period, apply u(t), read y(t), accumulate.
     let mut push = report::PushCost::default();
     #[cfg(not(feature = "store"))]
+    experiment(id, &mut push);
+    // With the `store` feature: the same experiment, checkpointed into the store, interrupted
+    // by a power loss and resumed from the store.
+    #[cfg(feature = "store")]
+    let ws = resume::experiment(id, &mut push, WORKSPACE.take());
+    if let Some(e) = id.fault() {
+        fail_with("push", &e);
+    }
+    let stack_peak_accumulation = stack::peak_bytes();
+
+    // Export the accumulated state (checkpoint) to the host, then the final solve with the
+    // static workspace.
+    #[cfg(not(feature = "store"))]
+    let ws = WORKSPACE.take();
+    export_state(id, ws);
+    finish(id, ws, &push, stack_peak_accumulation)
+}
+
+/// The experiment: the excitation applied to the servo sample by sample, each `(u, y)` pushed
+/// into the identifier and its cost measured. Not inlined: the generator's and the plant's
+/// state live in this frame only while the experiment runs, not during the solve.
+#[cfg(not(feature = "store"))]
+#[inline(never)]
+fn experiment(id: &mut Id, push: &mut report::PushCost) {
+    let mut excitation = Excitation::new(
+        U_MIN,
+        U_MAX,
+        HOLD_LEN,
+        Pcg32::seed_from_u64(EXCITATION_SEED),
+    )
+    .unwrap_or_else(|e| fail_with("excitation", &e));
+    let mut servo = plant::plant();
     for t in 0..HOLD_LEN + EXCITATION_LEN {
         let u = excitation.next().unwrap_or(U_MIN); // endless iterator: never None
         servo.apply(u);
@@ -254,26 +277,21 @@ fn main() -> ! {
             push.add(ticks, overhead);
         }
     }
-    // With the `store` feature: the same experiment, checkpointed into the store, interrupted
-    // by a power loss and resumed from the store.
-    #[cfg(feature = "store")]
-    let ws = resume::experiment(id, &mut push, WORKSPACE.take());
-    if let Some(e) = id.fault() {
-        fail_with("push", &e);
-    }
+}
 
-    let stack_peak_accumulation = stack::peak_bytes();
-
-    // Export the accumulated state (checkpoint) to the host, then the final solve with the
-    // static workspace; the solve's stack peak is measured on its own.
-    #[cfg(not(feature = "store"))]
-    let ws = WORKSPACE.take();
-    export_state(id, ws);
+/// The final solve with the static workspace, its stack peak measured on its own, and the
+/// report: costs, then the model (`HSID ok`, exit status 0) or the failure.
+#[inline(never)]
+fn finish(id: &Id, ws: &mut [f32], push: &report::PushCost, stack_peak_accumulation: usize) -> ! {
     stack::repaint();
-    let (model, solve_ticks) = solve(id, ws);
+    let t0 = cost::now();
+    compiler_fence(Ordering::SeqCst);
+    let model = solve(id, ws);
+    compiler_fence(Ordering::SeqCst);
+    let solve_ticks = cost::now() - t0;
     let stack_peak_solve = stack::peak_bytes();
     report::cost(&report::Cost {
-        push: &push,
+        push,
         solve_ticks,
         stack_peak_accumulation_bytes: stack_peak_accumulation,
         stack_peak_solve_bytes: stack_peak_solve,
@@ -281,14 +299,14 @@ fn main() -> ! {
         identifier_bytes: core::mem::size_of_val(id),
         workspace_bytes: core::mem::size_of_val(ws),
     });
-    match model {
+    match &model {
         Ok(model) => {
-            report::model(&model);
+            report::model(model);
             out!("HSID ok");
             debug::exit(debug::EXIT_SUCCESS);
             fail("semihosting exit returned")
         }
-        Err(e) => fail_with("solve", &e),
+        Err(e) => fail_with("solve", e),
     }
 }
 

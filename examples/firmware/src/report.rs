@@ -46,6 +46,7 @@ pub struct Config {
 }
 
 /// `HSID config u_min=.. u_max=.. segments=.. f=.. p=.. hold=.. settle=.. samples=.. ...`
+#[inline(never)]
 pub fn config(c: &Config) {
     out!(
         "HSID config u_min={} u_max={} segments={} f={} p={} hold={} settle={} samples={} excitation_seed={} noise_seed={} noise_amplitude={} workspace_len={} solve={}",
@@ -99,6 +100,7 @@ pub struct State<'a> {
 /// `HSID state bytes=<n> crc=<8 hex digits> save_instr=<n> buffer=<workspace|static>
 /// file=<name|none>`, preceded by
 /// `HSID warn state export: <why>` if the host did not take the file.
+#[inline(never)]
 pub fn state(s: &State) {
     let file = match s.written {
         Ok(()) => s.file,
@@ -170,6 +172,7 @@ pub struct Cost<'a> {
 /// solve_ticks=.. solve_instr=.. stack_peak_bytes=.. ... counter=..` (instructions = ticks ×
 /// `instr_per_tick`, 40 with SysTick on the Cortex-M4 and 1 with `minstret` on RISC-V, under
 /// QEMU `-icount shift=0`; `per_sample_*` over the accumulation samples).
+#[inline(never)]
 pub fn cost(c: &Cost) {
     let n = c.push.samples.max(1);
     let net = c.push.net_ticks();
@@ -223,6 +226,7 @@ fn row(tag: &str, values: &[f32]) {
 /// The model: `HSID model order=.. ...`, `HSID A <i> ...` (one line per row), `HSID B`,
 /// `HSID C`, `HSID D`, `HSID mu0`, the knots and the border values at the knots of both
 /// paths, and the singular values (plain and noise-whitened).
+#[inline(never)]
 pub fn model<const M: usize, const H: usize>(m: &Model<f32, M, H>) {
     let n = m.order();
     out!(

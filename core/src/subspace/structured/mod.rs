@@ -67,10 +67,10 @@ use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
 use generator::{Sums, build};
 
-/// The projection of PI-MOESP by the generalised Schur algorithm (see the module docs), `ws`
-/// at least [`structured_len`] scalars; `B_f` is left in `ws`'s identity slots
-/// ([`bf_at`]), the rest of `ws` is free for the model's steps from
-/// `fm · stride` on.
+/// The projection of PI-MOESP by the generalised Schur algorithm (see the module docs) into
+/// `out` (in the caller's frame: no copy of it on the stack), `ws` at least [`structured_len`]
+/// scalars; `B_f` is left in `ws`'s identity slots ([`bf_at`]), the rest of `ws` is free for
+/// the model's steps from `fm · stride` on.
 pub(crate) fn pi_moesp_structured<T: Real, const M: usize, const K: usize, const H: usize>(
     acc: &Accumulator<T, M, K>,
     knots: &Knots<T, M>,
@@ -78,36 +78,75 @@ pub(crate) fn pi_moesp_structured<T: Real, const M: usize, const K: usize, const
     lay: Layout,
     output_rounding: OutputRounding,
     ws: &mut [T],
-) -> Result<Projection<T, H>, Error> {
+    out: &mut Projection<T, H>,
+) -> Result<(), Error> {
     check_horizons::<K, H>(lay)?;
-    let sl = Slots::of(lay);
     let need = structured_len(lay);
-    let too_small = Error::WorkspaceTooSmall {
-        need,
-        have: ws.len(),
-    };
     if ws.len() < need {
-        return Err(too_small);
+        return Err(Error::WorkspaceTooSmall {
+            need,
+            have: ws.len(),
+        });
     }
-    let (x, aux) = ws
-        .split_at_mut_checked(sl.generator_len())
-        .ok_or(too_small)?;
     let src = Sums {
         acc,
         knots,
         basis,
-        sl,
+        sl: Slots::of(lay),
     };
-    let f = lay.f;
     let j_eff = acc.effective_columns().to_f64();
     let rounding = Rounding::<T>::new(j_eff, lay.d() + lay.q(), output_rounding);
+    let mut fac = Factors {
+        rt: Small::zeros(),
+        l33: Small::zeros(),
+        white_floor: [T::zero(); H],
+    };
+    factor(&src, lay, &rounding, ws, &mut fac)?;
+    // 4. Γ_f and the singular values from Rᵀ, the whitened ones for the order.
+    let f = lay.f;
+    let (gamma, sv) = pi_moesp_gamma(&fac.rt, f, T::of(libm::sqrt(j_eff)))?;
+    out.gamma = gamma;
+    out.sv = leading(&sv, f);
+    let dof = (j_eff - lay.d() as f64).max(1.0);
+    out.sv_white = whitened(&mut fac.l33, &fac.white_floor, &mut fac.rt, dof, lay)?;
+    out.j = acc.columns();
+    Ok(())
+}
+
+/// What the generator's elimination leaves for the small steps: `Rᵀ` (`L₃₂ = Rᵀ Qᵀ`), `L₃₃`
+/// and the whitening's rounding floors.
+struct Factors<T, const H: usize> {
+    rt: Small<T, H>,
+    l33: Small<T, H>,
+    white_floor: [T; H],
+}
+
+/// Steps 1–3 of the structured solve into `fac`. Not inlined, so that its scratch is off the
+/// stack before the small SVDs run.
+#[inline(never)]
+fn factor<T: Real, const M: usize, const K: usize, const H: usize>(
+    src: &Sums<'_, T, M, K>,
+    lay: Layout,
+    rounding: &Rounding<T>,
+    ws: &mut [T],
+    fac: &mut Factors<T, H>,
+) -> Result<(), Error> {
+    let sl = src.sl;
+    let too_small = Error::WorkspaceTooSmall {
+        need: structured_len(lay),
+        have: ws.len(),
+    };
+    let (x, aux) = ws
+        .split_at_mut_checked(sl.generator_len())
+        .ok_or(too_small)?;
+    let f = lay.f;
     let tol = T::EPS * T::of_usize(8 * (lay.d() + lay.q()));
     let deficient = Error::RankDeficient {
         stage: Stage::InputHankel,
     };
 
     // 1. The generator, and the raw diagonals of the output rows (natural order).
-    if !build(&src, x, aux, tol) {
+    if !build(src, x, aux, tol) {
         return Err(deficient);
     }
     if !all_finite(x) {
@@ -146,28 +185,19 @@ pub(crate) fn pi_moesp_structured<T: Real, const M: usize, const K: usize, const
         *fl = rounding.level * g.abs();
     }
     cholesky_packed(sphi, f, 0, tol, &floor[..f.min(H)]).map_err(|_| deficient)?;
-    let mut l33 = Small::<T, H>::zeros();
     for r in 0..f {
         for c in 0..=r {
-            set_el(&mut l33, r, c, at(sphi, packed(r, c)));
+            set_el(&mut fac.l33, r, c, at(sphi, packed(r, c)));
         }
     }
-    if !all_finite(l33.as_slice()) {
+    if !all_finite(fac.l33.as_slice()) {
         return Err(Error::Overflow { stage: Stage::Sums });
     }
-
-    // 4. Γ_f and the singular values from Rᵀ, the whitened ones for the order.
-    let rt = transpose_lower(&elim.r, f);
+    let j_eff = src.acc.effective_columns().to_f64();
     let dof = (j_eff - lay.d() as f64).max(1.0);
-    let (_, white_floor) = rounding.floors(&g_y, &elim.e, &elim.noise, dof, lay);
-    let (gamma, sv) = pi_moesp_gamma(&rt, f, T::of(libm::sqrt(j_eff)))?;
-    let sv_white = whitened(&l33, &white_floor, &rt, dof, lay)?;
-    Ok(Projection {
-        j: acc.columns(),
-        sv: leading(&sv, f),
-        sv_white,
-        gamma,
-    })
+    fac.white_floor = rounding.floors(&g_y, &elim.e, &elim.noise, dof, lay).1;
+    fac.rt = transpose_lower(&elim.r, f);
+    Ok(())
 }
 
 /// What the `Z_p` steps leave: `R` (upper, `RᵀR = L₃₂L₃₂ᵀ`) and, per output row `a`, the sums
