@@ -4,7 +4,7 @@
 # plain sums) through HSID_FW_SEGMENTS / HSID_FW_F / HSID_FW_P, measures it with
 # scripts/firmware-measure.sh under QEMU (-icount shift=0) and prints a markdown table:
 #   RAM = static RAM (.data + .bss + .uninit) + painted peak stack, the whole identification on
-#   the target (accumulation and the solve with today's dense workspace), against 32 / 64 /
+#   the target (accumulation and the structured solve, the firmware's default), against 32 / 64 /
 #   128 / 192 KiB, and the solve's instructions;
 #   "host solve" = the RAM of the route that accumulates on the target and exports the state
 #   for `hsid solve --state` on the host: static RAM without the solve workspace, plus the

@@ -135,7 +135,6 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
         poles,
     } = out;
     let (f, m) = (lay.f, lay.m);
-    let fm = f * m;
     // Both refused by `Identifier::new` (and `n` by `select_order`); kept here so that no
     // order can index past the small matrices.
     if !(2..=H).contains(&f) {
@@ -220,49 +219,13 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
     let nr = f - n;
     let rows = f * nr;
     let cols = n + 1;
-    // C A^k, k = 0 … f − 2.
-    let mut ob = Small::<T, H>::zeros();
-    {
-        let mut row = cvec;
-        for k in 0..f.saturating_sub(1) {
-            for q in 0..n {
-                set_el(&mut ob, k, q, at(&row, q));
-            }
-            let mut next = [T::zero(); H];
-            for (q, nq) in next.iter_mut().enumerate().take(n) {
-                for (p, &rp) in row.iter().enumerate().take(n) {
-                    *nq += rp * el(&a, p, q);
-                }
-            }
-            row = next;
-        }
-    }
     let (lk, lr, lt) = lay.bd_parts(n);
     let mut rest: &mut [T] = scratch;
     let kmat = take(&mut rest, lk, err)?;
     let rhs = take(&mut rest, lr, err)?;
     let tau = take(&mut rest, lt, err)?;
     let split = take(&mut rest, lay.split_len(n), err)?;
-    for jj in 0..f {
-        for r in 0..nr {
-            let row = jj * nr + r;
-            set(kmat, row, el(&u2, jj, r));
-            for q in 0..n {
-                let mut s = T::zero();
-                for kk in 0..(f - jj - 1) {
-                    s += el(&u2, jj + 1 + kk, r) * el(&ob, kk, q);
-                }
-                set(kmat, row + (1 + q) * rows, s);
-            }
-            for c in 0..m {
-                let mut s = T::zero();
-                for i in 0..f {
-                    s += el(&u2, i, r) * bf.at(i, jj, c, m, fm);
-                }
-                set(rhs, row + c * rows, s);
-            }
-        }
-    }
+    bd_system(&u2, &a, &cvec, bf, lay, n, kmat, rhs);
     least_squares::<T, H>(kmat, rows, cols, rhs, m, tau, rank_tol(rows)).map_err(|()| {
         Error::RankDeficient {
             stage: Stage::InputMatrices,
@@ -384,6 +347,62 @@ pub(crate) fn estimate_from<T: Real, const M: usize, const K: usize, const H: us
         sv,
         sv_white,
     })
+}
+
+/// The least squares of step 3: `kmat` (`f(f−n) × (n+1)`, column-major) from `U₂` and the
+/// observability rows `C A^k`, `rhs` (`f(f−n) × m`) from `U₂ᵀ B_f`. Not inlined: `C A^k` is
+/// on the stack only while it is built.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn bd_system<T: Real, const H: usize>(
+    u2: &Small<T, H>,
+    a: &Small<T, H>,
+    cvec: &[T; H],
+    bf: BfSource<'_, T>,
+    lay: Layout,
+    n: usize,
+    kmat: &mut [T],
+    rhs: &mut [T],
+) {
+    let (f, m) = (lay.f, lay.m);
+    let fm = f * m;
+    let nr = f - n;
+    let rows = f * nr;
+    // C A^k, k = 0 … f − 2.
+    let mut ob = Small::<T, H>::zeros();
+    let mut row = *cvec;
+    for k in 0..f.saturating_sub(1) {
+        for q in 0..n {
+            set_el(&mut ob, k, q, at(&row, q));
+        }
+        let mut next = [T::zero(); H];
+        for (q, nq) in next.iter_mut().enumerate().take(n) {
+            for (p, &rp) in row.iter().enumerate().take(n) {
+                *nq += rp * el(a, p, q);
+            }
+        }
+        row = next;
+    }
+    for jj in 0..f {
+        for r in 0..nr {
+            let row = jj * nr + r;
+            set(kmat, row, el(u2, jj, r));
+            for q in 0..n {
+                let mut s = T::zero();
+                for kk in 0..(f - jj - 1) {
+                    s += el(u2, jj + 1 + kk, r) * el(&ob, kk, q);
+                }
+                set(kmat, row + (1 + q) * rows, s);
+            }
+            for c in 0..m {
+                let mut s = T::zero();
+                for i in 0..f {
+                    s += el(u2, i, r) * bf.at(i, jj, c, m, fm);
+                }
+                set(rhs, row + c * rows, s);
+            }
+        }
+    }
 }
 
 /// Dominant singular triple of the `(n+1) × m` matrix stored column-major with leading

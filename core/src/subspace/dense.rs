@@ -132,14 +132,17 @@ pub(super) fn product<T: Real, const H: usize>(
     p
 }
 
-/// `Uᵀ` (lower) of the upper triangle of the leading `n × n` block of `u`.
-pub(super) fn transpose_lower<T: Real, const H: usize>(u: &Small<T, H>, n: usize) -> Small<T, H> {
+/// `t ← Uᵀ` (lower) of the upper triangle of the leading `n × n` block of `u` (zero elsewhere).
+pub(super) fn transpose_lower_into<T: Real, const H: usize>(
+    u: &Small<T, H>,
+    t: &mut Small<T, H>,
+    n: usize,
+) {
     let n = n.min(H);
-    let mut t = Small::<T, H>::zeros();
+    t.fill(T::zero());
     for i in 0..n {
         for j in i..n {
             t[(j, i)] = u[(i, j)];
         }
     }
-    t
 }

@@ -45,7 +45,11 @@ impl<T: Real, const H: usize> Weighting<'_, T, H> {
                 let ot = self.oblique(wgram, x, tau)?;
                 self.scaled(svd_small(ot, self.lay.f, Stage::Projection, false)?)
             }
-            Method::PiMoesp | Method::PoMoesp => pi_moesp_gamma(self.rt, self.lay.f, self.sqrt_j),
+            Method::PiMoesp | Method::PoMoesp => {
+                let mut gamma = Small::zeros();
+                let sv = pi_moesp_gamma(self.rt, self.lay.f, self.sqrt_j, &mut gamma)?;
+                Ok((gamma, sv))
+            }
         }
     }
 
@@ -100,21 +104,22 @@ impl<T: Real, const H: usize> Weighting<'_, T, H> {
     }
 }
 
-/// PI-MOESP's (and PO-MOESP's) `Γ_f` and singular values of `O_f / √j` from `Rᵀ` (`L₃₂ =
-/// Rᵀ Qᵀ`): the SVD of `Rᵀ`, `f × f`.
+/// PI-MOESP's (and PO-MOESP's) `Γ_f` into `gamma` and the singular values of `O_f / √j`
+/// (returned) from `Rᵀ` (`L₃₂ = Rᵀ Qᵀ`): the SVD of `Rᵀ`, `f × f`, in `gamma`'s place.
 pub(super) fn pi_moesp_gamma<T: Real, const H: usize>(
     rt: &Small<T, H>,
     f: usize,
     sqrt_j: T,
-) -> Result<(Small<T, H>, [T; H]), Error> {
-    let mut u = *rt;
-    let s = svd_in_place(&mut u, None, f, Stage::Projection)?;
+    gamma: &mut Small<T, H>,
+) -> Result<[T; H], Error> {
+    *gamma = *rt;
+    let s = svd_in_place(gamma, None, f, Stage::Projection)?;
     let mut sv = s;
     for v in sv.iter_mut() {
         *v /= sqrt_j;
     }
-    scale_columns_in_place(&mut u, &s, f);
-    Ok((u, sv))
+    scale_columns_in_place(gamma, &s, f);
+    Ok(sv)
 }
 
 /// `Γ_f = U S^½` and the singular values over `sqrt_j` from an SVD.

@@ -54,7 +54,7 @@ mod step;
 pub(crate) use slots::{Slots, structured_len};
 pub(crate) use stein::bf_at;
 
-use super::dense::transpose_lower;
+use super::dense::transpose_lower_into;
 use super::order::whitened;
 use super::projection::{check_horizons, leading};
 use super::rounding::Rounding;
@@ -104,8 +104,7 @@ pub(crate) fn pi_moesp_structured<T: Real, const M: usize, const K: usize, const
     factor(&src, lay, &rounding, ws, &mut fac)?;
     // 4. Γ_f and the singular values from Rᵀ, the whitened ones for the order.
     let f = lay.f;
-    let (gamma, sv) = pi_moesp_gamma(&fac.rt, f, T::of(libm::sqrt(j_eff)))?;
-    out.gamma = gamma;
+    let sv = pi_moesp_gamma(&fac.rt, f, T::of(libm::sqrt(j_eff)), &mut out.gamma)?;
     out.sv = leading(&sv, f);
     let dof = (j_eff - lay.d() as f64).max(1.0);
     out.sv_white = whitened(&mut fac.l33, &fac.white_floor, &mut fac.rt, dof, lay)?;
@@ -196,7 +195,7 @@ fn factor<T: Real, const M: usize, const K: usize, const H: usize>(
     let j_eff = src.acc.effective_columns().to_f64();
     let dof = (j_eff - lay.d() as f64).max(1.0);
     fac.white_floor = rounding.floors(&g_y, &elim.e, &elim.noise, dof, lay).1;
-    fac.rt = transpose_lower(&elim.r, f);
+    transpose_lower_into(&elim.r, &mut fac.rt, f);
     Ok(())
 }
 

@@ -26,18 +26,118 @@ fn reflector<T: Real>(v: &mut [T]) -> (Option<T>, T) {
 fn reflect<T: Real>(row: &mut [T], w: &[T], beta: T) {
     let (w4, _) = w.as_chunks::<4>();
     let mut a = [T::zero(); 4];
-    for (x, y) in row.as_chunks::<4>().0.iter().zip(w4) {
-        a[0] += x[0] * y[0];
-        a[1] += x[1] * y[1];
-        a[2] += x[2] * y[2];
-        a[3] += x[3] * y[3];
+    for (x, v) in row.as_chunks::<4>().0.iter().zip(w4) {
+        a[0] += x[0] * v[0];
+        a[1] += x[1] * v[1];
+        a[2] += x[2] * v[2];
+        a[3] += x[3] * v[3];
     }
     let d = beta * ((a[0] + a[1]) + (a[2] + a[3]));
-    for (x, y) in row.as_chunks_mut::<4>().0.iter_mut().zip(w4) {
-        x[0] -= d * y[0];
-        x[1] -= d * y[1];
-        x[2] -= d * y[2];
-        x[3] -= d * y[3];
+    for (x, v) in row.as_chunks_mut::<4>().0.iter_mut().zip(w4) {
+        x[0] -= d * v[0];
+        x[1] -= d * v[1];
+        x[2] -= d * v[2];
+        x[3] -= d * v[3];
+    }
+}
+
+/// [`reflect`] on two rows at once (each chunk of `w` loaded once for both),
+/// four columns at a time (lengths a multiple of 4); each row gets the bits it would get
+/// alone.
+#[inline(always)]
+fn reflect2<T: Real>(ra: &mut [T], rb: &mut [T], w: &[T], beta: T) {
+    let (w4, _) = w.as_chunks::<4>();
+    let (mut a, mut b) = ([T::zero(); 4], [T::zero(); 4]);
+    for ((x, y), v) in ra
+        .as_chunks::<4>()
+        .0
+        .iter()
+        .zip(rb.as_chunks::<4>().0)
+        .zip(w4)
+    {
+        a[0] += x[0] * v[0];
+        a[1] += x[1] * v[1];
+        a[2] += x[2] * v[2];
+        a[3] += x[3] * v[3];
+        b[0] += y[0] * v[0];
+        b[1] += y[1] * v[1];
+        b[2] += y[2] * v[2];
+        b[3] += y[3] * v[3];
+    }
+    let da = beta * ((a[0] + a[1]) + (a[2] + a[3]));
+    let db = beta * ((b[0] + b[1]) + (b[2] + b[3]));
+    let rows = ra
+        .as_chunks_mut::<4>()
+        .0
+        .iter_mut()
+        .zip(rb.as_chunks_mut::<4>().0);
+    for ((x, y), v) in rows.zip(w4) {
+        x[0] -= da * v[0];
+        x[1] -= da * v[1];
+        x[2] -= da * v[2];
+        x[3] -= da * v[3];
+        y[0] -= db * v[0];
+        y[1] -= db * v[1];
+        y[2] -= db * v[2];
+        y[3] -= db * v[3];
+    }
+}
+
+/// One step's transformation of the generator's rows: the reflectors of each signature's
+/// columns (`None`: the identity) and the hyperbolic rotation of columns 0 and `pos`.
+struct Kernel<'a, T> {
+    pos: usize,
+    plus: (&'a [T], Option<T>),
+    minus: (&'a [T], Option<T>),
+    rho: T,
+    sigma: T,
+}
+
+impl<T: Real> Kernel<'_, T> {
+    /// The rotation of one row's columns 0 and `pos`.
+    #[inline(always)]
+    fn rotate(&self, p: &mut [T], n: &mut [T]) {
+        if let (Some(x0), Some(xq)) = (p.first_mut(), n.first_mut()) {
+            let y0 = (*x0 - self.rho * *xq) / self.sigma;
+            *x0 = y0;
+            *xq = self.sigma * *xq - self.rho * y0;
+        }
+    }
+
+    /// The step on one row (`r` scalars).
+    #[inline(always)]
+    fn row(&self, row: &mut [T]) {
+        let Some((p, n)) = row.split_at_mut_checked(self.pos) else {
+            return;
+        };
+        let n = sub_mut(n, 0, self.pos);
+        if let (w, Some(beta)) = self.plus {
+            reflect(p, w, beta);
+        }
+        if let (w, Some(beta)) = self.minus {
+            reflect(n, w, beta);
+        }
+        self.rotate(p, n);
+    }
+
+    /// The step on two rows (`r` scalars each).
+    #[inline(always)]
+    fn pair(&self, ra: &mut [T], rb: &mut [T]) {
+        let (Some((pa, na)), Some((pb, nb))) = (
+            ra.split_at_mut_checked(self.pos),
+            rb.split_at_mut_checked(self.pos),
+        ) else {
+            return;
+        };
+        let (na, nb) = (sub_mut(na, 0, self.pos), sub_mut(nb, 0, self.pos));
+        if let (w, Some(beta)) = self.plus {
+            reflect2(pa, pb, w, beta);
+        }
+        if let (w, Some(beta)) = self.minus {
+            reflect2(na, nb, w, beta);
+        }
+        self.rotate(pa, na);
+        self.rotate(pb, nb);
     }
 }
 
@@ -45,7 +145,7 @@ fn reflect<T: Real>(row: &mut [T], w: &[T], beta: T) {
 /// returns `δ²`, or `None` if the pivot is not positive (`|ρ| ≥ 1`, or not finite): a
 /// Householder reflection on the columns of each signature, then a hyperbolic rotation of
 /// columns 0 and `pos` in the mixed form (`y₀ = (x₀ − ρ x_q)/σ`, `y_q = σ x_q − ρ y₀`), which
-/// keeps it stable; one pass over each row.
+/// keeps it stable; one pass over the rows, two at a time.
 pub(super) fn reduce<T: Real>(x: &mut [T], sl: &Slots, s: usize, v: &mut [T]) -> Option<T> {
     let (pos, r, piv) = (sl.pos, sl.r, sl.z(s));
     let v = sub_mut(v, 0, r);
@@ -59,26 +159,23 @@ pub(super) fn reduce<T: Real>(x: &mut [T], sl: &Slots, s: usize, v: &mut [T]) ->
         return None;
     }
     let rho = b / a;
-    let sc = ((T::one() - rho) * (T::one() + rho)).sqrt();
+    let kernel = Kernel {
+        pos,
+        plus: (vp, bp),
+        minus: (vn, bn),
+        rho,
+        sigma: ((T::one() - rho) * (T::one() + rho)).sqrt(),
+    };
+    let stride = sl.stride.max(1);
     for rg in sl.active(s) {
         let rows = sub_mut(x, sl.off(rg.start), sl.off(rg.end));
-        for chunk in rows.chunks_exact_mut(sl.stride.max(1)) {
-            let Some((p, n)) = chunk.split_at_mut_checked(pos) else {
-                continue;
-            };
-            let n = sub_mut(n, 0, pos);
-            if let Some(beta) = bp {
-                reflect(p, vp, beta);
-            }
-            if let Some(beta) = bn {
-                reflect(n, vn, beta);
-            }
-            if let (Some(x0), Some(xq)) = (p.first_mut(), n.first_mut()) {
-                let y0 = (*x0 - rho * *xq) / sc;
-                *x0 = y0;
-                *xq = sc * *xq - rho * y0;
+        let mut pairs = rows.chunks_exact_mut(2 * stride);
+        for two in &mut pairs {
+            if let Some((ra, rb)) = two.split_at_mut_checked(stride) {
+                kernel.pair(ra, rb);
             }
         }
+        kernel.row(pairs.into_remainder());
     }
     Some((a - b) * (a + b))
 }
