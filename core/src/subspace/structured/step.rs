@@ -169,7 +169,7 @@ pub(super) fn reduce<T: Real>(x: &mut [T], sl: &Slots, s: usize, v: &mut [T]) ->
     let stride = sl.stride.max(1);
     for rg in sl.active(s) {
         let rows = sub_mut(x, sl.off(rg.start), sl.off(rg.end));
-        let mut pairs = rows.chunks_exact_mut(2 * stride);
+        let mut pairs = rows.chunks_exact_mut(stride.saturating_mul(2));
         for two in &mut pairs {
             if let Some((ra, rb)) = two.split_at_mut_checked(stride) {
                 kernel.pair(ra, rb);
