@@ -48,6 +48,16 @@ fn reference_model(d: &Data, order: usize) -> RefModel {
 }
 
 fn core_model<T: hsid::Real>(d: &Data, basis: Basis, order: Order) -> hsid::Model<T, 13> {
+    core_model_with(d, basis, order, false)
+}
+
+/// [`core_model`] with the dense solve or, if `structured`, `Identifier::solve_structured`.
+fn core_model_with<T: hsid::Real>(
+    d: &Data,
+    basis: Basis,
+    order: Order,
+    structured: bool,
+) -> hsid::Model<T, 13> {
     let (ka, kd) = knots();
     let ka: Vec<T> = ka.iter().map(|&v| T::of(v)).collect();
     let kd: Vec<T> = kd.iter().map(|&v| T::of(v)).collect();
@@ -66,6 +76,10 @@ fn core_model<T: hsid::Real>(d: &Data, basis: Basis, order: Order) -> hsid::Mode
     let mut id = Identifier::<T, 13, 20>::new(s).unwrap();
     for (&u, &y) in d.u.iter().zip(&d.y) {
         id.push(T::of(u), T::of(y));
+    }
+    if structured {
+        let mut ws = vec![T::zero(); id.structured_workspace_len()];
+        return id.solve_structured(&mut ws).unwrap();
     }
     let mut ws = vec![T::zero(); id.workspace_len()];
     id.solve(&mut ws).unwrap()
@@ -137,6 +151,38 @@ fn f64_streaming_core_matches_reference_to_1e9() {
         assert!(dh < 1e-9, "Markov parameters differ by {dh:e}");
         assert!(db < 1e-9, "borders differ by {db:e}");
         assert!((c.mu0() - r.mu0).abs() < 1e-12);
+    }
+}
+
+/// The structured solve (the generalised Schur algorithm on the Gram's displacement
+/// generator, never forming the Gram) against the reference's explicit Hankel matrices, both
+/// bases: `f64` to rounding, `f32` within the tolerances of the dense `f32` solve.
+#[test]
+fn structured_solve_matches_reference() {
+    for (case, run) in [(Case::Backlash, 0), (Case::Switch, 1)] {
+        let d = data(case, run, 10.0);
+        let r = reference_model(&d, 2);
+        for basis in [Basis::Ramp, Basis::Hat] {
+            let c = core_model_with::<f64>(&d, basis, Order::Fixed(2), true);
+            let dsv = rel_diff(c.singular_values(), &r.singular_values);
+            let dp = rel_diff(&poles_core(&c), &poles_ref(&r));
+            let dense = core_model::<f64>(&d, basis, Order::Fixed(2));
+            let dh = rel_diff(&markov_core(&c, 40), &markov_core(&dense, 40));
+            let db = rel_diff(&borders_core(&c), &borders_core(&dense));
+            let c32 = core_model_with::<f32>(&d, basis, Order::Fixed(2), true);
+            let dp32 = rel_diff(&poles_core(&c32), &poles_ref(&r));
+            let db32 = rel_diff(&borders_core(&c32), &borders_core(&dense));
+            println!(
+                "{case:?} {basis:?} structured: f64 singular values {dsv:.2e}, poles {dp:.2e} (reference), Markov {dh:.2e}, borders {db:.2e} (dense); f32 poles {dp32:.2e}, borders {db32:.2e}"
+            );
+            assert!(dsv < 1e-9 && dp < 1e-9, "{dsv:e} {dp:e}");
+            assert!(dh < 1e-9 && db < 1e-9, "{dh:e} {db:e}");
+            let (_, tol) = match basis {
+                Basis::Hat => F32_TOL_HAT,
+                Basis::Ramp => F32_TOL_RAMP,
+            };
+            assert!(dp32 < tol && db32 < tol, "{dp32:e} {db32:e}");
+        }
     }
 }
 
