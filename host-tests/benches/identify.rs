@@ -2,7 +2,8 @@
 //! f = p = 10, 7 uniform segments per path, a hold of 300 samples), in `f64` and `f32`:
 //!
 //! * `whole/*`: one whole identification, every sample pushed and the final solve;
-//! * `solve/*`: the final solve alone, on an identifier that has seen all samples;
+//! * `solve/*`: the final solve alone, on an identifier that has seen all samples (the dense
+//!   solve, and `solve/structured *` the structured one);
 //! * `push/*`: the per-sample update, 1000 samples per iteration on an identifier already past
 //!   its hold (reported per sample).
 //!
@@ -91,6 +92,15 @@ fn bench_type<T: Real>(c: &mut Criterion, name: &str, cfg: &PaperConfig, u: &[f6
             black_box(&prepared)
                 .solve(&mut ws)
                 .unwrap_or_else(|e| panic!("solve: {e}"))
+                .order()
+        })
+    });
+    let mut small = vec![T::default(); prepared.structured_workspace_len()];
+    g.bench_function(format!("structured {name}"), |b| {
+        b.iter(|| {
+            black_box(&prepared)
+                .solve_structured(&mut small)
+                .unwrap_or_else(|e| panic!("structured solve: {e}"))
                 .order()
         })
     });

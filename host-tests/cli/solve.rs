@@ -3,9 +3,9 @@
 use crate::failure::{Failure, outln};
 use std::path::PathBuf;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use hsid::{CheckpointError, Error};
-use hsid_host::identify::{IdentifyError, solve_checkpoint};
+use hsid_host::identify::{IdentifyError, Solver, solve_checkpoint_with};
 use hsid_host::model_file::NonlinearityKind;
 use hsid_host::report::model_text;
 
@@ -17,15 +17,33 @@ pub struct SolveArgs {
     /// Checkpoint file written by `Identifier::save` (the firmware's `hsid-state.bin`).
     #[arg(long)]
     state: PathBuf,
+    /// Which of the core's solves: `dense` (the Gram's blocks; any settings) or `structured`
+    /// (the Gram's displacement generator, as the firmware solves by default: its model bit
+    /// for bit; PI-MOESP, μ0 not estimated, no forgetting).
+    #[arg(long, value_enum, default_value_t = SolverArg::Dense)]
+    solver: SolverArg,
     #[command(flatten)]
     out: ModelOut,
 }
 
-/// `hsid solve --state FILE [--json OUT]`.
+/// `--solver` of `hsid solve`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SolverArg {
+    /// `Identifier::solve`.
+    Dense,
+    /// `Identifier::solve_structured`.
+    Structured,
+}
+
+/// `hsid solve --state FILE [--solver dense|structured] [--json OUT]`.
 pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     let state = &a.state;
     let bytes = std::fs::read(state).map_err(|e| format!("{}: {e}", state.display()))?;
-    let solved = solve_checkpoint(&bytes).map_err(|e| {
+    let solver = match a.solver {
+        SolverArg::Dense => Solver::Dense,
+        SolverArg::Structured => Solver::Structured,
+    };
+    let solved = solve_checkpoint_with(&bytes, solver).map_err(|e| {
         let hint = match e {
             IdentifyError::Core(Error::Checkpoint(CheckpointError::NotACheckpoint)) => {
                 ": give the binary state file Identifier::save wrote (the firmware's hsid-state.bin), not the printed output"
@@ -36,14 +54,18 @@ pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     })?;
     let h = &solved.header;
     outln!(
-        "{}: {} checkpoint, {} bytes, {} channels, f = {}, p = {}; solved in {}",
+        "{}: {} checkpoint, {} bytes, {} channels, f = {}, p = {}; solved in {} ({} solve)",
         state.display(),
         h.scalar_name(),
         bytes.len(),
         h.channels,
         h.f,
         h.p,
-        h.scalar_name()
+        h.scalar_name(),
+        match a.solver {
+            SolverArg::Dense => "dense",
+            SolverArg::Structured => "structured",
+        }
     )?;
     outln!("{}", model_text(&solved.model))?;
     if let Some(path) = &a.out.json {

@@ -615,12 +615,15 @@ fn checkpoint_solved_on_host_matches_on_target_solve(target: &'static Target) {
         "hsid solve (library, other solve)",
         1e-3,
     );
-    let solved = solve_checkpoint(&run.state).unwrap();
 
     // The command line, on the file the firmware wrote.
     let json = run.dir.join("model.json");
+    let solver = match same {
+        Solver::Dense => "dense",
+        Solver::Structured => "structured",
+    };
     let out = Command::new(env!("CARGO_BIN_EXE_hsid"))
-        .args(["solve", "--state"])
+        .args(["solve", "--solver", solver, "--state"])
         .arg(run.dir.join(STATE_FILE))
         .arg("--json")
         .arg(&json)
@@ -633,6 +636,7 @@ fn checkpoint_solved_on_host_matches_on_target_solve(target: &'static Target) {
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("f32 checkpoint"), "{stdout}");
+    assert!(stdout.contains(&format!("({solver} solve)")), "{stdout}");
     assert!(stdout.contains("order n = 2"), "{stdout}");
     // The JSON holds the same model (serde_json parses floats to within an ulp or so).
     let from_json = HostModel::from_json(&hsid_host::model_file::ModelFile::load(&json).unwrap());

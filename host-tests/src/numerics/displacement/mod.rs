@@ -139,20 +139,17 @@
 //! against `G`) loses the most in both. The tests assert `1e-9` in f64 and, in f32, `2e-3` on
 //! `S_Φ` and `2e-4` on the others (the largest measured values times 3.6 and 4.9).
 //!
-//! # Left for a port into the core
+//! # The port in the core
 //!
-//! Fixed-size storage instead of `Vec`/`DMatrix` (one `[T]` of `((k+1)m + f)(2c+2)` plus `c²`);
-//! `B_f` can be written into the dead `I` rows (column `col` of `B_f` needs only row `I_q` and
-//! column `col + m`, so each `I` row can be overwritten by its column once read, if
-//! `f ≤ 2c + 2`) and `S_f`,
-//! `L₃₂L₃₂ᵀ` into the `m` dead slots between the `I` rows and `Z_p`, which leaves the generator,
-//! one reflector and (while the generator is built) `L₀` as the whole workspace: 9,984 scalars,
-//! 39,936 f32 bytes for `(14, 10, 10)`; the accumulator's `Lagged` sums (with `ȳ` compensation,
-//! centring, forgetting) as the input instead of [`LaggedSums`]; the rounding floors and
-//! rank-deficiency handling of the dense solve (here only a non-positive pivot stops); the
-//! `Γ_f` / singular values step from `L₃₂L₃₂ᵀ` (`f × f` eigenproblem, or a square root of it)
-//! and the whitened order selection from `S_Φ`; PO-MOESP, N4SID and CVA, whose instruments
-//! include `Ȳ_p` (a second group of output rows, same construction).
+//! `hsid::Identifier::solve_structured` (`core/src/subspace/structured/`) is this algorithm on
+//! fixed storage: `B_f` written over the dead `I` rows (with rows of `max(r, f)` scalars), the
+//! accumulator's sums and edge samples as its input, `Rᵀ` of `L₃₂` accumulated by Givens
+//! rotations from the `Z_p` steps' columns instead of `L₃₂L₃₂ᵀ`, `S_Φ` factored with the dense
+//! solve's rounding floors, each half of the generator's columns padded to a multiple of 4 for
+//! its kernel, and no `S_f` (PI-MOESP does not need it). It takes no centring, forgetting or
+//! past outputs (`hsid::Error::NotShiftStructured`); PO-MOESP, N4SID and CVA, whose instruments
+//! include `Ȳ_p` (a second group of output rows, same construction), are left to the dense
+//! solve.
 
 mod sums;
 #[cfg(test)]
