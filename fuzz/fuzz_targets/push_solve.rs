@@ -1,6 +1,6 @@
-//! `Identifier::new`, `push` and `solve` driven by arbitrary bytes read as settings and
-//! samples (at most [`MAX_SAMPLES`]). Settings the core refuses are fine; a model it returns
-//! must be finite.
+//! `Identifier::new`, `push`, `solve` and `solve_structured` driven by arbitrary bytes read as
+//! settings and samples (at most [`MAX_SAMPLES`]). Settings the core refuses are fine; a model
+//! either solve returns must be finite.
 #![no_main]
 
 use hsid::{
@@ -117,18 +117,27 @@ fn run<T: Real>(mut b: Bytes<'_>) {
     }
     let mut ws = vec![T::ZERO; id.workspace_len()];
     if let Ok(m) = id.solve(&mut ws) {
-        let n = m.order();
-        let finite = |v: T| v.to_f64().is_finite();
-        assert!(
-            (0..n).all(|i| (0..n).all(|j| finite(m.a(i, j)))),
-            "A not finite"
-        );
-        assert!(
-            m.b().iter().chain(m.c()).all(|&v| finite(v)),
-            "B or C not finite"
-        );
-        assert!(finite(m.d()) && finite(m.mu0()), "D or mu0 not finite");
+        assert_finite(&m);
     }
+    let mut ws = vec![T::ZERO; id.structured_workspace_len()];
+    if let Ok(m) = id.solve_structured(&mut ws) {
+        assert_finite(&m);
+    }
+}
+
+/// Every number of the model is finite.
+fn assert_finite<T: Real>(m: &hsid::Model<T, M, H>) {
+    let n = m.order();
+    let finite = |v: T| v.to_f64().is_finite();
+    assert!(
+        (0..n).all(|i| (0..n).all(|j| finite(m.a(i, j)))),
+        "A not finite"
+    );
+    assert!(
+        m.b().iter().chain(m.c()).all(|&v| finite(v)),
+        "B or C not finite"
+    );
+    assert!(finite(m.d()) && finite(m.mu0()), "D or mu0 not finite");
 }
 
 fuzz_target!(|data: &[u8]| {
