@@ -148,8 +148,10 @@ def regressor(
     values ``identify`` accumulates with the same settings. ``segments`` defaults to 7; with
     ``hold=0`` ``ybar`` is ``y - y[0]``."""
 
-def solve_checkpoint(state: bytes) -> Model:
-    """The model of an identifier's checkpoint, as ``hsid solve --state`` solves it."""
+def solve_checkpoint(state: bytes, solver: str = "dense") -> Model:
+    """The model of an identifier's checkpoint, as ``hsid solve --state [--solver]`` solves it:
+    ``solver`` is ``"dense"`` or ``"structured"`` (the firmware's solve; ``SettingsError`` for
+    settings it does not take, e.g. μ0 estimated)."""
 
 def solve_many(states: Sequence[bytes], threads: Optional[int] = None) -> List[Union[Model, HsidError]]:
     """Many checkpoints solved across ``threads`` worker threads (default: one per core), the GIL

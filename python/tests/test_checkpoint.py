@@ -34,3 +34,23 @@ def test_corrupt_checkpoints_raise_data_errors(checkpoint, corrupt, kind):
     with pytest.raises(hsid.DataError) as info:
         hsid.solve_checkpoint(corrupt(checkpoint))
     assert info.value.kind == kind, str(info.value)
+
+
+def test_the_structured_solve_gives_the_dense_model_to_rounding(checkpoint):
+    dense = hsid.solve_checkpoint(checkpoint)
+    structured = hsid.solve_checkpoint(checkpoint, solver="structured")
+    assert structured.order == dense.order
+    for name in ("A", "B", "C"):
+        a, b = getattr(structured, name), getattr(dense, name)
+        assert np.allclose(a, b, rtol=1e-9, atol=1e-12), (name, a, b)
+    k = dense.knots_asc
+    for side in ("ascending", "descending"):
+        assert np.allclose(structured.border(side, k), dense.border(side, k), rtol=1e-9, atol=1e-12)
+
+
+def test_an_unknown_solver_is_a_settings_error(checkpoint):
+    with pytest.raises(hsid.SettingsError) as info:
+        hsid.solve_checkpoint(checkpoint, solver="fast")
+    assert info.value.kind == "solver", str(info.value)
+    with pytest.raises(TypeError):
+        hsid.solve_checkpoint(checkpoint, solver=3)
