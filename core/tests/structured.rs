@@ -245,3 +245,81 @@ fn the_workspace_is_a_third_of_the_dense_one_and_checked() {
         }
     );
 }
+
+/// Other sizes than the paper's, including horizons longer than the generator's rank (one
+/// segment per path: `f` above `r = 8`, so the slots hold `f` scalars) and `p < f`: the
+/// structured solve is the dense one to rounding in `f64`, with the order chosen by each.
+#[test]
+fn other_sizes_give_the_dense_model() {
+    type Big = Identifier<f64, 16, 24, Plain, 12>;
+    for (segments, f, p) in [(1, 10, 12), (2, 3, 5), (3, 6, 3), (4, 8, 8), (8, 12, 12)] {
+        let knots = Knots::<f64, 16>::uniform(-3.0, 3.0, segments, segments).unwrap();
+        let xa: Vec<f64> = knots.path(Direction::Ascending).to_vec();
+        let va: Vec<f64> = xa.iter().map(|&x| (x / 3.0).tanh()).collect();
+        let vd: Vec<f64> = xa.iter().map(|&x| ((x + 0.5) / 3.0).tanh()).collect();
+        let mu0 = MuZero::Hold {
+            len: 300,
+            settle: 150,
+        };
+        let mut id = Big::new(Settings::new(knots, f, p, mu0)).unwrap();
+        let (mut w1, mut w2, mut y1, mut y2) = (0.0, 0.0, 0.0, 0.0);
+        let (mut prev, mut up) = (-3.0, false);
+        let mut rng = Pcg32::seed_from_u64(9);
+        for u in Excitation::new(-3.0, 3.0, 300, Pcg32::seed_from_u64(2))
+            .unwrap()
+            .take(300 + 3000)
+        {
+            if u > prev {
+                up = true;
+            } else if u < prev {
+                up = false;
+            }
+            prev = u;
+            let w = if up {
+                pwl(&xa, &va, u)
+            } else {
+                pwl(&xa, &vd, u)
+            };
+            let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
+            (w2, w1, y2, y1) = (w1, w, y1, y);
+            let e = 0.01 * (2.0 * (rng.next_u32() as f64 / u32::MAX as f64) - 1.0);
+            id.push(u, y + e);
+        }
+        let mut dense_ws = vec![0.0; id.workspace_len()];
+        let dense = id.solve_with(&mut dense_ws, hsid::Poles::Any);
+        let mut ws = vec![0.0; id.structured_workspace_len()];
+        let structured = id.solve_structured_with(&mut ws, hsid::Poles::Any);
+        let (dense, structured) = match (dense, structured) {
+            (Ok(d), Ok(s)) => (d, s),
+            (d, s) => {
+                // Both refuse alike (e.g. too few instruments), or the test is wrong.
+                assert_eq!(d.err(), s.err(), "{segments} {f} {p}");
+                continue;
+            }
+        };
+        assert_eq!(structured.order(), dense.order(), "{segments} {f} {p}");
+        for k in 0..2 * f {
+            let (a, b) = (structured.markov(k), dense.markov(k));
+            assert!(
+                (a - b).abs() < 1e-8 * (1.0 + b.abs()),
+                "{segments} {f} {p}: h{k} {a} {b}"
+            );
+        }
+        for d in [Direction::Ascending, Direction::Descending] {
+            for (a, b) in structured
+                .border_values(d)
+                .iter()
+                .zip(dense.border_values(d))
+            {
+                assert!(
+                    (a - b).abs() < 1e-8 * (1.0 + b.abs()),
+                    "{segments} {f} {p}: {a} {b}"
+                );
+            }
+        }
+        println!(
+            "{segments} segments, f = {f}, p = {p}: order {} both",
+            dense.order()
+        );
+    }
+}
