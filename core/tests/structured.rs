@@ -30,6 +30,39 @@ fn pwl(x: &[f64], v: &[f64], u: f64) -> f64 {
     *v.last().unwrap()
 }
 
+/// A switch `(va, vd)` on the knots `xa` before the paper's plant, driven by the paper's
+/// excitation (hold of `hold` samples, seed `excitation`), with uniform noise of amplitude
+/// `noise` (seed `seed`) on y: `samples` pairs `(u, y)` handed to `push`.
+#[allow(clippy::too_many_arguments)]
+fn drive(
+    xa: &[f64],
+    (va, vd): (&[f64], &[f64]),
+    hold: usize,
+    samples: usize,
+    (noise, seed, excitation): (f64, u64, u64),
+    mut push: impl FnMut(f64, f64),
+) {
+    let (mut w1, mut w2, mut y1, mut y2) = (0.0, 0.0, 0.0, 0.0);
+    let (mut prev, mut up) = (-3.0, false);
+    let mut rng = Pcg32::seed_from_u64(seed);
+    for u in Excitation::new(-3.0, 3.0, hold, Pcg32::seed_from_u64(excitation))
+        .unwrap()
+        .take(samples)
+    {
+        if u > prev {
+            up = true;
+        } else if u < prev {
+            up = false;
+        }
+        prev = u;
+        let w = if up { pwl(xa, va, u) } else { pwl(xa, vd, u) };
+        let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
+        (w2, w1, y2, y1) = (w1, w, y1, y);
+        let e = noise * (2.0 * (rng.next_u32() as f64 / u32::MAX as f64) - 1.0);
+        push(u, y + e);
+    }
+}
+
 /// An identifier fed with the paper's excitation (hold of 300 samples), the switch and the
 /// plant, plus uniform noise of amplitude `noise` on y.
 fn fed<T: Real>(
@@ -46,29 +79,10 @@ fn fed<T: Real>(
     let s = settings(knots);
     let hold = s.mu0.hold_len();
     let mut id = Id::<T>::new(s).unwrap();
-    let (mut w1, mut w2, mut y1, mut y2) = (0.0, 0.0, 0.0, 0.0);
-    let (mut prev, mut up) = (-3.0, false);
-    let mut rng = Pcg32::seed_from_u64(seed);
-    for u in Excitation::new(-3.0, 3.0, hold, Pcg32::seed_from_u64(1))
-        .unwrap()
-        .take(hold.max(1) + 4019)
-    {
-        if u > prev {
-            up = true;
-        } else if u < prev {
-            up = false;
-        }
-        prev = u;
-        let w = if up {
-            pwl(&xa, &VA, u)
-        } else {
-            pwl(&xa, &VD, u)
-        };
-        let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
-        (w2, w1, y2, y1) = (w1, w, y1, y);
-        let e = noise * (2.0 * (rng.next_u32() as f64 / u32::MAX as f64) - 1.0);
-        id.push(T::of(u), T::of(y + e));
-    }
+    let record = (noise, seed, 1);
+    drive(&xa, (&VA, &VD), hold, hold.max(1) + 4019, record, |u, y| {
+        id.push(T::of(u), T::of(y));
+    });
     id
 }
 
@@ -262,29 +276,9 @@ fn other_sizes_give_the_dense_model() {
             settle: 150,
         };
         let mut id = Big::new(Settings::new(knots, f, p, mu0)).unwrap();
-        let (mut w1, mut w2, mut y1, mut y2) = (0.0, 0.0, 0.0, 0.0);
-        let (mut prev, mut up) = (-3.0, false);
-        let mut rng = Pcg32::seed_from_u64(9);
-        for u in Excitation::new(-3.0, 3.0, 300, Pcg32::seed_from_u64(2))
-            .unwrap()
-            .take(300 + 3000)
-        {
-            if u > prev {
-                up = true;
-            } else if u < prev {
-                up = false;
-            }
-            prev = u;
-            let w = if up {
-                pwl(&xa, &va, u)
-            } else {
-                pwl(&xa, &vd, u)
-            };
-            let y = 1.8858 * y1 - 0.9048 * y2 + 0.1994 * w1 - 0.1804 * w2;
-            (w2, w1, y2, y1) = (w1, w, y1, y);
-            let e = 0.01 * (2.0 * (rng.next_u32() as f64 / u32::MAX as f64) - 1.0);
-            id.push(u, y + e);
-        }
+        drive(&xa, (&va, &vd), 300, 3300, (0.01, 9, 2), |u, y| {
+            id.push(u, y)
+        });
         let mut dense_ws = vec![0.0; id.workspace_len()];
         let dense = id.solve_with(&mut dense_ws, hsid::Poles::Any);
         let mut ws = vec![0.0; id.structured_workspace_len()];
