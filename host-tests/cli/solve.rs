@@ -35,14 +35,21 @@ enum SolverArg {
     Structured,
 }
 
+impl SolverArg {
+    /// The library's solve of this choice.
+    fn solver(self) -> Solver {
+        match self {
+            SolverArg::Dense => Solver::Dense,
+            SolverArg::Structured => Solver::Structured,
+        }
+    }
+}
+
 /// `hsid solve --state FILE [--solver dense|structured] [--json OUT]`.
 pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     let state = &a.state;
     let bytes = std::fs::read(state).map_err(|e| format!("{}: {e}", state.display()))?;
-    let solver = match a.solver {
-        SolverArg::Dense => Solver::Dense,
-        SolverArg::Structured => Solver::Structured,
-    };
+    let solver = a.solver.solver();
     let solved = solve_checkpoint_with(&bytes, solver).map_err(|e| {
         let hint = match e {
             IdentifyError::Core(Error::Checkpoint(CheckpointError::NotACheckpoint)) => {
@@ -62,10 +69,7 @@ pub fn run(a: &SolveArgs) -> Result<(), Failure> {
         h.f,
         h.p,
         h.scalar_name(),
-        match a.solver {
-            SolverArg::Dense => "dense",
-            SolverArg::Structured => "structured",
-        }
+        solver.name()
     )?;
     outln!("{}", model_text(&solved.model))?;
     if let Some(path) = &a.out.json {

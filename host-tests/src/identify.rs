@@ -681,6 +681,25 @@ pub enum Solver {
     Structured,
 }
 
+impl Solver {
+    /// Both solves.
+    pub const ALL: [Solver; 2] = [Solver::Dense, Solver::Structured];
+
+    /// Its name on the command line, in Python and on the firmware's config line: `dense`,
+    /// `structured`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Solver::Dense => "dense",
+            Solver::Structured => "structured",
+        }
+    }
+
+    /// The solve called `name` ([`name`](Self::name)), if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
 /// [`solve_checkpoint`] with the solve of `solver`: the on-target model of a firmware that
 /// solved with the same one, to `f32` rounding.
 pub fn solve_checkpoint_with(

@@ -596,10 +596,11 @@ fn checkpoint_solved_on_host_matches_on_target_solve(target: &'static Target) {
     // The library with the firmware's solve gives its model to f32 rounding; the other solve
     // within the f32 tolerances of the two solves (README: poles 1e-4, borders 1e-3).
     let cfg = keys(&run.text, "config");
-    let (same, other) = match key::<String>(&cfg, "solve").as_str() {
-        "structured" => (Solver::Structured, Solver::Dense),
-        "dense" => (Solver::Dense, Solver::Structured),
-        s => panic!("unknown solve {s}"),
+    let name = key::<String>(&cfg, "solve");
+    let same = Solver::from_name(&name).unwrap_or_else(|| panic!("unknown solve {name}"));
+    let other = match same {
+        Solver::Dense => Solver::Structured,
+        Solver::Structured => Solver::Dense,
     };
     let solved = solve_checkpoint_with(&run.state, same).unwrap();
     assert_same_model(
@@ -618,10 +619,7 @@ fn checkpoint_solved_on_host_matches_on_target_solve(target: &'static Target) {
 
     // The command line, on the file the firmware wrote.
     let json = run.dir.join("model.json");
-    let solver = match same {
-        Solver::Dense => "dense",
-        Solver::Structured => "structured",
-    };
+    let solver = same.name();
     let out = Command::new(env!("CARGO_BIN_EXE_hsid"))
         .args(["solve", "--solver", solver, "--state"])
         .arg(run.dir.join(STATE_FILE))

@@ -7,17 +7,15 @@ use pyo3::prelude::*;
 use crate::error::{Class, Failure};
 use crate::model::Model;
 
-/// `"dense"` or `"structured"`.
+/// The solve called `name` (`"dense"` or `"structured"`).
 fn solver(name: &str) -> Result<Solver, Failure> {
-    match name {
-        "dense" => Ok(Solver::Dense),
-        "structured" => Ok(Solver::Structured),
-        _ => Err(Failure::new(
+    Solver::from_name(name).ok_or_else(|| {
+        Failure::new(
             Class::Settings,
             "solver",
             format!("solver {name:?}: give \"dense\" or \"structured\" (the firmware's)"),
-        )),
-    }
+        )
+    })
 }
 
 /// Solves the checkpoint `state` (the bytes `Identifier::save` wrote on a device or a
