@@ -16,7 +16,9 @@ use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::integrating::increments_options;
 use hsid_host::model_file::Units;
+use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
+use hsid_host::workflow::{Field, IdentifyRequest, Syntax};
 
 use crate::args::{
     CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, comment_units, read_record,
@@ -232,37 +234,32 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
         .umax
         .or_else(|| knots_all.as_ref().and_then(|k| k.last().copied()))
         .unwrap_or(hi);
-    if !(umin.is_finite() && umax.is_finite() && umin < umax) {
-        return Err(format!(
-            "invalid input interval [{umin}, {umax}]: --umin must be finite and below --umax"
-        ));
-    }
-    if a.segments == 0 {
-        return Err("--segments 0: each path needs at least one segment".into());
-    }
-    let mut id = IdentifyOptions::uniform(umin, umax, a.segments, a.hold.hold);
-    if let Some(k) = knots_all {
-        id.knots_asc = k.clone();
-        id.knots_desc = k;
-    }
-    if let Some(k) = &a.paths.knots_asc {
-        id.knots_asc = k.clone();
-    }
-    if let Some(k) = &a.paths.knots_desc {
-        id.knots_desc = k.clone();
-    }
-    for (name, k) in [("ascending", &id.knots_asc), ("descending", &id.knots_desc)] {
-        if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(format!(
-                "{name} knots must start at u_min {umin} and end at u_max {umax}"
-            ));
+    // The library's request check, as identify's: the interval, the segments, the knots.
+    let mut r = IdentifyRequest::new(umin, umax, Syntax::Cli);
+    r.segments = Some(SegmentCount::Fixed(a.segments));
+    r.knots_asc = a.paths.knots_asc.clone().or_else(|| knots_all.clone());
+    r.knots_desc = a.paths.knots_desc.clone().or_else(|| knots_all.clone());
+    r.order = a.order;
+    r.horizons = Some(a.horizons.or_paper());
+    r.settle = a.hold.settle;
+    r.mu0 = a.mu0;
+    r.element = a.nonlinearity.into();
+    let plan = r.validate(a.hold.hold).map_err(|e| {
+        // Knots given once for both paths are `--knots`.
+        let own = match e.field {
+            Field::KnotsAsc => a.paths.knots_asc.is_some(),
+            Field::KnotsDesc => a.paths.knots_desc.is_some(),
+            _ => true,
+        };
+        match own {
+            true => e.message,
+            false => {
+                let name = Syntax::Cli.name(e.field);
+                e.message.replacen(name, "--knots", 1)
+            }
         }
-    }
-    id.order = a.order;
-    (id.f, id.p) = a.horizons.or_paper();
-    id.settle = a.hold.settle();
-    id.mu0 = a.mu0;
-    Ok(id)
+    })?;
+    Ok(plan.options)
 }
 
 /// The diagnosis settings around the identification's.

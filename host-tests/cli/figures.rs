@@ -14,7 +14,6 @@ use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::simulate::{PlantSpec, true_loop};
 
 use crate::failure::{Failure, outln};
-use crate::identify::Fitting;
 
 /// Where the figures go.
 #[derive(Args)]
@@ -97,12 +96,13 @@ pub fn element(
     a: &FigureArgs,
     fit: &HysteresisFit,
     record: &Record<'_>,
-    r: &Fitting<'_>,
+    ts: Option<f64>,
+    units: Option<&Units>,
 ) -> Result<Vec<String>, Failure> {
     let Some(dir) = &a.out else {
         return Ok(Vec::new());
     };
-    let settings = settings(a, r.ts, r.units.as_ref(), &fit.model.to_host(0))?;
+    let settings = settings(a, ts, units, &fit.model.to_host(0))?;
     lines(dir, write_element_figures(dir, fit, record, &settings))
 }
 

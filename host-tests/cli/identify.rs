@@ -1,6 +1,5 @@
 //! `hsid identify`: a model from a CSV record, optionally refined, written as a model file.
 
-mod auto;
 mod page;
 mod prepare;
 mod records;
@@ -9,31 +8,24 @@ mod simulation;
 mod stream;
 
 use crate::failure::{Failure, outln};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
-use hsid_host::choose::{
-    self, Best, Choices, ChooseError, Estimator, SEGMENT_CANDIDATES, Segments, best_model,
-    model_std, noise_file,
-};
-use hsid_host::figures::Record;
 use hsid_host::html::Fact;
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::integrating;
-use hsid_host::model_file::{ModelFile, ModelStd};
-use hsid_host::refine::knots::{AUTO_CANDIDATES, SegmentCount};
-use hsid_host::refine::stochastic::{estimate_noise, noise_text, prediction_report};
-use hsid_host::refine::{InnovationForm, NoiseModel, NoiseOrder, PemOptions};
+use hsid_host::identify::HostModel;
+use hsid_host::refine::knots::SegmentCount;
+use hsid_host::refine::stochastic::{noise_text, prediction_report};
+use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::{fit_report, model_text, std_text};
 use hsid_host::units::unit_report;
+use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
 use crate::args::{
     BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, UnitArgs,
 };
 use page::{html_figures, names, write_element_page, write_page};
 use prepare::{read_records, refuse_bad_flags};
-pub use simulation::Fitting;
 
 /// Arguments of `hsid identify`.
 #[derive(Args)]
@@ -143,130 +135,86 @@ pub struct IdentifyArgs {
     reference_column: Option<String>,
 }
 
-/// The identification settings from the arguments (knots checked against the interval).
-fn options(a: &IdentifyArgs) -> Result<IdentifyOptions, String> {
-    let (umin, umax) = (a.umin, a.umax);
-    let fixed = match a.segments {
-        Some(SegmentCount::Fixed(n)) => n,
-        _ => 7,
-    };
-    let mut opts = IdentifyOptions::uniform(umin, umax, fixed, a.hold.hold);
-    opts.mu0 = a.mu0;
-    opts.static_nonlinearity = a.nonlinearity == NonlinearityArg::Static;
-    if let Some(k) = &a.knots.knots_asc {
-        opts.knots_asc = k.clone();
-    }
-    if let Some(k) = &a.knots.knots_desc {
-        opts.knots_desc = k.clone();
-    }
-    for (name, k) in [
-        ("--knots-asc", &opts.knots_asc),
-        ("--knots-desc", &opts.knots_desc),
-    ] {
-        if k.first() != Some(&umin) || k.last() != Some(&umax) {
-            return Err(format!(
-                "{name} must start at --umin {umin} and end at --umax {umax}"
-            ));
-        }
-    }
-    (opts.f, opts.p) = a.horizons.or_paper();
-    opts.order = a.order;
-    opts.basis = a.basis.into();
-    opts.settle = a.hold.settle();
-    Ok(opts)
+/// The request of these arguments, in the command line's words.
+pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
+    let mut r = IdentifyRequest::new(a.umin, a.umax, Syntax::Cli);
+    r.segments = a.segments;
+    r.knots_asc = a.knots.knots_asc.clone();
+    r.knots_desc = a.knots.knots_desc.clone();
+    r.order = a.order;
+    r.horizons = a.horizons.given();
+    r.element = a.nonlinearity.into();
+    r.basis = a.basis.into();
+    r.mu0 = a.mu0;
+    r.detrend = a.detrend;
+    r.integrating = a.integrating;
+    r.refine = !a.no_refine;
+    r.fit = a.fit.into();
+    r.reference = a.reference_column.clone();
+    r.settle = a.hold.settle;
+    r
 }
 
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
-    let hold = match a.integrating {
-        true => a.hold.hold.saturating_sub(1),
-        false => a.hold.hold,
-    };
-    refuse_bad_flags(a, hold)?;
+    let request = request(a);
+    refuse_bad_flags(a, &request)?;
     if a.stream {
-        return stream::run(a);
+        return stream::run(a, &request);
     }
-    let records = read_records(a, hold)?;
-    let units = records.units.clone();
-    let (u, y) = (&records.u, &records.y);
-    let mut opts = options(a)?;
-    if a.integrating {
-        opts = integrating::increments_options(&opts);
-    }
-    let choices = choices(a);
-    let mut best = best_model(u, y, &opts, &choices).map_err(|e| match e {
-        ChooseError::Identify(e) => records.sample_error(&e),
-        e => format!("{}: {e}", records.first().display()),
-    })?;
-    if let Some(name) = &a.reference_column {
-        reference::closed_loop(&mut best, &records, name)?;
-    }
-    let record = Record { u, y, skip: hold };
-    for line in best.report() {
+    let records = read_records(a)?;
+    let id = identify_record(&records.record(a.hold.hold), &request)
+        .map_err(|e| records.workflow_error(e))?;
+    for line in &id.notes {
         outln!("{line}")?;
     }
-    let Estimate {
-        model,
-        noise,
-        std,
-        mut estimator,
-    } = estimate(&best, u, y)?;
-    if a.reference_column.is_some() {
-        estimator = reference::ESTIMATOR.to_string();
-    }
-    report(&model, noise.as_ref(), &records.parts(), hold)?;
-    if let Some((s, _)) = &std {
+    let (record, estimate) = (&id.record, &id.estimate);
+    let model = &estimate.model;
+    report(model, estimate.noise.as_ref(), &record.parts(), record.hold)?;
+    if let Some((s, _)) = &estimate.std {
         outln!("{}", std_text(s))?;
     }
     let two_path = a.nonlinearity != NonlinearityArg::Static;
-    let cov = std.as_ref().map(|(_, c)| c.as_slice());
-    let in_units = unit_report(&model, records.ts, units.clone(), cov, two_path);
+    let cov = estimate.std.as_ref().map(|(_, c)| c.as_slice());
+    let in_units = unit_report(model, record.ts, record.units.clone(), cov, two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
     }
-    let fitting = simulation::Fitting {
-        u,
-        y,
-        hold,
-        nonlinearity: a.nonlinearity,
-        ts: records.ts,
-        units: units.clone(),
+    if let Some(note) = &id.element_note {
+        outln!("{note}")?;
+    }
+    if let Some(fit) = &id.element {
+        simulation::print(fit, &id)?;
+    }
+    let view = hsid_host::figures::Record {
+        u: &record.u,
+        y: &record.y,
+        skip: record.hold,
     };
-    let fitted = match auto::decide(a, u, records.parts().len(), hold)? {
-        true => Some(simulation::run(&fitting, &model)?),
-        false => None,
+    let (ts, units) = (record.ts, record.units.as_ref());
+    let figures = match &id.element {
+        Some(fit) => crate::figures::element(&a.figures, fit, &view, ts, units)?,
+        None => crate::figures::identify(&a.figures, &id.best, &view, ts, units)?,
     };
-    let figures = match &fitted {
-        Some(fit) => crate::figures::element(&a.figures, fit, &record, &fitting)?,
-        None => crate::figures::identify(&a.figures, &best, &record, records.ts, units.as_ref())?,
-    };
-    if let (Some(path), Some(fit)) = (&a.html, &fitted) {
-        write_element_page(a, path, fit, &fitting, &best.options, &record)?;
+    if let (Some(path), Some(fit)) = (&a.html, &id.element) {
+        write_element_page(a, path, fit, &id, &view)?;
     } else if let Some(path) = &a.html {
         let run = ModelRun {
             title: format!("hsid identify: {}", names(&a.data)),
             element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
-            model: &model,
+            model,
             memory: None,
             units: &in_units,
-            parts: &records.parts(),
-            skip: hold,
-            estimation: Some(&best.options),
-            extra: vec![Fact::new("estimator", estimator)],
+            parts: &record.parts(),
+            skip: record.hold,
+            estimation: Some(&id.best.options),
+            extra: vec![Fact::new("estimator", estimate.estimator.clone())],
         };
-        let page_figures = html_figures(a, &best, &record, records.ts, units.as_ref())?;
+        let page_figures = html_figures(a, &id.best, &view, ts, units)?;
         write_page(a, path, run, page_figures)?;
     }
-    if let (Some(fit), Some(path)) = (&fitted, &a.out.json) {
-        simulation::save(fit, &fitting, path)?;
-    } else if let Some(path) = &a.out.json {
-        let mut file = model.to_json(Some(a.nonlinearity.into()));
-        file.noise = noise.as_ref().map(noise_file);
-        file.std = std.map(|(s, _)| s);
-        file.sample_time = records.ts;
-        file.units = units;
-        file.integrating = a.integrating;
-        write(&file, path)?;
+    if let Some(path) = &a.out.json {
+        write(&id.model_file(), path)?;
     }
     for line in figures {
         outln!("{line}")?;
@@ -299,76 +247,7 @@ fn report(
     Ok(())
 }
 
-/// What is chosen from the data and what is given: the segments, the horizons, the
-/// estimator.
-fn choices(a: &IdentifyArgs) -> Choices {
-    let knots_given = a.knots.knots_asc.is_some() || a.knots.knots_desc.is_some();
-    Choices {
-        segments: match a.segments {
-            _ if knots_given => Segments::Given,
-            Some(SegmentCount::Fixed(_)) => Segments::Given,
-            Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
-            None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
-        },
-        horizons: match a.horizons.given() {
-            Some(_) => choose::Horizons::Given,
-            None => choose::Horizons::FromData,
-        },
-        estimator: if a.no_refine || a.reference_column.is_some() {
-            Estimator::Subspace
-        } else {
-            Estimator::Refined
-        },
-        ..Choices::default()
-    }
-}
-
-/// The model to report: the refined one with its noise model and standard deviations, or
-/// the subspace one with the noise model of its residual (Remark 6); and the estimator in
-/// words.
-struct Estimate {
-    model: HostModel,
-    noise: Option<NoiseModel>,
-    std: Option<(ModelStd, Vec<[[f64; 2]; 2]>)>,
-    estimator: String,
-}
-
-/// The [`Estimate`] of `best` on `(u, y)`, the estimator printed.
-fn estimate(best: &Best, u: &[f64], y: &[f64]) -> Result<Estimate, Failure> {
-    let pem = PemOptions::for_identify(&best.options);
-    let mut estimator = "subspace (PI-MOESP), not refined".to_string();
-    let (model, noise, std) = if let Some(fit) = &best.fit {
-        estimator = format!(
-            "refined by the prediction-error method: {} iterations, {} parameters, D {}",
-            fit.iterations,
-            fit.parameters(),
-            if fit.layout.feedthrough {
-                "estimated"
-            } else {
-                "= 0 (not significant)"
-            }
-        );
-        outln!("{estimator}")?;
-        let (std, cov) = model_std(fit);
-        (fit.model.clone(), Some(fit.noise.clone()), Some((std, cov)))
-    } else {
-        let model = best.model.clone();
-        // Remark 6 for the subspace model; without it only the simulation is reported.
-        let nf = estimate_noise(&model, u, y, pem.start, NoiseOrder::default());
-        if let Err(e) = &nf {
-            outln!("no noise model: {e}")?;
-        }
-        (model, nf.ok().map(|f| f.model), None)
-    };
-    Ok(Estimate {
-        model,
-        noise,
-        std,
-        estimator,
-    })
-}
-
-fn write(file: &ModelFile, path: &Path) -> Result<(), Failure> {
+fn write(file: &hsid_host::model_file::ModelFile, path: &std::path::Path) -> Result<(), Failure> {
     file.save(path).map_err(|e| e.to_string())?;
     outln!("wrote {}", path.display())?;
     Ok(())

@@ -36,6 +36,10 @@ class Model:
     def to_json(self) -> str:
         """The model file as JSON text, byte for byte what ``hsid identify --json`` writes."""
     @property
+    def notes(self) -> list[str]:
+        """What the identification chose and did, one line each, as ``hsid identify`` prints
+        them (empty for a model read from JSON)."""
+    @property
     def order(self) -> int:
         """Model order n."""
     @property
@@ -125,10 +129,19 @@ def identify(
     ts: Optional[float] = None,
     units: Optional[dict[str, str]] = None,
     refine: bool = True,
+    integrating: bool = False,
+    detrend: bool = False,
+    mu0: Optional[float] = None,
+    fit: Literal["auto", "none", "simulation"] = "auto",
+    reference: Optional[FloatArray] = None,
+    basis: Literal["hat", "ramp"] = "hat",
+    settle: Optional[int] = None,
 ) -> Model:
-    """A model from ``(u, y)`` as ``hsid identify`` makes it: segments, horizons and order
-    from the data and refined by default; ``refine=False, segments=7, f=10, p=10`` is the
-    paper's estimator."""
+    """A model from ``(u, y)`` as ``hsid identify`` makes it (the library's one identify
+    workflow): segments, horizons and order from the data and refined by default, the element
+    itself fitted by simulation error when the input reverses inside the range (``fit``), the
+    closed-loop estimate with ``reference``; ``refine=False, segments=7, f=10, p=10`` is the
+    paper's estimator. ``Model.notes`` says what was chosen and done."""
 
 def regressor(
     u: FloatArray,

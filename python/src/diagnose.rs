@@ -123,7 +123,7 @@ fn options(
         hold,
         false,
     )?;
-    let id: IdentifyOptions = s.options;
+    let id: IdentifyOptions = s;
     let nonlinearity = match kind {
         NonlinearityKind::Backlash => Nonlinearity::Backlash,
         NonlinearityKind::Switch => Nonlinearity::Switch,

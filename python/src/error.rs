@@ -11,6 +11,7 @@ use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::ModelFileError;
 use hsid_host::simulate::SimulateError;
 use hsid_host::units::TimeError;
+use hsid_host::workflow::{RequestError, WorkflowError};
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
@@ -125,6 +126,32 @@ impl From<hsid::Error> for Failure {
     fn from(e: hsid::Error) -> Self {
         let (class, kind) = core_kind(&e);
         Failure::new(class, kind, e.to_string())
+    }
+}
+
+impl From<RequestError> for Failure {
+    fn from(e: RequestError) -> Self {
+        let class = match e.kind {
+            "all_hold" => Class::Data,
+            _ => Class::Settings,
+        };
+        Failure::new(class, e.kind, e.message)
+    }
+}
+
+impl From<WorkflowError> for Failure {
+    fn from(e: WorkflowError) -> Self {
+        match e {
+            WorkflowError::Request(e) => e.into(),
+            WorkflowError::Sample { error, .. } => error.into(),
+            WorkflowError::Choose(e) => e.into(),
+            e @ WorkflowError::ClosedLoop { .. } => {
+                Failure::new(Class::Identification, "closed_loop", e.to_string())
+            }
+            e @ WorkflowError::ElementFit { .. } => {
+                Failure::new(Class::Identification, "element_fit", e.to_string())
+            }
+        }
     }
 }
 

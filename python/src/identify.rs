@@ -1,12 +1,14 @@
 //! `hsid.identify`: a model from numpy arrays, as `hsid identify` makes it from a CSV record.
 
-use hsid_host::choose::{best_model, model_file};
+use hsid::Basis;
+use hsid_host::model::Record;
+use hsid_host::workflow::{ElementFit, identify_record};
 use pyo3::prelude::*;
 
 use crate::arrays::vector;
 use crate::error::{Class, Failure};
 use crate::model::Model;
-use crate::settings::{self, Settings};
+use crate::settings;
 
 /// The samples of `u` and `y`: 1-D float arrays of equal length, longer than the hold.
 pub fn record(
@@ -43,14 +45,20 @@ pub fn record(
 /// dynamics) from the input `u` and the output `y` (1-D float arrays of equal length, every
 /// input inside [umin, umax], the first `hold` samples a hold at umin).
 ///
-/// By default, as `hsid identify`: segments per path (7, 10 or 14), horizons and order are
-/// chosen from the data and the model is refined by the prediction-error method. The paper's
-/// estimator is `refine=False, segments=7, f=10, p=10`. `knots` (one array for both paths or a
-/// pair) replaces uniform segments; `ts` (seconds) and `units` ({"input", "output"}) are
-/// recorded in the model file. The GIL is released while identifying.
+/// The library's identify workflow, as `hsid identify` runs it: segments per path (7, 10 or
+/// 14), horizons and order are chosen from the data and the model is refined by the
+/// prediction-error method; with `fit="auto"` (the default) the element itself is fitted by
+/// simulation error when the input reverses inside the range. The paper's estimator is
+/// `refine=False, segments=7, f=10, p=10`. `knots` (one array for both paths or a pair)
+/// replaces uniform segments; `reference` (an array, one value per sample) gives the
+/// closed-loop estimate; `integrating=True` fixes a pole at z = 1; `detrend=True` subtracts the
+/// mean output (no hold); `mu0` is a known H(umin) without a hold; `ts` (seconds) and `units`
+/// ({"input", "output"}) are recorded in the model file. What was chosen and done is in
+/// `Model.notes`. The GIL is released while identifying.
 #[pyfunction]
 #[pyo3(signature = (u, y, umin, umax, *, segments=None, knots=None, nonlinearity="backlash",
-    f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true))]
+    f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true, integrating=false,
+    detrend=false, mu0=None, fit="auto", reference=None, basis="hat", settle=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -68,6 +76,13 @@ pub fn identify(
     ts: Option<f64>,
     units: Option<&Bound<'_, PyAny>>,
     refine: bool,
+    integrating: bool,
+    detrend: bool,
+    mu0: Option<f64>,
+    fit: &str,
+    reference: Option<&Bound<'_, PyAny>>,
+    basis: &str,
+    settle: Option<usize>,
 ) -> PyResult<Model> {
     let (u, y) = record(u, y, hold)?;
     if let Some(ts) = ts.filter(|t| !(t.is_finite() && *t > 0.0)) {
@@ -79,11 +94,7 @@ pub fn identify(
         .into());
     }
     let units = settings::units(units)?;
-    let Settings {
-        options,
-        choices,
-        kind,
-    } = settings::settings(
+    let mut request = settings::request(
         umin,
         umax,
         settings::segments(segments)?,
@@ -91,16 +102,47 @@ pub fn identify(
         settings::nonlinearity(nonlinearity)?,
         settings::horizons(f, p),
         order,
-        hold,
         refine,
-    )?;
-    let file = py.detach(|| {
-        best_model(&u, &y, &options, &choices)
-            .map(|best| model_file(best, &u, &y, Some(kind)))
-            .map_err(Failure::from)
-    });
-    let mut file = file?;
-    file.sample_time = ts;
-    file.units = units;
-    Ok(Model::new(file))
+    );
+    request.integrating = integrating;
+    request.detrend = detrend;
+    request.mu0 = mu0;
+    request.settle = settle;
+    request.fit = ElementFit::from_name(fit).ok_or_else(|| {
+        Failure::new(
+            Class::Settings,
+            "fit",
+            format!("fit={fit:?}: give \"auto\", \"none\" or \"simulation\""),
+        )
+    })?;
+    request.basis = match basis {
+        "hat" => Basis::Hat,
+        "ramp" => Basis::Ramp,
+        _ => {
+            return Err(Failure::new(
+                Class::Settings,
+                "basis",
+                format!("basis={basis:?}: give \"hat\" or \"ramp\""),
+            )
+            .into());
+        }
+    };
+    let mut rec = Record::new(u, y)
+        .map_err(|e| Failure::new(Class::Data, "length_mismatch", e.to_string()))?
+        .with_hold(hold);
+    if let Some(r) = reference.filter(|r| !r.is_none()) {
+        rec = rec
+            .with_reference(vector("reference", r)?)
+            .map_err(|e| Failure::new(Class::Data, "length_mismatch", e.to_string()))?;
+        request.reference = Some("reference".to_string());
+    }
+    (rec.ts, rec.units) = (ts, units);
+    request.validate(hold).map_err(Failure::from)?;
+    let id = py.detach(|| identify_record(&rec, &request).map_err(Failure::from))?;
+    Ok(Model::with_notes(id.model_file(), identified_notes(&id)))
+}
+
+/// Everything the workflow said, in order: the notes before the model and the element's.
+fn identified_notes(id: &hsid_host::workflow::Identified) -> Vec<String> {
+    id.notes.iter().chain(&id.element_note).cloned().collect()
 }

@@ -2,6 +2,7 @@
 
 use hsid::Direction;
 use hsid_host::identify::HostModel;
+use hsid_host::model::{FileModel, Simulate};
 use hsid_host::model_file::ModelFile;
 use hsid_host::units::gap::gap_at;
 use numpy::{Complex64, PyArray1, PyArray2};
@@ -19,13 +20,28 @@ use crate::error::{Class, Failure};
 pub struct Model {
     file: ModelFile,
     model: HostModel,
+    /// The model as it simulates (the play or relay itself for a file with `"element"`).
+    simulated: FileModel,
+    /// What the identification chose and did, one line each (empty for a model read back).
+    notes: Vec<String>,
 }
 
 impl Model {
     /// The model of a model file.
     pub fn new(file: ModelFile) -> Self {
+        Self::with_notes(file, Vec::new())
+    }
+
+    /// The model of a model file, with what its identification said.
+    pub fn with_notes(file: ModelFile, notes: Vec<String>) -> Self {
         let model = HostModel::from_json(&file);
-        Self { file, model }
+        let simulated = FileModel::from_file(&file);
+        Self {
+            file,
+            model,
+            simulated,
+            notes,
+        }
     }
 
     fn check_u(&self, name: &str, u: &[f64]) -> Result<(), Failure> {
@@ -79,6 +95,14 @@ impl Model {
     /// The model file (format hsid-model/1) as JSON text: what `hsid identify --json` writes.
     fn to_json(&self) -> PyResult<String> {
         Ok(self.file.to_json_string("<model>").map_err(Failure::from)?)
+    }
+
+    /// What the identification chose and did, one line each, as `hsid identify` prints
+    /// them (segments, horizons, order, the refinement, the element's fit); empty for a model
+    /// read from JSON.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.notes.clone()
     }
 
     /// Model order n (states of the linear part).
@@ -229,12 +253,7 @@ impl Model {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let v = vector("u", u)?;
         self.check_u("u", &v)?;
-        let y = if self.file.integrating {
-            hsid_host::integrating::simulate(&self.model, &v, 0.0)
-        } else {
-            self.model.simulate(&v)
-        };
-        Ok(out(py, y))
+        Ok(out(py, self.simulated.simulate(&v)))
     }
 
     /// True when the model is the stable part of an integrating plant (identified on the

@@ -129,9 +129,7 @@ pub fn regressor<'py>(
         hold,
         false,
     )?;
-    let Zy { channels, z, ybar } = py
-        .detach(|| zy(&u, &y, &s.options))
-        .map_err(Failure::from)?;
+    let Zy { channels, z, ybar } = py.detach(|| zy(&u, &y, &s)).map_err(Failure::from)?;
     let z = out(py, z).reshape([ybar.len(), channels])?;
     Ok((z, out(py, ybar)))
 }

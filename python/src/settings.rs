@@ -1,10 +1,10 @@
 //! The keyword settings of `hsid.identify` turned into the library's options and choices, as
 //! `hsid identify` turns its flags into them.
 
-use hsid_host::choose::{self, Choices, Estimator, SEGMENT_CANDIDATES, Segments};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::model_file::{NonlinearityKind, Units};
-use hsid_host::refine::knots::AUTO_CANDIDATES;
+use hsid_host::refine::knots::SegmentCount;
+use hsid_host::workflow::{IdentifyRequest, Syntax};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString, PyTuple};
 
@@ -18,17 +18,6 @@ pub enum SegmentArg {
     Fixed(usize),
     /// From 2 to 14 by BIC of the refined model.
     Auto,
-}
-
-/// The settings of one identification.
-#[derive(Debug)]
-pub struct Settings {
-    /// Interval, knots, horizons, order, hold.
-    pub options: IdentifyOptions,
-    /// What is chosen from the data.
-    pub choices: Choices,
-    /// The input element.
-    pub kind: NonlinearityKind,
 }
 
 fn settings_err(kind: &'static str, message: String) -> Failure {
@@ -131,8 +120,36 @@ pub fn units(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<Units>, Failure> {
     }))
 }
 
-/// The settings of `hsid identify` for these keywords (`hsid identify`'s `options` and
-/// choices, flag for flag).
+/// The request of these keywords in Python's words (`hsid identify`'s flag for flag), the
+/// rest at its defaults.
+#[allow(clippy::too_many_arguments)]
+pub fn request(
+    umin: f64,
+    umax: f64,
+    segments: Option<SegmentArg>,
+    knots: Option<KnotPair>,
+    kind: NonlinearityKind,
+    horizons: Option<(usize, usize)>,
+    order: Option<usize>,
+    refine: bool,
+) -> IdentifyRequest {
+    let mut r = IdentifyRequest::new(umin, umax, Syntax::Python);
+    r.segments = segments.map(|s| match s {
+        SegmentArg::Fixed(n) => SegmentCount::Fixed(n),
+        SegmentArg::Auto => SegmentCount::Auto,
+    });
+    if let Some((asc, desc)) = knots {
+        (r.knots_asc, r.knots_desc) = (Some(asc), Some(desc));
+    }
+    r.element = kind;
+    r.horizons = horizons;
+    r.order = order;
+    r.refine = refine;
+    r
+}
+
+/// The identification options of `hsid identify` for these keywords (the library's request
+/// check, as the command line's).
 #[allow(clippy::too_many_arguments)]
 pub fn settings(
     umin: f64,
@@ -144,56 +161,9 @@ pub fn settings(
     order: Option<usize>,
     hold: usize,
     refine: bool,
-) -> Result<Settings, Failure> {
-    if !(umin.is_finite() && umax.is_finite() && umin < umax) {
-        return Err(settings_err(
-            "invalid_interval",
-            format!("invalid input interval [{umin}, {umax}]: umin must be finite and below umax"),
-        ));
-    }
-    let fixed = match segments {
-        Some(SegmentArg::Fixed(n)) => n,
-        _ => 7,
-    };
-    let mut options = IdentifyOptions::uniform(umin, umax, fixed, hold);
-    options.static_nonlinearity = kind == NonlinearityKind::Static;
-    let knots_given = knots.is_some();
-    if let Some((asc, desc)) = knots {
-        for (name, k) in [("knots (ascending)", &asc), ("knots (descending)", &desc)] {
-            if k.first() != Some(&umin) || k.last() != Some(&umax) {
-                return Err(settings_err(
-                    "knot_endpoints",
-                    format!("{name} must start at umin {umin} and end at umax {umax}"),
-                ));
-            }
-        }
-        (options.knots_asc, options.knots_desc) = (asc, desc);
-    }
-    (options.f, options.p) = horizons.unwrap_or((10, 10));
-    options.order = order;
-    let choices = Choices {
-        segments: match segments {
-            _ if knots_given => Segments::Given,
-            Some(SegmentArg::Fixed(_)) => Segments::Given,
-            Some(SegmentArg::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
-            None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
-        },
-        horizons: match horizons {
-            Some(_) => choose::Horizons::Given,
-            None => choose::Horizons::FromData,
-        },
-        estimator: if refine {
-            Estimator::Refined
-        } else {
-            Estimator::Subspace
-        },
-        ..Choices::default()
-    };
-    Ok(Settings {
-        options,
-        choices,
-        kind,
-    })
+) -> Result<IdentifyOptions, Failure> {
+    let r = request(umin, umax, segments, knots, kind, horizons, order, refine);
+    Ok(r.validate(hold)?.options)
 }
 
 /// `f=` and `p=`: both, one (the other equals it) or neither.
@@ -219,30 +189,22 @@ mod tests {
     }
 
     #[test]
-    fn paper_keywords_give_the_paper_estimator() {
-        let s = settings(
+    fn keywords_reach_the_request_and_errors_keep_their_kind() {
+        let r = request(
             -3.0,
             3.0,
             Some(SegmentArg::Fixed(7)),
             None,
-            NonlinearityKind::Backlash,
+            NonlinearityKind::Static,
             Some((10, 10)),
-            None,
-            300,
+            Some(3),
             false,
-        )
-        .unwrap();
-        assert_eq!(s.options, IdentifyOptions::uniform(-3.0, 3.0, 7, 300));
-        assert_eq!(s.choices.segments, Segments::Given);
-        assert_eq!(s.choices.horizons, choose::Horizons::Given);
-        assert_eq!(s.choices.estimator, Estimator::Subspace);
-    }
-
-    #[test]
-    fn defaults_choose_from_the_data_and_refine() {
-        let s = settings(
-            -1.0,
-            1.0,
+        );
+        assert_eq!(r.segments, Some(SegmentCount::Fixed(7)));
+        assert!(!r.refine);
+        let o = settings(
+            -3.0,
+            3.0,
             None,
             None,
             NonlinearityKind::Static,
@@ -252,46 +214,31 @@ mod tests {
             true,
         )
         .unwrap();
-        assert_eq!(
-            s.choices.segments,
-            Segments::FromData(SEGMENT_CANDIDATES.to_vec())
-        );
-        assert_eq!(s.choices.horizons, choose::Horizons::FromData);
-        assert_eq!(s.choices.estimator, Estimator::Refined);
-        assert!(s.options.static_nonlinearity);
-        assert_eq!(s.options.order, Some(3));
-    }
-
-    #[test]
-    fn given_knots_must_span_the_interval() {
+        assert!(o.static_nonlinearity);
+        assert_eq!(o.order, Some(3));
         let k = vec![-1.0, 0.0, 0.9];
-        let e = settings(
-            -1.0,
-            1.0,
-            None,
-            Some((k.clone(), k)),
-            NonlinearityKind::Backlash,
-            None,
-            None,
-            300,
-            true,
-        )
-        .err()
-        .map(|e| (e.class, e.kind));
-        assert_eq!(e, Some((Class::Settings, "knot_endpoints")));
-        let e = settings(
-            1.0,
-            -1.0,
-            None,
-            None,
-            NonlinearityKind::Backlash,
-            None,
-            None,
-            300,
-            true,
-        )
-        .err()
-        .map(|e| e.kind);
-        assert_eq!(e, Some("invalid_interval"));
+        let kind = |umin, umax, knots| {
+            settings(
+                umin,
+                umax,
+                None,
+                knots,
+                NonlinearityKind::Backlash,
+                None,
+                None,
+                300,
+                true,
+            )
+            .err()
+            .map(|e| (e.class, e.kind))
+        };
+        assert_eq!(
+            kind(-1.0, 1.0, Some((k.clone(), k))),
+            Some((Class::Settings, "knot_endpoints"))
+        );
+        assert_eq!(
+            kind(1.0, -1.0, None),
+            Some((Class::Settings, "invalid_interval"))
+        );
     }
 }

@@ -9,12 +9,11 @@ use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
 use hsid_host::hysteresis::HysteresisFit;
-use hsid_host::identify::IdentifyOptions;
-use hsid_host::model_file::Units;
+use hsid_host::model_file::{NonlinearityKind, Units};
+use hsid_host::workflow::Identified;
 
 use super::IdentifyArgs;
-use super::simulation::{self, Fitting};
-use crate::args::NonlinearityArg;
+use super::simulation;
 use crate::failure::{Failure, outln};
 
 /// The record files, comma-separated.
@@ -43,15 +42,15 @@ pub fn write_element_page(
     a: &IdentifyArgs,
     path: &Path,
     fit: &HysteresisFit,
-    r: &Fitting<'_>,
-    options: &IdentifyOptions,
+    id: &Identified,
     record: &Record<'_>,
 ) -> Result<(), Failure> {
-    let host = fit.model.to_host(r.u.len());
-    let in_units = simulation::in_units(fit, r);
+    let r = &id.record;
+    let host = fit.model.to_host(r.len());
+    let in_units = simulation::in_units(fit, id);
     let estimator = format!(
         "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
-        if r.nonlinearity == NonlinearityArg::Static {
+        if id.request.element == NonlinearityKind::Static {
             "static"
         } else {
             "two-path"
@@ -69,9 +68,9 @@ pub fn write_element_page(
         model: &host,
         memory: Some(&fit.model),
         units: &in_units,
-        parts: &[(r.u, r.y)],
+        parts: &[(&r.u, &r.y)],
         skip: r.hold,
-        estimation: Some(options),
+        estimation: Some(&id.best.options),
         extra,
     };
     let settings = crate::figures::settings(&a.figures, r.ts, r.units.as_ref(), &host)?;

@@ -3,12 +3,14 @@
 
 use std::path::{Path, PathBuf};
 
-use hsid::Error;
 use hsid_host::identify::IdentifyError;
+use hsid_host::model::Record;
 use hsid_host::model_file::Units;
 use hsid_host::units::{Origin, resolve_ts};
+use hsid_host::workflow::{Field, WorkflowError};
 
 use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_record, read_uy};
+use crate::failure::Failure;
 use crate::locate;
 
 /// The records of one identification, concatenated in the order given.
@@ -129,16 +131,39 @@ impl Records {
         self.paths.first().map_or(Path::new("-"), PathBuf::as_path)
     }
 
-    /// A core error about one sample as a position in the file it came from.
-    pub fn sample_error(&self, e: &IdentifyError) -> String {
-        let index = match e {
-            IdentifyError::Core(
-                Error::NonFinite { index, .. }
-                | Error::InputOutOfRange { index, .. }
-                | Error::HoldNotAtMin { index, .. },
-            ) => usize::try_from(*index).unwrap_or(usize::MAX),
-            _ => 0,
-        };
+    /// The library's record: the samples, the reference when read, the sample time and
+    /// units, the hold and where each file starts.
+    pub fn record(&self, hold: usize) -> Record {
+        Record {
+            u: self.u.clone(),
+            y: self.y.clone(),
+            reference: (!self.r.is_empty()).then(|| self.r.clone()),
+            ts: self.ts,
+            units: self.units.clone(),
+            hold,
+            starts: self.starts.clone(),
+        }
+    }
+
+    /// A workflow error in the command line's words, a sample as a line of its file.
+    pub fn workflow_error(&self, e: WorkflowError) -> Failure {
+        let first = self.first().display();
+        match e {
+            WorkflowError::Request(e) if e.field == Field::Hold => format!("{first}: {e}"),
+            WorkflowError::Request(e) => e.message,
+            WorkflowError::Sample { error, index } => self.sample_error(&error, index),
+            WorkflowError::ClosedLoop { name, error } => {
+                format!("{first} (reference column {name}): {error}")
+            }
+            e @ WorkflowError::ElementFit { .. } => e.to_string(),
+            WorkflowError::Choose(e) => format!("{first}: {e}"),
+        }
+        .into()
+    }
+
+    /// A core error about sample `index` (0 = the first of all records) as a position in the
+    /// file it came from.
+    pub fn sample_error(&self, e: &IdentifyError, index: usize) -> String {
         let k = self.record_of(index);
         // Lines of the record k placed at its offset in the concatenation.
         let mut lines = vec![0; self.starts[k]];

@@ -1,18 +1,12 @@
-//! `hsid identify --fit simulation`: after the subspace identification, the model whose
-//! element is the play operator (backlash) or the relay with borders (switch) itself on the
-//! same knots, fitted by simulation error from the identified model; for inputs that reverse
-//! inside the range, where the two paths do not describe the element.
-
-use std::path::Path;
+//! `hsid identify --fit simulation`: the element fitted by simulation error
+//! (`hsid_host::workflow::element_fit`), printed and written as the model file's `"element"`.
 
 use clap::ValueEnum;
-use hsid_host::hysteresis::{ElementKind, FitOptions, HysteresisFit, Start, fit_hysteresis};
-use hsid_host::identify::HostModel;
-use hsid_host::model_file::Units;
+use hsid_host::hysteresis::{ElementKind, HysteresisFit, Start};
 use hsid_host::report::fit_report;
 use hsid_host::units::{UnitReport, unit_report};
+use hsid_host::workflow::{ElementFit, Identified};
 
-use crate::args::NonlinearityArg;
 use crate::failure::{Failure, outln};
 
 /// What `--fit` fits after the subspace identification.
@@ -28,41 +22,24 @@ pub enum FitArg {
     Simulation,
 }
 
-/// The record and what the model file records besides the model.
-pub struct Fitting<'a> {
-    /// Input.
-    pub u: &'a [f64],
-    /// Output.
-    pub y: &'a [f64],
-    /// Samples of the hold, left out of the printed fit.
-    pub hold: usize,
-    /// The element the identification assumed.
-    pub nonlinearity: NonlinearityArg,
-    /// Sample time.
-    pub ts: Option<f64>,
-    /// Units.
-    pub units: Option<Units>,
-}
-
-/// The element fitted, and the subspace model it starts from.
-fn element(nl: NonlinearityArg) -> (ElementKind, Start) {
-    match nl {
-        NonlinearityArg::Backlash => (ElementKind::Backlash, Start::TwoPath),
-        NonlinearityArg::Switch => (ElementKind::Switch, Start::TwoPath),
-        NonlinearityArg::Static => (ElementKind::Backlash, Start::Static),
+impl From<FitArg> for ElementFit {
+    fn from(f: FitArg) -> Self {
+        match f {
+            FitArg::Auto => ElementFit::Auto,
+            FitArg::None => ElementFit::None,
+            FitArg::Simulation => ElementFit::Simulation,
+        }
     }
 }
 
-/// Fits, prints the model, its fit and its reading in units; returns the fit.
-pub fn run(r: &Fitting<'_>, start: &HostModel) -> Result<HysteresisFit, Failure> {
-    let (kind, from) = element(r.nonlinearity);
-    let fit = fit_hysteresis(r.u, r.y, start, from, &FitOptions::new(kind))
-        .map_err(|e| format!("--fit simulation: {e}"))?;
-    let name = match kind {
+/// Prints the fitted element `fit` of `id`: the fit, the model, its simulation fit and its
+/// reading in units.
+pub fn print(fit: &HysteresisFit, id: &Identified) -> Result<(), Failure> {
+    let name = match fit.model.kind {
         ElementKind::Backlash => "play operator (backlash)",
         ElementKind::Switch => "relay with borders (switch)",
     };
-    let origin = match from {
+    let origin = match fit.start {
         Start::TwoPath => "the two-path model above",
         Start::Static => "the static model above (a play: --nonlinearity switch for a relay)",
     };
@@ -77,34 +54,25 @@ pub fn run(r: &Fitting<'_>, start: &HostModel) -> Result<HysteresisFit, Failure>
         fit.initial_cost,
         fit.cost
     )?;
-    for line in text(&fit) {
+    for line in text(fit) {
         outln!("{line}")?;
     }
-    let sim = fit.simulate(r.u);
+    let r = &id.record;
+    let sim = fit.simulate(&r.u);
     outln!("{}", fit_report(&r.y[r.hold..], &sim[r.hold..])?)?;
     outln!("the fitted element in units:")?;
-    for line in in_units(&fit, r).lines() {
+    for line in in_units(fit, id).lines() {
         outln!("{line}")?;
     }
-    Ok(fit)
+    Ok(())
 }
 
 /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, and the gap
 /// of the borders `H_a`, `H_d` (input units) and the loop height (output units). Without the
 /// pole covariance: the delta-method text of the report speaks of the refinement's.
-pub fn in_units(fit: &HysteresisFit, r: &Fitting<'_>) -> UnitReport {
-    let host = fit.model.to_host(r.u.len());
-    unit_report(&host, r.ts, r.units.clone(), None, true)
-}
-
-/// Writes the fitted model's file (key `"element"`) with the record's sample time and units.
-pub fn save(fit: &HysteresisFit, r: &Fitting<'_>, path: &Path) -> Result<(), Failure> {
-    let mut file = fit.model.to_file(r.u.len());
-    file.sample_time = r.ts;
-    file.units = r.units.clone();
-    file.save(path).map_err(|e| e.to_string())?;
-    outln!("wrote {}", path.display())?;
-    Ok(())
+pub fn in_units(fit: &HysteresisFit, id: &Identified) -> UnitReport {
+    let host = fit.model.to_host(id.record.len());
+    unit_report(&host, id.record.ts, id.record.units.clone(), None, true)
 }
 
 /// The fitted model: `G`, its poles, `w(−1)`, the borders and the gap, with standard

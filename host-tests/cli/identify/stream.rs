@@ -14,14 +14,16 @@ use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
 use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::report::model_text;
+use hsid_host::workflow::IdentifyRequest;
+use hsid_host::workflow::element_fit::{applies, why};
 
 use hsid_host::table1::{RunCounter, end_tolerance};
 
-use super::{IdentifyArgs, auto, options, write};
+use super::{IdentifyArgs, write};
 use crate::failure::{Failure, outln};
 
 /// Runs `hsid identify --stream` (the arguments are checked by [`super::run`] first).
-pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
+pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
     let [path] = a.data.as_slice() else {
         return Err(format!(
             "--stream reads one record, {} given: identify them one at a time, or join them \
@@ -38,7 +40,10 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
                 .into(),
         );
     }
-    let opts = options(a)?;
+    let opts = request
+        .validate(a.hold.hold)
+        .map_err(|e| e.message)?
+        .options;
     let units = a.units.units()?;
     let ts = a.units.ts()?;
     let names = [
@@ -57,10 +62,10 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         model.samples
     )?;
     outln!("{}", model_text(&model))?;
-    if auto::applies(a) && runs.runs().breaks_table1() {
+    if applies(request) && runs.runs().breaks_table1() {
         outln!(
             "--fit auto: {}; the element's fit needs the whole record, not --stream: not run, the model is the two-path one",
-            auto::why(runs.runs(), a.umin, a.umax)
+            why(runs.runs(), a.umin, a.umax)
         )?;
     }
     if let Some(out) = &a.out.json {

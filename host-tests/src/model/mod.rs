@@ -1,0 +1,8 @@
+//! The host's domain: the measured record every estimator and check takes, and the input
+//! element a model assumes.
+
+mod record;
+mod simulate;
+
+pub use record::{Record, RecordError};
+pub use simulate::{FileModel, Simulate};

@@ -1,0 +1,222 @@
+//! A measured record as it enters the host: input and output, the controller's reference of
+//! a closed-loop record, the sample time and units when known, the hold at its start, and
+//! where each experiment of a joined record starts.
+
+use std::ops::Range;
+
+use crate::model_file::Units;
+
+/// A record: one or several experiments on the same plant, joined in the order given.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Input samples.
+    pub u: Vec<f64>,
+    /// Output samples.
+    pub y: Vec<f64>,
+    /// The controller's reference of a closed-loop record, one value per sample.
+    pub reference: Option<Vec<f64>>,
+    /// Sample time in seconds, when known.
+    pub ts: Option<f64>,
+    /// Units of the input and the output, when known.
+    pub units: Option<Units>,
+    /// Samples of the hold at `u_min` at the start of the first experiment (0: none).
+    pub hold: usize,
+    /// Index of each experiment's first sample (the first is 0).
+    pub starts: Vec<usize>,
+}
+
+/// Why samples do not make a record.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum RecordError {
+    /// `u` and `y` differ in length.
+    #[error("u has {u} samples but y has {y}: give one y per u")]
+    LengthMismatch {
+        /// Input samples.
+        u: usize,
+        /// Output samples.
+        y: usize,
+    },
+    /// The reference differs in length from `u`.
+    #[error("the reference has {r} samples but u has {u}: give one reference value per u")]
+    ReferenceLength {
+        /// Input samples.
+        u: usize,
+        /// Reference samples.
+        r: usize,
+    },
+}
+
+impl Record {
+    /// One experiment `(u, y)` without hold, sample time or units.
+    pub fn new(u: Vec<f64>, y: Vec<f64>) -> Result<Self, RecordError> {
+        if u.len() != y.len() {
+            return Err(RecordError::LengthMismatch {
+                u: u.len(),
+                y: y.len(),
+            });
+        }
+        Ok(Self {
+            u,
+            y,
+            reference: None,
+            ts: None,
+            units: None,
+            hold: 0,
+            starts: vec![0],
+        })
+    }
+
+    /// The record with a hold of `hold` samples at its start.
+    pub fn with_hold(mut self, hold: usize) -> Self {
+        self.hold = hold;
+        self
+    }
+
+    /// The record with the controller's reference `r` (one value per sample).
+    pub fn with_reference(mut self, r: Vec<f64>) -> Result<Self, RecordError> {
+        if r.len() != self.u.len() {
+            return Err(RecordError::ReferenceLength {
+                u: self.u.len(),
+                r: r.len(),
+            });
+        }
+        self.reference = Some(r);
+        Ok(self)
+    }
+
+    /// Samples.
+    pub fn len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// No samples.
+    pub fn is_empty(&self) -> bool {
+        self.u.is_empty()
+    }
+
+    /// The sample range of each experiment.
+    pub fn ranges(&self) -> Vec<Range<usize>> {
+        let ends = self.starts.iter().skip(1).copied().chain([self.u.len()]);
+        self.starts.iter().zip(ends).map(|(&a, b)| a..b).collect()
+    }
+
+    /// The samples of each experiment, `(u, y)`.
+    pub fn parts(&self) -> Vec<(&[f64], &[f64])> {
+        self.ranges()
+            .into_iter()
+            .map(|r| (&self.u[r.clone()], &self.y[r]))
+            .collect()
+    }
+
+    /// Samples of the first experiment.
+    pub fn first_len(&self) -> usize {
+        self.ranges().first().map_or(0, |r| r.len())
+    }
+
+    /// The experiment holding sample `index`.
+    pub fn experiment_of(&self, index: usize) -> usize {
+        self.starts.iter().rposition(|&s| s <= index).unwrap_or(0)
+    }
+
+    /// The record of an integrating plant's stable part: in each experiment the first sample
+    /// is dropped (it has no increment) and the output differenced within the experiment; the
+    /// hold loses its first sample. [`Record::increments_source`] maps a sample back.
+    pub fn increments(&self) -> Record {
+        let mut out = Record {
+            u: Vec::with_capacity(self.len()),
+            y: Vec::with_capacity(self.len()),
+            reference: self.reference.as_ref().map(|_| Vec::new()),
+            ts: self.ts,
+            units: self.units.clone(),
+            hold: self.hold.saturating_sub(1),
+            starts: Vec::with_capacity(self.starts.len()),
+        };
+        for r in self.ranges() {
+            let (u, dy) = crate::integrating::increments(&self.u[r.clone()], &self.y[r.clone()]);
+            out.starts.push(out.u.len());
+            out.u.extend(u);
+            out.y.extend(dy);
+            if let (Some(o), Some(v)) = (&mut out.reference, &self.reference) {
+                o.extend_from_slice(v[r].get(1..).unwrap_or_default());
+            }
+        }
+        out
+    }
+
+    /// The sample of this record that sample `index` of [`Record::increments`] comes from.
+    pub fn increments_source(&self, index: usize) -> usize {
+        // Experiment k lost k + 1 samples up to and including its own first.
+        let mut start = 0;
+        for (k, r) in self.ranges().into_iter().enumerate() {
+            let len = r.len().saturating_sub(1);
+            if index < start + len || k + 1 == self.starts.len() {
+                return index + k + 1;
+            }
+            start += len;
+        }
+        index
+    }
+
+    /// The record with the mean output subtracted; the mean.
+    pub fn detrended(mut self) -> (Record, f64) {
+        let mean = self.y.iter().sum::<f64>() / self.y.len().max(1) as f64;
+        self.y.iter_mut().for_each(|v| *v -= mean);
+        (self, mean)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn two_experiments() -> Record {
+        let mut r = Record::new(
+            vec![0.0, 1.0, 2.0, 3.0, 10.0, 11.0, 12.0],
+            vec![0.0, 1.0, 3.0, 6.0, 5.0, 7.0, 4.0],
+        )
+        .unwrap()
+        .with_hold(2);
+        r.starts = vec![0, 4];
+        r
+    }
+
+    #[test]
+    fn increments_difference_each_experiment_apart() {
+        let r = two_experiments();
+        let d = r.increments();
+        assert_eq!(d.u, vec![1.0, 2.0, 3.0, 11.0, 12.0]);
+        assert_eq!(d.y, vec![1.0, 2.0, 3.0, 2.0, -3.0]);
+        assert_eq!(d.starts, vec![0, 3]);
+        assert_eq!(d.hold, 1);
+        // Each increment comes from the sample it ends at.
+        let sources: Vec<usize> = (0..d.len()).map(|i| r.increments_source(i)).collect();
+        assert_eq!(sources, vec![1, 2, 3, 5, 6]);
+        for (i, &s) in sources.iter().enumerate() {
+            assert_eq!(d.u[i], r.u[s]);
+        }
+    }
+
+    #[test]
+    fn lengths_must_agree() {
+        assert_eq!(
+            Record::new(vec![0.0; 3], vec![0.0; 2]).err(),
+            Some(RecordError::LengthMismatch { u: 3, y: 2 })
+        );
+        let r = Record::new(vec![0.0; 3], vec![0.0; 3]).unwrap();
+        assert_eq!(
+            r.with_reference(vec![0.0; 4]).err(),
+            Some(RecordError::ReferenceLength { u: 3, r: 4 })
+        );
+    }
+
+    #[test]
+    fn detrend_removes_the_mean_output() {
+        let (r, mean) = Record::new(vec![0.0; 4], vec![1.0, 2.0, 3.0, 6.0])
+            .unwrap()
+            .detrended();
+        assert_eq!(mean, 3.0);
+        assert_eq!(r.y, vec![-2.0, -1.0, 0.0, 3.0]);
+        assert_eq!(r.experiment_of(3), 0);
+    }
+}

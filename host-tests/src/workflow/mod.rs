@@ -1,0 +1,208 @@
+//! The identify workflow: one record in, one model out, every decision in one place. The
+//! command line and Python are its faces: they build an [`IdentifyRequest`] and a
+//! [`Record`](crate::model::Record), call [`identify_record`], and print or return what it
+//! gives ([`Identified`]).
+//!
+//! The steps, in order: the request is checked ([`IdentifyRequest::validate`]); an
+//! integrating plant's record becomes the record of its increments and a detrended record
+//! loses its mean output; segments, horizons and order are chosen and the model refined
+//! ([`best_model`]); a closed-loop record's model is replaced by the estimate with instruments
+//! from the reference ([`closed_loop`]); the noise model and standard deviations are taken
+//! from the refinement or fitted to the subspace model's residual ([`estimate`]); and the
+//! element itself is fitted by simulation error when the input reverses inside the range
+//! ([`element_fit`]).
+
+pub mod closed_loop;
+pub mod element_fit;
+pub mod estimate;
+mod request;
+
+pub use estimate::Estimate;
+pub use request::{ElementFit, Field, IdentifyRequest, Plan, RequestError, Syntax};
+
+use crate::choose::noise_file;
+use crate::choose::{Best, ChooseError, best_model};
+use crate::closed_loop::ReferenceError;
+use crate::hysteresis::{HysteresisError, HysteresisFit};
+use crate::identify::IdentifyError;
+use crate::model::Record;
+use crate::model_file::ModelFile;
+
+/// Why [`identify_record`] gave no model.
+#[derive(Debug, thiserror::Error)]
+pub enum WorkflowError {
+    /// The request contradicts itself or the record.
+    #[error(transparent)]
+    Request(#[from] RequestError),
+    /// The identification failed at a sample of the record as given (`index`, 0 = first).
+    #[error("{error}")]
+    Sample {
+        /// The core's error about the sample.
+        error: IdentifyError,
+        /// The sample of the caller's record.
+        index: usize,
+    },
+    /// The identification failed.
+    #[error(transparent)]
+    Choose(ChooseError),
+    /// The closed-loop estimate failed.
+    #[error("{name} (reference): {error}")]
+    ClosedLoop {
+        /// The reference's name.
+        name: String,
+        /// Why.
+        error: ReferenceError,
+    },
+    /// The element's simulation-error fit failed.
+    #[error("{prefix}: {error}")]
+    ElementFit {
+        /// The setting that asked for the fit, in the front end's words.
+        prefix: String,
+        /// Why.
+        error: HysteresisError,
+    },
+}
+
+/// What one identification gives: the model and everything that was chosen and said on the
+/// way.
+#[derive(Clone, Debug)]
+pub struct Identified {
+    /// The record as identified (the increments of an integrating plant, detrended).
+    pub record: Record,
+    /// The request's settings turned into the library's.
+    pub plan: Plan,
+    /// The subspace model and what was chosen (segments, horizons, order, the refinement);
+    /// its model is the closed-loop estimate for a closed-loop record.
+    pub best: Best,
+    /// The model to report, its noise model and standard deviations, the estimator in words.
+    pub estimate: Estimate,
+    /// What was done and why, in order: one line each (the front end prints them before the
+    /// model).
+    pub notes: Vec<String>,
+    /// Why the element's fit was or was not run, when the input asked for it.
+    pub element_note: Option<String>,
+    /// The element fitted by simulation error, when it was.
+    pub element: Option<HysteresisFit>,
+    /// The request.
+    pub request: IdentifyRequest,
+}
+
+impl Identified {
+    /// The model file: the fitted element's when it was fitted, else the model with its noise
+    /// model and standard deviations; with the record's sample time and units.
+    pub fn model_file(&self) -> ModelFile {
+        let mut file = match &self.element {
+            Some(fit) => fit.model.to_file(self.record.len()),
+            None => {
+                let mut file = self.estimate.model.to_json(Some(self.request.element));
+                file.noise = self.estimate.noise.as_ref().map(noise_file);
+                file.std = self.estimate.std.as_ref().map(|(s, _)| s.clone());
+                file.integrating = self.request.integrating;
+                file
+            }
+        };
+        file.sample_time = self.record.ts;
+        file.units = self.record.units.clone();
+        file
+    }
+}
+
+/// Identifies `record` as `request` asks: see the [module](self) for the steps.
+pub fn identify_record(
+    record: &Record,
+    request: &IdentifyRequest,
+) -> Result<Identified, WorkflowError> {
+    request.check_record(record)?;
+    let mut notes = Vec::new();
+    let source = record;
+    let mut record = record.clone();
+    if request.integrating {
+        record = record.increments();
+        notes.push(
+            "integrating: one pole fixed at z = 1; the stable part G₀ is identified on the \
+             output's increments y(t) − y(t − 1) (G₀(1) = 1: μ0, the borders and the fits \
+             below are in output units per sample)"
+                .to_string(),
+        );
+    }
+    let mut plan = request.validate(source.hold)?;
+    if request.integrating {
+        plan.options = crate::integrating::increments_options(&plan.options);
+    }
+    check_hold(&record, request)?;
+    if request.detrend {
+        let mean;
+        (record, mean) = record.detrended();
+        notes.push(format!(
+            "detrended: subtracted the mean output {mean:.6} from y"
+        ));
+    }
+    let mut best =
+        best_model(&record.u, &record.y, &plan.options, &plan.choices).map_err(|e| match e {
+            ChooseError::Identify(error) => {
+                let index = sample_index(&error).unwrap_or(0);
+                let index = match request.integrating {
+                    true => source.increments_source(index),
+                    false => index,
+                };
+                WorkflowError::Sample { error, index }
+            }
+            e => WorkflowError::Choose(e),
+        })?;
+    notes.extend(best.report());
+    if let Some(name) = &request.reference {
+        notes.push(closed_loop::replace(&mut best, &record, name)?);
+    }
+    let (estimate, estimate_notes) = estimate::estimate(&best, &record, request)?;
+    notes.extend(estimate_notes);
+    let decision = element_fit::decide(request, &record);
+    let element = match decision.run {
+        true => Some(element_fit::fit(request, &record, &estimate.model)?),
+        false => None,
+    };
+    Ok(Identified {
+        record,
+        plan,
+        best,
+        estimate,
+        notes,
+        element_note: decision.note,
+        element,
+        request: request.clone(),
+    })
+}
+
+/// The sample a core error names, if any.
+pub fn sample_index(e: &IdentifyError) -> Option<usize> {
+    match e {
+        IdentifyError::Core(
+            hsid::Error::NonFinite { index, .. }
+            | hsid::Error::InputOutOfRange { index, .. }
+            | hsid::Error::HoldNotAtMin { index, .. },
+        ) => Some(usize::try_from(*index).unwrap_or(usize::MAX)),
+        _ => None,
+    }
+}
+
+/// The first experiment must outlast the hold.
+fn check_hold(record: &Record, request: &IdentifyRequest) -> Result<(), RequestError> {
+    let first = record.first_len();
+    if record.hold < first {
+        return Ok(());
+    }
+    let s = request.syntax;
+    Err(RequestError {
+        field: Field::Hold,
+        kind: "all_hold",
+        message: match s {
+            Syntax::Cli => format!(
+                "{first} samples, all inside the hold of {} (--hold): nothing left to identify from",
+                record.hold
+            ),
+            Syntax::Python => format!(
+                "{first} samples, all inside the hold of {}: nothing left to identify from",
+                record.hold
+            ),
+        },
+    })
+}

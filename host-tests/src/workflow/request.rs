@@ -1,0 +1,513 @@
+//! What a user asks of one identification, checked once for every front end: the command
+//! line and Python build an [`IdentifyRequest`], and [`IdentifyRequest::validate`] gives the
+//! library's options and choices or a [`RequestError`] that names the setting in the front
+//! end's own words ([`Syntax`]).
+
+use hsid::Basis;
+
+use crate::choose::{self, Choices, Estimator, SEGMENT_CANDIDATES, Segments};
+use crate::identify::IdentifyOptions;
+use crate::model_file::NonlinearityKind;
+use crate::refine::knots::{AUTO_CANDIDATES, SegmentCount};
+
+/// Whether the element itself is fitted by simulation error after the identification.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ElementFit {
+    /// When the input breaks the Table I structure (inner loops) and the fit can run.
+    Auto,
+    /// Never: the identified model as it is.
+    None,
+    /// Always (one record, no integrator).
+    Simulation,
+}
+
+impl ElementFit {
+    /// The name on the command line and in Python: `auto`, `none` or `simulation`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementFit::Auto => "auto",
+            ElementFit::None => "none",
+            ElementFit::Simulation => "simulation",
+        }
+    }
+
+    /// The setting named `name`, if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [ElementFit::Auto, ElementFit::None, ElementFit::Simulation]
+            .into_iter()
+            .find(|f| f.name() == name)
+    }
+}
+
+/// A setting of the request, for messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// The interval's lower end.
+    UMin,
+    /// The interval's upper end.
+    UMax,
+    /// Segments per path.
+    Segments,
+    /// Knots of the ascending path.
+    KnotsAsc,
+    /// Knots of the descending path.
+    KnotsDesc,
+    /// The hold.
+    Hold,
+    /// Detrending.
+    Detrend,
+    /// The element's fit.
+    Fit,
+    /// The integrating plant.
+    Integrating,
+    /// The input element.
+    Nonlinearity,
+    /// The closed-loop reference.
+    Reference,
+    /// The record itself.
+    Data,
+}
+
+/// How a front end spells its settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Syntax {
+    /// `hsid identify --umin …`.
+    Cli,
+    /// `hsid.identify(…, umin=…)`.
+    Python,
+}
+
+impl Syntax {
+    /// The setting's name.
+    pub fn name(self, f: Field) -> &'static str {
+        match (self, f) {
+            (Syntax::Cli, Field::UMin) => "--umin",
+            (Syntax::Cli, Field::UMax) => "--umax",
+            (Syntax::Cli, Field::Segments) => "--segments",
+            (Syntax::Cli, Field::KnotsAsc) => "--knots-asc",
+            (Syntax::Cli, Field::KnotsDesc) => "--knots-desc",
+            (Syntax::Cli, Field::Hold) => "--hold",
+            (Syntax::Cli, Field::Detrend) => "--detrend",
+            (Syntax::Cli, Field::Fit) => "--fit",
+            (Syntax::Cli, Field::Integrating) => "--integrating",
+            (Syntax::Cli, Field::Nonlinearity) => "--nonlinearity",
+            (Syntax::Cli, Field::Reference) => "--reference-column",
+            (Syntax::Cli, Field::Data) => "--data",
+            (Syntax::Python, Field::UMin) => "umin",
+            (Syntax::Python, Field::UMax) => "umax",
+            (Syntax::Python, Field::Segments) => "segments",
+            (Syntax::Python, Field::KnotsAsc) => "knots (ascending)",
+            (Syntax::Python, Field::KnotsDesc) => "knots (descending)",
+            (Syntax::Python, Field::Hold) => "hold",
+            (Syntax::Python, Field::Detrend) => "detrend",
+            (Syntax::Python, Field::Fit) => "fit",
+            (Syntax::Python, Field::Integrating) => "integrating",
+            (Syntax::Python, Field::Nonlinearity) => "nonlinearity",
+            (Syntax::Python, Field::Reference) => "reference",
+            (Syntax::Python, Field::Data) => "u, y",
+        }
+    }
+
+    /// The setting with a value: `--hold 0` or `hold=0`.
+    pub fn set(self, f: Field, value: impl std::fmt::Display) -> String {
+        match self {
+            Syntax::Cli => format!("{} {value}", self.name(f)),
+            Syntax::Python => format!("{}={value}", self.name(f)),
+        }
+    }
+
+    /// A text value as the front end writes it: `static` or `"static"`.
+    pub fn text(self, value: &str) -> String {
+        match self {
+            Syntax::Cli => value.to_string(),
+            Syntax::Python => format!("{value:?}"),
+        }
+    }
+
+    /// A switch turned on: `--detrend` or `detrend=True`.
+    pub fn on(self, f: Field) -> String {
+        match self {
+            Syntax::Cli => self.name(f).to_string(),
+            Syntax::Python => format!("{}=True", self.name(f)),
+        }
+    }
+
+    /// One record in the front end's words.
+    fn one_record(self) -> &'static str {
+        match self {
+            Syntax::Cli => "one record (one --data)",
+            Syntax::Python => "one record",
+        }
+    }
+}
+
+/// A request that cannot be carried out, with the setting at fault.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct RequestError {
+    /// The setting at fault.
+    pub field: Field,
+    /// A short stable name of the problem (Python's error `kind`).
+    pub kind: &'static str,
+    /// What is wrong and what to do, in the front end's words.
+    pub message: String,
+}
+
+impl RequestError {
+    fn new(field: Field, kind: &'static str, message: String) -> Self {
+        Self {
+            field,
+            kind,
+            message,
+        }
+    }
+}
+
+/// One identification as the user asks for it. [`IdentifyRequest::new`] gives the defaults of
+/// `hsid identify` and `hsid.identify`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifyRequest {
+    /// Lower end of the input interval.
+    pub umin: f64,
+    /// Upper end of the input interval.
+    pub umax: f64,
+    /// Uniform segments per path, or `auto`; `None`: 7, 10 or 14 by BIC of the refined model
+    /// (7 without refinement). Ignored when knots are given.
+    pub segments: Option<SegmentCount>,
+    /// Knots of the ascending path (`umin` first, `umax` last).
+    pub knots_asc: Option<Vec<f64>>,
+    /// Knots of the descending path.
+    pub knots_desc: Option<Vec<f64>>,
+    /// Model order; `None`: from the data.
+    pub order: Option<usize>,
+    /// Horizons `(f, p)`; `None`: from the data.
+    pub horizons: Option<(usize, usize)>,
+    /// The input element.
+    pub element: NonlinearityKind,
+    /// Border basis.
+    pub basis: Basis,
+    /// Known μ0 for a record without a hold.
+    pub mu0: Option<f64>,
+    /// Subtract the mean output first (records without a hold).
+    pub detrend: bool,
+    /// The plant integrates: one pole at z = 1, the stable part identified on increments.
+    pub integrating: bool,
+    /// Refine by the prediction-error method (the default).
+    pub refine: bool,
+    /// The element's simulation-error fit.
+    pub fit: ElementFit,
+    /// The closed-loop estimate from the record's reference, named so (the CSV column or
+    /// Python's `reference`); `None`: open loop.
+    pub reference: Option<String>,
+    /// Samples of the hold skipped while the plant settles; `None`: half the hold.
+    pub settle: Option<usize>,
+    /// How messages and notes spell the settings.
+    pub syntax: Syntax,
+}
+
+/// A request checked: the library's options and choices.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Interval, knots, horizons, order, hold of the record as given.
+    pub options: IdentifyOptions,
+    /// What is chosen from the data.
+    pub choices: Choices,
+}
+
+impl IdentifyRequest {
+    /// The defaults on `[umin, umax]`: a backlash, everything else chosen from the data,
+    /// refined, the element fitted when the input asks for it.
+    pub fn new(umin: f64, umax: f64, syntax: Syntax) -> Self {
+        Self {
+            umin,
+            umax,
+            segments: None,
+            knots_asc: None,
+            knots_desc: None,
+            order: None,
+            horizons: None,
+            element: NonlinearityKind::Backlash,
+            basis: Basis::Hat,
+            mu0: None,
+            detrend: false,
+            integrating: false,
+            refine: true,
+            fit: ElementFit::Auto,
+            reference: None,
+            settle: None,
+            syntax,
+        }
+    }
+
+    /// Checks the settings that do not depend on the record and gives the options for a
+    /// record with a hold of `hold` samples.
+    pub fn validate(&self, hold: usize) -> Result<Plan, RequestError> {
+        let s = self.syntax;
+        let (umin, umax) = (self.umin, self.umax);
+        if !(umin.is_finite() && umax.is_finite() && umin < umax) {
+            return Err(RequestError::new(
+                Field::UMin,
+                "invalid_interval",
+                format!(
+                    "invalid input interval [{umin}, {umax}]: {} must be finite and below {}",
+                    s.name(Field::UMin),
+                    s.name(Field::UMax)
+                ),
+            ));
+        }
+        if self.segments == Some(SegmentCount::Fixed(0)) {
+            return Err(RequestError::new(
+                Field::Segments,
+                "segments",
+                format!(
+                    "{}: each path needs at least one segment",
+                    s.set(Field::Segments, 0)
+                ),
+            ));
+        }
+        if self.detrend && hold > 0 {
+            return Err(RequestError::new(
+                Field::Detrend,
+                "detrend_with_hold",
+                format!(
+                    "{} applies to data without a hold ({}); with {} μ0 is measured by the \
+                     hold: drop {} or give {}",
+                    s.name(Field::Detrend),
+                    s.set(Field::Hold, 0),
+                    s.set(Field::Hold, hold),
+                    s.name(Field::Detrend),
+                    s.set(Field::Hold, 0)
+                ),
+            ));
+        }
+        if self.detrend && (self.mu0.is_some() || self.integrating) {
+            return Err(RequestError::new(
+                Field::Detrend,
+                "detrend_conflict",
+                format!(
+                    "{} shifts the output and cannot go with a given μ0 or an integrating plant: \
+                     drop one",
+                    s.name(Field::Detrend)
+                ),
+            ));
+        }
+        if self.fit == ElementFit::Simulation && self.integrating {
+            return Err(RequestError::new(
+                Field::Fit,
+                "fit_integrating",
+                match s {
+                    Syntax::Cli => "--fit simulation needs the whole record (not --stream) and a \
+                                    plant without an integrator (not --integrating): drop those, \
+                                    or give --fit auto or none"
+                        .to_string(),
+                    Syntax::Python => "fit=\"simulation\" needs a plant without an integrator \
+                                       (not integrating=True): drop one, or give fit=\"auto\" or \
+                                       \"none\""
+                        .to_string(),
+                },
+            ));
+        }
+        if let Some(name) = &self.reference {
+            if self.element == NonlinearityKind::Static {
+                return Err(RequestError::new(
+                    Field::Reference,
+                    "reference_static",
+                    format!(
+                        "{} estimates a two-path element (backlash or switch): drop {}",
+                        s.set(Field::Reference, name),
+                        s.set(Field::Nonlinearity, s.text("static"))
+                    ),
+                ));
+            }
+            if self.integrating {
+                return Err(RequestError::new(
+                    Field::Reference,
+                    "reference_integrating",
+                    format!(
+                        "{} is not available with {}",
+                        s.set(Field::Reference, name),
+                        s.on(Field::Integrating)
+                    ),
+                ));
+            }
+        }
+        let fixed = match self.segments {
+            Some(SegmentCount::Fixed(n)) => n,
+            _ => 7,
+        };
+        let mut options = IdentifyOptions::uniform(umin, umax, fixed, hold);
+        options.mu0 = self.mu0;
+        options.static_nonlinearity = self.element == NonlinearityKind::Static;
+        if let Some(k) = &self.knots_asc {
+            options.knots_asc = k.clone();
+        }
+        if let Some(k) = &self.knots_desc {
+            options.knots_desc = k.clone();
+        }
+        for (field, k) in [
+            (Field::KnotsAsc, &options.knots_asc),
+            (Field::KnotsDesc, &options.knots_desc),
+        ] {
+            if k.first() != Some(&umin) || k.last() != Some(&umax) {
+                return Err(RequestError::new(
+                    field,
+                    "knot_endpoints",
+                    format!(
+                        "{} must start at {} and end at {}",
+                        s.name(field),
+                        s.set(Field::UMin, umin),
+                        s.set(Field::UMax, umax)
+                    ),
+                ));
+            }
+        }
+        (options.f, options.p) = self.horizons.unwrap_or((10, 10));
+        options.order = self.order;
+        options.basis = self.basis;
+        options.settle = self.settle.unwrap_or(hold / 2);
+        let knots_given = self.knots_asc.is_some() || self.knots_desc.is_some();
+        let choices = Choices {
+            segments: match self.segments {
+                _ if knots_given => Segments::Given,
+                Some(SegmentCount::Fixed(_)) => Segments::Given,
+                Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
+                None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
+            },
+            horizons: match self.horizons {
+                Some(_) => choose::Horizons::Given,
+                None => choose::Horizons::FromData,
+            },
+            estimator: if !self.refine || self.reference.is_some() {
+                Estimator::Subspace
+            } else {
+                Estimator::Refined
+            },
+            ..Choices::default()
+        };
+        Ok(Plan { options, choices })
+    }
+
+    /// Checks what depends on the record: the hold within the first experiment, the element's
+    /// fit and the closed-loop estimate on one experiment, the reference present.
+    pub fn check_record(&self, record: &crate::model::Record) -> Result<(), RequestError> {
+        let s = self.syntax;
+        let experiments = record.starts.len();
+        if let Some(name) = &self.reference {
+            if experiments > 1 {
+                return Err(RequestError::new(
+                    Field::Reference,
+                    "reference_records",
+                    format!(
+                        "{} takes {}: join the experiments into one file",
+                        s.set(Field::Reference, name),
+                        s.one_record()
+                    ),
+                ));
+            }
+            if record.reference.is_none() {
+                return Err(RequestError::new(
+                    Field::Reference,
+                    "reference_missing",
+                    format!(
+                        "{}: the record has no reference values",
+                        s.set(Field::Reference, name)
+                    ),
+                ));
+            }
+        }
+        if self.fit == ElementFit::Simulation && experiments > 1 {
+            return Err(RequestError::new(
+                Field::Fit,
+                "fit_records",
+                format!(
+                    "{} takes {}: the element's state does not carry across experiments",
+                    s.set(Field::Fit, s.text("simulation")),
+                    s.one_record()
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn paper_settings_give_the_paper_estimator() {
+        let mut r = IdentifyRequest::new(-3.0, 3.0, Syntax::Python);
+        r.segments = Some(SegmentCount::Fixed(7));
+        r.horizons = Some((10, 10));
+        r.refine = false;
+        let plan = r.validate(300).unwrap();
+        assert_eq!(plan.options, IdentifyOptions::uniform(-3.0, 3.0, 7, 300));
+        assert_eq!(plan.choices.segments, Segments::Given);
+        assert_eq!(plan.choices.horizons, choose::Horizons::Given);
+        assert_eq!(plan.choices.estimator, Estimator::Subspace);
+    }
+
+    #[test]
+    fn defaults_choose_from_the_data_and_refine() {
+        let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+        r.element = NonlinearityKind::Static;
+        r.order = Some(3);
+        let plan = r.validate(0).unwrap();
+        assert_eq!(
+            plan.choices.segments,
+            Segments::FromData(SEGMENT_CANDIDATES.to_vec())
+        );
+        assert_eq!(plan.choices.horizons, choose::Horizons::FromData);
+        assert_eq!(plan.choices.estimator, Estimator::Refined);
+        assert!(plan.options.static_nonlinearity);
+        assert_eq!(plan.options.order, Some(3));
+    }
+
+    #[test]
+    fn each_front_end_reads_the_error_in_its_own_words() {
+        let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+        r.knots_asc = Some(vec![-1.0, 0.0, 0.9]);
+        let e = r.validate(300).unwrap_err();
+        assert_eq!(e.field, Field::KnotsAsc);
+        assert_eq!(e.kind, "knot_endpoints");
+        assert_eq!(
+            e.message,
+            "--knots-asc must start at --umin -1 and end at --umax 1"
+        );
+        r.syntax = Syntax::Python;
+        assert_eq!(
+            r.validate(300).unwrap_err().message,
+            "knots (ascending) must start at umin=-1 and end at umax=1"
+        );
+        let mut r = IdentifyRequest::new(1.0, -1.0, Syntax::Python);
+        assert_eq!(r.validate(0).unwrap_err().kind, "invalid_interval");
+        r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+        r.detrend = true;
+        assert_eq!(
+            r.validate(300).unwrap_err().message,
+            "--detrend applies to data without a hold (--hold 0); with --hold 300 μ0 is \
+             measured by the hold: drop --detrend or give --hold 0"
+        );
+    }
+
+    #[test]
+    fn the_closed_loop_estimate_needs_a_two_path_element_and_one_record() {
+        let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+        r.reference = Some("r".into());
+        r.element = NonlinearityKind::Static;
+        assert_eq!(
+            r.validate(0).unwrap_err().message,
+            "--reference-column r estimates a two-path element (backlash or switch): drop \
+             --nonlinearity static"
+        );
+        r.element = NonlinearityKind::Backlash;
+        let plan = r.validate(0).unwrap();
+        assert_eq!(plan.choices.estimator, Estimator::Subspace);
+        let mut rec = crate::model::Record::new(vec![0.0; 4], vec![0.0; 4]).unwrap();
+        rec.starts = vec![0, 2];
+        assert_eq!(r.check_record(&rec).unwrap_err().kind, "reference_records");
+        rec.starts = vec![0];
+        assert_eq!(r.check_record(&rec).unwrap_err().kind, "reference_missing");
+    }
+}
