@@ -4,11 +4,12 @@
 use super::bf::regression;
 use super::blocks::{l33, load_l32, qr_scratch, r_transposed};
 use super::gram::{Source, diagonal_blocks};
+use super::layout::Layout;
 use super::order::whitened;
 use super::rounding::Rounding;
 use super::schur::schur_complement;
 use super::weighting::Weighting;
-use super::{Layout, too_small};
+use super::workspace::too_small;
 use crate::accumulation::{Accumulator, OutputRounding};
 use crate::error::{Error, Stage};
 use crate::linalg::{Small, at, cholesky_packed, packed};
