@@ -20,6 +20,7 @@ mod dense;
 mod gram;
 mod layout;
 mod order;
+mod outcome;
 mod projection;
 mod rounding;
 mod schedule;
@@ -32,7 +33,8 @@ mod workspace;
 
 pub(crate) use layout::Layout;
 pub(crate) use order::select_order;
-pub(crate) use projection::{Projection, pi_moesp};
+pub(crate) use outcome::Projection;
+pub(crate) use projection::pi_moesp;
 pub use settings::{AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK};
 pub(crate) use structured::{Slots, bf_at, pi_moesp_structured, structured_len};
 pub(crate) use workspace::too_small;

@@ -3,7 +3,7 @@
 
 use super::dense::lower_solve_in_place;
 use super::layout::Layout;
-use super::projection::Projection;
+use super::outcome::Projection;
 use super::settings::{AUTO_ORDER_MARGIN, Order};
 use crate::error::{Error, Stage};
 use crate::linalg::{Small, el, set_el, svd_in_place};

@@ -57,7 +57,7 @@ pub(crate) use stein::bf_at;
 use super::dense::transpose_lower_into;
 use super::layout::Layout;
 use super::order::whitened;
-use super::projection::Projection;
+use super::outcome::Projection;
 use super::projection::{check_horizons, leading};
 use super::rounding::Rounding;
 use super::weighting::pi_moesp_gamma;
