@@ -2,8 +2,8 @@
 
 use super::cross::cross_block;
 use super::gram::Source;
-use super::too_small;
 use super::triangular::back_substitution_transposed;
+use super::workspace::too_small;
 use crate::error::{Error, Stage};
 use crate::linalg::{all_finite, at, set};
 use crate::scalar::Real;

@@ -1,8 +1,8 @@
 //! The blocks `L₃₂` (`f × w`) and `L₃₃` (`f × f`) of the Schur complement's Cholesky factor,
 //! and `Rᵀ` from the QR of `L₃₂ᵀ`: `L₃₂ = Rᵀ Qᵀ`, so the SVDs of `L₃₂` reduce to `f × f`.
 
-use super::Layout;
-use super::too_small;
+use super::layout::Layout;
+use super::workspace::too_small;
 use crate::error::Error;
 use crate::linalg::{Small, at, householder_qr, packed, set_el, sub, sub_mut};
 use crate::scalar::Real;

@@ -1,8 +1,8 @@
 //! Column panels of the cross block `X = L₁₁⁻¹ G_{Z_f, [Z_p; Ȳ_f]}`, formed from the lagged
 //! sums a few columns at a time instead of stored whole.
 
-use super::Layout;
 use super::gram::Source;
+use super::layout::Layout;
 use super::triangular::forward_substitution_columns;
 use crate::linalg::at;
 use crate::scalar::Real;

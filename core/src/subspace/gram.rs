@@ -1,7 +1,7 @@
 //! The Gram of `[Z_f; Z_p; Ȳ_p; Ȳ_f]` entry by entry, centred if asked, from the blocks of
 //! lagged sums the accumulator keeps.
 
-use super::Layout;
+use super::layout::Layout;
 use crate::accumulation::{Accumulator, RowSums};
 use crate::error::{Error, Stage};
 use crate::linalg::{all_finite, at, packed, set};

@@ -2,7 +2,7 @@
 //! horizons `f`, `p`, the block width of the Schur complement, and where each lagged channel
 //! sits among the rows.
 
-use super::{Method, SCHUR_BLOCK};
+use super::settings::{Method, SCHUR_BLOCK};
 
 /// Layout of the solve workspace for `m` channels and horizons `f`, `p`:
 /// `[L₁₁ (packed f·m) | S (packed p·m + f) | B_f (f × f·m) | two column blocks | scratch]`.

@@ -20,10 +20,12 @@ mod dense;
 mod gram;
 mod layout;
 mod order;
+mod outcome;
 mod projection;
 mod rounding;
 mod schedule;
 mod schur;
+mod settings;
 mod structured;
 mod triangular;
 mod weighting;
@@ -31,55 +33,12 @@ mod workspace;
 
 pub(crate) use layout::Layout;
 pub(crate) use order::select_order;
-pub(crate) use projection::{Projection, pi_moesp};
+pub(crate) use outcome::Projection;
+pub(crate) use projection::pi_moesp;
+pub use settings::{AUTO_ORDER_MARGIN, Method, Order, SCHUR_BLOCK};
 pub(crate) use structured::{Slots, bf_at, pi_moesp_structured, structured_len};
 pub(crate) use workspace::too_small;
 pub use workspace::{workspace_len, workspace_len_with_block};
-
-/// The subspace weighting (Remark 4): which instruments and which weights enter the SVD that
-/// gives `Γ_f`. All four share the accumulation, the Schur complement and the `B`, `D` step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Method {
-    /// PI-MOESP, the paper's eq. (11): past inputs as instruments, SVD of `L₃₂`.
-    #[default]
-    PiMoesp,
-    /// PO-MOESP: past inputs and past outputs `[Z_p; Ȳ_p]` as instruments, SVD of `L₃₂`.
-    PoMoesp,
-    /// N4SID (unit weights): SVD of the oblique projection of `Ȳ_f` along `Z_f` on
-    /// `W_p = [Z_p; Ȳ_p]`, i.e. of `L₃₂ L₂₂⁻¹ chol(W_p W_pᵀ)`.
-    N4sid,
-    /// CVA: PO-MOESP with the left weight `(Ȳ_f Π⊥ Ȳ_fᵀ)^{-1/2}` (canonical correlations);
-    /// `Γ_f = L_yy U₁ S₁^½`.
-    Cva,
-}
-
-impl Method {
-    /// Whether past outputs enter the instruments.
-    pub const fn past_outputs(self) -> bool {
-        !matches!(self, Method::PiMoesp)
-    }
-}
-
-/// How the model order is chosen.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Order {
-    /// From the whitened singular values (see the [module docs](self)).
-    #[default]
-    Auto,
-    /// Given by the user (`1 <= n < f`).
-    Fixed(usize),
-}
-
-/// Margin over the noise-only edge `1 + √(f/(p·m))` that a whitened singular value must clear
-/// to count as a state direction in [`Order::Auto`].
-pub const AUTO_ORDER_MARGIN: f64 = 1.5;
-
-/// Columns of each of the two column blocks of the workspace. While the Schur complement is
-/// formed, the blocks, `B_f`'s place and the scratch together hold panels of
-/// `L₁₁⁻¹ G_{Z_f,[Z_p; Ȳ_f]}` (see the solve's `Schedule`) instead of the whole cross Gram.
-pub const SCHUR_BLOCK: usize = 32;
 
 /// Scalars the structured solve ([`Identifier::solve_structured`](crate::Identifier::solve_structured))
 /// needs for `m` channels and horizons `f`, `p`: the generator of the Gram's displacement,

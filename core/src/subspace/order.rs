@@ -2,7 +2,9 @@
 //! noise-only edge (see the [module docs](super)).
 
 use super::dense::lower_solve_in_place;
-use super::{AUTO_ORDER_MARGIN, Layout, Order, Projection};
+use super::layout::Layout;
+use super::outcome::Projection;
+use super::settings::{AUTO_ORDER_MARGIN, Order};
 use crate::error::{Error, Stage};
 use crate::linalg::{Small, el, set_el, svd_in_place};
 use crate::scalar::Real;

@@ -1,44 +1,21 @@
-//! PI-MOESP from the accumulated Gram (see the [module docs](super)) and its outcome: the
-//! steps in order, each in its own file.
+//! PI-MOESP from the accumulated Gram (see the [module docs](super)): the steps in order, each
+//! in its own file; the outcome, [`Projection`], in its own.
 
 use super::bf::regression;
 use super::blocks::{l33, load_l32, qr_scratch, r_transposed};
 use super::gram::{Source, diagonal_blocks};
+use super::layout::Layout;
 use super::order::whitened;
+use super::outcome::Projection;
 use super::rounding::Rounding;
 use super::schur::schur_complement;
 use super::weighting::Weighting;
-use super::{Layout, too_small};
+use super::workspace::too_small;
 use crate::accumulation::{Accumulator, OutputRounding};
 use crate::error::{Error, Stage};
-use crate::linalg::{Small, at, cholesky_packed, packed};
+use crate::linalg::{at, cholesky_packed, packed};
 use crate::regressor::{Basis, Knots};
 use crate::scalar::Real;
-
-/// The outcome of the PI-MOESP step.
-#[derive(Clone, Debug)]
-pub(crate) struct Projection<T, const H: usize> {
-    /// Hankel columns.
-    pub j: u64,
-    /// Singular values of `O_f / √j`, descending (first `f` valid).
-    pub sv: [T; H],
-    /// Whitened singular values (order selection), descending.
-    pub sv_white: [T; H],
-    /// `Γ_f` for every order: its first `n` columns are the estimate of order `n`.
-    pub gamma: Small<T, H>,
-}
-
-impl<T: Real, const H: usize> Projection<T, H> {
-    /// Nothing yet (no columns, zero singular values and `Γ_f`), to be filled in place.
-    pub(crate) fn empty() -> Self {
-        Self {
-            j: 0,
-            sv: [T::zero(); H],
-            sv_white: [T::zero(); H],
-            gamma: Small::zeros(),
-        }
-    }
-}
 
 /// PI-MOESP from the accumulated Gram: `L₁₁`, the Schur complement of `[Z_p; Ȳ_f]` given
 /// `Z_f` (whose Cholesky factor holds `L₂₂`, `L₃₂`, `L₃₃`), `B_f = L₃₁L₁₁⁻¹`, and the SVD of

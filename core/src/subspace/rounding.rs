@@ -1,7 +1,7 @@
 //! Rounding levels of the solve: below them a pivot or a residual cannot be told from the
 //! rounding of the sums and of the factorisations.
 
-use super::Layout;
+use super::layout::Layout;
 use crate::accumulation::OutputRounding;
 use crate::linalg::{at, packed};
 use crate::scalar::Real;

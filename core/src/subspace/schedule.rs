@@ -1,7 +1,7 @@
 //! The order in which the Schur complement's step walks the columns of the cross block with a
 //! cache of a few of them, chosen for the least estimated work.
 
-use super::Layout;
+use super::layout::Layout;
 
 /// How step 2 of [`pi_moesp`](super::pi_moesp) walks the `q` columns of `X = L₁₁⁻¹ G_{Z_f Q}` with a cache of
 /// a few of them: panels of `width` columns, each computed once and kept while the Schur

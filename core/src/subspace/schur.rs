@@ -4,7 +4,7 @@
 use super::cross::cross_block;
 use super::gram::Source;
 use super::schedule::Schedule;
-use super::too_small;
+use super::workspace::too_small;
 use crate::error::Error;
 use crate::linalg::{dot, dot4, packed};
 use crate::scalar::Real;

@@ -5,7 +5,8 @@ use super::blocks::{load_l32, r_transposed};
 use super::dense::{
     lower_solve, outer_gram, product, scale_columns, scale_columns_in_place, small_cholesky,
 };
-use super::{Layout, Method};
+use super::layout::Layout;
+use super::settings::Method;
 use crate::error::{Error, Stage};
 use crate::linalg::{Small, Svd, at, cholesky_packed, packed, set, svd_in_place, svd_small};
 use crate::scalar::Real;

@@ -1,7 +1,8 @@
 //! The solve workspace: the sizes of its regions and of the scratch of each step, its total
 //! (what [`workspace_len`] reports), and its carving into the regions.
 
-use super::{Layout, Method};
+use super::layout::Layout;
+use super::settings::Method;
 use crate::error::Error;
 use crate::linalg::packed_len;
 

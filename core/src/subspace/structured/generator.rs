@@ -1,7 +1,7 @@
 //! The generator of the bordered Gram, built from the accumulator's lagged sums and its first
 //! and last samples: `u = T[:, 𝓕] L₀⁻ᵀ`, `h₊`, `v` (`u` off the first rows), `h₋`.
 
-use super::Slots;
+use super::slots::Slots;
 use crate::accumulation::Accumulator;
 use crate::linalg::{at, set, sub, sub_mut};
 use crate::regressor::{Basis, Knots, for_each_nonzero};

@@ -55,11 +55,12 @@ pub(crate) use slots::{Slots, structured_len};
 pub(crate) use stein::bf_at;
 
 use super::dense::transpose_lower_into;
+use super::layout::Layout;
 use super::order::whitened;
+use super::outcome::Projection;
 use super::projection::{check_horizons, leading};
 use super::rounding::Rounding;
 use super::weighting::pi_moesp_gamma;
-use super::{Layout, Projection};
 use crate::accumulation::{Accumulator, OutputRounding};
 use crate::error::{Error, Stage};
 use crate::linalg::{Small, all_finite, at, cholesky_packed, el, packed, set_el, sub_mut};

@@ -1,6 +1,6 @@
 //! Where the generator's rows live in the workspace, and how long the workspace is.
 
-use super::super::Layout;
+use super::super::layout::Layout;
 
 /// The generator's rows (see the [module docs](super)): the bordering identity's row `I_q` in
 /// slot `q`, input row `Z_z` (reversed lag order: channel `z mod m`, lag `k − 1 − ⌊z/m⌋`) in

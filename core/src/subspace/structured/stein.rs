@@ -2,7 +2,7 @@
 //! so each is a recursion along the diagonals): `B_f` after `Z_f` is eliminated, written over
 //! the dead identity rows, and `S_Φ` at the end.
 
-use super::Slots;
+use super::slots::Slots;
 use crate::linalg::{at, dot, packed, set, sub, sub_mut};
 use crate::scalar::Real;
 

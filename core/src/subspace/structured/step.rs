@@ -1,7 +1,7 @@
 //! One step of the generalised Schur algorithm: reduce the pivot row to a single non-zero
 //! (two Householder reflections and a hyperbolic rotation), then shift the column of `L`.
 
-use super::Slots;
+use super::slots::Slots;
 use crate::linalg::{at, dot, set, sub, sub_mut};
 use crate::scalar::Real;
 
