@@ -1,10 +1,10 @@
-//! The wear report scored against a simulated fleet's truth, and the per-device table.
+//! The wear report scored against a simulated fleet's truth.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::wear::{DeviceWear, split_id};
+use super::device_wear::{DeviceWear, split_id};
 
 /// A device's truth: whether it wears, and its true gap per week.
 struct Truth {
@@ -95,26 +95,4 @@ fn mean_std(x: &[f64]) -> (f64, f64) {
     let m = x.iter().sum::<f64>() / n;
     let v = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
     (m, v.sqrt())
-}
-
-/// The per-device table: `device,weeks,slope,slope_se,wearing,over_limit,gaps` with the
-/// weekly gaps separated by `;`.
-pub fn device_csv(devices: &[DeviceWear]) -> String {
-    let mut s = String::from("device,weeks,slope,slope_se,wearing,over_limit,gaps\n");
-    for d in devices {
-        let (slope, se) = d
-            .trend
-            .map_or((f64::NAN, f64::NAN), |t| (t.slope, t.slope_se));
-        let gaps: Vec<String> = d.gaps.iter().map(|(w, g)| format!("{w}:{g:.5}")).collect();
-        let _ = writeln!(
-            s,
-            "{},{},{slope:.6},{se:.6},{},{},{}",
-            d.device,
-            d.gaps.len(),
-            d.wearing,
-            d.over_limit,
-            gaps.join(";")
-        );
-    }
-    s
 }

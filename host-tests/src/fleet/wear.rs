@@ -16,7 +16,9 @@ use std::path::Path;
 use hsid::Direction;
 use serde_json::Value;
 
-use super::trend::{Trend, fit};
+use super::device_wear::{DeviceWear, device_csv, split_id};
+use super::score::score;
+use super::trend::fit;
 use crate::identify::HostModel;
 use crate::model_file::ModelFile;
 use crate::units::gap::gap_at;
@@ -30,33 +32,11 @@ pub struct ReportOptions {
     pub limit: Option<f64>,
 }
 
-/// One device's weeks and verdict.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DeviceWear {
-    /// Device id (the checkpoint file name up to `-w`).
-    pub device: String,
-    /// `(week, gap)` of every week with a model.
-    pub gaps: Vec<(f64, f64)>,
-    /// The trend, when at least three weeks have a model.
-    pub trend: Option<Trend>,
-    /// Growth beyond `k` standard errors.
-    pub wearing: bool,
-    /// The trend's last-week gap above the limit.
-    pub over_limit: bool,
-}
-
 /// The model's gap at `u = 0`: the mean of the play after a descent and after an ascent.
 pub fn gap(m: &HostModel) -> Option<f64> {
     let d = gap_at(m, Direction::Descending, 0.0)?;
     let a = gap_at(m, Direction::Ascending, 0.0)?;
     Some(0.5 * (d + a))
-}
-
-/// `d00042-w03.bin` → `("d00042", 3)`.
-pub fn split_id(id: &str) -> Option<(&str, usize)> {
-    let (device, rest) = id.rsplit_once("-w")?;
-    let week = rest.split('.').next()?.parse().ok()?;
-    Some((device, week))
 }
 
 /// What one JSON line of `hsid fleet` holds for the report.
@@ -165,10 +145,10 @@ pub fn wear_report(
         opts.k
     );
     if let Some(t) = truth {
-        out.push_str(&super::score::score(&devices, t)?);
+        out.push_str(&score(&devices, t)?);
     }
     if let Some(path) = csv {
-        std::fs::write(path, super::score::device_csv(&devices))
+        std::fs::write(path, device_csv(&devices))
             .map_err(|e| format!("{}: {e}", path.display()))?;
         let _ = writeln!(out, "wrote {}", path.display());
     }
