@@ -5,6 +5,9 @@ use std::fmt;
 use std::io::{self, ErrorKind};
 
 use hsid_host::io::{FileAction, FileError, IoError};
+use hsid_host::plot::PlotError;
+use hsid_host::refine::stochastic::NoiseFileError;
+use hsid_host::report::UndefinedFit;
 
 /// A subcommand's failure.
 #[derive(Debug)]
@@ -53,6 +56,18 @@ impl From<IoError> for Failure {
         }
     }
 }
+
+/// Errors of the library that the user reads as they are.
+macro_rules! message_from {
+    ($($t:ty),* $(,)?) => {$(
+        impl From<$t> for Failure {
+            fn from(e: $t) -> Self {
+                Failure::Message(e.to_string())
+            }
+        }
+    )*};
+}
+message_from!(UndefinedFit, NoiseFileError, PlotError);
 
 /// `println!` that returns the write's result instead of panicking when the pipe is closed.
 macro_rules! outln {

@@ -169,7 +169,7 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
     outln!("wrote {}", path.display())?;
     for f in &files {
-        outln!("wrote {f}")?;
+        outln!("wrote {}", f.display())?;
     }
     if let Some(page) = &a.html {
         let run = PaperRun {
@@ -188,11 +188,10 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
 fn write_page(
     run: &PaperRun<'_>,
     summary: &Path,
-    files: &[String],
+    paths: &[PathBuf],
     page: &Path,
 ) -> Result<(), Failure> {
-    let paths: Vec<PathBuf> = files.iter().map(PathBuf::from).collect();
-    let figures = captioned(&paths, "", paper_caption).map_err(|e| e.to_string())?;
+    let figures = captioned(paths, "", paper_caption).map_err(|e| e.to_string())?;
     let mut rep = Reproduction::of_this_run::<&Path>(&[]);
     rep.settings = run.settings();
     rep.outputs = std::iter::once(summary)

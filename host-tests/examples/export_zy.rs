@@ -62,7 +62,7 @@ fn run() -> Result<(), String> {
     };
     let mut entries = Vec::new();
     for r in 0..runs {
-        let e = experiment(case, &cfg, r)?;
+        let e = experiment(case, &cfg, r).map_err(|e| e.to_string())?;
         // hsid from the raw record, best of 5.
         let mut best = f64::INFINITY;
         let mut model = None;

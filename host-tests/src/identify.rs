@@ -5,8 +5,6 @@
 //! stack large enough for it, then converts the result into a [`HostModel`] with poles,
 //! frequency response and simulation.
 
-use std::fmt;
-
 use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
 use nalgebra::DMatrix;
 
@@ -86,11 +84,13 @@ impl IdentifyOptions {
 }
 
 /// Why a desktop identification failed.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum IdentifyError {
     /// The core rejected the settings or the data.
-    Core(hsid::Error),
+    #[error("{e}{advice}", e = .0, advice = core_advice(.0))]
+    Core(#[from] hsid::Error),
     /// `u` and `y` differ in length.
+    #[error("u has {u} samples but y has {y}: give one y per u")]
     LengthMismatch {
         /// Samples of `u`.
         u: usize,
@@ -98,6 +98,9 @@ pub enum IdentifyError {
         y: usize,
     },
     /// More channels or block rows than the largest capacity compiled in ([`CAPACITIES`]).
+    #[error(
+        "{channels} channels and f + p = {block_rows} block rows: the desktop front end holds at most {MAX_CHANNELS} channels (segments of both paths, one more for shared knots) and f + p <= {MAX_BLOCK_ROWS}: use fewer knots or shorter horizons"
+    )]
     TooLarge {
         /// Channel capacity requested (segments of both paths; one more for shared knots).
         channels: usize,
@@ -106,39 +109,17 @@ pub enum IdentifyError {
     },
 }
 
-impl fmt::Display for IdentifyError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            IdentifyError::Core(
-                e @ (hsid::Error::UnstableModel { .. } | hsid::Error::IntegratingModel),
-            ) => write!(
-                f,
-                "{e}; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) with one pole fixed at z = 1 (hsid identify --integrating; the borders are then the output's rate per sample)"
-            ),
-            IdentifyError::Core(e @ hsid::Error::ZeroStaticGain) => write!(
-                f,
-                "{e}; an estimate of more states than the record supports (a slowly sampled plant, an output curve) can also put a zero near z = 1: try a lower --order"
-            ),
-            IdentifyError::Core(e) => write!(f, "{e}"),
-            IdentifyError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            IdentifyError::TooLarge {
-                channels,
-                block_rows,
-            } => write!(
-                f,
-                "{channels} channels and f + p = {block_rows} block rows: the desktop front end holds at most {MAX_CHANNELS} channels (segments of both paths, one more for shared knots) and f + p <= {MAX_BLOCK_ROWS}: use fewer knots or shorter horizons"
-            ),
+/// What to try after the core's error, for the errors whose usual cause is the plant or the
+/// order rather than the data.
+fn core_advice(e: &hsid::Error) -> &'static str {
+    match e {
+        hsid::Error::UnstableModel { .. } | hsid::Error::IntegratingModel => {
+            "; if the plant integrates (voltage → position, a level loop), identify its stable part on the output's increments y(t) − y(t − 1) with one pole fixed at z = 1 (hsid identify --integrating; the borders are then the output's rate per sample)"
         }
-    }
-}
-
-impl std::error::Error for IdentifyError {}
-
-impl From<hsid::Error> for IdentifyError {
-    fn from(e: hsid::Error) -> Self {
-        IdentifyError::Core(e)
+        hsid::Error::ZeroStaticGain => {
+            "; an estimate of more states than the record supports (a slowly sampled plant, an output curve) can also put a zero near z = 1: try a lower --order"
+        }
+        _ => "",
     }
 }
 

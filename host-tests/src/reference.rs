@@ -23,19 +23,21 @@
 //! * Rank-1 split (eq. 14) of `X = [bold D; bold B] ≈ s u vᵀ`: `[D; B] = γ s u`, `μ = vᵀ / γ`,
 //!   `γ` such that `G(1) = C (I - A)^{-1} B + D = 1`.
 
-use std::fmt;
-
 use nalgebra::{DMatrix, DVector, RowDVector};
 
 use crate::numerics::poly::eigenvalues;
 
 /// Errors of the reference identification.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RefError {
     /// A knot vector has fewer than two values, is not strictly increasing, or does not start
     /// at `u_min` and end at `u_max`.
+    #[error("invalid knots: {0}")]
     InvalidKnots(&'static str),
     /// `order`, `f` or `p` are inconsistent (`order >= 1`, `f > order`, `p >= 1` are required).
+    #[error(
+        "invalid dimensions f = {f}, p = {p}, order = {order} (need order >= 1, f > order, p >= 1)"
+    )]
     InvalidDimensions {
         /// Future horizon.
         f: usize,
@@ -45,6 +47,7 @@ pub enum RefError {
         order: usize,
     },
     /// `u` and `y` have different lengths.
+    #[error("u has {u} samples but y has {y}")]
     LengthMismatch {
         /// Length of `u`.
         u: usize,
@@ -52,6 +55,7 @@ pub enum RefError {
         y: usize,
     },
     /// Too few samples: `j = N - f - p + 1` must be at least `(f + p) m`.
+    #[error("too few samples: {got} given, at least {needed} needed")]
     TooFewSamples {
         /// Samples needed.
         needed: usize,
@@ -59,44 +63,24 @@ pub enum RefError {
         got: usize,
     },
     /// An input, output or `mu0` value is not finite.
+    #[error("non-finite input, output or mu0")]
     NonFinite,
     /// A Gram matrix that must be inverted is singular or numerically singular.
+    #[error("singular Gram matrix {0}")]
     SingularGram(&'static str),
     /// `I - A` is singular (a pole at 1), so the static gain cannot be normalised.
+    #[error("I - A is singular (pole at 1)")]
     PoleAtOne,
     /// The static gain of the rank-1 direction is zero: `γ` cannot be chosen.
+    #[error("zero static gain: gamma cannot be chosen")]
     ZeroStaticGain,
     /// A singular value decomposition did not converge.
+    #[error("SVD of {0} did not converge")]
     SvdFailed(&'static str),
     /// The eigenvalues of `A` could not be computed.
+    #[error("eigenvalues of A did not converge")]
     EigenFailed,
 }
-
-impl fmt::Display for RefError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RefError::InvalidKnots(why) => write!(f, "invalid knots: {why}"),
-            RefError::InvalidDimensions { f: ff, p, order } => write!(
-                f,
-                "invalid dimensions f = {ff}, p = {p}, order = {order} (need order >= 1, f > order, p >= 1)"
-            ),
-            RefError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}")
-            }
-            RefError::TooFewSamples { needed, got } => {
-                write!(f, "too few samples: {got} given, at least {needed} needed")
-            }
-            RefError::NonFinite => write!(f, "non-finite input, output or mu0"),
-            RefError::SingularGram(which) => write!(f, "singular Gram matrix {which}"),
-            RefError::PoleAtOne => write!(f, "I - A is singular (pole at 1)"),
-            RefError::ZeroStaticGain => write!(f, "zero static gain: gamma cannot be chosen"),
-            RefError::SvdFailed(which) => write!(f, "SVD of {which} did not converge"),
-            RefError::EigenFailed => write!(f, "eigenvalues of A did not converge"),
-        }
-    }
-}
-
-impl std::error::Error for RefError {}
 
 /// Settings of the reference identification.
 #[derive(Debug, Clone, PartialEq)]

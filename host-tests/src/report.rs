@@ -29,15 +29,25 @@ pub fn fit(meas: &[f64], sim: &[f64]) -> Fit {
     }
 }
 
+/// The NRMSE and fit are undefined: the measurement is constant (or empty) over the samples
+/// compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the measured output is constant over the {samples} samples compared: NRMSE and fit are undefined"
+)]
+pub struct UndefinedFit {
+    /// The samples compared.
+    pub samples: usize,
+}
+
 /// One-line fit report; an error when the measurement is constant (the NRMSE and fit are
 /// undefined) or empty.
-pub fn fit_report(meas: &[f64], sim: &[f64]) -> Result<String, String> {
+pub fn fit_report(meas: &[f64], sim: &[f64]) -> Result<String, UndefinedFit> {
     let f = fit(meas, sim);
     if !f.nrmse.is_finite() {
-        return Err(format!(
-            "the measured output is constant over the {} samples compared: NRMSE and fit are undefined",
-            meas.len()
-        ));
+        return Err(UndefinedFit {
+            samples: meas.len(),
+        });
     }
     Ok(format!(
         "simulation fit on {} samples: RMSE {:.6}, NRMSE {:.4}, fit {:.2} %",

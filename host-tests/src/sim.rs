@@ -43,14 +43,17 @@ where
 }
 
 /// Errors of the simulator.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimError {
     /// The transfer function's denominator is empty, has a zero or non-finite leading
     /// coefficient `a[0]`, or a non-finite coefficient.
+    #[error("invalid denominator: it must be non-empty and finite with a[0] != 0")]
     InvalidDenominator,
     /// The transfer function's numerator is empty or has a non-finite coefficient.
+    #[error("invalid numerator: it must be non-empty and finite")]
     InvalidNumerator,
     /// The interval `[u_min, u_max]` is empty or not finite.
+    #[error("invalid input interval [{u_min}, {u_max}]")]
     InvalidInterval {
         /// Lower end requested.
         u_min: f64,
@@ -58,6 +61,11 @@ pub enum SimError {
         u_max: f64,
     },
     /// The range of samples used for the signal variance is empty or outside the input.
+    #[error(
+        "variance range {}..{} is empty or outside the {len} input samples",
+        .range.start,
+        .range.end
+    )]
     InvalidVarianceRange {
         /// Range requested.
         range: Range<usize>,
@@ -65,48 +73,19 @@ pub enum SimError {
         len: usize,
     },
     /// The requested SNR is not finite.
+    #[error("invalid SNR {0} dB")]
     InvalidSnr(f64),
     /// The noise-free output has zero (or non-finite) variance over the requested range, so no
     /// noise level can be derived from an SNR.
+    #[error("noise-free output variance {0} over the chosen range cannot define an SNR")]
     DegenerateSignal(f64),
     /// The noise model has zero or non-finite impulse energy.
+    #[error("noise model impulse energy {0} is zero or not finite")]
     DegenerateNoiseModel(f64),
     /// The eigenvalue iteration for the poles did not converge.
+    #[error("eigenvalue computation did not converge")]
     EigenFailed,
 }
-
-impl fmt::Display for SimError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimError::InvalidDenominator => write!(
-                f,
-                "invalid denominator: it must be non-empty and finite with a[0] != 0"
-            ),
-            SimError::InvalidNumerator => {
-                write!(f, "invalid numerator: it must be non-empty and finite")
-            }
-            SimError::InvalidInterval { u_min, u_max } => {
-                write!(f, "invalid input interval [{u_min}, {u_max}]")
-            }
-            SimError::InvalidVarianceRange { range, len } => write!(
-                f,
-                "variance range {}..{} is empty or outside the {len} input samples",
-                range.start, range.end
-            ),
-            SimError::InvalidSnr(s) => write!(f, "invalid SNR {s} dB"),
-            SimError::DegenerateSignal(v) => write!(
-                f,
-                "noise-free output variance {v} over the chosen range cannot define an SNR"
-            ),
-            SimError::DegenerateNoiseModel(e) => {
-                write!(f, "noise model impulse energy {e} is zero or not finite")
-            }
-            SimError::EigenFailed => write!(f, "eigenvalue computation did not converge"),
-        }
-    }
-}
-
-impl std::error::Error for SimError {}
 
 /// A causal single-input single-output static-or-hysteretic input element `H[·]`.
 pub trait Nonlinearity {

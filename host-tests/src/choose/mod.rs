@@ -13,46 +13,29 @@ pub use horizons::{
 };
 pub use order::{OrderChoice, choose_order, neighbours};
 
-use std::fmt;
-
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
 use crate::refine::pem::{PemFit, PemOptions};
 
+/// `order 2: why; order 3: why`.
+fn per_order(why: &[(usize, String)]) -> String {
+    let parts: Vec<String> = why.iter().map(|(n, e)| format!("order {n}: {e}")).collect();
+    parts.join("; ")
+}
+
 /// Why [`best_model`] gave no model.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ChooseError {
     /// The subspace identification failed (at the paper's horizons or at the chosen ones).
-    Identify(IdentifyError),
+    #[error("{0}")]
+    Identify(#[from] IdentifyError),
     /// No candidate order could be refined; the reasons per order.
+    #[error(
+        "the refinement failed at every candidate order ({}): identify without refinement (--no-refine) to see the subspace model",
+        per_order(.0)
+    )]
     Refine(Vec<(usize, String)>),
-}
-
-impl fmt::Display for ChooseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ChooseError::Identify(e) => write!(f, "{e}"),
-            ChooseError::Refine(why) => {
-                f.write_str("the refinement failed at every candidate order (")?;
-                for (i, (n, e)) in why.iter().enumerate() {
-                    let sep = if i == 0 { "" } else { "; " };
-                    write!(f, "{sep}order {n}: {e}")?;
-                }
-                f.write_str(
-                    "): identify without refinement (--no-refine) to see the subspace model",
-                )
-            }
-        }
-    }
-}
-
-impl std::error::Error for ChooseError {}
-
-impl From<IdentifyError> for ChooseError {
-    fn from(e: IdentifyError) -> Self {
-        ChooseError::Identify(e)
-    }
 }
 
 /// How the horizons are set.

@@ -1,13 +1,12 @@
 //! Why a closed-loop estimate from a reference could not be made.
 
-use std::fmt;
-
 use crate::reference::RefError;
 
 /// Errors of the closed-loop estimate ([`crate::closed_loop::reference_iv`]).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ReferenceError {
     /// `u`, `y` and `r` differ in length.
+    #[error("u has {u} samples, y {y} and the reference {r}: give one reference value per sample")]
     LengthMismatch {
         /// Samples of `u`.
         u: usize,
@@ -17,13 +16,20 @@ pub enum ReferenceError {
         r: usize,
     },
     /// A reference value is not finite.
+    #[error("the reference is not finite at sample {at}: log a number on every row")]
     NonFiniteReference {
         /// Its sample (from the record's start).
         at: usize,
     },
     /// The reference does not move over the excitation: it cannot be an instrument.
+    #[error(
+        "the reference is constant over the excitation: a closed-loop estimate needs a reference that moves (log the controller's setpoint, not a fixed value)"
+    )]
     ConstantReference,
     /// Too few excitation samples for the instruments' block Hankel matrix.
+    #[error(
+        "{got} excitation samples, at least {needed} needed for the reference's instruments: record longer or use fewer knots or shorter horizons"
+    )]
     TooShort {
         /// Excitation samples needed.
         needed: usize,
@@ -31,6 +37,9 @@ pub enum ReferenceError {
         got: usize,
     },
     /// Too few command samples (inside `]u_min, u_max[`) to fit the input's predictor.
+    #[error(
+        "{got} input samples inside ]u_min, u_max[, at least {needed} needed to predict the input from the reference: the controller's commands must fill the record"
+    )]
     FewCommands {
         /// Command samples needed.
         needed: usize,
@@ -39,64 +48,22 @@ pub enum ReferenceError {
     },
     /// A Gram matrix built from the reference is (numerically) singular: the reference does
     /// not excite the regressors it must stand in for.
+    #[error(
+        "{0}: singular, the reference does not excite the input enough (a richer reference, e.g. random rather than steps, or fewer knots)"
+    )]
     RankDeficient(&'static str),
     /// A singular value decomposition did not converge.
+    #[error("the SVD of {0} did not converge")]
     NoConvergence(&'static str),
     /// No hold to measure μ0 and no μ0 given.
+    #[error("the closed-loop estimate needs μ0: record a hold at u_min (--hold) or give --mu0")]
     NoMuZero,
     /// The element has one static border; the closed-loop estimate is for two paths.
+    #[error(
+        "the closed-loop estimate is for a two-path element (backlash or switch), not --nonlinearity static"
+    )]
     StaticElement,
     /// A step shared with the open-loop reference estimate failed.
-    Subspace(RefError),
-}
-
-impl fmt::Display for ReferenceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ReferenceError::LengthMismatch { u, y, r } => write!(
-                f,
-                "u has {u} samples, y {y} and the reference {r}: give one reference value per sample"
-            ),
-            ReferenceError::NonFiniteReference { at } => write!(
-                f,
-                "the reference is not finite at sample {at}: log a number on every row"
-            ),
-            ReferenceError::ConstantReference => write!(
-                f,
-                "the reference is constant over the excitation: a closed-loop estimate needs a reference that moves (log the controller's setpoint, not a fixed value)"
-            ),
-            ReferenceError::TooShort { needed, got } => write!(
-                f,
-                "{got} excitation samples, at least {needed} needed for the reference's instruments: record longer or use fewer knots or shorter horizons"
-            ),
-            ReferenceError::FewCommands { needed, got } => write!(
-                f,
-                "{got} input samples inside ]u_min, u_max[, at least {needed} needed to predict the input from the reference: the controller's commands must fill the record"
-            ),
-            ReferenceError::RankDeficient(which) => write!(
-                f,
-                "{which}: singular, the reference does not excite the input enough (a richer reference, e.g. random rather than steps, or fewer knots)"
-            ),
-            ReferenceError::NoConvergence(which) => {
-                write!(f, "the SVD of {which} did not converge")
-            }
-            ReferenceError::NoMuZero => write!(
-                f,
-                "the closed-loop estimate needs μ0: record a hold at u_min (--hold) or give --mu0"
-            ),
-            ReferenceError::StaticElement => write!(
-                f,
-                "the closed-loop estimate is for a two-path element (backlash or switch), not --nonlinearity static"
-            ),
-            ReferenceError::Subspace(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for ReferenceError {}
-
-impl From<RefError> for ReferenceError {
-    fn from(e: RefError) -> Self {
-        ReferenceError::Subspace(e)
-    }
+    #[error(transparent)]
+    Subspace(#[from] RefError),
 }

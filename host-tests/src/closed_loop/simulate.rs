@@ -137,40 +137,21 @@ impl ServoSpec {
 }
 
 /// Why a servo cannot be simulated.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum ServoError {
     /// The knots are fewer than two, not strictly ascending, or not finite.
+    #[error("the servo's knots must be at least two finite values in strictly ascending order")]
     Knots,
     /// A gain or standard deviation is not finite, or the noise's is negative.
+    #[error("the servo's gains and standard deviations must be finite, the noise's not negative")]
     Setting,
     /// The reference's smoothing pole is outside `[0, 1[`.
+    #[error("the reference's smoothing pole {0} must be in [0, 1[")]
     ReferencePole(f64),
     /// The noise filter's pole is outside `[0, 1[`.
+    #[error("the noise filter's pole {0} must be in [0, 1[")]
     NoisePole(f64),
 }
-
-impl std::fmt::Display for ServoError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ServoError::Knots => write!(
-                f,
-                "the servo's knots must be at least two finite values in strictly ascending order"
-            ),
-            ServoError::Setting => write!(
-                f,
-                "the servo's gains and standard deviations must be finite, the noise's not negative"
-            ),
-            ServoError::ReferencePole(p) => {
-                write!(f, "the reference's smoothing pole {p} must be in [0, 1[")
-            }
-            ServoError::NoisePole(p) => {
-                write!(f, "the noise filter's pole {p} must be in [0, 1[")
-            }
-        }
-    }
-}
-
-impl std::error::Error for ServoError {}
 
 /// One closed-loop record.
 #[derive(Clone, Debug, PartialEq)]

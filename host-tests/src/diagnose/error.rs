@@ -1,17 +1,17 @@
 //! Why a diagnosis could not run.
 
-use std::fmt;
-
 use super::dynamics;
 use crate::closed_loop::ReferenceError;
 use crate::identify::IdentifyError;
 
 /// Why a diagnosis could not run.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum DiagnoseError {
     /// The identification failed.
-    Identify(IdentifyError),
+    #[error("identification failed: {0}")]
+    Identify(#[source] IdentifyError),
     /// `u` and `y` differ in length.
+    #[error("u has {u} samples but y has {y}: give one y per u")]
     LengthMismatch {
         /// Input samples.
         u: usize,
@@ -19,6 +19,7 @@ pub enum DiagnoseError {
         y: usize,
     },
     /// Too few samples.
+    #[error("{samples} samples are too few: at least {need} are needed")]
     TooShort {
         /// Samples available.
         samples: usize,
@@ -26,6 +27,9 @@ pub enum DiagnoseError {
         need: usize,
     },
     /// An input sample outside the knots' interval.
+    #[error(
+        "{record} sample {index}: u = {value} lies outside the knots' interval [{u_min}, {u_max}]"
+    )]
     InputOutOfRange {
         /// `estimation` or `validation`.
         record: &'static str,
@@ -39,8 +43,12 @@ pub enum DiagnoseError {
         u_max: f64,
     },
     /// The split fraction is not in (0, 1).
+    #[error("split fraction {0} must lie strictly between 0 and 1")]
     InvalidSplit(f64),
     /// The held-out range is empty, inside the hold or beyond the record.
+    #[error(
+        "held-out range {start}..{end} must be non-empty, after the hold and within the {len} samples"
+    )]
     InvalidHoldout {
         /// Start.
         start: usize,
@@ -51,6 +59,11 @@ pub enum DiagnoseError {
     },
     /// With a static nonlinearity, the input never visits the segments next to a knot (the
     /// core's `NoExcitation`, whose Table I advice does not apply to static data).
+    #[error(
+        "static nonlinearity: the basis function of knot {knot}{} is never excited: the input never visits {}; move or remove that knot (--knots, --segments, --select-segments), or record data whose input covers that range",
+        knot_value(*.value),
+        segment_text(*.segment)
+    )]
     KnotNotVisited {
         /// Knot index (1-based, as in the core's error).
         knot: usize,
@@ -61,67 +74,25 @@ pub enum DiagnoseError {
     },
     /// The closed-loop estimate from the record's reference failed, or the reference is
     /// unusable (length, non-finite, constant, too short, a static element).
-    Reference(ReferenceError),
+    #[error("the reference: {0}")]
+    Reference(#[source] ReferenceError),
     /// A model class beyond the linear dynamics could not be fitted.
-    Dynamics(dynamics::DynamicsError),
+    #[error("{0}")]
+    Dynamics(#[source] dynamics::DynamicsError),
     /// A figure or report could not be written.
+    #[error("{0}")]
     Output(String),
 }
 
-impl fmt::Display for DiagnoseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DiagnoseError::Identify(e) => write!(f, "identification failed: {e}"),
-            DiagnoseError::Dynamics(e) => write!(f, "{e}"),
-            DiagnoseError::Reference(e) => write!(f, "the reference: {e}"),
-            DiagnoseError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            DiagnoseError::TooShort { samples, need } => {
-                write!(
-                    f,
-                    "{samples} samples are too few: at least {need} are needed"
-                )
-            }
-            DiagnoseError::InputOutOfRange {
-                record,
-                index,
-                value,
-                u_min,
-                u_max,
-            } => write!(
-                f,
-                "{record} sample {index}: u = {value} lies outside the knots' interval [{u_min}, {u_max}]"
-            ),
-            DiagnoseError::InvalidSplit(v) => {
-                write!(f, "split fraction {v} must lie strictly between 0 and 1")
-            }
-            DiagnoseError::InvalidHoldout { start, end, len } => write!(
-                f,
-                "held-out range {start}..{end} must be non-empty, after the hold and within the {len} samples"
-            ),
-            DiagnoseError::KnotNotVisited {
-                knot,
-                value,
-                segment,
-            } => {
-                write!(f, "static nonlinearity: the basis function of knot {knot}")?;
-                if let Some(v) = value {
-                    write!(f, " (u = {v})")?;
-                }
-                write!(f, " is never excited: the input never visits ")?;
-                match segment {
-                    Some((a, b)) => write!(f, "[{a}, {b}]")?,
-                    None => write!(f, "the segments next to it")?,
-                }
-                write!(
-                    f,
-                    "; move or remove that knot (--knots, --segments, --select-segments), or record data whose input covers that range"
-                )
-            }
-            DiagnoseError::Output(e) => write!(f, "{e}"),
-        }
-    }
+/// ` (u = 0.5)` after the knot's index when its value is known.
+fn knot_value(value: Option<f64>) -> String {
+    value.map_or_else(String::new, |v| format!(" (u = {v})"))
 }
 
-impl std::error::Error for DiagnoseError {}
+/// The segments the input never visits: `[a, b]` when known.
+fn segment_text(segment: Option<(f64, f64)>) -> String {
+    match segment {
+        Some((a, b)) => format!("[{a}, {b}]"),
+        None => "the segments next to it".to_owned(),
+    }
+}

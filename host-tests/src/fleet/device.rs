@@ -1,7 +1,5 @@
 //! One device's outcome: a model, or a typed error that costs that device and never the batch.
 
-use std::fmt;
-
 use hsid::{CheckpointError, Error};
 use serde_json::{Value, json};
 
@@ -9,14 +7,19 @@ use crate::identify::{CheckpointSolve, IdentifyError};
 use crate::model_file::NonlinearityKind;
 
 /// Why one device of a fleet has no model.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum DeviceError {
     /// Its directory entry could not be read (the I/O error's text).
+    #[error("cannot read the checkpoint: {0}")]
     Unreadable(String),
     /// The checkpoint was read but restoring or solving it failed (truncated, corrupt, not a
     /// checkpoint, or an identification that failed on the data it holds).
-    Solve(IdentifyError),
+    #[error("{0}")]
+    Solve(#[source] IdentifyError),
     /// The file is larger than any checkpoint the desktop front end can restore; it was not read.
+    #[error(
+        "{bytes} bytes, more than the largest checkpoint ({limit} bytes): not a checkpoint; keep only checkpoint files in the directory"
+    )]
     FileTooLarge {
         /// The file's size in bytes (or the bytes read before the limit was passed).
         bytes: u64,
@@ -24,6 +27,9 @@ pub enum DeviceError {
         limit: usize,
     },
     /// A valid checkpoint written with other settings than the fleet's.
+    #[error(
+        "written with other settings than the fleet's ({what}): solve it with its own fleet's settings or on its own (hsid solve --state)"
+    )]
     ForeignSettings {
         /// What differs, e.g. `"knots"` or `"horizons f = 8, p = 8 (fleet: f = 10, p = 10)"`.
         what: String,
@@ -60,25 +66,6 @@ pub fn checkpoint_kind(c: CheckpointError) -> &'static str {
         CheckpointError::Summation => "checkpoint_summation",
     }
 }
-
-impl fmt::Display for DeviceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DeviceError::Unreadable(e) => write!(f, "cannot read the checkpoint: {e}"),
-            DeviceError::Solve(e) => write!(f, "{e}"),
-            DeviceError::FileTooLarge { bytes, limit } => write!(
-                f,
-                "{bytes} bytes, more than the largest checkpoint ({limit} bytes): not a checkpoint; keep only checkpoint files in the directory"
-            ),
-            DeviceError::ForeignSettings { what } => write!(
-                f,
-                "written with other settings than the fleet's ({what}): solve it with its own fleet's settings or on its own (hsid solve --state)"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for DeviceError {}
 
 /// One device's outcome, named by its id (the checkpoint's file name).
 #[derive(Clone, Debug, PartialEq)]

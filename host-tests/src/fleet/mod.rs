@@ -4,6 +4,7 @@
 //! report, per device the gap per week, its trend and a flag ([`wear`]).
 
 pub mod device;
+pub mod device_wear;
 pub mod score;
 pub mod simulate;
 pub mod solve;

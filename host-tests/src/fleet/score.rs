@@ -1,10 +1,65 @@
-//! The wear report scored against a simulated fleet's truth, and the per-device table.
+//! The wear report scored against a simulated fleet's truth.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::num::{ParseFloatError, ParseIntError};
+use std::path::{Path, PathBuf};
 
-use super::wear::{DeviceWear, split_id};
+use super::device_wear::{DeviceWear, split_id};
+
+/// Why the truth table could not be read or does not fit the report.
+#[derive(Debug, thiserror::Error)]
+pub enum ScoreError {
+    /// The truth file could not be read.
+    #[error("{path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A row without the five fields.
+    #[error("{path} line {line}: expected device,week,wearing,gap,damage")]
+    Fields {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+    },
+    /// A device id that is not `DEVICE-wWEEK`.
+    #[error("{path} line {line}: device id {id:?}")]
+    DeviceId {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// The id.
+        id: String,
+    },
+    /// A week that is not a whole number.
+    #[error("{path} line {line}: week: {source}")]
+    Week {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// The parser's error.
+        source: ParseIntError,
+    },
+    /// A gap that is not a number.
+    #[error("{path} line {line}: gap: {source}")]
+    Gap {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// The parser's error.
+        source: ParseFloatError,
+    },
+    /// A device with a trend that the truth table does not list.
+    #[error("device {0} is not in the truth table")]
+    UnknownDevice(String),
+}
 
 /// A device's truth: whether it wears, and its true gap per week.
 struct Truth {
@@ -12,21 +67,36 @@ struct Truth {
     gaps: BTreeMap<usize, f64>,
 }
 
-fn read_truth(path: &Path) -> Result<BTreeMap<String, Truth>, String> {
-    let at = |i: usize| format!("{} line {}", path.display(), i + 1);
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+fn read_truth(path: &Path) -> Result<BTreeMap<String, Truth>, ScoreError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ScoreError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let mut out: BTreeMap<String, Truth> = BTreeMap::new();
-    for (i, line) in text.lines().enumerate().skip(1) {
-        let f: Vec<&str> = line.split(',').collect();
+    for (i, row) in text.lines().enumerate().skip(1) {
+        let line = i + 1;
+        let f: Vec<&str> = row.split(',').collect();
         let [id, week, wearing, gap, _damage] = f.as_slice() else {
-            return Err(format!(
-                "{}: expected device,week,wearing,gap,damage",
-                at(i)
-            ));
+            return Err(ScoreError::Fields {
+                path: path.to_path_buf(),
+                line,
+            });
         };
-        let (device, _) = split_id(id).ok_or_else(|| format!("{}: device id {id:?}", at(i)))?;
-        let week: usize = week.parse().map_err(|e| format!("{}: week: {e}", at(i)))?;
-        let gap: f64 = gap.parse().map_err(|e| format!("{}: gap: {e}", at(i)))?;
+        let (device, _) = split_id(id).ok_or_else(|| ScoreError::DeviceId {
+            path: path.to_path_buf(),
+            line,
+            id: (*id).to_owned(),
+        })?;
+        let week: usize = week.parse().map_err(|source| ScoreError::Week {
+            path: path.to_path_buf(),
+            line,
+            source,
+        })?;
+        let gap: f64 = gap.parse().map_err(|source| ScoreError::Gap {
+            path: path.to_path_buf(),
+            line,
+            source,
+        })?;
         let wearing = *wearing == "true";
         let t = out.entry(device.to_owned()).or_insert(Truth {
             wearing,
@@ -39,13 +109,13 @@ fn read_truth(path: &Path) -> Result<BTreeMap<String, Truth>, String> {
 
 /// Detection rate on wearing devices, false-flag rate on the others, and how far the
 /// estimated gaps and slopes are from the true ones.
-pub fn score(devices: &[DeviceWear], truth: &Path) -> Result<String, String> {
+pub fn score(devices: &[DeviceWear], truth: &Path) -> Result<String, ScoreError> {
     let truth = read_truth(truth)?;
     let (mut hit, mut worn, mut false_flags, mut sound) = (0, 0, 0, 0);
     let (mut gap_err, mut slope_err) = (Vec::new(), Vec::new());
     for d in devices.iter().filter(|d| d.trend.is_some()) {
         let Some(t) = truth.get(&d.device) else {
-            return Err(format!("device {} is not in the truth table", d.device));
+            return Err(ScoreError::UnknownDevice(d.device.clone()));
         };
         if t.wearing {
             worn += 1;
@@ -95,26 +165,4 @@ fn mean_std(x: &[f64]) -> (f64, f64) {
     let m = x.iter().sum::<f64>() / n;
     let v = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0);
     (m, v.sqrt())
-}
-
-/// The per-device table: `device,weeks,slope,slope_se,wearing,over_limit,gaps` with the
-/// weekly gaps separated by `;`.
-pub fn device_csv(devices: &[DeviceWear]) -> String {
-    let mut s = String::from("device,weeks,slope,slope_se,wearing,over_limit,gaps\n");
-    for d in devices {
-        let (slope, se) = d
-            .trend
-            .map_or((f64::NAN, f64::NAN), |t| (t.slope, t.slope_se));
-        let gaps: Vec<String> = d.gaps.iter().map(|(w, g)| format!("{w}:{g:.5}")).collect();
-        let _ = writeln!(
-            s,
-            "{},{},{slope:.6},{se:.6},{},{},{}",
-            d.device,
-            d.gaps.len(),
-            d.wearing,
-            d.over_limit,
-            gaps.join(";")
-        );
-    }
-    s
 }

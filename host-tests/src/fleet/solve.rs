@@ -1,7 +1,6 @@
 //! Many checkpoints solved across cores (rayon): one [`DeviceResult`] per device, in the order
 //! given, whatever fails.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use hsid::compensated_checkpoint_capacity;
@@ -67,15 +66,19 @@ pub struct Checkpoint {
 }
 
 /// Why a batch could not start (a device's failure never stops it).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum FleetError {
     /// Zero threads were asked for.
+    #[error("threads = 0: give at least one thread")]
     ZeroThreads,
     /// The thread pool could not be built (the operating system's reason).
+    #[error("cannot start the worker threads: {0}")]
     Pool(String),
     /// A result could not be handed on (writing the output failed; the I/O error's text).
+    #[error("cannot write the results: {0}")]
     Output(String),
     /// The directory of checkpoints could not be listed.
+    #[error("{dir}: cannot list the checkpoints: {error}")]
     Directory {
         /// The directory.
         dir: String,
@@ -83,21 +86,6 @@ pub enum FleetError {
         error: String,
     },
 }
-
-impl fmt::Display for FleetError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            FleetError::ZeroThreads => f.write_str("threads = 0: give at least one thread"),
-            FleetError::Pool(e) => write!(f, "cannot start the worker threads: {e}"),
-            FleetError::Output(e) => write!(f, "cannot write the results: {e}"),
-            FleetError::Directory { dir, error } => {
-                write!(f, "{dir}: cannot list the checkpoints: {error}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for FleetError {}
 
 /// Solves one device's checkpoint; with `fleet`, a checkpoint of other settings is refused.
 pub fn solve_one(device: &str, bytes: &[u8], fleet: Option<&FleetSettings>) -> DeviceResult {

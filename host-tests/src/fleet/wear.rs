@@ -11,14 +11,16 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use hsid::Direction;
 use serde_json::Value;
 
-use super::trend::{Trend, fit};
+use super::device_wear::{DeviceWear, device_csv, split_id};
+use super::score::{ScoreError, score};
+use super::trend::fit;
 use crate::identify::HostModel;
-use crate::model_file::ModelFile;
+use crate::model_file::{ModelFile, ModelFileError};
 use crate::units::gap::gap_at;
 
 /// The flags' thresholds.
@@ -30,21 +32,6 @@ pub struct ReportOptions {
     pub limit: Option<f64>,
 }
 
-/// One device's weeks and verdict.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DeviceWear {
-    /// Device id (the checkpoint file name up to `-w`).
-    pub device: String,
-    /// `(week, gap)` of every week with a model.
-    pub gaps: Vec<(f64, f64)>,
-    /// The trend, when at least three weeks have a model.
-    pub trend: Option<Trend>,
-    /// Growth beyond `k` standard errors.
-    pub wearing: bool,
-    /// The trend's last-week gap above the limit.
-    pub over_limit: bool,
-}
-
 /// The model's gap at `u = 0`: the mean of the play after a descent and after an ascent.
 pub fn gap(m: &HostModel) -> Option<f64> {
     let d = gap_at(m, Direction::Descending, 0.0)?;
@@ -52,11 +39,66 @@ pub fn gap(m: &HostModel) -> Option<f64> {
     Some(0.5 * (d + a))
 }
 
-/// `d00042-w03.bin` → `("d00042", 3)`.
-pub fn split_id(id: &str) -> Option<(&str, usize)> {
-    let (device, rest) = id.rsplit_once("-w")?;
-    let week = rest.split('.').next()?.parse().ok()?;
-    Some((device, week))
+/// Why the report could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum WearError {
+    /// The models file could not be read.
+    #[error("{path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A line of the models file does not hold what the report needs.
+    #[error("{path}: {source}")]
+    Line {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with the line.
+        source: LineError,
+    },
+    /// The truth table could not be read or does not fit.
+    #[error(transparent)]
+    Score(#[from] ScoreError),
+    /// The per-device table could not be written.
+    #[error("{path}: {source}")]
+    WriteCsv {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+/// What is wrong with one JSON line of `hsid fleet`.
+#[derive(Debug, thiserror::Error)]
+pub enum LineError {
+    /// Not JSON.
+    #[error("line {line}: {source}")]
+    Json {
+        /// 1-based line.
+        line: usize,
+        /// The parser's error.
+        source: serde_json::Error,
+    },
+    /// No `"device"` string.
+    #[error("line {line}: no \"device\"")]
+    NoDevice {
+        /// 1-based line.
+        line: usize,
+    },
+    /// A device id that is not `DEVICE-wWEEK.bin`.
+    #[error("line {line}: device id {id:?} is not DEVICE-wWEEK.bin")]
+    DeviceId {
+        /// 1-based line.
+        line: usize,
+        /// The id.
+        id: String,
+    },
+    /// The model is not a valid model file (its message names the line).
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
 }
 
 /// What one JSON line of `hsid fleet` holds for the report.
@@ -67,18 +109,21 @@ enum Line {
     Error(String),
 }
 
-fn parse_line(line: &str, at: usize) -> Result<Line, String> {
-    let v: Value = serde_json::from_str(line).map_err(|e| format!("line {at}: {e}"))?;
+fn parse_line(line: &str, at: usize) -> Result<Line, LineError> {
+    let v: Value =
+        serde_json::from_str(line).map_err(|source| LineError::Json { line: at, source })?;
     let id = v["device"]
         .as_str()
-        .ok_or_else(|| format!("line {at}: no \"device\""))?;
+        .ok_or(LineError::NoDevice { line: at })?;
     if let Some(kind) = v["error"]["kind"].as_str() {
         return Ok(Line::Error(kind.to_owned()));
     }
-    let (device, week) = split_id(id)
-        .ok_or_else(|| format!("line {at}: device id {id:?} is not DEVICE-wWEEK.bin"))?;
+    let (device, week) = split_id(id).ok_or_else(|| LineError::DeviceId {
+        line: at,
+        id: id.to_owned(),
+    })?;
     let text = v["model"].to_string();
-    let model = ModelFile::from_json_str(format!("line {at}"), &text).map_err(|e| e.to_string())?;
+    let model = ModelFile::from_json_str(format!("line {at}"), &text)?;
     Ok(Line::Gap(
         device.to_owned(),
         week,
@@ -88,8 +133,11 @@ fn parse_line(line: &str, at: usize) -> Result<Line, String> {
 
 /// Reads the JSON lines of `hsid fleet`: the devices' weekly gaps and the count of each
 /// error kind.
-pub fn read_models(path: &Path) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn read_models(path: &Path) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), WearError> {
+    let text = std::fs::read_to_string(path).map_err(|source| WearError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let mut devices: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
     let mut errors: BTreeMap<String, usize> = BTreeMap::new();
     for (i, line) in text
@@ -97,7 +145,11 @@ pub fn read_models(path: &Path) -> Result<(Vec<DeviceWear>, BTreeMap<String, usi
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
     {
-        match parse_line(line, i + 1).map_err(|e| format!("{}: {e}", path.display()))? {
+        let line = parse_line(line, i + 1).map_err(|source| WearError::Line {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        match line {
             Line::Gap(d, w, Some(g)) => devices.entry(d).or_default().push((w as f64, g)),
             Line::Gap(d, _, None) => {
                 devices.entry(d).or_default();
@@ -137,7 +189,7 @@ pub fn wear_report(
     truth: Option<&Path>,
     opts: &ReportOptions,
     csv: Option<&Path>,
-) -> Result<String, String> {
+) -> Result<String, WearError> {
     let (mut devices, errors) = read_models(models)?;
     flag(&mut devices, opts);
     let mut out = String::new();
@@ -165,11 +217,13 @@ pub fn wear_report(
         opts.k
     );
     if let Some(t) = truth {
-        out.push_str(&super::score::score(&devices, t)?);
+        out.push_str(&score(&devices, t)?);
     }
     if let Some(path) = csv {
-        std::fs::write(path, super::score::device_csv(&devices))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(path, device_csv(&devices)).map_err(|source| WearError::WriteCsv {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let _ = writeln!(out, "wrote {}", path.display());
     }
     Ok(out)

@@ -1,7 +1,6 @@
 //! A simulated fleet written to a directory: one checkpoint file per device and week, and the
 //! truth table `truth.csv` beside it (outside the checkpoints' directory).
 
-use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -11,9 +10,10 @@ use super::simulate::{Damage, DeviceTruth, FleetSpec, device_week, file_name, tr
 use super::solve::{FleetError, pool};
 
 /// Why a fleet could not be written.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum WriteFleetError {
     /// A file could not be written.
+    #[error("{path}: {error}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -21,22 +21,12 @@ pub enum WriteFleetError {
         error: String,
     },
     /// The core refused the spec's settings.
-    Core(hsid::Error),
+    #[error("the fleet's settings: {0}")]
+    Core(#[source] hsid::Error),
     /// The worker threads.
-    Fleet(FleetError),
+    #[error("{0}")]
+    Fleet(#[source] FleetError),
 }
-
-impl fmt::Display for WriteFleetError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            WriteFleetError::Io { path, error } => write!(f, "{}: {error}", path.display()),
-            WriteFleetError::Core(e) => write!(f, "the fleet's settings: {e}"),
-            WriteFleetError::Fleet(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for WriteFleetError {}
 
 fn io(path: &Path) -> impl Fn(std::io::Error) -> WriteFleetError + '_ {
     move |e| WriteFleetError::Io {

@@ -1,12 +1,15 @@
 //! What can go wrong making the page.
 
-use std::fmt;
 use std::path::PathBuf;
 
 /// An error making or writing the HTML report.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum HtmlError {
     /// A scratch folder for the figures could not be made or read.
+    #[error(
+        "{path}: cannot use this scratch folder for the report's figures: {source} \
+         (set TMPDIR to a writable folder)"
+    )]
     Scratch {
         /// The folder.
         path: PathBuf,
@@ -14,6 +17,7 @@ pub enum HtmlError {
         source: std::io::Error,
     },
     /// A figure file could not be read.
+    #[error("{path}: cannot read the figure: {source}")]
     ReadFigure {
         /// The file.
         path: PathBuf,
@@ -21,13 +25,19 @@ pub enum HtmlError {
         source: std::io::Error,
     },
     /// A figure file holds no `<svg>` element.
+    #[error("{path}: holds no <svg> element, so it cannot be inlined in the report")]
     NotSvg {
         /// The file.
         path: PathBuf,
     },
     /// Drawing the figures failed.
+    #[error("the report's figures: {0}")]
     Figures(String),
     /// The page could not be written.
+    #[error(
+        "{path}: cannot write the HTML report: {source} (check that the folder exists and \
+         is writable)"
+    )]
     Write {
         /// The file.
         path: PathBuf,
@@ -35,33 +45,3 @@ pub enum HtmlError {
         source: std::io::Error,
     },
 }
-
-impl fmt::Display for HtmlError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            HtmlError::Scratch { path, source } => write!(
-                f,
-                "{}: cannot use this scratch folder for the report's figures: {source} \
-                 (set TMPDIR to a writable folder)",
-                path.display()
-            ),
-            HtmlError::ReadFigure { path, source } => {
-                write!(f, "{}: cannot read the figure: {source}", path.display())
-            }
-            HtmlError::NotSvg { path } => write!(
-                f,
-                "{}: holds no <svg> element, so it cannot be inlined in the report",
-                path.display()
-            ),
-            HtmlError::Figures(e) => write!(f, "the report's figures: {e}"),
-            HtmlError::Write { path, source } => write!(
-                f,
-                "{}: cannot write the HTML report: {source} (check that the folder exists and \
-                 is writable)",
-                path.display()
-            ),
-        }
-    }
-}
-
-impl std::error::Error for HtmlError {}

@@ -76,7 +76,7 @@ impl ModelRun<'_> {
         } else {
             "out of sample, on the validation record"
         };
-        let fit = fit_report(&y[skip..], &sim[skip..]).unwrap_or_else(|e| e);
+        let fit = fit_report(&y[skip..], &sim[skip..]).unwrap_or_else(|e| e.to_string());
         let fit = format!(
             "{} ({on}).",
             fit.replacen("simulation fit", "Simulation fit", 1)

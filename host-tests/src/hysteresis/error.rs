@@ -1,13 +1,12 @@
 //! Why a hysteresis model could not be fitted.
 
-use std::fmt;
-
 use crate::numerics::lm::LmFailure;
 
 /// Why [`fit_hysteresis`](super::fit_hysteresis) gave no model.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum HysteresisError {
     /// `u` and `y` differ in length.
+    #[error("u has {u} samples but y has {y}: give one y per u")]
     LengthMismatch {
         /// Samples of `u`.
         u: usize,
@@ -15,6 +14,9 @@ pub enum HysteresisError {
         y: usize,
     },
     /// The mask of samples left out of the error differs in length from the record.
+    #[error(
+        "the record has {samples} samples but the mask of samples left out has {skip}: give one flag per sample, or none"
+    )]
     SkipMismatch {
         /// Samples of the record.
         samples: usize,
@@ -22,6 +24,9 @@ pub enum HysteresisError {
         skip: usize,
     },
     /// Fewer samples than a few per parameter.
+    #[error(
+        "too few samples for the hysteresis model: {have} given, at least {need} needed (a longer record, or fewer segments per path)"
+    )]
     TooFewSamples {
         /// Samples given.
         have: usize,
@@ -29,6 +34,7 @@ pub enum HysteresisError {
         need: usize,
     },
     /// An input or output sample is not finite.
+    #[error("{signal}[{index}] is not a finite number: remove or repair the sample")]
     NonFinite {
         /// `"u"` or `"y"`.
         signal: &'static str,
@@ -36,11 +42,18 @@ pub enum HysteresisError {
         index: usize,
     },
     /// The starting model cannot start the fit (what is wrong with it).
+    #[error("the starting subspace model cannot start the hysteresis fit: {0}")]
     InvalidStart(String),
     /// The starting model does not simulate (its `F(q)` is unstable or the borders cross).
+    #[error(
+        "the starting model does not simulate (unstable linear part, or crossing borders): start from a stable subspace estimate"
+    )]
     StartDoesNotSimulate,
     /// The starting model is stable, but has a pole at or beyond the radius the fit admits
     /// ([`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius)).
+    #[error(
+        "the starting model has a pole of radius {radius:.6}, at or beyond the {limit:.6} admitted (a mode slower than the record can validate): a longer record, or a lower order"
+    )]
     StartTooSlow {
         /// The start's spectral radius.
         radius: f64,
@@ -48,61 +61,24 @@ pub enum HysteresisError {
         limit: f64,
     },
     /// [`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius) is not in (0, 1].
+    #[error(
+        "the largest pole radius admitted is {0}, which is not in (0, 1]: give 1 to admit every stable linear part"
+    )]
     PoleRadius(f64),
     /// The parameters ran away or became non-finite.
+    #[error(
+        "the simulation-error fit diverged at iteration {iteration}: try fewer segments per path or a lower order"
+    )]
     Diverged {
         /// Iteration (from 1).
         iteration: usize,
     },
     /// The Jacobian at the optimum is singular: the data do not determine every parameter.
+    #[error(
+        "the data do not determine every parameter of the hysteresis model (singular JᵀJ): the input must visit every segment in both directions; use fewer segments per path"
+    )]
     Singular,
 }
-
-impl fmt::Display for HysteresisError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            HysteresisError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            HysteresisError::SkipMismatch { samples, skip } => write!(
-                f,
-                "the record has {samples} samples but the mask of samples left out has {skip}: give one flag per sample, or none"
-            ),
-            HysteresisError::TooFewSamples { have, need } => write!(
-                f,
-                "too few samples for the hysteresis model: {have} given, at least {need} needed (a longer record, or fewer segments per path)"
-            ),
-            HysteresisError::NonFinite { signal, index } => write!(
-                f,
-                "{signal}[{index}] is not a finite number: remove or repair the sample"
-            ),
-            HysteresisError::InvalidStart(why) => write!(
-                f,
-                "the starting subspace model cannot start the hysteresis fit: {why}"
-            ),
-            HysteresisError::StartDoesNotSimulate => f.write_str(
-                "the starting model does not simulate (unstable linear part, or crossing borders): start from a stable subspace estimate",
-            ),
-            HysteresisError::StartTooSlow { radius, limit } => write!(
-                f,
-                "the starting model has a pole of radius {radius:.6}, at or beyond the {limit:.6} admitted (a mode slower than the record can validate): a longer record, or a lower order"
-            ),
-            HysteresisError::PoleRadius(r) => write!(
-                f,
-                "the largest pole radius admitted is {r}, which is not in (0, 1]: give 1 to admit every stable linear part"
-            ),
-            HysteresisError::Diverged { iteration } => write!(
-                f,
-                "the simulation-error fit diverged at iteration {iteration}: try fewer segments per path or a lower order"
-            ),
-            HysteresisError::Singular => f.write_str(
-                "the data do not determine every parameter of the hysteresis model (singular JᵀJ): the input must visit every segment in both directions; use fewer segments per path",
-            ),
-        }
-    }
-}
-
-impl std::error::Error for HysteresisError {}
 
 impl From<LmFailure> for HysteresisError {
     fn from(e: LmFailure) -> Self {

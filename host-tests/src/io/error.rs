@@ -1,6 +1,5 @@
 //! What can go wrong while reading or writing CSV files.
 
-use std::fmt;
 use std::path::PathBuf;
 
 use super::FileError;
@@ -9,15 +8,22 @@ use super::FileError;
 ///
 /// `Display` gives one line that starts with the file name (and the 1-based line number where it
 /// applies), e.g. `data.csv line 17: column "y": "1.2.3" is not a number`.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum IoError {
     /// The file could not be opened, read, created or written (not found, permission denied,
     /// ...).
-    File(FileError),
+    #[error("{0}")]
+    File(#[from] FileError),
     /// The file is larger than [`MAX_RECORD_BYTES`](super::MAX_RECORD_BYTES), the most a
     /// whole-record reader holds in memory; nothing of it was kept.
-    TooLarge(super::TooLarge),
+    #[error(
+        "{0} for a record read whole (parsing holds it in memory several times over): \
+         `hsid identify --stream` reads a CSV of any length row by row in bounded \
+         memory; otherwise shorten or decimate the record"
+    )]
+    TooLarge(#[source] super::TooLarge),
     /// The file is not valid UTF-8 text.
+    #[error("{path} line {line}: not valid UTF-8 text")]
     NotUtf8 {
         /// File that was being read.
         path: PathBuf,
@@ -25,16 +31,19 @@ pub enum IoError {
         line: usize,
     },
     /// The file is empty or holds only whitespace and comment lines.
+    #[error("{path}: file is empty")]
     Empty {
         /// File that was being read.
         path: PathBuf,
     },
     /// The file has a header row but no data rows.
+    #[error("{path}: file has a header row but no data rows")]
     NoData {
         /// File that was being read.
         path: PathBuf,
     },
     /// A blank line where a header or data row was expected (not at the end of the file).
+    #[error("{path} line {line}: unexpected blank line")]
     BlankLine {
         /// File that was being read.
         path: PathBuf,
@@ -42,6 +51,10 @@ pub enum IoError {
         line: usize,
     },
     /// A requested column is not in the header.
+    #[error(
+        "{path} line {line}: no column \"{column}\" (columns are {})",
+        quoted(.available)
+    )]
     MissingColumn {
         /// File that was being read.
         path: PathBuf,
@@ -53,6 +66,7 @@ pub enum IoError {
         available: Vec<String>,
     },
     /// A requested column name appears more than once in the header.
+    #[error("{path} line {line}: column \"{column}\" appears more than once")]
     DuplicateColumn {
         /// File that was being read.
         path: PathBuf,
@@ -62,6 +76,7 @@ pub enum IoError {
         column: String,
     },
     /// A data row has fewer fields than the header has columns.
+    #[error("{path} line {line}: {found} fields, expected {expected}")]
     TooFewFields {
         /// File that was being read.
         path: PathBuf,
@@ -73,6 +88,9 @@ pub enum IoError {
         found: usize,
     },
     /// A data row has non-empty fields beyond the last header column.
+    #[error(
+        "{path} line {line}: {found} non-empty fields, but the header has only {expected} columns"
+    )]
     TooManyFields {
         /// File that was being read.
         path: PathBuf,
@@ -84,6 +102,7 @@ pub enum IoError {
         found: usize,
     },
     /// A requested cell is empty.
+    #[error("{path} line {line}: column \"{column}\" is empty")]
     EmptyCell {
         /// File that was being read.
         path: PathBuf,
@@ -93,6 +112,7 @@ pub enum IoError {
         column: String,
     },
     /// A requested cell is not a number.
+    #[error("{path} line {line}: column \"{column}\": \"{text}\" is not a number")]
     BadNumber {
         /// File that was being read.
         path: PathBuf,
@@ -104,6 +124,7 @@ pub enum IoError {
         text: String,
     },
     /// A requested cell (or a value to be written) is NaN or infinite.
+    #[error("{path} line {line}: column \"{column}\": {value} is not a finite number")]
     NonFinite {
         /// File that was being read or written.
         path: PathBuf,
@@ -115,6 +136,7 @@ pub enum IoError {
         value: f64,
     },
     /// The CSV parser refused the text (e.g. a quoted field that never ends).
+    #[error("{path}{}: malformed CSV: {reason}", line_text(*.line))]
     Malformed {
         /// File that was being read.
         path: PathBuf,
@@ -125,6 +147,7 @@ pub enum IoError {
     },
     /// The arguments of [`write_columns`](super::write_columns) are inconsistent (name count, column lengths, names
     /// that cannot be written).
+    #[error("{path}: cannot write columns: {reason}")]
     InvalidColumns {
         /// File that was being written.
         path: PathBuf,
@@ -133,125 +156,13 @@ pub enum IoError {
     },
 }
 
-impl fmt::Display for IoError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            IoError::File(e) => e.fmt(f),
-            IoError::TooLarge(e) => write!(
-                f,
-                "{e} for a record read whole (parsing holds it in memory several times over): \
-                 `hsid identify --stream` reads a CSV of any length row by row in bounded \
-                 memory; otherwise shorten or decimate the record"
-            ),
-            IoError::NotUtf8 { path, line } => {
-                write!(f, "{} line {line}: not valid UTF-8 text", path.display())
-            }
-            IoError::Empty { path } => write!(f, "{}: file is empty", path.display()),
-            IoError::NoData { path } => {
-                write!(
-                    f,
-                    "{}: file has a header row but no data rows",
-                    path.display()
-                )
-            }
-            IoError::BlankLine { path, line } => {
-                write!(f, "{} line {line}: unexpected blank line", path.display())
-            }
-            IoError::MissingColumn {
-                path,
-                line,
-                column,
-                available,
-            } => {
-                let list: Vec<String> = available.iter().map(|c| format!("\"{c}\"")).collect();
-                write!(
-                    f,
-                    "{} line {line}: no column \"{column}\" (columns are {})",
-                    path.display(),
-                    list.join(", ")
-                )
-            }
-            IoError::DuplicateColumn { path, line, column } => write!(
-                f,
-                "{} line {line}: column \"{column}\" appears more than once",
-                path.display()
-            ),
-            IoError::TooFewFields {
-                path,
-                line,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{} line {line}: {found} fields, expected {expected}",
-                path.display()
-            ),
-            IoError::TooManyFields {
-                path,
-                line,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{} line {line}: {found} non-empty fields, but the header has only {expected} columns",
-                path.display()
-            ),
-            IoError::EmptyCell { path, line, column } => {
-                write!(
-                    f,
-                    "{} line {line}: column \"{column}\" is empty",
-                    path.display()
-                )
-            }
-            IoError::BadNumber {
-                path,
-                line,
-                column,
-                text,
-            } => write!(
-                f,
-                "{} line {line}: column \"{column}\": \"{text}\" is not a number",
-                path.display()
-            ),
-            IoError::NonFinite {
-                path,
-                line,
-                column,
-                value,
-            } => write!(
-                f,
-                "{} line {line}: column \"{column}\": {value} is not a finite number",
-                path.display()
-            ),
-            IoError::Malformed {
-                path,
-                line: Some(line),
-                reason,
-            } => write!(f, "{} line {line}: malformed CSV: {reason}", path.display()),
-            IoError::Malformed {
-                path,
-                line: None,
-                reason,
-            } => write!(f, "{}: malformed CSV: {reason}", path.display()),
-            IoError::InvalidColumns { path, reason } => {
-                write!(f, "{}: cannot write columns: {reason}", path.display())
-            }
-        }
-    }
+/// The column names quoted and separated by commas.
+fn quoted(columns: &[String]) -> String {
+    let list: Vec<String> = columns.iter().map(|c| format!("\"{c}\"")).collect();
+    list.join(", ")
 }
 
-impl std::error::Error for IoError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            IoError::File(e) => Some(e),
-            IoError::TooLarge(e) => Some(e),
-            _ => None,
-        }
-    }
-}
-
-impl From<FileError> for IoError {
-    fn from(e: FileError) -> Self {
-        IoError::File(e)
-    }
+/// ` line 7` after the file name, or nothing when the line is unknown.
+fn line_text(line: Option<usize>) -> String {
+    line.map_or_else(String::new, |l| format!(" line {l}"))
 }

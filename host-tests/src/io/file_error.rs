@@ -1,7 +1,6 @@
 //! A file that could not be opened, read, created or written: the part of every file error
 //! that is about the file system rather than the file's content.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// What was being done with the file when the file system refused.
@@ -17,7 +16,8 @@ pub enum FileAction {
 ///
 /// `Display` gives one line that starts with the file name, e.g.
 /// `data.csv: cannot read file: No such file or directory (os error 2)`.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: cannot {} file: {source}", verb(*.action))]
 pub struct FileError {
     /// The file.
     pub path: PathBuf,
@@ -47,23 +47,10 @@ impl FileError {
     }
 }
 
-impl fmt::Display for FileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let verb = match self.action {
-            FileAction::Read => "read",
-            FileAction::Write => "write",
-        };
-        write!(
-            f,
-            "{}: cannot {verb} file: {}",
-            self.path.display(),
-            self.source
-        )
-    }
-}
-
-impl std::error::Error for FileError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        Some(&self.source)
+/// The verb of the message.
+fn verb(action: FileAction) -> &'static str {
+    match action {
+        FileAction::Read => "read",
+        FileAction::Write => "write",
     }
 }

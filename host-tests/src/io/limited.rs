@@ -2,7 +2,6 @@
 //! not: a file whose size exceeds a limit gives a [`TooLarge`] naming its size and the limit,
 //! and nothing beyond `limit + 1` bytes is ever read (a pipe or a growing file included).
 
-use std::fmt;
 use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -10,7 +9,8 @@ use std::path::{Path, PathBuf};
 use super::FileError;
 
 /// A file larger than what its reader accepts.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{path}: {} the {limit} bytes accepted", size_text(*.bytes))]
 pub struct TooLarge {
     /// The file.
     pub path: PathBuf,
@@ -21,20 +21,13 @@ pub struct TooLarge {
     pub limit: u64,
 }
 
-impl fmt::Display for TooLarge {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (path, limit) = (self.path.display(), self.limit);
-        match self.bytes {
-            Some(b) => write!(
-                f,
-                "{path}: {b} bytes, larger than the {limit} bytes accepted"
-            ),
-            None => write!(f, "{path}: more than the {limit} bytes accepted"),
-        }
+/// `1234 bytes, larger than` a limit, or `more than` it when the size is unknown.
+fn size_text(bytes: Option<u64>) -> String {
+    match bytes {
+        Some(b) => format!("{b} bytes, larger than"),
+        None => "more than".to_owned(),
     }
 }
-
-impl std::error::Error for TooLarge {}
 
 /// Why [`read_to_string_limited`] failed.
 #[derive(Debug)]

@@ -1,7 +1,6 @@
 //! What can go wrong while reading or writing a model file.
 
-use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::FORMAT;
 use crate::io::{FileError, LimitedReadError, TooLarge};
@@ -10,15 +9,21 @@ use crate::io::{FileError, LimitedReadError, TooLarge};
 ///
 /// `Display` gives one line that starts with the file name, e.g.
 /// `m.json: field "B": has 1 entries, expected order = 2`.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ModelFileError {
     /// The file could not be opened, read, created or written (not found, permission denied,
     /// ...).
-    File(FileError),
+    #[error("{0}")]
+    File(#[from] FileError),
     /// The file is larger than [`MAX_MODEL_FILE_BYTES`](super::MAX_MODEL_FILE_BYTES): not a
     /// model file (those are kilobytes); refused before it is read.
-    TooLarge(TooLarge),
+    #[error(
+        "{0}: a model file is a few kilobytes; give the JSON file identify, solve or \
+         diagnose wrote"
+    )]
+    TooLarge(#[source] TooLarge),
     /// The file has no `format` key, or names another format or version than [`FORMAT`].
+    #[error("{}", version_text(.path, .found.as_deref()))]
     Version {
         /// File that was being read.
         path: PathBuf,
@@ -27,6 +32,7 @@ pub enum ModelFileError {
         found: Option<String>,
     },
     /// The JSON text is malformed or does not have the fields and types of the format.
+    #[error("{path}: {}{source}", field_prefix(.location.as_deref()))]
     Json {
         /// File that was being read or written.
         path: PathBuf,
@@ -38,6 +44,7 @@ pub enum ModelFileError {
     },
     /// The model is well-formed JSON but inconsistent (wrong matrix shape, lengths that differ,
     /// non-finite numbers, knots out of order).
+    #[error("{path}: field \"{field}\": {reason}")]
     Invalid {
         /// File that was being read or written.
         path: PathBuf,
@@ -48,62 +55,26 @@ pub enum ModelFileError {
     },
 }
 
-impl fmt::Display for ModelFileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::File(e) => e.fmt(f),
-            Self::TooLarge(e) => write!(
-                f,
-                "{e}: a model file is a few kilobytes; give the JSON file identify, solve or \
-                 diagnose wrote"
-            ),
-            Self::Version { path, found: None } => write!(
-                f,
-                "{}: no \"format\" key: the file is of the unversioned model layout, this hsid \
-                 reads \"{FORMAT}\"; identify the model again with this hsid (its --json)",
-                path.display()
-            ),
-            Self::Version {
-                path,
-                found: Some(v),
-            } => write!(
-                f,
-                "{}: model format \"{v}\", this hsid reads \"{FORMAT}\"; write the model with \
-                 the hsid that reads it, or identify it again with this one",
-                path.display()
-            ),
-            Self::Json {
-                path,
-                location,
-                source,
-            } => match location {
-                None => write!(f, "{}: {source}", path.display()),
-                Some(at) => write!(f, "{}: field {at}: {source}", path.display()),
-            },
-            Self::Invalid {
-                path,
-                field,
-                reason,
-            } => write!(f, "{}: field \"{field}\": {reason}", path.display()),
-        }
+/// The message of [`ModelFileError::Version`].
+fn version_text(path: &Path, found: Option<&str>) -> String {
+    match found {
+        None => format!(
+            "{}: no \"format\" key: the file is of the unversioned model layout, this hsid \
+             reads \"{FORMAT}\"; identify the model again with this hsid (its --json)",
+            path.display()
+        ),
+        Some(v) => format!(
+            "{}: model format \"{v}\", this hsid reads \"{FORMAT}\"; write the model with \
+             the hsid that reads it, or identify it again with this one",
+            path.display()
+        ),
     }
 }
 
-impl std::error::Error for ModelFileError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            Self::File(e) => Some(e),
-            Self::Json { source, .. } => Some(source),
-            Self::TooLarge(e) => Some(e),
-            Self::Version { .. } | Self::Invalid { .. } => None,
-        }
-    }
-}
-
-impl From<FileError> for ModelFileError {
-    fn from(e: FileError) -> Self {
-        Self::File(e)
-    }
+/// `field A[1][0]: ` before a JSON error that names its place, nothing before one that does
+/// not.
+fn field_prefix(location: Option<&str>) -> String {
+    location.map_or_else(String::new, |at| format!("field {at}: "))
 }
 
 impl From<LimitedReadError> for ModelFileError {

@@ -8,8 +8,6 @@
 //! decrease falls to `min_gain`. [`Settings::default`] is the diagnosis's fit on a simulation
 //! error; [`Settings::prediction_error`] the prediction-error refinement's.
 
-use std::fmt;
-
 use nalgebra::{DMatrix, DVector};
 
 /// What to do when a difference step leaves the region where the model simulates.
@@ -22,22 +20,30 @@ pub enum JacobianFailure {
 }
 
 /// Why [`minimise`] gave no result.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum LmFailure {
     /// The starting parameters do not simulate.
+    #[error("the starting parameters do not simulate: start from a stable model")]
     StartDoesNotSimulate,
     /// A difference step left the region where the model simulates, with
     /// [`JacobianFailure::Fail`].
+    #[error(
+        "the difference step of parameter {parameter} left the region where the model simulates"
+    )]
     DifferenceStepFailed {
         /// The parameter whose step failed.
         parameter: usize,
     },
     /// A step was not finite or the parameters grew past the bound of [`Divergence::Fail`].
+    #[error("Levenberg–Marquardt diverged at iteration {iteration}")]
     Diverged {
         /// The iteration (from 1) at which it happened.
         iteration: usize,
     },
     /// The iteration limit was reached with [`Exhausted::Fail`] before the gain test passed.
+    #[error(
+        "Levenberg–Marquardt did not converge in {iterations} iterations (last relative decrease {last_gain:.3e})"
+    )]
     NoConvergence {
         /// Iterations done.
         iterations: usize,
@@ -45,32 +51,6 @@ pub enum LmFailure {
         last_gain: f64,
     },
 }
-
-impl fmt::Display for LmFailure {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            LmFailure::StartDoesNotSimulate => {
-                f.write_str("the starting parameters do not simulate: start from a stable model")
-            }
-            LmFailure::DifferenceStepFailed { parameter } => write!(
-                f,
-                "the difference step of parameter {parameter} left the region where the model simulates"
-            ),
-            LmFailure::Diverged { iteration } => {
-                write!(f, "Levenberg–Marquardt diverged at iteration {iteration}")
-            }
-            LmFailure::NoConvergence {
-                iterations,
-                last_gain,
-            } => write!(
-                f,
-                "Levenberg–Marquardt did not converge in {iterations} iterations (last relative decrease {last_gain:.3e})"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for LmFailure {}
 
 /// How the damped normal equations are solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

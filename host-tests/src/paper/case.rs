@@ -7,8 +7,8 @@ use rand_pcg::Pcg32;
 
 use crate::identify::IdentifyOptions;
 use crate::sim::{
-    Backlash, Lti, Nonlinearity, Switch, TruePaths, paper_backlash, paper_noise_model, paper_plant,
-    paper_switch, simulate,
+    Backlash, Lti, Nonlinearity, SimError, Switch, TruePaths, paper_backlash, paper_noise_model,
+    paper_plant, paper_switch, simulate,
 };
 /// The two examples of Section IV.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,13 +127,27 @@ pub fn case_system(case: Case) -> (Box<dyn Nonlinearity>, TruePaths, Lti, Lti) {
     (nl, paths, paper_plant(), paper_noise_model())
 }
 
+/// Why an experiment could not be simulated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ExperimentError {
+    /// The excitation's interval or hold is refused by the core's generator.
+    #[error(transparent)]
+    Excitation(#[from] hsid::Error),
+    /// The simulation of the element, plant and noise failed.
+    #[error(transparent)]
+    Simulate(#[from] SimError),
+}
+
 /// Simulates run `run` of a case: the Table I excitation from the core's generator, the true
 /// element, `G(q)` and the coloured noise at the requested SNR (over the excitation part).
-pub fn experiment(case: Case, cfg: &PaperConfig, run: usize) -> Result<Experiment, String> {
+pub fn experiment(
+    case: Case,
+    cfg: &PaperConfig,
+    run: usize,
+) -> Result<Experiment, ExperimentError> {
     let n = cfg.hold + cfg.j + cfg.f + cfg.p - 1;
     let rng = Pcg32::seed_from_u64(derive_seed(cfg.seed, case.id(), run as u64, 1));
-    let u: Vec<f64> = Excitation::new(cfg.u_min, cfg.u_max, cfg.hold, rng)
-        .map_err(|e| e.to_string())?
+    let u: Vec<f64> = Excitation::new(cfg.u_min, cfg.u_max, cfg.hold, rng)?
         .take(n)
         .collect();
     let (mut nl, _, plant, noise) = case_system(case);
@@ -147,8 +161,7 @@ pub fn experiment(case: Case, cfg: &PaperConfig, run: usize) -> Result<Experimen
         snr,
         cfg.hold..n,
         &mut noise_rng,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     Ok(Experiment {
         u,
         y: sim.y,

@@ -70,7 +70,7 @@ pub fn paper_crb(
     let mut params = 0usize;
     let mut b0 = 0usize;
     for r in 0..runs.max(1) {
-        let e = experiment(case, cfg, r).map_err(RefineError::Identify)?;
+        let e = experiment(case, cfg, r).map_err(|e| RefineError::Identify(e.to_string()))?;
         let problem = Problem::new(
             &e.u,
             &e.y,

@@ -1,7 +1,7 @@
 //! The paper's figures: the pole map (Figs. 6 and 9), the Bode magnitude (Figs. 7 and 10) and
 //! the borders (Figs. 8 and 11) of a case, drawn with the generic [`plot`](crate::plot).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::case::Case;
 use super::monte_carlo::CaseResult;
@@ -9,7 +9,7 @@ use crate::plot::{Dash, Figure, Marker, PALETTE, PlotError, Series};
 
 /// Writes the three figures of a case (pole scatter, Bode magnitude, borders) into `dir`,
 /// named after the paper's figure numbers. Returns the paths written.
-pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<String>, String> {
+pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let name = res.case.name();
     let (fp, fb, fh, title_case) = match res.case {
         Case::Switch => (6, 7, 8, "Switch"),
@@ -33,18 +33,16 @@ pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<String>, String
         &est,
         Some((0.88, 1.0, -0.19, 0.19)),
     )
-    .save(&p1)
-    .map_err(|e| e.to_string())?;
-    out.push(p1.display().to_string());
+    .save(&p1)?;
+    out.push(p1);
     let p2 = dir.join(format!("fig{fb}-{name}-bode.svg"));
     bode_magnitude_figure(
         &format!("{title_case} nonlinearity: Bode magnitude, true and average model"),
         &res.w,
         &[("true G", &res.true_db), ("average estimate", &res.avg_db)],
     )
-    .save(&p2)
-    .map_err(|e| e.to_string())?;
-    out.push(p2.display().to_string());
+    .save(&p2)?;
+    out.push(p2);
     let p3 = dir.join(format!("fig{fh}-{name}-borders.svg"));
     border_figure(
         &format!("{title_case} nonlinearity: H[·] and its average estimate"),
@@ -56,9 +54,8 @@ pub fn write_figures(res: &CaseResult, dir: &Path) -> Result<Vec<String>, String
             ("average estimate P_d", &res.avg_desc),
         ],
     )
-    .save(&p3)
-    .map_err(|e| e.to_string())?;
-    out.push(p3.display().to_string());
+    .save(&p3)?;
+    out.push(p3);
     Ok(out)
 }
 

@@ -1,11 +1,11 @@
 //! The figures of the method comparison: the Monte Carlo poles of PI-MOESP and PEM with the
 //! Cramér–Rao bound's 2σ ellipse, and one run's Bode magnitude and borders with ±2σ bands.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::figures::pole_figure;
 use super::methods::{CaseMethods, Method, MethodResult};
-use crate::plot::{Dash, Figure, LegendPosition, Marker, PALETTE, Series};
+use crate::plot::{Dash, Figure, LegendPosition, Marker, PALETTE, PlotError, Series};
 use crate::refine::uncertainty::{bode_db_std, border_std_on_grid};
 
 fn ellipse(center: (f64, f64), cov: [[f64; 2]; 2], k: f64) -> (Vec<f64>, Vec<f64>) {
@@ -25,7 +25,7 @@ fn ellipse(center: (f64, f64), cov: [[f64; 2]; 2], k: f64) -> (Vec<f64>, Vec<f64
 /// The figures of the refinement for one case, written into `dir`: the Monte Carlo poles of
 /// PI-MOESP and PEM with the bound's 2σ ellipse, and one run's Bode magnitude and borders
 /// with their ±2σ bands. Returns the paths written.
-pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, String> {
+pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
     let mut out = Vec::new();
     let Some(pem) = c.methods.iter().find(|m| m.method == Method::Pem) else {
         return Ok(out);
@@ -86,8 +86,8 @@ pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, 
             .label("true poles"),
     );
     let p = dir.join(format!("pem-{name}-poles.svg"));
-    fig.save(&p).map_err(|e| e.to_string())?;
-    out.push(p.display().to_string());
+    fig.save(&p)?;
+    out.push(p);
 
     let Some(fit) = pem.fits.first() else {
         return Ok(out);
@@ -131,8 +131,8 @@ pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, 
             .label("true G"),
     );
     let p = dir.join(format!("pem-{name}-bode-band.svg"));
-    fig.save(&p).map_err(|e| e.to_string())?;
-    out.push(p.display().to_string());
+    fig.save(&p)?;
+    out.push(p);
 
     // Borders of run 0 with their bands.
     let grid = &pem.case.grid;
@@ -175,7 +175,7 @@ pub fn write_method_figures(c: &CaseMethods, dir: &Path) -> Result<Vec<String>, 
             .label("true P_d"),
     );
     let p = dir.join(format!("pem-{name}-borders-band.svg"));
-    fig.save(&p).map_err(|e| e.to_string())?;
-    out.push(p.display().to_string());
+    fig.save(&p)?;
+    out.push(p);
     Ok(out)
 }

@@ -303,8 +303,8 @@ pub fn run_method(
     let results = monte_carlo(
         cfg.runs,
         |r| {
-            experiment(case, cfg, r)
-                .and_then(|e| identify_method(method, &e.u, &e.y, &opts).map_err(|e| e.to_string()))
+            let e = experiment(case, cfg, r)?;
+            Ok(identify_method(method, &e.u, &e.y, &opts)?)
         },
         tick,
     );

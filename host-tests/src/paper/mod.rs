@@ -18,9 +18,11 @@ pub mod methods;
 pub mod monte_carlo;
 pub mod table;
 
-pub use case::{Case, Experiment, PaperConfig, case_system, derive_seed, experiment, options};
+pub use case::{
+    Case, Experiment, ExperimentError, PaperConfig, case_system, derive_seed, experiment, options,
+};
 pub use figures::write_figures;
 pub use monte_carlo::{
-    CaseResult, CaseSummary, best_pwl, border_at, monte_carlo, run_case, summarize,
+    CaseResult, CaseSummary, RunError, best_pwl, border_at, monte_carlo, run_case, summarize,
 };
 pub use table::paper_table;

@@ -3,8 +3,9 @@
 
 use serde::Serialize;
 
-use super::case::{Case, PaperConfig, case_system, experiment, options};
-use crate::identify::{HostModel, identify, interpolate};
+use super::case::{Case, ExperimentError, PaperConfig, case_system, experiment, options};
+use crate::identify::{HostModel, IdentifyError, identify, interpolate};
+use crate::refine::RefineError;
 
 /// Statistics of one case.
 #[derive(Clone, Debug, Serialize)]
@@ -125,14 +126,31 @@ pub fn best_pwl(knots: &[f64], grid: &[f64], g: &[f64]) -> Vec<f64> {
     (a * sol).iter().copied().collect()
 }
 
+/// Why one run of the Monte Carlo gave no model.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The experiment could not be simulated.
+    #[error(transparent)]
+    Experiment(#[from] ExperimentError),
+    /// The subspace identification failed.
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
+    /// A method of the comparison failed.
+    #[error(transparent)]
+    Method(#[from] RefineError),
+    /// The thread that held the run panicked.
+    #[error("run {0}: the identification panicked")]
+    Panicked(usize),
+}
+
 /// Runs `run(r)` for `r` in `0..runs` on up to 8 threads and returns the results in run
 /// order; `tick` is called after every run (for a progress bar). A thread that panics turns
 /// each run it held into an error that says so: no run is dropped.
 pub fn monte_carlo<R: Send>(
     runs: usize,
-    run: impl Fn(usize) -> Result<R, String> + Sync,
+    run: impl Fn(usize) -> Result<R, RunError> + Sync,
     tick: &(dyn Fn() + Sync),
-) -> Vec<Result<R, String>> {
+) -> Vec<Result<R, RunError>> {
     let all: Vec<usize> = (0..runs).collect();
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
@@ -158,11 +176,8 @@ pub fn monte_carlo<R: Send>(
         handles
             .into_iter()
             .flat_map(|(rs, h)| {
-                h.join().unwrap_or_else(|_| {
-                    rs.iter()
-                        .map(|r| Err(format!("run {r}: the identification panicked")))
-                        .collect()
-                })
+                h.join()
+                    .unwrap_or_else(|_| rs.iter().map(|&r| Err(RunError::Panicked(r))).collect())
             })
             .collect()
     })
@@ -174,8 +189,8 @@ pub fn run_case(case: Case, cfg: &PaperConfig, tick: &(dyn Fn() + Sync)) -> Case
     let results = monte_carlo(
         cfg.runs,
         |r| {
-            experiment(case, cfg, r)
-                .and_then(|e| identify(&e.u, &e.y, &opts).map_err(|e| e.to_string()))
+            let e = experiment(case, cfg, r)?;
+            Ok(identify(&e.u, &e.y, &opts)?)
         },
         tick,
     );

@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 
 /// Errors from building or saving a figure.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum PlotError {
     /// The coordinate vectors of a series have different lengths.
+    #[error("series {series}{}: {detail}", labelled(.label.as_deref()))]
     LengthMismatch {
         /// 0-based position of the series in the figure.
         series: usize,
@@ -15,6 +16,7 @@ pub enum PlotError {
         detail: String,
     },
     /// An explicit axis range is not finite, empty or reversed, or not positive on a log axis.
+    #[error("invalid {axis} axis range [{min}, {max}]")]
     InvalidRange {
         /// `"x"` or `"y"`.
         axis: &'static str,
@@ -24,6 +26,7 @@ pub enum PlotError {
         max: f64,
     },
     /// The figure is too small to hold its axes (minimum 200×150 px).
+    #[error("figure size {width}×{height} px is below 200×150 px")]
     InvalidSize {
         /// Requested width in px.
         width: u32,
@@ -31,6 +34,7 @@ pub enum PlotError {
         height: u32,
     },
     /// The SVG file could not be written.
+    #[error("{path}: cannot write figure: {source}")]
     Io {
         /// Target file.
         path: PathBuf,
@@ -39,35 +43,7 @@ pub enum PlotError {
     },
 }
 
-impl std::fmt::Display for PlotError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            PlotError::LengthMismatch {
-                series,
-                label,
-                detail,
-            } => match label {
-                Some(l) => write!(f, "series {series} (\"{l}\"): {detail}"),
-                None => write!(f, "series {series}: {detail}"),
-            },
-            PlotError::InvalidRange { axis, min, max } => {
-                write!(f, "invalid {axis} axis range [{min}, {max}]")
-            }
-            PlotError::InvalidSize { width, height } => {
-                write!(f, "figure size {width}×{height} px is below 200×150 px")
-            }
-            PlotError::Io { path, source } => {
-                write!(f, "{}: cannot write figure: {source}", path.display())
-            }
-        }
-    }
-}
-
-impl std::error::Error for PlotError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            PlotError::Io { source, .. } => Some(source),
-            _ => None,
-        }
-    }
+/// ` ("label")` after a series' number, or nothing without a label.
+fn labelled(label: Option<&str>) -> String {
+    label.map_or_else(String::new, |l| format!(" (\"{l}\")"))
 }

@@ -56,10 +56,11 @@ impl fmt::Display for Unstable {
 }
 
 /// Why a refinement, a noise-model fit or a bound could not be computed.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RefineError {
     /// The starting model (or the true system given for a bound) has an unstable predictor:
     /// a root of the named polynomial lies on or outside the unit circle.
+    #[error("unstable predictor: the {which} has a root of modulus {radius:.6} (must be < 1)")]
     UnstablePredictor {
         /// The polynomial.
         which: Unstable,
@@ -67,11 +68,15 @@ pub enum RefineError {
         radius: f64,
     },
     /// The cost became non-finite or the parameters blew up.
+    #[error("the prediction-error refinement diverged at iteration {iteration}")]
     Diverged {
         /// Iteration at which it happened.
         iteration: usize,
     },
     /// The iteration limit was reached before the convergence test passed.
+    #[error(
+        "the prediction-error refinement did not converge in {iterations} iterations (last relative decrease {last_decrease:.3e})"
+    )]
     NoConvergence {
         /// Iterations done.
         iterations: usize,
@@ -79,6 +84,7 @@ pub enum RefineError {
         last_decrease: f64,
     },
     /// Too few samples for the number of parameters.
+    #[error("too few samples: {have} given, at least {need} needed")]
     TooFewSamples {
         /// Samples available after the start index.
         have: usize,
@@ -86,6 +92,7 @@ pub enum RefineError {
         need: usize,
     },
     /// `u` and `y` differ in length.
+    #[error("u has {u} samples but y has {y}: give one y per u")]
     LengthMismatch {
         /// Samples of `u`.
         u: usize,
@@ -93,54 +100,21 @@ pub enum RefineError {
         y: usize,
     },
     /// An input, output or parameter is not finite.
+    #[error("non-finite input, output or parameter")]
     NonFinite,
     /// The model has order 0 or its matrices have inconsistent sizes.
+    #[error("invalid model: {0}")]
     InvalidModel(&'static str),
     /// The normal equations are singular: the data do not determine every parameter.
+    #[error("singular normal equations ({0}): the data do not determine every parameter")]
     Singular(&'static str),
     /// The knots are not strictly increasing from `u_min` to `u_max`, or an input lies outside.
+    #[error("invalid knots: {0}")]
     InvalidKnots(&'static str),
     /// The subspace identification that starts a refinement failed.
+    #[error("subspace identification failed: {0}")]
     Identify(String),
 }
-
-impl fmt::Display for RefineError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RefineError::UnstablePredictor { which, radius } => write!(
-                f,
-                "unstable predictor: the {which} has a root of modulus {radius:.6} (must be < 1)"
-            ),
-            RefineError::Diverged { iteration } => write!(
-                f,
-                "the prediction-error refinement diverged at iteration {iteration}"
-            ),
-            RefineError::NoConvergence {
-                iterations,
-                last_decrease,
-            } => write!(
-                f,
-                "the prediction-error refinement did not converge in {iterations} iterations (last relative decrease {last_decrease:.3e})"
-            ),
-            RefineError::TooFewSamples { have, need } => {
-                write!(f, "too few samples: {have} given, at least {need} needed")
-            }
-            RefineError::LengthMismatch { u, y } => {
-                write!(f, "u has {u} samples but y has {y}: give one y per u")
-            }
-            RefineError::NonFinite => write!(f, "non-finite input, output or parameter"),
-            RefineError::InvalidModel(why) => write!(f, "invalid model: {why}"),
-            RefineError::Singular(which) => write!(
-                f,
-                "singular normal equations ({which}): the data do not determine every parameter"
-            ),
-            RefineError::InvalidKnots(why) => write!(f, "invalid knots: {why}"),
-            RefineError::Identify(e) => write!(f, "subspace identification failed: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for RefineError {}
 
 impl From<crate::identify::IdentifyError> for RefineError {
     fn from(e: crate::identify::IdentifyError) -> Self {

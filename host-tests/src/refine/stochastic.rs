@@ -12,7 +12,7 @@
 //! paper, whose noise pole 0.85 is not a plant pole (an innovation form of the plant's order
 //! alone would force the noise to share the plant's poles and bias the predictor).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -27,6 +27,53 @@ use crate::numerics::ar::fit_ar;
 use crate::numerics::direction::directions;
 use crate::numerics::lstsq::{Scaling, lstsq};
 use crate::numerics::select::{Criterion, best};
+use crate::report::UndefinedFit;
+
+/// Why a noise model file could not be written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum NoiseFileError {
+    /// The model could not be put in JSON.
+    #[error("{0}")]
+    Encode(#[source] serde_json::Error),
+    /// The file could not be written.
+    #[error("{path}: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not a noise model's JSON.
+    #[error("{path}: {source}")]
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// The parser's error.
+        source: serde_json::Error,
+    },
+    /// `c` or `d` not monic or not finite, or `sigma2` not finite and non-negative.
+    #[error("{path}: a noise model needs monic finite c and d and a finite sigma2 >= 0")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The numerator `c` has a root on or outside the unit circle.
+    #[error(
+        "{path}: the noise numerator c has a root on or outside the unit circle (unstable predictor)"
+    )]
+    UnstablePredictor {
+        /// The file.
+        path: PathBuf,
+    },
+}
 
 /// An ARMA noise model `v(t) = C(q)/D(q) e(t)`, `e` white with variance `sigma2`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -72,32 +119,38 @@ impl NoiseModel {
     }
 
     /// Writes the noise model as JSON (the file `hsid validate --noise` reads).
-    pub fn save(&self, path: &Path) -> Result<(), String> {
-        let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
-        std::fs::write(path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
+    pub fn save(&self, path: &Path) -> Result<(), NoiseFileError> {
+        let text = serde_json::to_string_pretty(self).map_err(NoiseFileError::Encode)?;
+        std::fs::write(path, text + "\n").map_err(|source| NoiseFileError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
     }
 
     /// Reads a noise model JSON written by [`save`](Self::save) and checks it.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let m: NoiseModel =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    pub fn load(path: &Path) -> Result<Self, NoiseFileError> {
+        let text = std::fs::read_to_string(path).map_err(|source| NoiseFileError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let m: NoiseModel = serde_json::from_str(&text).map_err(|source| NoiseFileError::Json {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let ok = m.c.first() == Some(&1.0)
             && m.d.first() == Some(&1.0)
             && m.c.iter().chain(&m.d).all(|v| v.is_finite())
             && m.sigma2.is_finite()
             && m.sigma2 >= 0.0;
         if !ok {
-            return Err(format!(
-                "{}: a noise model needs monic finite c and d and a finite sigma2 >= 0",
-                path.display()
-            ));
+            return Err(NoiseFileError::Invalid {
+                path: path.to_path_buf(),
+            });
         }
         if !is_stable(&m.c, 1.0) {
-            return Err(format!(
-                "{}: the noise numerator c has a root on or outside the unit circle (unstable predictor)",
-                path.display()
-            ));
+            return Err(NoiseFileError::UnstablePredictor {
+                path: path.to_path_buf(),
+            });
         }
         Ok(m)
     }
@@ -326,13 +379,12 @@ impl InnovationForm {
 }
 
 /// One-line report of one-step-ahead predictions against measurements.
-pub fn prediction_report(meas: &[f64], pred: &[f64], sigma2: f64) -> Result<String, String> {
+pub fn prediction_report(meas: &[f64], pred: &[f64], sigma2: f64) -> Result<String, UndefinedFit> {
     let f = crate::report::fit(meas, pred);
     if !f.nrmse.is_finite() {
-        return Err(format!(
-            "the measured output is constant over the {} samples compared: NRMSE and fit are undefined",
-            meas.len()
-        ));
+        return Err(UndefinedFit {
+            samples: meas.len(),
+        });
     }
     Ok(format!(
         "one-step prediction fit on {} samples: RMSE {:.6}, NRMSE {:.4}, fit {:.2} % (model innovation std {:.6})",

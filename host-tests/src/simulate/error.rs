@@ -1,6 +1,5 @@
 //! What can go wrong while reading a plant specification or simulating.
 
-use std::fmt;
 use std::path::PathBuf;
 
 use crate::io::IoError;
@@ -11,15 +10,17 @@ use crate::units::TimeError;
 ///
 /// `Display` gives one line that names the field (a dotted path into the specification, e.g.
 /// `plant.zeta`) or the line of the input file, what is wrong, and what to do.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum SimulateError {
     /// The specification is not valid JSON.
+    #[error("not valid JSON: {reason}")]
     Json {
         /// The parser's message (with line and column).
         reason: String,
     },
     /// The specification is not valid JSON or does not fit the format (an unknown field, a
     /// wrong type, a missing field).
+    #[error("field \"{field}\": {reason}")]
     Format {
         /// Dotted path of the offending place (`.` for the top level).
         field: String,
@@ -27,6 +28,7 @@ pub enum SimulateError {
         reason: String,
     },
     /// A number of the specification is out of its range.
+    #[error("field \"{field}\": {value} is out of range: it must be {must}")]
     OutOfRange {
         /// Dotted path of the field.
         field: String,
@@ -36,6 +38,7 @@ pub enum SimulateError {
         must: &'static str,
     },
     /// A field is required by the other fields given.
+    #[error("field \"{field}\" is missing: {why}")]
     Missing {
         /// Dotted path of the missing field.
         field: String,
@@ -43,6 +46,7 @@ pub enum SimulateError {
         why: &'static str,
     },
     /// Fields were given that cannot go together.
+    #[error("field \"{field}\": {why}; remove it")]
     Conflict {
         /// Dotted path of the field that is not used.
         field: String,
@@ -50,6 +54,7 @@ pub enum SimulateError {
         why: String,
     },
     /// Knots that do not increase strictly, or knot and value lists of different lengths.
+    #[error("field \"{field}\": {reason}")]
     Knots {
         /// Dotted path of the knot list.
         field: String,
@@ -57,6 +62,9 @@ pub enum SimulateError {
         reason: String,
     },
     /// The discrete-time plant (or noise filter) has a pole on or outside the unit circle.
+    #[error(
+        "field \"{field}\": unstable (a pole of modulus {radius:.6} >= 1); give a stable plant"
+    )]
     Unstable {
         /// Dotted path of the transfer function.
         field: String,
@@ -64,6 +72,7 @@ pub enum SimulateError {
         radius: f64,
     },
     /// A transfer function the simulator refuses (empty or non-finite coefficients).
+    #[error("field \"{field}\": {reason}")]
     TransferFunction {
         /// Dotted path of the transfer function.
         field: String,
@@ -71,9 +80,13 @@ pub enum SimulateError {
         reason: String,
     },
     /// An input value outside the model's interval, without `--extrapolate`.
+    #[error(
+        "{file} line {line}: u = {value} lies outside the model's interval [{lo}, {hi}]; \
+         keep the input inside it or pass --extrapolate"
+    )]
     InputOutsideModel {
         /// The input file (`<stdin>` for standard input).
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the input file.
         line: usize,
         /// The value.
@@ -84,90 +97,27 @@ pub enum SimulateError {
         hi: f64,
     },
     /// The time column is not a time axis (it does not increase strictly).
-    Time(TimeError),
+    #[error("{0}")]
+    Time(#[from] TimeError),
     /// Coloured noise from the model was requested but the model file has no noise model.
+    #[error("the model file has no noise model (\"noise\" is null): use --noise-colour white")]
     NoNoiseModel,
     /// Coloured noise from the model of an integrating plant was requested: its noise model
     /// describes the output's increments, not the output.
+    #[error(
+        "the model integrates (\"integrating\": true): its noise model describes the output's increments, not the output; use --noise-colour white with --noise-snr DB or --noise-std S"
+    )]
     IncrementsNoiseModel,
     /// White noise was requested without a level.
+    #[error("white noise needs a level: give --noise-snr DB or --noise-std S")]
     NoNoiseLevel,
     /// The noise-free output is constant over the record: no SNR can be met.
+    #[error(
+        "the noise-free output is constant over the record, so no SNR can be met; \
+         give a noise standard deviation instead"
+    )]
     ConstantOutput,
     /// The input file could not be read.
-    Io(IoError),
-}
-
-impl fmt::Display for SimulateError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Json { reason } => write!(f, "not valid JSON: {reason}"),
-            Self::Format { field, reason } => write!(f, "field \"{field}\": {reason}"),
-            Self::OutOfRange { field, value, must } => write!(
-                f,
-                "field \"{field}\": {value} is out of range: it must be {must}"
-            ),
-            Self::Missing { field, why } => write!(f, "field \"{field}\" is missing: {why}"),
-            Self::Conflict { field, why } => write!(f, "field \"{field}\": {why}; remove it"),
-            Self::Knots { field, reason } => write!(f, "field \"{field}\": {reason}"),
-            Self::Unstable { field, radius } => write!(
-                f,
-                "field \"{field}\": unstable (a pole of modulus {radius:.6} >= 1); give a stable plant"
-            ),
-            Self::TransferFunction { field, reason } => write!(f, "field \"{field}\": {reason}"),
-            Self::InputOutsideModel {
-                source,
-                line,
-                value,
-                lo,
-                hi,
-            } => write!(
-                f,
-                "{} line {line}: u = {value} lies outside the model's interval [{lo}, {hi}]; \
-                 keep the input inside it or pass --extrapolate",
-                source.display()
-            ),
-            Self::Time(e) => write!(f, "{e}"),
-            Self::NoNoiseModel => write!(
-                f,
-                "the model file has no noise model (\"noise\" is null): use --noise-colour white"
-            ),
-            Self::IncrementsNoiseModel => write!(
-                f,
-                "the model integrates (\"integrating\": true): its noise model describes the output's increments, not the output; use --noise-colour white with --noise-snr DB or --noise-std S"
-            ),
-            Self::NoNoiseLevel => write!(
-                f,
-                "white noise needs a level: give --noise-snr DB or --noise-std S"
-            ),
-            Self::ConstantOutput => write!(
-                f,
-                "the noise-free output is constant over the record, so no SNR can be met; \
-                 give a noise standard deviation instead"
-            ),
-            Self::Io(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for SimulateError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            Self::Io(e) => Some(e),
-            Self::Time(e) => Some(e),
-            _ => None,
-        }
-    }
-}
-
-impl From<TimeError> for SimulateError {
-    fn from(e: TimeError) -> Self {
-        Self::Time(e)
-    }
-}
-
-impl From<IoError> for SimulateError {
-    fn from(e: IoError) -> Self {
-        Self::Io(e)
-    }
+    #[error("{0}")]
+    Io(#[from] IoError),
 }

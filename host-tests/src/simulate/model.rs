@@ -80,7 +80,7 @@ fn check_range(model: &HostModel, input: &InputRecord) -> Result<(), SimulateErr
     let (lo, hi) = (model.u_min(), model.u_max());
     match input.u.iter().position(|v| !(lo..=hi).contains(v)) {
         Some(i) => Err(SimulateError::InputOutsideModel {
-            source: input.source.clone(),
+            file: input.source.clone(),
             line: input.lines[i],
             value: input.u[i],
             lo,

@@ -1,7 +1,6 @@
 //! A plant specification read from its file: bounded in size (a specification is a few hundred
 //! bytes; a larger file is refused before it is read) and every error naming the file.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use super::error::SimulateError;
@@ -12,35 +11,24 @@ use crate::io::{FileError, LimitedReadError, TooLarge, read_to_string_limited};
 pub const MAX_SPEC_BYTES: u64 = 1 << 20;
 
 /// Why a specification file could not be used.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum SpecFileError {
     /// The file could not be opened or read, or is not UTF-8.
+    #[error(transparent)]
     File(FileError),
     /// The file is larger than [`MAX_SPEC_BYTES`]; it was not read.
-    TooLarge(TooLarge),
+    #[error("{0}: a plant specification is a few hundred bytes; is this the right file?")]
+    TooLarge(#[source] TooLarge),
     /// The text is not a valid specification.
+    #[error("{path}: {error}")]
     Spec {
         /// The file.
         path: PathBuf,
         /// What is wrong, naming the field.
+        #[source]
         error: SimulateError,
     },
 }
-
-impl fmt::Display for SpecFileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::File(e) => write!(f, "{e}"),
-            Self::TooLarge(e) => write!(
-                f,
-                "{e}: a plant specification is a few hundred bytes; is this the right file?"
-            ),
-            Self::Spec { path, error } => write!(f, "{}: {error}", path.display()),
-        }
-    }
-}
-
-impl std::error::Error for SpecFileError {}
 
 impl PlantSpec {
     /// Reads and checks the specification in `path` ([`PlantSpec::from_json_str`]).

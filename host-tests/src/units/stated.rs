@@ -34,25 +34,37 @@ impl fmt::Display for UnitsOrigin {
 }
 
 /// Units that cannot be used.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum UnitsError {
     /// A header comment `# input unit =` (or output) with nothing after the `=`.
+    #[error(
+        "{file} line {line}: a unit comment without a unit; write e.g. `# input unit = V` or drop the line"
+    )]
     EmptyComment {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the comment.
         line: usize,
     },
     /// The header states one signal's unit but not the other's.
+    #[error(
+        "{file} line {line}: the header states the {stated} unit but not the {other} unit; \
+         add `# {other} unit = …` or drop the line",
+        other = other_signal(.stated)
+    )]
     HalfComment {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the comment that is there.
         line: usize,
         /// The signal whose unit is stated (`"input"` or `"output"`).
         stated: &'static str,
     },
     /// Two sources state different units.
+    #[error(
+        "{} give u in {} and y in {} but {} give u in {} and y in {}; drop one or make them agree",
+        .first.0, .first.1.input, .first.1.output, .second.0, .second.1.input, .second.1.output
+    )]
     Disagree {
         /// The first source and its units.
         first: Box<(UnitsOrigin, Units)>,
@@ -61,41 +73,10 @@ pub enum UnitsError {
     },
 }
 
-impl fmt::Display for UnitsError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::EmptyComment { source, line } => write!(
-                f,
-                "{} line {line}: a unit comment without a unit; write e.g. `# input unit = V` or drop the line",
-                source.display()
-            ),
-            Self::HalfComment {
-                source,
-                line,
-                stated,
-            } => {
-                let other = if *stated == "input" {
-                    "output"
-                } else {
-                    "input"
-                };
-                write!(
-                    f,
-                    "{} line {line}: the header states the {stated} unit but not the {other} unit; \
-                     add `# {other} unit = …` or drop the line",
-                    source.display()
-                )
-            }
-            Self::Disagree { first, second } => write!(
-                f,
-                "{} give u in {} and y in {} but {} give u in {} and y in {}; drop one or make them agree",
-                first.0, first.1.input, first.1.output, second.0, second.1.input, second.1.output
-            ),
-        }
-    }
+/// The signal whose unit a half comment leaves out.
+fn other_signal(stated: &str) -> &'static str {
+    if stated == "input" { "output" } else { "input" }
 }
-
-impl std::error::Error for UnitsError {}
 
 /// The units a record's header comments state (the lines starting with `#` before the first
 /// other line): `# input unit = V` and `# output unit = deg`, both or neither.
@@ -109,14 +90,14 @@ pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, U
         };
         if c.value.is_empty() {
             return Err(UnitsError::EmptyComment {
-                source: source.to_path_buf(),
+                file: source.to_path_buf(),
                 line: c.line,
             });
         }
         *slot = Some((c.line, c.value.to_string()));
     }
     let half = |line, stated| UnitsError::HalfComment {
-        source: source.to_path_buf(),
+        file: source.to_path_buf(),
         line,
         stated,
     };
@@ -179,7 +160,7 @@ mod tests {
         assert_eq!(
             e,
             Err(UnitsError::HalfComment {
-                source: "r.csv".into(),
+                file: "r.csv".into(),
                 line: 2,
                 stated: "output"
             })
@@ -189,7 +170,7 @@ mod tests {
         assert_eq!(
             e,
             Err(UnitsError::EmptyComment {
-                source: "r.csv".into(),
+                file: "r.csv".into(),
                 line: 1
             })
         );

@@ -37,9 +37,10 @@ impl fmt::Display for Origin {
 }
 
 /// A sample time that cannot be used.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TimeError {
     /// Zero, negative or not finite.
+    #[error("{origin}: sample time {value} s; it must be a positive number of seconds")]
     NotPositive {
         /// Where it was stated.
         origin: Origin,
@@ -47,14 +48,19 @@ pub enum TimeError {
         value: f64,
     },
     /// A time column with fewer than two rows.
+    #[error("{file}: the time column has fewer than two rows, so it gives no sample time")]
     TooShort {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
     },
     /// A time column that does not increase strictly.
+    #[error(
+        "{file} line {line}: time {value} does not increase (the row before has {previous}); \
+         sort the record or drop the time column"
+    )]
     NotIncreasing {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the offending row.
         line: usize,
         /// Its time.
@@ -63,9 +69,17 @@ pub enum TimeError {
         previous: f64,
     },
     /// A time column whose step differs from the mean step by more than [`TS_TOLERANCE`].
+    #[error(
+        "{file} line {line}: time step {} differs from the mean step {} by more than \
+         {} %; the method needs uniform sampling (resample the record, or split it \
+         at the gap into several --data files)",
+        significant(*.step),
+        significant(*.ts),
+        TS_TOLERANCE * 100.0
+    )]
     NotUniform {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the offending row.
         line: usize,
         /// The step to that row.
@@ -74,15 +88,23 @@ pub enum TimeError {
         ts: f64,
     },
     /// A header comment `# ts = … s` whose value is not a number.
+    #[error(
+        "{file} line {line}: the comment `{text}` states no sample time: write it as \
+         `# ts = 0.01 s` (seconds) or remove it"
+    )]
     BadComment {
         /// The record.
-        source: PathBuf,
+        file: PathBuf,
         /// 1-based line of the comment.
         line: usize,
         /// The comment's text.
         text: String,
     },
     /// Two sources state different sample times.
+    #[error(
+        "{} gives a sample time of {} s but {} gives {} s; drop one or make them agree",
+        .first.0, .first.1, .second.0, .second.1
+    )]
     Disagree {
         /// The first source and its value.
         first: (Origin, f64),
@@ -90,61 +112,6 @@ pub enum TimeError {
         second: (Origin, f64),
     },
 }
-
-impl fmt::Display for TimeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::NotPositive { origin, value } => write!(
-                f,
-                "{origin}: sample time {value} s; it must be a positive number of seconds"
-            ),
-            Self::TooShort { source } => write!(
-                f,
-                "{}: the time column has fewer than two rows, so it gives no sample time",
-                source.display()
-            ),
-            Self::NotIncreasing {
-                source,
-                line,
-                value,
-                previous,
-            } => write!(
-                f,
-                "{} line {line}: time {value} does not increase (the row before has {previous}); \
-                 sort the record or drop the time column",
-                source.display()
-            ),
-            Self::NotUniform {
-                source,
-                line,
-                step,
-                ts,
-            } => write!(
-                f,
-                "{} line {line}: time step {} differs from the mean step {} by more than \
-                 {} %; the method needs uniform sampling (resample the record, or split it \
-                 at the gap into several --data files)",
-                source.display(),
-                significant(*step),
-                significant(*ts),
-                TS_TOLERANCE * 100.0
-            ),
-            Self::BadComment { source, line, text } => write!(
-                f,
-                "{} line {line}: the comment `{text}` states no sample time: write it as \
-                 `# ts = 0.01 s` (seconds) or remove it",
-                source.display()
-            ),
-            Self::Disagree { first, second } => write!(
-                f,
-                "{} gives a sample time of {} s but {} gives {} s; drop one or make them agree",
-                first.0, first.1, second.0, second.1
-            ),
-        }
-    }
-}
-
-impl std::error::Error for TimeError {}
 
 /// `v` with six significant digits (a time step read from text carries rounding noise).
 fn significant(v: f64) -> String {
@@ -165,17 +132,17 @@ pub fn checked_ts(ts: f64, origin: Origin) -> Result<f64, TimeError> {
 /// uniform within [`TS_TOLERANCE`]; `lines` are the rows' 1-based lines, for the errors.
 pub fn ts_from_column(source: PathBuf, t: &[f64], lines: &[usize]) -> Result<f64, TimeError> {
     let (Some(first), Some(last)) = (t.first(), t.last()) else {
-        return Err(TimeError::TooShort { source });
+        return Err(TimeError::TooShort { file: source });
     };
     if t.len() < 2 {
-        return Err(TimeError::TooShort { source });
+        return Err(TimeError::TooShort { file: source });
     }
     strictly_increasing(&source, t, lines)?;
     let line = |i: usize| lines.get(i).copied().unwrap_or(i + 1);
     let ts = (last - first) / (t.len() - 1) as f64;
     if let Some(i) = (1..t.len()).find(|&i| ((t[i] - t[i - 1]) - ts).abs() > TS_TOLERANCE * ts) {
         return Err(TimeError::NotUniform {
-            source,
+            file: source,
             line: line(i),
             step: t[i] - t[i - 1],
             ts,
@@ -193,7 +160,7 @@ pub fn ts_from_comments(source: &Path, text: &str) -> Result<Option<f64>, TimeEr
         return Ok(None);
     };
     let bad = || TimeError::BadComment {
-        source: source.to_path_buf(),
+        file: source.to_path_buf(),
         line: c.line,
         text: c.text.to_string(),
     };
@@ -208,7 +175,7 @@ pub fn strictly_increasing(source: &Path, t: &[f64], lines: &[usize]) -> Result<
     match (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
         None => Ok(()),
         Some(i) => Err(TimeError::NotIncreasing {
-            source: source.to_path_buf(),
+            file: source.to_path_buf(),
             line: lines.get(i).copied().unwrap_or(i + 1),
             value: t[i],
             previous: t[i - 1],
