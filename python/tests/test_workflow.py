@@ -29,10 +29,14 @@ def cli_json(cli, tmp_path, csv, *flags):
 
 @pytest.fixture(scope="module")
 def inner_loops(cli, tmp_path_factory):
-    """The servo of the documentation driven by an input that reverses inside [-1, 1] (two
-    sines, not the Table I sweeps), after a hold of 300 samples at -1."""
-    t = np.arange(3000)
-    u = 0.6 * np.sin(2 * np.pi * t / 400) + 0.3 * np.sin(2 * np.pi * t / 97 + 1.0)
+    """The servo of the documentation driven by an input that reverses inside [-1, 1] (random
+    levels held 25 samples, a fifth of them at an end, smoothed over 10 samples: not the
+    Table I sweeps), after a hold of 300 samples at -1."""
+    rng = np.random.default_rng(3)
+    levels = rng.uniform(-1.0, 1.0, 121)
+    ends = rng.random(levels.size) < 0.2
+    levels[ends] = rng.choice([-1.0, 1.0], ends.sum())
+    u = np.convolve(np.repeat(levels, 25)[:3000], np.ones(10) / 10, mode="same")
     u[:300] = -1.0
     path = tmp_path_factory.mktemp("inner") / "u.csv"
     write_csv(path, {"u": u})
@@ -57,10 +61,10 @@ def test_the_element_fit_route_is_the_same_in_python(inner_loops, cli, tmp_path)
     assert len(fit_notes) == 1, model.notes
     assert 'fit="none" keeps the two-path model' in fit_notes[0]
     # The play's gap is the servo's 0.2 V: the model simulates the play itself.
-    assert abs(model.gap("ascending", 0.0) - 0.2) < 0.03
+    assert abs(model.gap_at("ascending", 0.0) - 0.2) < 0.05
     sim = model.simulate(u)
     nrmse = np.sqrt(np.mean((sim[300:] - y[300:]) ** 2)) / np.std(y[300:])
-    assert nrmse < 0.25, nrmse
+    assert nrmse < 0.15, nrmse
     none = hsid.identify(u, y, -1.0, 1.0, fit="none")
     assert '"element"' not in none.to_json()
     with pytest.raises(hsid.SettingsError) as e:
