@@ -13,6 +13,7 @@
 
 pub mod additions;
 pub mod class;
+pub mod clean;
 pub mod closed_loop;
 pub mod element;
 pub mod generate;
