@@ -9,8 +9,8 @@ use super::closed_loop;
 use super::element::{Element, Kind};
 use super::noise::{Noise, noise, rms, sigma_for, snr_db, variance};
 use super::scenario::{Design, ESTIMATION, HOLD, SEGMENTS, Scenario, VALIDATION};
-use crate::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation};
-use crate::identify::IdentifyOptions;
+use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation};
+use hsid_host::identify::IdentifyOptions;
 
 /// What the scenario really is.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,6 +1,6 @@
 //! The input of one record and its noise-free output: what both the open loop
-//! ([`super::generate`]) and the closed loop ([`super::closed_loop`]) simulate before the noise
-//! and the class's additions are put on.
+//! ([`generate`](mod@super::generate)) and the closed loop ([`super::closed_loop`]) simulate
+//! before the noise and the class's additions are put on.
 
 /// The input of one record and its noise-free output.
 #[derive(Clone, Debug, PartialEq)]
