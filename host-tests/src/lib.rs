@@ -6,10 +6,8 @@
 pub mod choose;
 pub mod closed_loop;
 pub mod diagnose;
-pub mod family_b;
 pub mod figures;
 pub mod fleet;
-pub mod generality;
 pub mod html;
 pub mod hysteresis;
 pub mod identify;

@@ -152,21 +152,59 @@ fn validate_reads_what_every_command_writes() {
     }
 }
 
+/// The first scenario family's input-delay run (`hsid-lab`'s `scenario::generate` for
+/// `input_delay`, the paper's `G`, the backlash, seed 1), repeated here sample for sample:
+/// Table I on [−2.5, 2.5] after a hold of 300 samples, the backlash
+/// `H_a(u) = 1.1 tanh(0.7 (u − 0.9))`, `H_d(u) = 1.1 tanh(0.7 (u + 0.5))`, three extra samples
+/// of transport delay after `G`, white output noise at 20 dB. Returns `(u, y)`.
+fn delayed_record() -> (Vec<f64>, Vec<f64>) {
+    use hsid_host::diagnose::{Effect, Nonlinearity};
+    use hsid_host::paper::derive_seed;
+    use hsid_host::sim::{Backlash, Nonlinearity as _, paper_plant};
+    use hsid_host::sim::{table1_excitation, variance, with_hold};
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    use rand_pcg::Pcg32;
+    let (u_min, u_max, hold, delay) = (-2.5, 2.5, 300, 3);
+    let seed = |purpose: u64| {
+        let (kind, effect) = (Nonlinearity::Backlash as u64, Effect::InputDelay as u64);
+        derive_seed(1, kind * 16, effect + 1, purpose)
+    };
+    let mut rng = Pcg32::seed_from_u64(seed(1));
+    let u = with_hold(
+        hold,
+        u_min,
+        &table1_excitation(5000, u_min, u_max, &mut rng).unwrap(),
+    );
+    let mut element = Backlash::from_fns(
+        |u| 1.1 * (0.7 * (u - 0.9)).tanh(),
+        |u| 1.1 * (0.7 * (u + 0.5)).tanh(),
+    );
+    element.reset();
+    let h: Vec<f64> = u.iter().map(|&v| element.step(v)).collect();
+    let g = paper_plant().filter(&h);
+    let lin: Vec<f64> = std::iter::repeat_n(g[0], delay)
+        .chain(g[..g.len() - delay].iter().copied())
+        .collect();
+    let v_std = (variance(&lin[hold..]) / 10f64.powf(20.0 / 10.0)).sqrt();
+    let mut noise = Pcg32::seed_from_u64(seed(2));
+    let y = lin
+        .iter()
+        .map(|l| {
+            let z: f64 = StandardNormal.sample(&mut noise);
+            l + v_std * z
+        })
+        .collect();
+    (u, y)
+}
+
 /// An effect the model file has no place for (an input delay) is named when the final model is
 /// written, and the report keeps it beside the model.
 #[test]
 fn diagnose_names_what_the_model_file_leaves_out() {
-    use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
-    use hsid_host::diagnose::{Effect, Nonlinearity};
     let dir = Scratch::new("model-format-delay");
-    let s = Scenario::new(
-        Some(Effect::InputDelay),
-        Plant::Paper,
-        Nonlinearity::Backlash,
-        1,
-    );
-    let d = generate(&s).unwrap();
-    let data = dir.write_uy("delay.csv", &d.record.u, &d.record.y);
+    let (u, y) = delayed_record();
+    let data = dir.write_uy("delay.csv", &u, &y);
     let (model, report) = (dir.join("m.json"), dir.join("r.json"));
     let args = [
         "diagnose",

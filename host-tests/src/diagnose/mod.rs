@@ -24,15 +24,13 @@
 //!    reporting the validation error before and after every step;
 //! 6. reports ([`report`]) and draws ([`figures`]).
 //!
-//! The validation data never choose anything: they are only scored. [`scenario`] simulates
-//! Table I experiments with one undeclared effect, for the tests and the confusion table, and
-//! two-tank plants for the stores.
+//! The validation data never choose anything: they are only scored. The simulated scenarios
+//! of the tests and the confusion tables are in the crate `hsid-lab`.
 
 use crate::identify::{IdentifyError, IdentifyOptions};
 
 pub mod arx;
 pub mod base_order;
-pub mod bench;
 pub mod checks;
 pub mod delay;
 pub mod diagnosis;
@@ -50,7 +48,6 @@ pub mod options;
 pub mod output_map;
 pub mod report;
 pub mod residual;
-pub mod scenario;
 pub mod scoring;
 pub mod segments;
 pub mod simulate;

@@ -7,13 +7,10 @@
 //! * [`select`]: the information criteria and the choice of the best candidate;
 //! * [`poly`]: polynomials in `q⁻¹`, their roots, and the observer form;
 //! * [`direction`]: the paper's direction signal δ(t) through the core's [`hsid::Direction`];
-//! * [`hat`]: the hat basis on a knot sequence (segment and weights of an input);
-//! * [`displacement`]: PI-MOESP's Schur complements from the lagged sums by the generalised
-//!   Schur algorithm (a reference for a structured onboard solve).
+//! * [`hat`]: the hat basis on a knot sequence (segment and weights of an input).
 
 pub mod ar;
 pub mod direction;
-pub mod displacement;
 pub mod hat;
 pub mod lm;
 pub mod lstsq;

@@ -6,12 +6,9 @@ use std::fmt::Write as _;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::diagnose;
-use super::effects::Effect;
-use super::error::DiagnoseError;
-use super::model::Metric;
-use super::options::{DiagnoseOptions, Proposing};
-use super::scenario::{Scenario, generate};
+use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Effect, Metric, Proposing, diagnose};
+
+use crate::scenario::{Scenario, generate};
 
 /// The outcome of one scenario.
 #[derive(Clone, Debug)]
@@ -48,7 +45,7 @@ pub struct StepOutcome {
     pub error_before: f64,
     /// Validation error after the step.
     pub error_after: f64,
-    /// One-sided p-value of a raise ([`Step::p_worse`](crate::diagnose::Step::p_worse)).
+    /// One-sided p-value of a raise ([`Step::p_worse`](hsid_host::diagnose::Step::p_worse)).
     pub p_worse: f64,
 }
 
@@ -334,8 +331,8 @@ mod tests {
                 Ok(v) => return Err(format!("{bad:?} taken as {v:?}")),
             }
         }
-        let id = crate::identify::IdentifyOptions::uniform(0.0, 1.0, 4, 0);
-        let mut o = DiagnoseOptions::new(id, crate::diagnose::Nonlinearity::Static);
+        let id = hsid_host::identify::IdentifyOptions::uniform(0.0, 1.0, 4, 0);
+        let mut o = DiagnoseOptions::new(id, hsid_host::diagnose::Nonlinearity::Static);
         assert_eq!(o.proposing, Proposing::WithEvidence);
         BenchSettings {
             min_gain: Some(0.05),

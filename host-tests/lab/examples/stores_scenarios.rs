@@ -1,12 +1,12 @@
-//! `hsid diagnose` on simulated two-tank plants ([`hsid_host::diagnose::scenario::TwoTanks`]):
+//! `hsid diagnose` on simulated two-tank plants ([`hsid_lab::scenario::TwoTanks`]):
 //! square-root outflows with an overflowing upper tank (the level-dependent stores should be
 //! named first) and linear outflows (they should not be added), over seeds and noise levels.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example stores_scenarios [SEEDS]
+//! cargo run --release -p hsid-lab --example stores_scenarios [SEEDS]
 //! ```
 
-use hsid_host::diagnose::scenario::{Outflow, TwoTanks};
+use hsid_lab::scenario::{Outflow, TwoTanks};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seeds: u64 = std::env::args().nth(1).map_or(Ok(4), |s| s.parse())?;

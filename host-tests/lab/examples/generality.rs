@@ -1,4 +1,4 @@
-//! The generality benchmark: `cargo run --release -p hsid-host --example generality -- [PLANTS]
+//! The generality benchmark: `cargo run --release -p hsid-lab --example generality -- [PLANTS]
 //! [SEED]` (default 40 plants, seed 1) prints, per plant, the true order, the chosen order and
 //! the validation NRMSE over the noise floor for the paper's estimator (PI-MOESP, 7 segments
 //! per path, f = p = 10, the subspace order) and the desktop default (`hsid identify` without
@@ -6,7 +6,7 @@
 //! `-- PLANTS SEED diagnose` adds the base model of `hsid diagnose` at its defaults.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::generality::{
+use hsid_lab::generality::{
     Estimator, Row, confusion, default_estimate, diagnose_estimate, paper_estimate, run_case, table,
 };
 

@@ -1,11 +1,11 @@
 //! `hsid diagnose` on simulated two-tank plants ([`TwoTanks`], integrated independently of the
 //! model class): with square-root outflows and an overflowing upper tank the level-dependent
 //! stores must be named first and fix the model; with linear outflows they must not be added.
-//! The table over seeds and noise levels: `cargo run --release -p hsid-host --example
+//! The table over seeds and noise levels: `cargo run --release -p hsid-lab --example
 //! stores_scenarios`.
 
-use hsid_host::diagnose::scenario::{Outflow, TwoTanks};
 use hsid_host::diagnose::{Diagnosis, Effect};
+use hsid_lab::scenario::{Outflow, TwoTanks};
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
 

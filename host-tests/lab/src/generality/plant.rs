@@ -3,7 +3,7 @@
 
 use rand::{Rng, RngExt};
 
-use crate::sim::{Lti, SimError};
+use hsid_host::sim::{Lti, SimError};
 
 /// A random plant and the poles it was built from.
 #[derive(Clone, Debug)]

@@ -2,12 +2,12 @@
 //! the matching `hsid diagnose` options on stderr.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example scenario -- EFFECT|clean paper|first backlash|switch SEED > data.csv
+//! cargo run --release -p hsid-lab --example scenario -- EFFECT|clean paper|first backlash|switch SEED > data.csv
 //! ```
 
-use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
 use hsid_host::diagnose::{Effect, Nonlinearity};
 use hsid_host::io::write_columns_to;
+use hsid_lab::scenario::{Plant, Scenario, generate};
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();

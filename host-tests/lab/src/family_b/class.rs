@@ -1,7 +1,7 @@
 //! The scenario classes and, in one place, what the diagnosis must do on each to count as
 //! "named right".
 
-use crate::diagnose::{Check, Effect};
+use hsid_host::diagnose::{Check, Effect};
 
 /// The true class of a scenario: clean, one catalog effect, or one of the classes beyond it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -1,16 +1,16 @@
-//! The second scenario family (`hsid_host::family_b`): its generator's truths against
+//! The second scenario family (`hsid_lab::family_b`): its generator's truths against
 //! independent computations, and diagnosis outcomes on a few fixed seeds.
 
 #![allow(clippy::panic)]
 
 use hsid_host::diagnose::{Check, Effect, Validation, checks::feedback::feedback_test};
-use hsid_host::family_b::element::{Borders, Element, Kind};
-use hsid_host::family_b::input::InputKind;
-use hsid_host::family_b::noise::{Colour, noise, variance};
-use hsid_host::family_b::plant::{Plant, Section};
-use hsid_host::family_b::rng::Rng;
-use hsid_host::family_b::scenario::HOLD;
-use hsid_host::family_b::{Class, Scenario, generate, run_adjusted, run_one};
+use hsid_lab::family_b::element::{Borders, Element, Kind};
+use hsid_lab::family_b::input::InputKind;
+use hsid_lab::family_b::noise::{Colour, noise, variance};
+use hsid_lab::family_b::plant::{Plant, Section};
+use hsid_lab::family_b::rng::Rng;
+use hsid_lab::family_b::scenario::HOLD;
+use hsid_lab::family_b::{Class, Scenario, generate, run_adjusted, run_one};
 
 /// Every class, seeds 1–4: the realised ratio of the estimation record within 1 dB of the
 /// target, the target in 10–40 dB, the declared order (the drawn order cycles through 1–4,
@@ -186,7 +186,7 @@ fn closed_loop_records_have_feedback_by_the_check() {
 }
 
 /// The noise-free output of a static-element record, simulated again from its input.
-fn clean_output(d: &hsid_host::family_b::Data) -> Vec<f64> {
+fn clean_output(d: &hsid_lab::family_b::Data) -> Vec<f64> {
     let design = &d.truth.design;
     let mut el = Element::new(design.kind, design.borders.clone(), design.range.0);
     el.next(design.range.0);

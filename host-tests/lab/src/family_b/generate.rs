@@ -4,12 +4,13 @@
 
 use super::additions::{Additions, clip_level, curve_of};
 use super::class::Class;
+use super::clean::Clean;
 use super::closed_loop;
 use super::element::{Element, Kind};
 use super::noise::{Noise, noise, rms, sigma_for, snr_db, variance};
 use super::scenario::{Design, ESTIMATION, HOLD, SEGMENTS, Scenario, VALIDATION};
-use crate::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation};
-use crate::identify::IdentifyOptions;
+use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation};
+use hsid_host::identify::IdentifyOptions;
 
 /// What the scenario really is.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,15 +43,6 @@ pub struct Data {
     pub options: DiagnoseOptions,
     /// The truth.
     pub truth: Truth,
-}
-
-/// The input of one record and its noise-free output.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Clean {
-    /// Input.
-    pub u: Vec<f64>,
-    /// Noise-free output.
-    pub y: Vec<f64>,
 }
 
 /// Simulates a scenario.

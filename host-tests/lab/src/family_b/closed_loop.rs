@@ -5,6 +5,7 @@
 
 use nalgebra::DVector;
 
+use super::clean::Clean;
 use super::element::Element;
 use super::noise::{Noise, noise, sigma_for, variance};
 use super::plant::{Discrete, Section};
@@ -32,7 +33,7 @@ pub fn records(
     s: &Scenario,
     d: &Design,
     lens: [(usize, usize); 2],
-) -> (Vec<super::generate::Clean>, Vec<Noise>, f64) {
+) -> (Vec<Clean>, Vec<Noise>, f64) {
     let plant = d.plant.sampled(d.ts);
     let references: Vec<Vec<f64>> = lens
         .iter()
@@ -52,7 +53,7 @@ pub fn records(
     for (k, r) in references.iter().enumerate() {
         let n = noise(&mut s.rng(4 + k as u64), d.colour, sigma, r.len());
         let (u, y) = run(d, &plant, r, &n.v, lens[k].0);
-        clean.push(super::generate::Clean { u, y });
+        clean.push(Clean { u, y });
         noises.push(n);
     }
     (clean, noises, sigma)

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::class::{Class, Expect};
 use super::run::Outcome;
-use crate::diagnose::{Check, Effect};
+use hsid_host::diagnose::{Check, Effect};
 
 /// The data checks shown beside the table.
 pub const CHECKS: [Check; 3] = [Check::Feedback, Check::Integrating, Check::OutputSaturation];

@@ -1,10 +1,10 @@
 //! The confusion table of `hsid diagnose` on the second scenario family
-//! ([`hsid_host::family_b`]): clean runs, the catalog's effects, and a backlash or switch
+//! ([`hsid_lab::family_b`]): clean runs, the catalog's effects, and a backlash or switch
 //! behind a static model, a closed loop, an integrating plant and a saturating output, over
 //! plants of orders 1–4, three sample times, 10–40 dB, Table I and ordinary inputs.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example confusion_b -- [--min-gain G] [--propose-every] [SEEDS] [CLEAN_SEEDS] [THREADS] [CLASS [SEED]]
+//! cargo run --release -p hsid-lab --example confusion_b -- [--min-gain G] [--propose-every] [SEEDS] [CLEAN_SEEDS] [THREADS] [CLASS [SEED]]
 //! ```
 //!
 //! Prints one line per run (stderr), then the table (true class × named first, with the
@@ -21,12 +21,12 @@
 //! effect, with or without a residual test's evidence (`Proposing::Every`): the measurements
 //! of what the estimation data can show in docs/closing-the-loop.md.
 
-use hsid_host::diagnose::bench::take_bench_flags;
 use hsid_host::diagnose::{DiagnoseOptions, diagnose, report};
-use hsid_host::family_b::generate::generate;
-use hsid_host::family_b::run::{family, run_all};
-use hsid_host::family_b::scenario::Scenario;
-use hsid_host::family_b::table::{confusion_table, summary};
+use hsid_lab::bench::take_bench_flags;
+use hsid_lab::family_b::generate::generate;
+use hsid_lab::family_b::run::{family, run_all};
+use hsid_lab::family_b::scenario::Scenario;
+use hsid_lab::family_b::table::{confusion_table, summary};
 
 /// Prints the whole diagnosis report of one scenario (diagnosed again, for the filter).
 fn print_report(s: &Scenario, adjust: &dyn Fn(&mut DiagnoseOptions)) {

@@ -1,5 +1,5 @@
 //! The generality benchmark in its reduced form (the full table: `cargo run --release -p
-//! hsid-host --example generality`): the first 12 plants of family 1 — orders 1–4, backlash and
+//! hsid-lab --example generality`): the first 12 plants of family 1 — orders 1–4, backlash and
 //! switch, 10 and 20 dB, white and coloured noise — with the goal asserted for the
 //! desktop default: within 1.15× the noise floor on at least 95 % of the plants (here: all 12),
 //! never worse than 1.5×, for `hsid identify`'s default and for the base model of `hsid
@@ -7,7 +7,7 @@
 //! defaults buy.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::generality::{
+use hsid_lab::generality::{
     Row, default_estimate, diagnose_estimate, paper_estimate, run_case, table,
 };
 

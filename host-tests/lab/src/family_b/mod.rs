@@ -1,5 +1,5 @@
 //! A second scenario family for the diagnosis's confusion table, written apart from
-//! [`crate::diagnose::scenario`]: its own plants (continuous cascades of orders 1–4 with real
+//! [`crate::scenario`]: its own plants (continuous cascades of orders 1–4 with real
 //! and complex poles, sampled at 0.05, 0.1 or 0.2 s), elements (static curve, play operator,
 //! switch on piecewise-linear borders), inputs (Table I, smoothed random, multisine), noise
 //! (white, AR(1), MA(2) at 10–40 dB) and classes: clean, the catalog's effects, and a
@@ -13,6 +13,7 @@
 
 pub mod additions;
 pub mod class;
+pub mod clean;
 pub mod closed_loop;
 pub mod element;
 pub mod generate;

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use super::class::Class;
 use super::generate::{Truth, generate};
 use super::scenario::Scenario;
-use crate::diagnose::{Check, DiagnoseOptions, Effect, Metric, diagnose};
+use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Metric, diagnose};
 
 /// The outcome of one scenario.
 #[derive(Clone, Debug)]
@@ -46,7 +46,7 @@ pub struct Harm {
     /// Validation error after it.
     pub after: f64,
     /// One-sided p-value of the raise (paired Diebold–Mariano on the validation samples,
-    /// [`Step::p_worse`](crate::diagnose::Step::p_worse)).
+    /// [`Step::p_worse`](hsid_host::diagnose::Step::p_worse)).
     pub p_worse: f64,
 }
 

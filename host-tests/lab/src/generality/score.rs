@@ -3,8 +3,8 @@
 use std::fmt::Write as _;
 
 use super::case::{Case, HOLD, Record};
-use crate::identify::HostModel;
-use crate::report::fit;
+use hsid_host::identify::HostModel;
+use hsid_host::report::fit;
 
 /// What an estimator returned for a case.
 #[derive(Clone, Debug)]

@@ -19,7 +19,7 @@ pub use estimators::{
 pub use plant::{Plant, random_plant};
 pub use score::{Estimate, Row, Score, confusion, score, table};
 
-use crate::sim::SimError;
+use hsid_host::sim::SimError;
 
 /// Why a case could not be simulated.
 #[derive(Debug)]

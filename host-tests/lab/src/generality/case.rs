@@ -9,7 +9,7 @@ use rand_pcg::{Pcg32, Pcg64};
 use super::BenchError;
 use super::element::{Element, Kind, random_element};
 use super::plant::{Plant, random_plant};
-use crate::sim::{Lti, SimError, simulate};
+use hsid_host::sim::{Lti, SimError, simulate};
 
 /// Samples of the initial hold at `u_min`.
 pub const HOLD: usize = 300;

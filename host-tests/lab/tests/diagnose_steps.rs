@@ -2,13 +2,13 @@
 //! effect whose extension competes with an input delay, on the first-order plant with the
 //! backlash, and one clean run), every step the diagnosis adds lowers the validation error
 //! (`Outcome::harmful` is empty), and the effect of the run is still named first. The whole
-//! table's count is `cargo run --release -p hsid-host --example confusion -- 3 10`.
+//! table's count is `cargo run --release -p hsid-lab --example confusion -- 3 10`.
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::bench::{Outcome, run_all};
-use hsid_host::diagnose::scenario::{Plant, Scenario};
 use hsid_host::diagnose::{Effect, Nonlinearity};
+use hsid_lab::bench::{Outcome, run_all};
+use hsid_lab::scenario::{Plant, Scenario};
 
 #[test]
 fn no_added_step_raises_the_validation_error() {
@@ -50,7 +50,7 @@ fn no_added_step_raises_the_validation_error() {
 #[test]
 fn the_outliers_step_re_estimates_only_when_the_estimation_data_say_so() {
     use hsid_host::diagnose::diagnose;
-    use hsid_host::diagnose::scenario::{HOLD, generate};
+    use hsid_lab::scenario::{HOLD, generate};
     let spikes = Scenario::new(
         Some(Effect::Outliers),
         Plant::Paper,

@@ -2,7 +2,7 @@
 //! effect (or none), over both plants, both elements and several seeds.
 //!
 //! ```text
-//! cargo run --release -p hsid-host --example confusion -- [--min-gain G] [--propose-every] [SEEDS] [CLEAN_SEEDS]
+//! cargo run --release -p hsid-lab --example confusion -- [--min-gain G] [--propose-every] [SEEDS] [CLEAN_SEEDS]
 //! ```
 //!
 //! `--min-gain G` runs the diagnosis with another minimum gain (`hsid diagnose --min-gain`,
@@ -15,9 +15,9 @@
 //! error.
 
 use hsid_host::diagnose::Effect;
-use hsid_host::diagnose::bench::{confusion_table, run_all, take_bench_flags};
-use hsid_host::diagnose::scenario::{Plant, Scenario};
 use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity};
+use hsid_lab::bench::{confusion_table, run_all, take_bench_flags};
+use hsid_lab::scenario::{Plant, Scenario};
 
 fn main() {
     let (bench, rest) = take_bench_flags(std::env::args().skip(1).collect()).unwrap_or_else(|e| {

@@ -3,7 +3,7 @@
 
 use rand::{Rng, RngExt};
 
-use crate::sim::{Backlash, Nonlinearity, Switch};
+use hsid_host::sim::{Backlash, Nonlinearity, Switch};
 
 /// Which element.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -4,9 +4,9 @@ use super::BenchError;
 use super::case::{Case, HOLD};
 use super::element::Kind;
 use super::score::{Estimate, Row, score};
-use crate::choose::{Choices, best_model};
-use crate::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose};
-use crate::identify::{IdentifyOptions, identify};
+use hsid_host::choose::{Choices, best_model};
+use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose};
+use hsid_host::identify::{IdentifyOptions, identify};
 
 /// Samples of each record after the hold.
 pub const SAMPLES: usize = 6000;

@@ -26,15 +26,15 @@ use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;
 
-use super::diagnosis::Diagnosis;
-use super::effects::Effect;
-use super::error::DiagnoseError;
-use super::model::Record;
-use super::options::{DiagnoseOptions, Nonlinearity, Validation};
-use crate::identify::IdentifyOptions;
-use crate::paper::derive_seed;
-use crate::sim::{Backlash, Lti, Nonlinearity as Element, Switch, paper_noise_model, paper_plant};
-use crate::sim::{table1_excitation, variance, with_hold};
+use hsid_host::diagnose::{
+    DiagnoseError, DiagnoseOptions, Diagnosis, Effect, Nonlinearity, Record, Validation,
+};
+use hsid_host::identify::IdentifyOptions;
+use hsid_host::paper::derive_seed;
+use hsid_host::sim::{
+    Backlash, Lti, Nonlinearity as Element, Switch, paper_noise_model, paper_plant,
+};
+use hsid_host::sim::{table1_excitation, variance, with_hold};
 
 /// The linear part of a scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -384,7 +384,7 @@ impl TwoTanks {
     /// record) with `options`; returns the diagnosis and the validation noise floor.
     pub fn diagnose(&self, options: &DiagnoseOptions) -> Result<(Diagnosis, f64), DiagnoseError> {
         let r = self.records();
-        let d = super::diagnose(
+        let d = hsid_host::diagnose::diagnose(
             &r.estimation,
             &Validation::Separate {
                 record: r.validation,

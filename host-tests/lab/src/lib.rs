@@ -1,0 +1,17 @@
+//! Test benches and research code of `hsid`, kept out of the product's library (`hsid-host`,
+//! which the `hsid` command line, the Python package and the fuzz targets link):
+//!
+//! * [`scenario`] and [`bench`](mod@bench): the first scenario family of the diagnosis (simulated Table I
+//!   experiments with one undeclared effect, and two-tank plants for the level-dependent
+//!   stores) and its confusion bench (examples `confusion`, `scenario`, `stores_scenarios`);
+//! * [`family_b`]: the second scenario family, written apart from the first, and its
+//!   confusion table (example `confusion_b`);
+//! * [`generality`]: the generality benchmark on random plants (example `generality`);
+//! * [`displacement`]: PI-MOESP's Schur complements from the lagged sums by the generalised
+//!   Schur algorithm, the host reference of the structured onboard solve.
+
+pub mod bench;
+pub mod displacement;
+pub mod family_b;
+pub mod generality;
+pub mod scenario;
