@@ -4,9 +4,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use hsid::Basis;
-use hsid_host::diagnose::Nonlinearity;
 use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
-use hsid_host::model_file::{NonlinearityKind, Units};
+use hsid_host::model_file::Units;
 use hsid_host::units::{
     Origin, UnitsOrigin, checked_ts, resolve_units, ts_from_column, ts_from_comments,
     units_from_comments,
@@ -133,37 +132,6 @@ impl From<BasisArg> for Basis {
         match b {
             BasisArg::Hat => Basis::Hat,
             BasisArg::Ramp => Basis::Ramp,
-        }
-    }
-}
-
-/// The input element.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum NonlinearityArg {
-    /// Backlash (play operator): two paths, Table I data.
-    Backlash,
-    /// Switch (hysteresis relay with borders): two paths.
-    Switch,
-    /// Static, memoryless: one border for both directions, any input.
-    Static,
-}
-
-impl From<NonlinearityArg> for NonlinearityKind {
-    fn from(n: NonlinearityArg) -> Self {
-        match n {
-            NonlinearityArg::Backlash => NonlinearityKind::Backlash,
-            NonlinearityArg::Switch => NonlinearityKind::Switch,
-            NonlinearityArg::Static => NonlinearityKind::Static,
-        }
-    }
-}
-
-impl From<NonlinearityArg> for Nonlinearity {
-    fn from(n: NonlinearityArg) -> Self {
-        match n {
-            NonlinearityArg::Backlash => Nonlinearity::Backlash,
-            NonlinearityArg::Switch => Nonlinearity::Switch,
-            NonlinearityArg::Static => Nonlinearity::Static,
         }
     }
 }

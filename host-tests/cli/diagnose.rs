@@ -3,6 +3,7 @@
 mod integrating;
 
 use crate::failure::{Failure, outln};
+use hsid_host::model::Element;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
@@ -20,9 +21,7 @@ use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
 use hsid_host::workflow::{Field, IdentifyRequest, Syntax};
 
-use crate::args::{
-    CsvArgs, HoldArgs, Horizons, KnotArgs, NonlinearityArg, UnitArgs, comment_units, read_record,
-};
+use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, UnitArgs, comment_units, read_record};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -78,7 +77,7 @@ pub struct DiagnoseArgs {
     pub validation_output_column: Option<String>,
     /// The input element.
     #[arg(long, value_enum, default_value = "backlash")]
-    pub nonlinearity: NonlinearityArg,
+    pub nonlinearity: Element,
     /// Lower end of the input interval (default: the smallest input of the data).
     #[arg(long, allow_hyphen_values = true)]
     pub umin: Option<f64>,
@@ -243,7 +242,7 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
     r.horizons = Some(a.horizons.or_paper());
     r.settle = a.hold.settle;
     r.mu0 = a.mu0;
-    r.element = a.nonlinearity.into();
+    r.element = a.nonlinearity;
     let plan = r.validate(a.hold.hold).map_err(|e| {
         // Knots given once for both paths are `--knots`.
         let own = match e.field {
@@ -264,7 +263,7 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
 
 /// The diagnosis settings around the identification's.
 fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, String> {
-    let mut opts = DiagnoseOptions::new(id, a.nonlinearity.into());
+    let mut opts = DiagnoseOptions::new(id, a.nonlinearity);
     opts.initial = a.initial_state.map(|i| match i {
         InitialArg::Rest => InitialState::Rest,
         InitialArg::Estimate => InitialState::Estimated,
@@ -319,7 +318,7 @@ fn refuse_bad_flags(a: &DiagnoseArgs) -> Result<(), Failure> {
     let Some(name) = &a.reference_column else {
         return Ok(());
     };
-    if a.nonlinearity == NonlinearityArg::Static {
+    if a.nonlinearity == Element::Static {
         return Err(crate::identify::reference::static_refused(name));
     }
     if a.integrating {

@@ -8,6 +8,7 @@ mod simulation;
 mod stream;
 
 use crate::failure::{Failure, outln};
+use hsid_host::model::Element;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -21,9 +22,7 @@ use hsid_host::report::{fit_report, model_text, std_text};
 use hsid_host::units::unit_report;
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
-use crate::args::{
-    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, NonlinearityArg, UnitArgs,
-};
+use crate::args::{BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs};
 use page::{html_figures, names, write_element_page, write_page};
 use prepare::{read_records, refuse_bad_flags};
 
@@ -68,7 +67,7 @@ pub struct IdentifyArgs {
     /// The input element: backlash or switch (two paths, Table I data), or static (one
     /// memoryless border for both directions, any input).
     #[arg(long, value_enum, default_value = "backlash")]
-    nonlinearity: NonlinearityArg,
+    nonlinearity: Element,
     /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
     /// hold, μ0 is estimated with the model.
     #[arg(long, allow_hyphen_values = true, conflicts_with = "detrend")]
@@ -143,7 +142,7 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
     r.knots_desc = a.knots.knots_desc.clone();
     r.order = a.order;
     r.horizons = a.horizons.given();
-    r.element = a.nonlinearity.into();
+    r.element = a.nonlinearity;
     r.basis = a.basis.into();
     r.mu0 = a.mu0;
     r.detrend = a.detrend;
@@ -174,7 +173,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     if let Some((s, _)) = &estimate.std {
         outln!("{}", std_text(s))?;
     }
-    let two_path = a.nonlinearity != NonlinearityArg::Static;
+    let two_path = a.nonlinearity != Element::Static;
     let cov = estimate.std.as_ref().map(|(_, c)| c.as_slice());
     let in_units = unit_report(model, record.ts, record.units.clone(), cov, two_path);
     for line in in_units.lines() {
@@ -201,7 +200,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     } else if let Some(path) = &a.html {
         let run = ModelRun {
             title: format!("hsid identify: {}", names(&a.data)),
-            element: hsid_host::diagnose::Nonlinearity::from(a.nonlinearity).into(),
+            element: a.nonlinearity.into(),
             model,
             memory: None,
             units: &in_units,

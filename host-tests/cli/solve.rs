@@ -1,12 +1,12 @@
 //! `hsid solve`: an identifier's checkpoint solved on the host.
 
 use crate::failure::{Failure, outln};
+use hsid_host::model::Element;
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use hsid::{CheckpointError, Error};
 use hsid_host::identify::{IdentifyError, Solver, solve_checkpoint_with};
-use hsid_host::model_file::NonlinearityKind;
 use hsid_host::report::model_text;
 
 use crate::args::ModelOut;
@@ -75,7 +75,7 @@ pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     if let Some(path) = &a.out.json {
         // A checkpoint records one border (static) or two; which two-path element it is, it
         // does not record.
-        let kind = solved.shared_knots.then_some(NonlinearityKind::Static);
+        let kind = solved.shared_knots.then_some(Element::Static);
         solved
             .model
             .to_json(kind)

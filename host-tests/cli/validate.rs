@@ -1,16 +1,16 @@
 //! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
 
 use crate::failure::{Failure, outln};
+use hsid_host::model::Element;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::html::model_words::{Element, element_facts};
+use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
-use hsid_host::model_file::NonlinearityKind;
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
@@ -178,7 +178,7 @@ fn reading(
     if cov.is_some() {
         outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
     }
-    let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
+    let two_path = file.nonlinearity != Some(Element::Static);
     let in_units = unit_report(m, ts, units, cov.as_deref(), two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
@@ -230,11 +230,13 @@ fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failur
     let settings = s.settings(a)?;
     let (element, figures) = match s.element {
         Some(h) => (
-            Element::from(h.kind),
+            ModelElement::from(h.kind),
             figures::of_element(h, None, &s.record, &settings),
         ),
         None => (
-            s.file.nonlinearity.map_or(Element::TwoPath, Element::from),
+            s.file
+                .nonlinearity
+                .map_or(ModelElement::TwoPath, ModelElement::from),
             figures::of_model(
                 s.model,
                 &s.record,

@@ -12,12 +12,12 @@
 //! solve costs its failed call, as in Python. Prints one JSON line: the checkpoint count, the
 //! failures and the mean time per call of every repetition, in milliseconds.
 
+use hsid_host::model::Element;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use hsid_host::identify::solve_checkpoint;
-use hsid_host::model_file::NonlinearityKind;
 
 fn run() -> Result<(), String> {
     let mut args = std::env::args().skip(1);
@@ -50,7 +50,7 @@ fn run() -> Result<(), String> {
         for b in &blobs {
             match solve_checkpoint(b) {
                 Ok(s) => {
-                    let kind = s.shared_knots.then_some(NonlinearityKind::Static);
+                    let kind = s.shared_knots.then_some(Element::Static);
                     std::hint::black_box(s.model.to_json(kind));
                 }
                 Err(e) => {

@@ -5,10 +5,11 @@
 //! stack large enough for it, then converts the result into a [`HostModel`] with poles,
 //! frequency response and simulation.
 
+use crate::model::Element;
 use hsid::{Basis, Direction, Identifier, Knots, MuZero, Order, Settings};
 use nalgebra::DMatrix;
 
-use crate::model_file::{FormatTag, ModelFile, NonlinearityKind};
+use crate::model_file::{FormatTag, ModelFile};
 use crate::numerics::direction::directions;
 use crate::numerics::poly::eigenvalues;
 
@@ -495,7 +496,7 @@ impl HostModel {
 
     /// The model as a [`ModelFile`] of the given kind, without noise model, standard
     /// deviations, sample time or units (the caller adds what it knows).
-    pub fn to_json(&self, nonlinearity: Option<NonlinearityKind>) -> ModelFile {
+    pub fn to_json(&self, nonlinearity: Option<Element>) -> ModelFile {
         ModelFile {
             format: FormatTag,
             nonlinearity,

@@ -6,8 +6,9 @@
 mod common;
 
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
-use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose};
 use hsid_host::identify::{HostModel, IdentifyOptions};
+use hsid_host::model::Element;
 use hsid_host::model_file::ModelFile;
 use serde_json::Value;
 
@@ -58,7 +59,7 @@ fn hsid_diagnose_takes_the_reference_column() {
     let file: ModelFile = serde_json::from_value(report["model_before"]["model"].clone()).unwrap();
     let mut id = IdentifyOptions::uniform(-3.0, 3.0, 6, 100);
     id.order = Some(2);
-    let mut opts = DiagnoseOptions::new(id, Nonlinearity::Backlash);
+    let mut opts = DiagnoseOptions::new(id, Element::Backlash);
     opts.max_steps = 1;
     let record = Record::with_reference(s.u.clone(), s.y.clone(), s.r.clone());
     let lib = diagnose(&record, &Validation::Split(0.7), &opts).unwrap();

@@ -5,7 +5,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use hsid_host::diagnose::residual::{ResidualInput, run_tests};
-use hsid_host::diagnose::{Nonlinearity, Test, diagnose};
+use hsid_host::diagnose::{Test, diagnose};
+use hsid_host::model::Element;
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 
@@ -99,7 +100,7 @@ fn static_knot_never_visited_gets_advice_for_static_data() {
     id.knots_asc = vec![0.0, 1.0, 2.0, 3.0, 4.0, 10.0];
     id.knots_desc = id.knots_asc.clone();
     id.order = Some(1);
-    let opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    let opts = DiagnoseOptions::new(id, Element::Static);
     let e = diagnose(&Record::new(u, y), &Validation::Split(0.7), &opts).unwrap_err();
     assert!(
         matches!(e, DiagnoseError::KnotNotVisited { knot: 4, .. }),

@@ -8,10 +8,11 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{DiagnoseOptions, Effect, Nonlinearity, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Effect, Record, Validation, diagnose};
 use hsid_host::hysteresis::ElementKind;
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::model::Element;
 use hsid_host::report::fit;
 
 const LEN: usize = 3000;
@@ -22,7 +23,7 @@ fn options() -> DiagnoseOptions {
         order: Some(2),
         ..IdentifyOptions::uniform(-RANGE, RANGE, 6, HOLD)
     };
-    DiagnoseOptions::new(id, Nonlinearity::Static)
+    DiagnoseOptions::new(id, Element::Static)
 }
 
 /// The diagnosis and the validation record's noise floor (RMSE of the noise itself after the

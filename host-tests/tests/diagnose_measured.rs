@@ -6,11 +6,11 @@
 use hsid_host::diagnose::model::Record;
 use hsid_host::diagnose::verdict::End;
 use hsid_host::diagnose::{
-    Check, DiagnoseOptions, Effect, Evidence, Finding, Nonlinearity, Test, Tried, Validation,
-    diagnose,
+    Check, DiagnoseOptions, Effect, Evidence, Finding, Test, Tried, Validation, diagnose,
 };
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
+use hsid_host::model::Element;
 
 const TANKS: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -32,7 +32,7 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
         });
     let mut id = IdentifyOptions::uniform(lo, hi, 7, 0);
     id.order = Some(2);
-    let mut opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    let mut opts = DiagnoseOptions::new(id, Element::Static);
     opts.select_segments = Some(3..=8);
     let d = diagnose(
         &Record::new(c[0].clone(), c[1].clone()),
@@ -90,7 +90,7 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
     id.knots_asc = knots.clone();
     id.knots_desc = knots.clone();
     id.order = Some(1);
-    let opts = DiagnoseOptions::new(id, Nonlinearity::Static);
+    let opts = DiagnoseOptions::new(id, Element::Static);
     let d = diagnose(
         &Record::new(c[0].clone(), c[1].clone()),
         &Validation::Holdout(3900..4500),

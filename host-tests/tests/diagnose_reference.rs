@@ -9,17 +9,17 @@ mod common;
 use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, ServoSpec, simulate_servo};
 use hsid_host::diagnose::{
-    Check, DiagnoseError, DiagnoseOptions, Diagnosis, Estimator, Nonlinearity, Record, Validation,
-    diagnose,
+    Check, DiagnoseError, DiagnoseOptions, Diagnosis, Estimator, Record, Validation, diagnose,
 };
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::model::Element;
 
 const SEEDS: u64 = 10;
 
 fn options(spec: &ServoSpec) -> DiagnoseOptions {
     let mut id = IdentifyOptions::uniform(-3.0, 3.0, spec.knots.len() - 1, spec.hold);
     id.order = Some(2);
-    let mut opts = DiagnoseOptions::new(id, Nonlinearity::Backlash);
+    let mut opts = DiagnoseOptions::new(id, Element::Backlash);
     // The base model only (the loop's steps on 20000 samples take minutes per record); the
     // steps refit through the same estimator (the command-line test takes one).
     opts.max_steps = 0;
@@ -142,7 +142,7 @@ fn a_bad_reference_is_a_typed_error() {
         "{nan:?}"
     );
     let mut stat = opts.clone();
-    stat.nonlinearity = Nonlinearity::Static;
+    stat.nonlinearity = Element::Static;
     let stat = run(s.r.clone(), &stat);
     assert!(
         matches!(

@@ -7,6 +7,7 @@
 
 mod common;
 
+use hsid_host::model::Element;
 use std::path::Path;
 
 use common::{Scratch, classes, has, hsid, identify, p};
@@ -16,7 +17,6 @@ use hsid_host::figures::{
 };
 use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::io::read_columns;
-use hsid_host::model_file::NonlinearityKind;
 use hsid_host::refine::uncertainty::{bode_db_std, border_std};
 use hsid_host::sim::{
     Lti, TruePaths, paper_backlash, paper_plant, simulate, table1_excitation, with_hold,
@@ -281,7 +281,7 @@ fn a_model_file_gives_bands_of_borders_and_poles_but_not_of_the_bode_plot() {
     let (u, y, _) = record();
     let best = refined(&u, &y);
     let fit = best.fit.as_ref().unwrap();
-    let mut file = fit.model.to_json(Some(NonlinearityKind::Backlash));
+    let mut file = fit.model.to_json(Some(Element::Backlash));
     let (asc, desc) = border_std(fit);
     file.std = Some(hsid_host::model_file::ModelStd {
         poles: file.poles.iter().map(|_| [0.01, 0.02]).collect(),

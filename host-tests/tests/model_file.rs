@@ -3,8 +3,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use hsid_host::io::{FileAction, FileError};
+use hsid_host::model::Element;
 use hsid_host::model_file::{
-    FORMAT, FormatTag, ModelFile, ModelFileError, ModelStd, NoiseFile, NonlinearityKind, Units,
+    FORMAT, FormatTag, ModelFile, ModelFileError, ModelStd, NoiseFile, Units,
 };
 use serde_json::{Value, json};
 
@@ -19,7 +20,7 @@ fn scratch(test: &str) -> Scratch {
 fn model() -> ModelFile {
     ModelFile {
         format: FormatTag,
-        nonlinearity: Some(NonlinearityKind::Switch),
+        nonlinearity: Some(Element::Switch),
         order: 2,
         a: vec![vec![1.8858, -0.9048], vec![1.0, 0.0]],
         b: vec![1.0, 0.0],

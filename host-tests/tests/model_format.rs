@@ -158,7 +158,8 @@ fn validate_reads_what_every_command_writes() {
 /// `H_a(u) = 1.1 tanh(0.7 (u − 0.9))`, `H_d(u) = 1.1 tanh(0.7 (u + 0.5))`, three extra samples
 /// of transport delay after `G`, white output noise at 20 dB. Returns `(u, y)`.
 fn delayed_record() -> (Vec<f64>, Vec<f64>) {
-    use hsid_host::diagnose::{Effect, Nonlinearity};
+    use hsid_host::diagnose::Effect;
+    use hsid_host::model::Element;
     use hsid_host::paper::derive_seed;
     use hsid_host::sim::{Backlash, Nonlinearity as _, paper_plant};
     use hsid_host::sim::{table1_excitation, variance, with_hold};
@@ -167,7 +168,7 @@ fn delayed_record() -> (Vec<f64>, Vec<f64>) {
     use rand_pcg::Pcg32;
     let (u_min, u_max, hold, delay) = (-2.5, 2.5, 300, 3);
     let seed = |purpose: u64| {
-        let (kind, effect) = (Nonlinearity::Backlash as u64, Effect::InputDelay as u64);
+        let (kind, effect) = (Element::Backlash as u64, Effect::InputDelay as u64);
         derive_seed(1, kind * 16, effect + 1, purpose)
     };
     let mut rng = Pcg32::seed_from_u64(seed(1));

@@ -1,7 +1,7 @@
 //! `hsid.solve_checkpoint`: an identifier's checkpoint solved, as `hsid solve --state` does.
 
 use hsid_host::identify::{Solver, solve_checkpoint_with};
-use hsid_host::model_file::NonlinearityKind;
+use hsid_host::model::Element;
 use pyo3::prelude::*;
 
 use crate::error::{Class, Failure};
@@ -30,6 +30,6 @@ pub fn solve_checkpoint(py: Python<'_>, state: &[u8], solver: &str) -> PyResult<
     let solved = py
         .detach(|| solve_checkpoint_with(state, how))
         .map_err(Failure::from)?;
-    let kind = solved.shared_knots.then_some(NonlinearityKind::Static);
+    let kind = solved.shared_knots.then_some(Element::Static);
     Ok(Model::new(solved.model.to_json(kind)))
 }

@@ -2,9 +2,9 @@
 //! writes.
 
 use hsid_host::diagnose::report;
-use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose as run};
+use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose as run};
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model_file::NonlinearityKind;
+use hsid_host::model::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::vector;
@@ -100,7 +100,7 @@ fn options(
     umax: f64,
     segments: usize,
     knots: Option<settings::KnotPair>,
-    kind: NonlinearityKind,
+    kind: Element,
     horizons: Option<(usize, usize)>,
     order: Option<usize>,
     hold: usize,
@@ -124,10 +124,6 @@ fn options(
         false,
     )?;
     let id: IdentifyOptions = s;
-    let nonlinearity = match kind {
-        NonlinearityKind::Backlash => Nonlinearity::Backlash,
-        NonlinearityKind::Switch => Nonlinearity::Switch,
-        NonlinearityKind::Static => Nonlinearity::Static,
-    };
+    let nonlinearity = kind;
     Ok(DiagnoseOptions::new(id, nonlinearity))
 }

@@ -3,7 +3,7 @@
 
 use hsid_host::fleet::solve::{Checkpoint, solve_many as solve};
 use hsid_host::fleet::{DeviceError, DeviceResult};
-use hsid_host::model_file::NonlinearityKind;
+use hsid_host::model::Element;
 use pyo3::prelude::*;
 
 use crate::error::{Class, Failure};
@@ -38,7 +38,7 @@ pub fn solve_many(
 fn outcome(py: Python<'_>, r: DeviceResult) -> PyResult<Py<PyAny>> {
     match r.outcome {
         Ok(solved) => {
-            let kind = solved.shared_knots.then_some(NonlinearityKind::Static);
+            let kind = solved.shared_knots.then_some(Element::Static);
             Ok(Py::new(py, Model::new(solved.model.to_json(kind)))?.into_any())
         }
         Err(e) => {

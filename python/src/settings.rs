@@ -2,7 +2,8 @@
 //! `hsid identify` turns its flags into them.
 
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model_file::{NonlinearityKind, Units};
+use hsid_host::model::Element;
+use hsid_host::model_file::Units;
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::workflow::{IdentifyRequest, Syntax};
 use pyo3::prelude::*;
@@ -80,11 +81,11 @@ pub fn knots(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<KnotPair>, Failure
 }
 
 /// `nonlinearity=`: "backlash", "switch" or "static".
-pub fn nonlinearity(name: &str) -> Result<NonlinearityKind, Failure> {
+pub fn nonlinearity(name: &str) -> Result<Element, Failure> {
     match name {
-        "backlash" => Ok(NonlinearityKind::Backlash),
-        "switch" => Ok(NonlinearityKind::Switch),
-        "static" => Ok(NonlinearityKind::Static),
+        "backlash" => Ok(Element::Backlash),
+        "switch" => Ok(Element::Switch),
+        "static" => Ok(Element::Static),
         _ => Err(settings_err(
             "nonlinearity",
             format!("nonlinearity={name:?}: give \"backlash\", \"switch\" or \"static\""),
@@ -128,7 +129,7 @@ pub fn request(
     umax: f64,
     segments: Option<SegmentArg>,
     knots: Option<KnotPair>,
-    kind: NonlinearityKind,
+    kind: Element,
     horizons: Option<(usize, usize)>,
     order: Option<usize>,
     refine: bool,
@@ -156,7 +157,7 @@ pub fn settings(
     umax: f64,
     segments: Option<SegmentArg>,
     knots: Option<KnotPair>,
-    kind: NonlinearityKind,
+    kind: Element,
     horizons: Option<(usize, usize)>,
     order: Option<usize>,
     hold: usize,
@@ -195,7 +196,7 @@ mod tests {
             3.0,
             Some(SegmentArg::Fixed(7)),
             None,
-            NonlinearityKind::Static,
+            Element::Static,
             Some((10, 10)),
             Some(3),
             false,
@@ -207,7 +208,7 @@ mod tests {
             3.0,
             None,
             None,
-            NonlinearityKind::Static,
+            Element::Static,
             None,
             Some(3),
             0,
@@ -223,7 +224,7 @@ mod tests {
                 umax,
                 None,
                 knots,
-                NonlinearityKind::Backlash,
+                Element::Backlash,
                 None,
                 None,
                 300,

@@ -1,6 +1,7 @@
 //! The HTML report of `hsid identify`: the subspace or refined model's page, or the fitted
 //! element's (`--fit`), with the figures `--out` draws.
 
+use hsid_host::model::Element;
 use std::path::{Path, PathBuf};
 
 use hsid_host::choose::Best;
@@ -9,7 +10,7 @@ use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
 use hsid_host::hysteresis::HysteresisFit;
-use hsid_host::model_file::{NonlinearityKind, Units};
+use hsid_host::model_file::Units;
 use hsid_host::workflow::Identified;
 
 use super::IdentifyArgs;
@@ -50,7 +51,7 @@ pub fn write_element_page(
     let in_units = simulation::in_units(fit, id);
     let estimator = format!(
         "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
-        if id.request.element == NonlinearityKind::Static {
+        if id.request.element == Element::Static {
             "static"
         } else {
             "two-path"

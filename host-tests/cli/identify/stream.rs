@@ -69,7 +69,7 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         )?;
     }
     if let Some(out) = &a.out.json {
-        let mut file = model.to_json(Some(a.nonlinearity.into()));
+        let mut file = model.to_json(Some(a.nonlinearity));
         file.sample_time = ts;
         file.units = units;
         write(&file, out)?;

@@ -14,8 +14,9 @@
 //! false-alarm rate on clean data and the count of added steps that raised the validation
 //! error.
 
+use hsid_host::diagnose::DiagnoseOptions;
 use hsid_host::diagnose::Effect;
-use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity};
+use hsid_host::model::Element;
 use hsid_lab::bench::{confusion_table, run_all, take_bench_flags};
 use hsid_lab::scenario::{Plant, Scenario};
 
@@ -30,7 +31,7 @@ fn main() {
     let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
     let mut scenarios = Vec::new();
     for plant in Plant::ALL {
-        for kind in [Nonlinearity::Backlash, Nonlinearity::Switch] {
+        for kind in [Element::Backlash, Element::Switch] {
             for seed in 1..=clean_seeds {
                 scenarios.push(Scenario::new(None, plant, kind, 1000 + seed));
             }

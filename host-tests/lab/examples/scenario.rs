@@ -5,8 +5,9 @@
 //! cargo run --release -p hsid-lab --example scenario -- EFFECT|clean paper|first backlash|switch SEED > data.csv
 //! ```
 
-use hsid_host::diagnose::{Effect, Nonlinearity};
+use hsid_host::diagnose::Effect;
 use hsid_host::io::write_columns_to;
+use hsid_host::model::Element;
 use hsid_lab::scenario::{Plant, Scenario, generate};
 
 fn main() -> Result<(), String> {
@@ -25,8 +26,8 @@ fn main() -> Result<(), String> {
         _ => return Err(usage.into()),
     };
     let kind = match kind.as_str() {
-        "backlash" => Nonlinearity::Backlash,
-        "switch" => Nonlinearity::Switch,
+        "backlash" => Element::Backlash,
+        "switch" => Element::Switch,
         _ => return Err(usage.into()),
     };
     let seed: u64 = seed.parse().map_err(|_| usage.to_string())?;

@@ -332,7 +332,7 @@ mod tests {
             }
         }
         let id = hsid_host::identify::IdentifyOptions::uniform(0.0, 1.0, 4, 0);
-        let mut o = DiagnoseOptions::new(id, hsid_host::diagnose::Nonlinearity::Static);
+        let mut o = DiagnoseOptions::new(id, hsid_host::model::Element::Static);
         assert_eq!(o.proposing, Proposing::WithEvidence);
         BenchSettings {
             min_gain: Some(0.05),

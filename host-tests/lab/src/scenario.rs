@@ -26,13 +26,12 @@ use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;
 
-use hsid_host::diagnose::{
-    DiagnoseError, DiagnoseOptions, Diagnosis, Effect, Nonlinearity, Record, Validation,
-};
+use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Diagnosis, Effect, Record, Validation};
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::model::Element;
 use hsid_host::paper::derive_seed;
 use hsid_host::sim::{
-    Backlash, Lti, Nonlinearity as Element, Switch, paper_noise_model, paper_plant,
+    Backlash, Lti, Nonlinearity as SimElement, Switch, paper_noise_model, paper_plant,
 };
 use hsid_host::sim::{table1_excitation, variance, with_hold};
 
@@ -84,7 +83,7 @@ pub struct Scenario {
     /// The plant.
     pub plant: Plant,
     /// Backlash or switch.
-    pub kind: Nonlinearity,
+    pub kind: Element,
     /// Seed.
     pub seed: u64,
     /// Excitation samples after the hold.
@@ -95,7 +94,7 @@ pub struct Scenario {
 
 impl Scenario {
     /// A scenario with the defaults (5000 samples, 20 dB).
-    pub fn new(effect: Option<Effect>, plant: Plant, kind: Nonlinearity, seed: u64) -> Self {
+    pub fn new(effect: Option<Effect>, plant: Plant, kind: Element, seed: u64) -> Self {
         Self {
             effect,
             plant,
@@ -146,9 +145,9 @@ pub fn scenario_backlash() -> Backlash {
 }
 
 /// The input interval of an element.
-pub fn interval(kind: Nonlinearity) -> (f64, f64) {
+pub fn interval(kind: Element) -> (f64, f64) {
     match kind {
-        Nonlinearity::Switch => (-2.0, 4.0),
+        Element::Switch => (-2.0, 4.0),
         _ => (-2.5, 2.5),
     }
 }
@@ -164,8 +163,8 @@ pub fn generate(s: &Scenario) -> Result<ScenarioData, String> {
     let ex = table1_excitation(s.samples, u_min, u_max, &mut rng).map_err(|e| e.to_string())?;
     let u = with_hold(HOLD, u_min, &ex);
     let n = u.len();
-    let mut element: Box<dyn Element> = match s.kind {
-        Nonlinearity::Switch => Box::new(scenario_switch()),
+    let mut element: Box<dyn SimElement> = match s.kind {
+        Element::Switch => Box::new(scenario_switch()),
         // Initial output 0 is clamped to H_d(u_min) = P_a(u_min) by the first sample.
         _ => Box::new(scenario_backlash()),
     };
@@ -377,7 +376,7 @@ impl TwoTanks {
     pub fn options() -> DiagnoseOptions {
         let mut id = IdentifyOptions::uniform(0.0, 10.0, 5, 0);
         id.order = Some(2);
-        DiagnoseOptions::new(id, Nonlinearity::Static)
+        DiagnoseOptions::new(id, Element::Static)
     }
 
     /// Diagnoses the experiment (estimation record, validated on the separate validation

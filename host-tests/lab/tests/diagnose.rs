@@ -7,14 +7,15 @@
 //! `tests/diagnose.rs`.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use hsid_host::model::Element;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use hsid_host::diagnose::{Effect, Nonlinearity, PoleRefinement, Test, diagnose};
+use hsid_host::diagnose::{Effect, PoleRefinement, Test, diagnose};
 use hsid_lab::bench::{Outcome, run_all};
 use hsid_lab::scenario::{Plant, Scenario, generate};
 
-const KINDS: [Nonlinearity; 2] = [Nonlinearity::Backlash, Nonlinearity::Switch];
+const KINDS: [Element; 2] = [Element::Backlash, Element::Switch];
 
 fn threads() -> usize {
     std::thread::available_parallelism().map_or(2, |n| n.get())
@@ -98,7 +99,7 @@ fn tests_point_at_the_effect() {
     let s = Scenario::new(
         Some(Effect::PeriodicDisturbance),
         Plant::FirstOrder,
-        Nonlinearity::Switch,
+        Element::Switch,
         3,
     );
     let data = generate(&s).unwrap();
@@ -115,7 +116,7 @@ fn tests_point_at_the_effect() {
     let s = Scenario::new(
         Some(Effect::InputDelay),
         Plant::FirstOrder,
-        Nonlinearity::Backlash,
+        Element::Backlash,
         3,
     );
     let data = generate(&s).unwrap();

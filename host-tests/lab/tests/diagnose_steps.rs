@@ -6,13 +6,14 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{Effect, Nonlinearity};
+use hsid_host::diagnose::Effect;
+use hsid_host::model::Element;
 use hsid_lab::bench::{Outcome, run_all};
 use hsid_lab::scenario::{Plant, Scenario};
 
 #[test]
 fn no_added_step_raises_the_validation_error() {
-    let kind = Nonlinearity::Backlash;
+    let kind = Element::Backlash;
     let scenarios: Vec<Scenario> = [
         None,
         Some(Effect::InputDelay),
@@ -51,13 +52,8 @@ fn no_added_step_raises_the_validation_error() {
 fn the_outliers_step_re_estimates_only_when_the_estimation_data_say_so() {
     use hsid_host::diagnose::diagnose;
     use hsid_lab::scenario::{HOLD, generate};
-    let spikes = Scenario::new(
-        Some(Effect::Outliers),
-        Plant::Paper,
-        Nonlinearity::Backlash,
-        1,
-    );
-    let mut glitches = Scenario::new(None, Plant::FirstOrder, Nonlinearity::Switch, 1);
+    let spikes = Scenario::new(Some(Effect::Outliers), Plant::Paper, Element::Backlash, 1);
+    let mut glitches = Scenario::new(None, Plant::FirstOrder, Element::Switch, 1);
     glitches.snr_db = 30.0;
     for (s, want) in [(spikes, "model kept"), (glitches, "model re-estimated")] {
         let mut data = generate(&s).unwrap_or_else(|e| panic!("{e}"));

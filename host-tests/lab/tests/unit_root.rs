@@ -4,6 +4,8 @@
 
 #![allow(clippy::panic)]
 
+use hsid_host::model::Element;
+
 /// The data check `integrating` is the ARX unit-root test: on every record of the second
 /// scenario family (an independent generator: orders 1–5 with the integrator, Table I and
 /// ordinary inputs) it keeps the unit root on the integrating plants — seeds 1 and 3 among
@@ -16,7 +18,7 @@ fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
     use hsid_host::diagnose::residual;
     use hsid_host::diagnose::unit_root::{UnitRoot, unit_root};
     use hsid_host::diagnose::verdict::End;
-    use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Nonlinearity, Record, diagnose};
+    use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Record, diagnose};
     use hsid_lab::family_b::class::Class;
     use hsid_lab::family_b::generate::generate;
     use hsid_lab::family_b::scenario::Scenario;
@@ -24,7 +26,7 @@ fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
 
     let test = |r: &Record, o: &DiagnoseOptions| -> UnitRoot {
         let id = &o.identify;
-        let shared = o.nonlinearity == Nonlinearity::Static;
+        let shared = o.nonlinearity == Element::Static;
         let desc = if shared {
             &id.knots_asc
         } else {
@@ -49,7 +51,7 @@ fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
         }
     }
     for plant in Plant::ALL {
-        for kind in [Nonlinearity::Backlash, Nonlinearity::Switch] {
+        for kind in [Element::Backlash, Element::Switch] {
             let mut runs: Vec<(Option<Effect>, u64)> = (1..=10).map(|s| (None, 1000 + s)).collect();
             runs.extend(
                 Effect::ALL

@@ -2,7 +2,8 @@
 //! standard deviations of its poles, μ0 and borders — what `hsid identify --json` writes.
 
 use crate::identify::HostModel;
-use crate::model_file::{ModelFile, ModelStd, NoiseFile, NonlinearityKind};
+use crate::model::Element;
+use crate::model_file::{ModelFile, ModelStd, NoiseFile};
 use crate::refine::pem::{PemFit, PemOptions};
 use crate::refine::stochastic::estimate_noise;
 use crate::refine::uncertainty::{border_std, fit_poles};
@@ -14,12 +15,7 @@ use super::Best;
 /// model and the standard deviations of its fit; a subspace model carries the noise model
 /// fitted to its simulation residual (Remark 6), or none when that fit fails. Sample time and
 /// units are left to the caller.
-pub fn model_file(
-    best: Best,
-    u: &[f64],
-    y: &[f64],
-    nonlinearity: Option<NonlinearityKind>,
-) -> ModelFile {
+pub fn model_file(best: Best, u: &[f64], y: &[f64], nonlinearity: Option<Element>) -> ModelFile {
     let (model, noise, std): (HostModel, Option<NoiseModel>, Option<ModelStd>) =
         if let Some(fit) = best.fit {
             let (std, _) = model_std(&fit);

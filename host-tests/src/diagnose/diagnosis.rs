@@ -1,6 +1,7 @@
 //! The outcome of a diagnosis: the effects added step by step, those rejected, what stays
 //! unexplained, and the models and tests before and after.
 
+use crate::model::Element;
 use std::ops::Range;
 
 use serde::Serialize;
@@ -12,7 +13,6 @@ use super::evidence::{Evidence, Tried};
 use super::findings::Finding;
 use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
-use super::options::Nonlinearity;
 use super::residual::TestSet;
 use super::verdict::Verdict;
 
@@ -74,8 +74,8 @@ pub struct Rejected {
 /// The outcome of [`diagnose`](super::diagnose).
 #[derive(Clone, Debug)]
 pub struct Diagnosis {
-    /// Nonlinearity kind.
-    pub nonlinearity: Nonlinearity,
+    /// Element kind.
+    pub nonlinearity: Element,
     /// How estimation and validation data were formed.
     pub data_description: String,
     /// Estimation samples.

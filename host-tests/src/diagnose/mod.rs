@@ -28,6 +28,7 @@
 //! of the tests and the confusion tables are in the crate `hsid-lab`.
 
 use crate::identify::{IdentifyError, IdentifyOptions};
+use crate::model::Element;
 
 pub mod arx;
 pub mod base_order;
@@ -65,7 +66,7 @@ pub use error::DiagnoseError;
 pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
 pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
-pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Proposing, Validation};
+pub use options::{DiagnoseOptions, PoleRefinement, Proposing, Validation};
 pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
 
@@ -82,7 +83,7 @@ pub fn diagnose(
     diagnose_inner(record, validation, opts).map_err(|e| match e {
         DiagnoseError::Identify(IdentifyError::Core(hsid::Error::NoExcitation {
             knot, ..
-        })) if opts.nonlinearity == Nonlinearity::Static => {
+        })) if opts.nonlinearity == Element::Static => {
             // The knots are the given ones unless the segment count is selected.
             let k = &opts.identify.knots_asc;
             let known = opts.select_segments.is_none();
@@ -107,7 +108,7 @@ fn diagnose_inner(
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
     let mut id = opts.identify.clone();
-    id.static_nonlinearity = opts.nonlinearity == Nonlinearity::Static;
+    id.static_nonlinearity = opts.nonlinearity == Element::Static;
     if id.static_nonlinearity {
         id.knots_desc = id.knots_asc.clone();
     }

@@ -7,29 +7,7 @@ use serde::Serialize;
 
 use super::model::{InitialState, Record};
 use crate::identify::IdentifyOptions;
-
-/// The kind of input nonlinearity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Nonlinearity {
-    /// Backlash (needs the Table I excitation).
-    Backlash,
-    /// Switch.
-    Switch,
-    /// Static (memoryless) piecewise-linear nonlinearity, one border for both directions.
-    Static,
-}
-
-impl Nonlinearity {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Nonlinearity::Backlash => "backlash",
-            Nonlinearity::Switch => "switch",
-            Nonlinearity::Static => "static",
-        }
-    }
-}
+use crate::model::Element;
 
 /// Where the validation data come from.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,8 +32,8 @@ pub enum Validation {
 pub struct DiagnoseOptions {
     /// Base identification options (knots, horizons, order, hold, μ0, static).
     pub identify: IdentifyOptions,
-    /// Nonlinearity kind (static sets `identify.static_nonlinearity`).
-    pub nonlinearity: Nonlinearity,
+    /// Element kind (static sets `identify.static_nonlinearity`).
+    pub nonlinearity: Element,
     /// Initial state of simulations (`None`: at rest with a hold, estimated without).
     pub initial: Option<InitialState>,
     /// Most effects added.
@@ -111,7 +89,7 @@ pub enum PoleRefinement {
 
 impl DiagnoseOptions {
     /// Defaults around the given identification options.
-    pub fn new(identify: IdentifyOptions, nonlinearity: Nonlinearity) -> Self {
+    pub fn new(identify: IdentifyOptions, nonlinearity: Element) -> Self {
         Self {
             identify,
             nonlinearity,

@@ -1,6 +1,7 @@
 //! The diagnosis as JSON (`error_before`, `error_after`, `nrmse_before`, `nrmse_after`,
 //! `effects`, `tests_before`, `tests_after`, `warnings`, …) and as text.
 
+use crate::model::Element;
 use std::fmt::Write as _;
 
 use serde::Serialize;
@@ -10,10 +11,9 @@ use super::diagnosis::Diagnosis;
 use super::effects::{Effect, Significance, has_evidence};
 use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
-use super::options::Nonlinearity;
 use super::output_map::OutputMap;
 use super::residual::TestSet;
-use crate::model_file::{ModelFile, NoiseFile, NonlinearityKind};
+use crate::model_file::{ModelFile, NoiseFile};
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]
@@ -72,12 +72,7 @@ pub struct ModelSummary {
 
 impl ModelSummary {
     /// Summary of a model whose input element is `kind`.
-    pub fn of(m: &ExtendedModel, kind: Nonlinearity) -> Self {
-        let kind = match kind {
-            Nonlinearity::Backlash => NonlinearityKind::Backlash,
-            Nonlinearity::Switch => NonlinearityKind::Switch,
-            Nonlinearity::Static => NonlinearityKind::Static,
-        };
+    pub fn of(m: &ExtendedModel, kind: Element) -> Self {
         let mut model = match &m.hysteresis {
             Some(el) => el.to_file(m.hammerstein.samples),
             None => m.hammerstein.to_json(Some(kind)),
@@ -102,7 +97,7 @@ impl ModelSummary {
 /// The JSON report.
 #[derive(Clone, Debug, Serialize)]
 pub struct DiagnosisJson {
-    /// Nonlinearity kind.
+    /// Element kind.
     pub nonlinearity: String,
     /// How estimation and validation data were formed.
     pub data: String,

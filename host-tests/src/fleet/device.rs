@@ -1,10 +1,10 @@
 //! One device's outcome: a model, or a typed error that costs that device and never the batch.
 
+use crate::model::Element;
 use hsid::{CheckpointError, Error};
 use serde_json::{Value, json};
 
 use crate::identify::{CheckpointSolve, IdentifyError};
-use crate::model_file::NonlinearityKind;
 
 /// Why one device of a fleet has no model.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -82,7 +82,7 @@ impl DeviceResult {
     pub fn to_json(&self) -> Value {
         match &self.outcome {
             Ok(solved) => {
-                let kind = solved.shared_knots.then_some(NonlinearityKind::Static);
+                let kind = solved.shared_knots.then_some(Element::Static);
                 let model = serde_json::to_value(solved.model.to_json(kind)).unwrap_or_else(
                     |e| json!({"error": format!("the model did not serialize: {e}")}),
                 );

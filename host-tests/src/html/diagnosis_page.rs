@@ -8,7 +8,8 @@ use super::figures::drawn;
 use super::headline::{Fact, Headline, Table};
 use super::model_words::{model_facts, sentence};
 use super::{HtmlError, InlineFigure, Page, Reproduction};
-use crate::diagnose::{Check, Diagnosis, Evaluation, Nonlinearity, figures};
+use crate::diagnose::{Check, Diagnosis, Evaluation, figures};
+use crate::model::Element;
 use crate::model_file::Units;
 use crate::units::unit_report;
 
@@ -74,7 +75,7 @@ pub fn diagnosis_page(
         .hysteresis
         .as_ref()
         .map(|el| el.to_host(d.model.hammerstein.samples));
-    let two_path = d.nonlinearity != Nonlinearity::Static || element.is_some();
+    let two_path = d.nonlinearity != Element::Static || element.is_some();
     let m = element.as_ref().unwrap_or(&d.model.hammerstein);
     let r = unit_report(m, ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();

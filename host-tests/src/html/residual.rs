@@ -2,10 +2,11 @@
 //! `identify` and `validate` (the page of `diagnose` takes them from the diagnosis): the same
 //! checks and tests `diagnose` runs, on the simulation residual after the hold.
 
+use crate::diagnose::Warning;
 use crate::diagnose::checks::{CheckSetup, check_data};
 use crate::diagnose::residual::{ResidualInput, TestSet, regressor, run_tests};
-use crate::diagnose::{Nonlinearity, Warning};
 use crate::identify::{HostModel, IdentifyOptions};
+use crate::model::Element;
 
 /// The residual tests of `model`'s simulation `sim` of the record `(u, y)`, leaving out the
 /// first `skip` samples; `shared`: one border for both directions (a static element). `None`
@@ -38,12 +39,7 @@ pub fn residual_tests(
 }
 
 /// The data checks of an estimation record identified with `opts` as `kind`.
-pub fn data_checks(
-    u: &[f64],
-    y: &[f64],
-    opts: &IdentifyOptions,
-    kind: Nonlinearity,
-) -> Vec<Warning> {
+pub fn data_checks(u: &[f64], y: &[f64], opts: &IdentifyOptions, kind: Element) -> Vec<Warning> {
     check_data(
         u,
         y,

@@ -5,7 +5,8 @@
 
 use super::params::{ElementKind, HysteresisModel};
 use crate::identify::HostModel;
-use crate::model_file::{MemoryElement, ModelFile, NonlinearityKind};
+use crate::model::Element;
+use crate::model_file::{MemoryElement, ModelFile};
 use crate::numerics::poly::tf_from_ss;
 
 impl ElementKind {
@@ -18,10 +19,10 @@ impl ElementKind {
     }
 
     /// The model file's `"nonlinearity"`.
-    pub fn nonlinearity(self) -> NonlinearityKind {
+    pub fn nonlinearity(self) -> Element {
         match self {
-            ElementKind::Backlash => NonlinearityKind::Backlash,
-            ElementKind::Switch => NonlinearityKind::Switch,
+            ElementKind::Backlash => Element::Backlash,
+            ElementKind::Switch => Element::Switch,
         }
     }
 }

@@ -1,8 +1,10 @@
 //! The host's domain: the measured record every estimator and check takes, and the input
 //! element a model assumes.
 
+mod element;
 mod record;
 mod simulate;
 
+pub use element::{Element, UnknownElement};
 pub use record::{Record, RecordError};
 pub use simulate::{FileModel, Simulate};

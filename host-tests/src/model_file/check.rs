@@ -36,13 +36,14 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
 
 /// A play or relay element: the kind it belongs to, one set of knots for both borders.
 fn element(m: &ModelFile, bad: &Bad) -> Checked {
-    use super::{MemoryElement, NonlinearityKind};
+    use super::MemoryElement;
+    use crate::model::Element;
     let Some(e) = m.element else {
         return Ok(());
     };
     let kind = match e {
-        MemoryElement::Play => NonlinearityKind::Backlash,
-        MemoryElement::Relay => NonlinearityKind::Switch,
+        MemoryElement::Play => Element::Backlash,
+        MemoryElement::Relay => Element::Switch,
     };
     if m.nonlinearity != Some(kind) {
         return Err(bad(
@@ -50,7 +51,7 @@ fn element(m: &ModelFile, bad: &Bad) -> Checked {
             format!(
                 "{e:?} belongs to nonlinearity \"{}\", the file says {:?}",
                 kind.name(),
-                m.nonlinearity.map(NonlinearityKind::name)
+                m.nonlinearity.map(Element::name)
             ),
         ));
     }

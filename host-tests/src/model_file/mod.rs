@@ -23,9 +23,10 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::io::{FileError, read_to_string_limited};
+use crate::model::Element;
 
 pub use error::ModelFileError;
-pub use parts::{FormatTag, MemoryElement, ModelStd, NoiseFile, NonlinearityKind, Units};
+pub use parts::{FormatTag, MemoryElement, ModelStd, NoiseFile, Units};
 
 /// The largest model file read, in bytes (16 MiB). A model of the largest capacity the desktop
 /// accepts is well under 1 MB; a larger file is refused before it is read
@@ -43,7 +44,7 @@ pub struct ModelFile {
     pub format: FormatTag,
     /// Kind of the input element; `None` when it is a two-path element whose kind was not
     /// recorded (a checkpoint solved by `hsid solve`).
-    pub nonlinearity: Option<NonlinearityKind>,
+    pub nonlinearity: Option<Element>,
     /// Model order n.
     pub order: usize,
     /// State matrix, n rows of n values.

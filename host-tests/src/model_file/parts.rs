@@ -28,29 +28,6 @@ impl<'de> Deserialize<'de> for FormatTag {
     }
 }
 
-/// Kind of the input element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum NonlinearityKind {
-    /// Backlash (play operator): two paths.
-    Backlash,
-    /// Switch (hysteresis relay with borders): two paths.
-    Switch,
-    /// Static, memoryless: one border for both directions.
-    Static,
-}
-
-impl NonlinearityKind {
-    /// The JSON and command-line name: `backlash`, `switch` or `static`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Backlash => "backlash",
-            Self::Switch => "switch",
-            Self::Static => "static",
-        }
-    }
-}
-
 /// The element of a model fitted by simulation error: simulated as itself on the borders.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -3,7 +3,8 @@
 //! relay, or a memoryless border).
 
 use super::error::SimulateError;
-use super::spec::{Curve, ElementKind, ElementSpec, Shape};
+use super::spec::{Curve, ElementSpec, Shape};
+use crate::model::Element;
 use crate::sim::{Backlash, Border, Nonlinearity, Switch, border, paper_backlash, paper_switch};
 
 /// A memoryless element `H(u)`.
@@ -215,16 +216,16 @@ fn check_order(e: &ElementSpec, a: &Border, d: &Border) -> Result<(), SimulateEr
 /// The element of a specification, ready to step.
 pub fn element(e: &ElementSpec) -> Result<Box<dyn Nonlinearity>, SimulateError> {
     Ok(match e.kind {
-        ElementKind::Backlash => {
+        Element::Backlash => {
             let (a, d) = two_borders(e)?;
             check_order(e, &a, &d)?;
             Box::new(Backlash::new(a, d))
         }
-        ElementKind::Switch => {
+        Element::Switch => {
             let (a, d) = two_borders(e)?;
             Box::new(Switch::new(a, d))
         }
-        ElementKind::Static => Box::new(Static::new(one_border(e)?)),
+        Element::Static => Box::new(Static::new(one_border(e)?)),
     })
 }
 

@@ -27,8 +27,8 @@ pub use noise::{Level, Noise, output_noise};
 pub use output::Output;
 pub use plant::{StateSpace, linear_part, sample_time};
 pub use spec::{
-    ColourName, ColourSpec, Curve, ElementKind, ElementSpec, LinearSpec, NoiseSpec, PlantSpec,
-    SectionSpec, Shape, TransferSpec, UnitsSpec,
+    ColourName, ColourSpec, Curve, ElementSpec, LinearSpec, NoiseSpec, PlantSpec, SectionSpec,
+    Shape, TransferSpec, UnitsSpec,
 };
 pub use spec_file::{MAX_SPEC_BYTES, SpecFileError};
 pub use true_loop::{TrueLoop, true_loop};

@@ -5,6 +5,7 @@
 use serde::Deserialize;
 
 use super::error::SimulateError;
+use crate::model::Element;
 
 /// A true plant: input element, linear part, output noise, sample time and units.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -37,18 +38,6 @@ pub struct UnitsSpec {
     pub output: Option<String>,
 }
 
-/// Kind of the input element.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ElementKind {
-    /// The play operator `w(t) = min(max(w(t−1), H_a(u)), H_d(u))`.
-    Backlash,
-    /// The relay with borders: `H_a(u)` while u rises, `H_d(u)` while it falls.
-    Switch,
-    /// A memoryless border `H(u)`.
-    Static,
-}
-
 /// A named border shape.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -78,7 +67,7 @@ pub struct Curve {
 #[serde(deny_unknown_fields)]
 pub struct ElementSpec {
     /// Backlash, switch or static.
-    pub kind: ElementKind,
+    pub kind: Element,
     /// A named shape, in place of knots.
     #[serde(default)]
     pub shape: Option<Shape>,

@@ -11,8 +11,8 @@
 use super::{ElementFit, Field, IdentifyRequest, Syntax, WorkflowError};
 use crate::hysteresis::{ElementKind, FitOptions, HysteresisFit, Start, fit_hysteresis};
 use crate::identify::HostModel;
+use crate::model::Element;
 use crate::model::Record;
-use crate::model_file::NonlinearityKind;
 use crate::table1::{Runs, count_runs, end_tolerance};
 
 /// Whether to fit the element, and the note that says why.
@@ -36,7 +36,7 @@ pub fn why(runs: Runs, umin: f64, umax: f64) -> String {
 /// Whether [`ElementFit::Auto`] looks at the input at all: backlash and switch only (a
 /// static element takes any input).
 pub fn applies(request: &IdentifyRequest) -> bool {
-    request.fit == ElementFit::Auto && request.element != NonlinearityKind::Static
+    request.fit == ElementFit::Auto && request.element != Element::Static
 }
 
 /// Whether to run the fit on `record` (the record as identified).
@@ -96,11 +96,11 @@ pub fn decide(request: &IdentifyRequest, record: &Record) -> Decision {
 }
 
 /// The element fitted, and the subspace model it starts from.
-pub fn element(kind: NonlinearityKind) -> (ElementKind, Start) {
+pub fn element(kind: Element) -> (ElementKind, Start) {
     match kind {
-        NonlinearityKind::Backlash => (ElementKind::Backlash, Start::TwoPath),
-        NonlinearityKind::Switch => (ElementKind::Switch, Start::TwoPath),
-        NonlinearityKind::Static => (ElementKind::Backlash, Start::Static),
+        Element::Backlash => (ElementKind::Backlash, Start::TwoPath),
+        Element::Switch => (ElementKind::Switch, Start::TwoPath),
+        Element::Static => (ElementKind::Backlash, Start::Static),
     }
 }
 

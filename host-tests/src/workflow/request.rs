@@ -3,11 +3,11 @@
 //! library's options and choices or a [`RequestError`] that names the setting in the front
 //! end's own words ([`Syntax`]).
 
+use crate::model::Element;
 use hsid::Basis;
 
 use crate::choose::{self, Choices, Estimator, SEGMENT_CANDIDATES, Segments};
 use crate::identify::IdentifyOptions;
-use crate::model_file::NonlinearityKind;
 use crate::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 
 /// Whether the element itself is fitted by simulation error after the identification.
@@ -61,7 +61,7 @@ pub enum Field {
     /// The integrating plant.
     Integrating,
     /// The input element.
-    Nonlinearity,
+    Element,
     /// The closed-loop reference.
     Reference,
     /// The record itself.
@@ -90,7 +90,7 @@ impl Syntax {
             (Syntax::Cli, Field::Detrend) => "--detrend",
             (Syntax::Cli, Field::Fit) => "--fit",
             (Syntax::Cli, Field::Integrating) => "--integrating",
-            (Syntax::Cli, Field::Nonlinearity) => "--nonlinearity",
+            (Syntax::Cli, Field::Element) => "--nonlinearity",
             (Syntax::Cli, Field::Reference) => "--reference-column",
             (Syntax::Cli, Field::Data) => "--data",
             (Syntax::Python, Field::UMin) => "umin",
@@ -102,7 +102,7 @@ impl Syntax {
             (Syntax::Python, Field::Detrend) => "detrend",
             (Syntax::Python, Field::Fit) => "fit",
             (Syntax::Python, Field::Integrating) => "integrating",
-            (Syntax::Python, Field::Nonlinearity) => "nonlinearity",
+            (Syntax::Python, Field::Element) => "nonlinearity",
             (Syntax::Python, Field::Reference) => "reference",
             (Syntax::Python, Field::Data) => "u, y",
         }
@@ -183,7 +183,7 @@ pub struct IdentifyRequest {
     /// Horizons `(f, p)`; `None`: from the data.
     pub horizons: Option<(usize, usize)>,
     /// The input element.
-    pub element: NonlinearityKind,
+    pub element: Element,
     /// Border basis.
     pub basis: Basis,
     /// Known μ0 for a record without a hold.
@@ -226,7 +226,7 @@ impl IdentifyRequest {
             knots_desc: None,
             order: None,
             horizons: None,
-            element: NonlinearityKind::Backlash,
+            element: Element::Backlash,
             basis: Basis::Hat,
             mu0: None,
             detrend: false,
@@ -308,14 +308,14 @@ impl IdentifyRequest {
             ));
         }
         if let Some(name) = &self.reference {
-            if self.element == NonlinearityKind::Static {
+            if self.element == Element::Static {
                 return Err(RequestError::new(
                     Field::Reference,
                     "reference_static",
                     format!(
                         "{} estimates a two-path element (backlash or switch): drop {}",
                         s.set(Field::Reference, name),
-                        s.set(Field::Nonlinearity, s.text("static"))
+                        s.set(Field::Element, s.text("static"))
                     ),
                 ));
             }
@@ -337,7 +337,7 @@ impl IdentifyRequest {
         };
         let mut options = IdentifyOptions::uniform(umin, umax, fixed, hold);
         options.mu0 = self.mu0;
-        options.static_nonlinearity = self.element == NonlinearityKind::Static;
+        options.static_nonlinearity = self.element == Element::Static;
         if let Some(k) = &self.knots_asc {
             options.knots_asc = k.clone();
         }
@@ -451,7 +451,7 @@ mod tests {
     #[test]
     fn defaults_choose_from_the_data_and_refine() {
         let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
-        r.element = NonlinearityKind::Static;
+        r.element = Element::Static;
         r.order = Some(3);
         let plan = r.validate(0).unwrap();
         assert_eq!(
@@ -495,13 +495,13 @@ mod tests {
     fn the_closed_loop_estimate_needs_a_two_path_element_and_one_record() {
         let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
         r.reference = Some("r".into());
-        r.element = NonlinearityKind::Static;
+        r.element = Element::Static;
         assert_eq!(
             r.validate(0).unwrap_err().message,
             "--reference-column r estimates a two-path element (backlash or switch): drop \
              --nonlinearity static"
         );
-        r.element = NonlinearityKind::Backlash;
+        r.element = Element::Backlash;
         let plan = r.validate(0).unwrap();
         assert_eq!(plan.choices.estimator, Estimator::Subspace);
         let mut rec = crate::model::Record::new(vec![0.0; 4], vec![0.0; 4]).unwrap();

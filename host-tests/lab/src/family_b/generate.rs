@@ -9,8 +9,9 @@ use super::closed_loop;
 use super::element::{Element, Kind};
 use super::noise::{Noise, noise, rms, sigma_for, snr_db, variance};
 use super::scenario::{Design, ESTIMATION, HOLD, SEGMENTS, Scenario, VALIDATION};
-use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation};
+use hsid_host::diagnose::{DiagnoseOptions, Record, Validation};
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::model::Element as ModelElement;
 
 /// What the scenario really is.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,9 +142,9 @@ pub fn options(t: &Truth) -> DiagnoseOptions {
     id.f = 12;
     id.p = 12;
     let kind = match d.kind {
-        Kind::Backlash if t.class != Class::StaticHysteresis => Nonlinearity::Backlash,
-        Kind::Switch if t.class != Class::StaticHysteresis => Nonlinearity::Switch,
-        _ => Nonlinearity::Static,
+        Kind::Backlash if t.class != Class::StaticHysteresis => ModelElement::Backlash,
+        Kind::Switch if t.class != Class::StaticHysteresis => ModelElement::Switch,
+        _ => ModelElement::Static,
     };
     DiagnoseOptions::new(id, kind)
 }

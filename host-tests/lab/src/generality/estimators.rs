@@ -5,8 +5,9 @@ use super::case::{Case, HOLD};
 use super::element::Kind;
 use super::score::{Estimate, Row, score};
 use hsid_host::choose::{Choices, best_model};
-use hsid_host::diagnose::{DiagnoseOptions, Nonlinearity, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose};
 use hsid_host::identify::{IdentifyOptions, identify};
+use hsid_host::model::Element;
 
 /// Samples of each record after the hold.
 pub const SAMPLES: usize = 6000;
@@ -47,8 +48,8 @@ pub fn default_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, S
 pub fn diagnose_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, String> {
     let e = &case.element;
     let kind = match e.kind {
-        Kind::Backlash => Nonlinearity::Backlash,
-        Kind::Switch => Nonlinearity::Switch,
+        Kind::Backlash => Element::Backlash,
+        Kind::Switch => Element::Switch,
     };
     let opts = DiagnoseOptions::new(IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD), kind);
     let record = Record::new(u.to_vec(), y.to_vec());

@@ -1,12 +1,12 @@
 //! What the checks need to know about the identification.
 
-use crate::diagnose::options::Nonlinearity;
+use crate::model::Element;
 
 /// What the checks need to know about the identification.
 #[derive(Clone, Debug)]
 pub struct CheckSetup<'a> {
-    /// Nonlinearity kind.
-    pub kind: Nonlinearity,
+    /// Element kind.
+    pub kind: Element,
     /// Ascending knots.
     pub knots_asc: &'a [f64],
     /// Descending knots.
@@ -33,6 +33,6 @@ impl CheckSetup<'_> {
 
     /// One border for both directions (a static nonlinearity).
     pub fn shared(&self) -> bool {
-        self.kind == Nonlinearity::Static
+        self.kind == Element::Static
     }
 }

@@ -3,7 +3,7 @@
 
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::options::Nonlinearity;
+use crate::model::Element;
 use crate::table1::{Runs, count_runs};
 
 /// Runs that do not start at an end of the interval (backlash and switch only). `ex` is the
@@ -12,11 +12,11 @@ use crate::table1::{Runs, count_runs};
 pub fn table1_structure(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let (u_min, u_max, tol) = s.interval();
-    if s.kind != Nonlinearity::Static {
+    if s.kind != Element::Static {
         let Runs { runs, inside: bad } = count_runs(ex, u_min, u_max, tol);
         if bad > 0 {
             let msg = match s.kind {
-                Nonlinearity::Backlash => format!(
+                Element::Backlash => format!(
                     "{bad} of {runs} monotone input runs do not start at u_min (ascending) or u_max (descending), as the Table I excitation does: a backlash is then on inner loops, not on its paths P_a/P_d, and the identified borders are biased there"
                 ),
                 _ => format!(
@@ -39,7 +39,7 @@ mod tests {
 
     fn setup(knots: &[f64]) -> CheckSetup<'_> {
         CheckSetup {
-            kind: Nonlinearity::Backlash,
+            kind: Element::Backlash,
             knots_asc: knots,
             knots_desc: knots,
             hold: 300,
