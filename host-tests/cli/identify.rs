@@ -12,18 +12,10 @@ use hsid_host::model::Element;
 use std::path::PathBuf;
 
 use clap::Args;
-use hsid_host::html::Fact;
-use hsid_host::html::model_page::ModelRun;
-use hsid_host::identify::HostModel;
 use hsid_host::refine::knots::SegmentCount;
-use hsid_host::refine::stochastic::{noise_text, prediction_report};
-use hsid_host::refine::{InnovationForm, NoiseModel};
-use hsid_host::report::{fit_report, model_text, std_text};
-use hsid_host::units::unit_report;
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
 use crate::args::{BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs};
-use page::{html_figures, names, write_element_page, write_page};
 use prepare::{read_records, refuse_bad_flags};
 
 /// Arguments of `hsid identify`.
@@ -157,34 +149,17 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let request = request(a);
-    refuse_bad_flags(a, &request)?;
     if a.stream {
+        refuse_bad_flags(a, &request)?;
         return stream::run(a, &request);
     }
-    let records = read_records(a)?;
+    let records = read_records(a, &request)?;
     let id = identify_record(&records.record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
-    for line in &id.notes {
+    for line in id.lines()? {
         outln!("{line}")?;
     }
-    let (record, estimate) = (&id.record, &id.estimate);
-    let model = &estimate.model;
-    report(model, estimate.noise.as_ref(), &record.parts(), record.hold)?;
-    if let Some((s, _)) = &estimate.std {
-        outln!("{}", std_text(s))?;
-    }
-    let two_path = a.nonlinearity != Element::Static;
-    let cov = estimate.std.as_ref().map(|(_, c)| c.as_slice());
-    let in_units = unit_report(model, record.ts, record.units.clone(), cov, two_path);
-    for line in in_units.lines() {
-        outln!("{line}")?;
-    }
-    if let Some(note) = &id.element_note {
-        outln!("{note}")?;
-    }
-    if let Some(fit) = &id.element {
-        simulation::print(fit, &id)?;
-    }
+    let record = &id.record;
     let view = hsid_host::figures::Record {
         u: &record.u,
         y: &record.y,
@@ -195,53 +170,14 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         Some(fit) => crate::figures::element(&a.figures, fit, &view, ts, units)?,
         None => crate::figures::identify(&a.figures, &id.best, &view, ts, units)?,
     };
-    if let (Some(path), Some(fit)) = (&a.html, &id.element) {
-        write_element_page(a, path, fit, &id, &view)?;
-    } else if let Some(path) = &a.html {
-        let run = ModelRun {
-            title: format!("hsid identify: {}", names(&a.data)),
-            element: a.nonlinearity.into(),
-            model,
-            memory: None,
-            units: &in_units,
-            parts: &record.parts(),
-            skip: record.hold,
-            estimation: Some(&id.best.options),
-            extra: vec![Fact::new("estimator", estimate.estimator.clone())],
-        };
-        let page_figures = html_figures(a, &id.best, &view, ts, units)?;
-        write_page(a, path, run, page_figures)?;
+    if let Some(path) = &a.html {
+        page::write(a, path, &id, &view)?;
     }
     if let Some(path) = &a.out.json {
         write(&id.model_file(), path)?;
     }
     for line in figures {
         outln!("{line}")?;
-    }
-    Ok(())
-}
-
-/// Prints the model, its simulation fit and, with a noise model, its prediction fit; each
-/// record (`(u, y)` in `parts`) is simulated and predicted from rest on its own, the hold of
-/// the first left out of the fits.
-fn report(
-    model: &HostModel,
-    noise: Option<&NoiseModel>,
-    parts: &[(&[f64], &[f64])],
-    hold: usize,
-) -> Result<(), Failure> {
-    outln!("{}", model_text(model))?;
-    let y: Vec<f64> = parts.iter().flat_map(|p| p.1.iter().copied()).collect();
-    let sim: Vec<f64> = parts.iter().flat_map(|p| model.simulate(p.0)).collect();
-    outln!("{}", fit_report(&y[hold..], &sim[hold..])?)?;
-    if let Some(noise) = noise {
-        outln!("{}", noise_text(noise))?;
-        let form = InnovationForm::new(model, noise);
-        let pred: Vec<f64> = parts.iter().flat_map(|p| form.predict(p.0, p.1)).collect();
-        outln!(
-            "{}",
-            prediction_report(&y[hold..], &pred[hold..], noise.sigma2)?
-        )?;
     }
     Ok(())
 }

@@ -14,17 +14,44 @@ use hsid_host::model_file::Units;
 use hsid_host::workflow::Identified;
 
 use super::IdentifyArgs;
-use super::simulation;
 use crate::failure::{Failure, outln};
 
+/// Writes the HTML report of the identification `id` to `path`: the fitted element's page
+/// when the element was fitted, else the model's.
+pub fn write(
+    a: &IdentifyArgs,
+    path: &Path,
+    id: &Identified,
+    view: &Record<'_>,
+) -> Result<(), Failure> {
+    if let Some(fit) = &id.element {
+        return write_element_page(a, path, fit, id, view);
+    }
+    let record = &id.record;
+    let in_units = id.in_units();
+    let run = ModelRun {
+        title: format!("hsid identify: {}", names(&a.data)),
+        element: id.request.element.into(),
+        model: &id.estimate.model,
+        memory: None,
+        units: &in_units,
+        parts: &record.parts(),
+        skip: record.hold,
+        estimation: Some(&id.best.options),
+        extra: vec![Fact::new("estimator", id.estimate.estimator.clone())],
+    };
+    let page_figures = html_figures(a, &id.best, view, record.ts, record.units.as_ref())?;
+    write_page(a, path, run, page_figures)
+}
+
 /// The record files, comma-separated.
-pub fn names(data: &[PathBuf]) -> String {
+fn names(data: &[PathBuf]) -> String {
     let names: Vec<String> = data.iter().map(|p| p.display().to_string()).collect();
     names.join(", ")
 }
 
 /// Writes the HTML report of `run` to `path`.
-pub fn write_page(
+fn write_page(
     a: &IdentifyArgs,
     path: &Path,
     run: ModelRun<'_>,
@@ -39,7 +66,7 @@ pub fn write_page(
 
 /// Writes the HTML report of the fitted element `fit` (`--fit`) on its estimation record:
 /// the element's simulation, figures and reading in units, as printed and drawn by `--out`.
-pub fn write_element_page(
+fn write_element_page(
     a: &IdentifyArgs,
     path: &Path,
     fit: &HysteresisFit,
@@ -48,7 +75,7 @@ pub fn write_element_page(
 ) -> Result<(), Failure> {
     let r = &id.record;
     let host = fit.model.to_host(r.len());
-    let in_units = simulation::in_units(fit, id);
+    let in_units = id.element_in_units().unwrap_or_else(|| id.in_units());
     let estimator = format!(
         "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
         if id.request.element == Element::Static {
@@ -81,7 +108,7 @@ pub fn write_element_page(
 }
 
 /// The figures of the HTML report: those `--out` writes, drawn again into a scratch folder.
-pub fn html_figures(
+fn html_figures(
     a: &IdentifyArgs,
     best: &Best,
     record: &Record<'_>,

@@ -27,10 +27,16 @@ pub fn refuse_bad_flags(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(
     Ok(())
 }
 
-/// The records, read and their junctions checked.
-pub fn read_records(a: &IdentifyArgs) -> Result<Records, Failure> {
+/// The records, read and their junctions checked, once the flags are found consistent.
+pub fn read_records(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<Records, Failure> {
+    refuse_bad_flags(a, request)?;
     let reference = a.reference_column.as_deref();
-    let records = Records::read(&a.data, &a.columns, reference, &a.csv, &a.units)?;
-    records.check_junctions(a.umin, a.hold.settle())?;
-    Ok(records)
+    Ok(Records::read_joined(
+        &a.data,
+        &a.columns,
+        reference,
+        &a.csv,
+        &a.units,
+        (a.umin, a.hold.settle()),
+    )?)
 }

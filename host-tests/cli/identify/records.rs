@@ -84,6 +84,20 @@ impl Records {
         Ok(r)
     }
 
+    /// [`Records::read`], then [`Records::check_junctions`] at `(u_min, settle)`.
+    pub fn read_joined(
+        paths: &[PathBuf],
+        columns: &Columns,
+        reference: Option<&str>,
+        csv: &CsvArgs,
+        units: &UnitArgs,
+        (u_min, settle): (f64, usize),
+    ) -> Result<Self, String> {
+        let records = Self::read(paths, columns, reference, csv, units)?;
+        records.check_junctions(u_min, settle)?;
+        Ok(records)
+    }
+
     /// Checks that the records join without mixing: a record that starts at `u_min` (with a
     /// hold, the plant at rest) must follow one that ends with at least `settle` samples (at
     /// least one) at `u_min`, where the plant has come to rest too; otherwise the settling at

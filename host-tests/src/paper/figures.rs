@@ -208,7 +208,7 @@ pub fn bode_magnitude_plot(
     bode_magnitude_figure(title, w, curves).save(path)
 }
 
-/// Element plot as in Figs. 8 and 11: one line per `(label, values)` curve over the input
+/// Nonlinearity plot as in Figs. 8 and 11: one line per `(label, values)` curve over the input
 /// values `u` (e.g. true P_a, true P_d, estimated average P_a, P_d), styled as in
 /// [`bode_magnitude_figure`].
 pub fn border_figure(title: &str, u: &[f64], curves: &[(&str, &[f64])]) -> Figure {

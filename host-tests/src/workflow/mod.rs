@@ -15,6 +15,7 @@
 pub mod closed_loop;
 pub mod element_fit;
 pub mod estimate;
+pub mod report;
 mod request;
 
 pub use estimate::Estimate;

@@ -61,7 +61,7 @@ pub enum Field {
     /// The integrating plant.
     Integrating,
     /// The input element.
-    Element,
+    Nonlinearity,
     /// The closed-loop reference.
     Reference,
     /// The record itself.
@@ -90,7 +90,7 @@ impl Syntax {
             (Syntax::Cli, Field::Detrend) => "--detrend",
             (Syntax::Cli, Field::Fit) => "--fit",
             (Syntax::Cli, Field::Integrating) => "--integrating",
-            (Syntax::Cli, Field::Element) => "--nonlinearity",
+            (Syntax::Cli, Field::Nonlinearity) => "--nonlinearity",
             (Syntax::Cli, Field::Reference) => "--reference-column",
             (Syntax::Cli, Field::Data) => "--data",
             (Syntax::Python, Field::UMin) => "umin",
@@ -102,7 +102,7 @@ impl Syntax {
             (Syntax::Python, Field::Detrend) => "detrend",
             (Syntax::Python, Field::Fit) => "fit",
             (Syntax::Python, Field::Integrating) => "integrating",
-            (Syntax::Python, Field::Element) => "nonlinearity",
+            (Syntax::Python, Field::Nonlinearity) => "nonlinearity",
             (Syntax::Python, Field::Reference) => "reference",
             (Syntax::Python, Field::Data) => "u, y",
         }
@@ -315,7 +315,7 @@ impl IdentifyRequest {
                     format!(
                         "{} estimates a two-path element (backlash or switch): drop {}",
                         s.set(Field::Reference, name),
-                        s.set(Field::Element, s.text("static"))
+                        s.set(Field::Nonlinearity, s.text("static"))
                     ),
                 ));
             }

@@ -1,0 +1,146 @@
+//! What an identification says, as lines of text: what was chosen and done, the model, its
+//! simulation and prediction fits on the record as identified, the standard deviations, the
+//! reading in units and, when the element was fitted, its fit. `hsid identify` prints these
+//! lines; the HTML page and Python take the same pieces.
+
+use super::{Field, Identified};
+use crate::hysteresis::{ElementKind, HysteresisFit, Start};
+use crate::refine::InnovationForm;
+use crate::refine::stochastic::{noise_text, prediction_report};
+use crate::report::{UndefinedFit, fit_report, model_text, std_text};
+use crate::units::{UnitReport, unit_report};
+
+impl Identified {
+    /// The model read in units (its poles with their covariance when refined).
+    pub fn in_units(&self) -> UnitReport {
+        let r = &self.record;
+        let cov = self.estimate.std.as_ref().map(|(_, c)| c.as_slice());
+        let two_path = self.request.element.two_path();
+        unit_report(&self.estimate.model, r.ts, r.units.clone(), cov, two_path)
+    }
+
+    /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, the gap of
+    /// the borders (input units) and the loop height (output units); `None` without a fit.
+    pub fn element_in_units(&self) -> Option<UnitReport> {
+        let fit = self.element.as_ref()?;
+        let host = fit.model.to_host(self.record.len());
+        let r = &self.record;
+        Some(unit_report(&host, r.ts, r.units.clone(), None, true))
+    }
+
+    /// Every line `hsid identify` prints about the identification, in order. Each experiment
+    /// is simulated and predicted from rest on its own; the hold is left out of the fits.
+    pub fn lines(&self) -> Result<Vec<String>, UndefinedFit> {
+        let mut lines = self.notes.clone();
+        let model = &self.estimate.model;
+        let (r, hold) = (&self.record, self.record.hold);
+        let parts = r.parts();
+        lines.push(model_text(model));
+        let sim: Vec<f64> = parts.iter().flat_map(|p| model.simulate(p.0)).collect();
+        lines.push(fit_report(&r.y[hold..], &sim[hold..])?);
+        if let Some(noise) = &self.estimate.noise {
+            lines.push(noise_text(noise));
+            let form = InnovationForm::new(model, noise);
+            let pred: Vec<f64> = parts.iter().flat_map(|p| form.predict(p.0, p.1)).collect();
+            lines.push(prediction_report(
+                &r.y[hold..],
+                &pred[hold..],
+                noise.sigma2,
+            )?);
+        }
+        if let Some((s, _)) = &self.estimate.std {
+            lines.push(std_text(s));
+        }
+        lines.extend(self.in_units().lines());
+        lines.extend(self.element_note.clone());
+        if let Some(fit) = &self.element {
+            lines.extend(self.element_lines(fit)?);
+        }
+        Ok(lines)
+    }
+
+    /// The fitted element's lines: the fit, the model, its simulation fit, its reading in units.
+    fn element_lines(&self, fit: &HysteresisFit) -> Result<Vec<String>, UndefinedFit> {
+        let s = self.request.syntax;
+        let name = match fit.model.kind {
+            ElementKind::Backlash => "play operator (backlash)",
+            ElementKind::Switch => "relay with borders (switch)",
+        };
+        let origin = match fit.start {
+            Start::TwoPath => "the two-path model above".to_string(),
+            Start::Static => format!(
+                "the static model above (a play: {} for a relay)",
+                s.set(Field::Nonlinearity, s.text("switch"))
+            ),
+        };
+        let mut lines = vec![format!(
+            "simulation-error fit of the {name} on the knots, from {origin}: {} iterations{}, Σe² {:.6} -> {:.6}",
+            fit.iterations,
+            if fit.budget_reached {
+                " (the limit; the last step still gained)"
+            } else {
+                ""
+            },
+            fit.initial_cost,
+            fit.cost
+        )];
+        lines.extend(element_text(fit));
+        let r = &self.record;
+        let sim = fit.simulate(&r.u);
+        lines.push(fit_report(&r.y[r.hold..], &sim[r.hold..])?);
+        lines.push("the fitted element in units:".to_string());
+        if let Some(units) = self.element_in_units() {
+            lines.extend(units.lines());
+        }
+        Ok(lines)
+    }
+}
+
+/// The fitted element: `G`, its poles, `w(−1)`, the borders and the gap, with standard
+/// deviations where the data determine them.
+pub fn element_text(fit: &HysteresisFit) -> Vec<String> {
+    let m = &fit.model;
+    let u = fit.uncertainty.as_ref();
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.6}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let sd = |v: Option<f64>| v.map_or(String::new(), |s| format!(" ± {s:.6}"));
+    let mut lines = vec![
+        format!(
+            "G(q) = B/F, G(1) = 1: F = [{}], B = [{}]",
+            list(&m.f),
+            list(&m.b)
+        ),
+        format!(
+            "poles: {}",
+            m.poles()
+                .iter()
+                .map(|(re, im)| format!("{re:.6}{im:+.6}i"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        format!("w(-1) = {:.6}{}", m.w0, sd(u.map(|u| u.w0))),
+        format!("knots: {}", list(&m.knots)),
+        format!("H_a: {}", list(&m.border_asc)),
+        format!("H_d: {}", list(&m.border_desc)),
+    ];
+    if let Some(u) = u {
+        lines.push(format!("sd H_a: {}", list(&u.border_asc)));
+        lines.push(format!("sd H_d: {}", list(&u.border_desc)));
+    } else {
+        lines.push(
+            "no standard deviations: the data do not determine every border value (singular JᵀJ)"
+                .to_string(),
+        );
+    }
+    if m.kind == ElementKind::Backlash {
+        lines.push(match m.gap() {
+            Some(g) => format!("fitted gap {g:.6}{}", sd(u.and_then(|u| u.gap))),
+            None => "fitted gap: none, the borders do not meet at mid-range".to_string(),
+        });
+    }
+    lines
+}
