@@ -1,7 +1,8 @@
 //! Tests of the level-dependent stores against plants of their class.
 
-use super::fixtures::{levels, model, rms};
+use super::fixtures::{levels, model};
 use super::*;
+use crate::numerics::rms_error;
 use crate::diagnose::simulate::linear_response;
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
@@ -53,8 +54,8 @@ fn linear_start_simulates_like_the_linear_model() -> Outcome {
     let start = linear_start(&cascade, 0.0, 0.0, 0.0, 1.0).ok_or("no start")?;
     let ys = start.simulate(&h).ok_or("not simulated")?;
     // Sub-steps discretise the cascade's coupling differently: a small mismatch only.
-    let spread = rms(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
-    let e = rms(&y, &ys);
+    let spread = rms_error(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
+    let e = rms_error(&y, &ys);
     assert!(e < 0.05 * spread, "start error {e}, output spread {spread}");
     Ok(())
 }
@@ -84,9 +85,9 @@ fn fit_recovers_two_tanks() -> Outcome {
         borders: None,
     };
     let x0 = [x1 / (1.0 - p2), 0.0];
-    let before = rms(&linear_response(&lin, &h, &x0), &y);
+    let before = rms_error(&linear_response(&lin, &h, &x0), &y);
     let (fit, _) = fit(&lin, &x0, &data, StoresClass::LevelDependent)?;
-    let after = rms(&fit.simulate(&h).ok_or("not simulated")?, &y);
+    let after = rms_error(&fit.simulate(&h).ok_or("not simulated")?, &y);
     assert!(
         after < 0.01 * before,
         "before {before}, after {after}: {fit:?}"
@@ -94,7 +95,7 @@ fn fit_recovers_two_tanks() -> Outcome {
     // On a new input too, and with the tanks' own steady states.
     let h2 = inflow(3000, 12);
     let y2 = truth.simulate(&h2).ok_or("not simulated")?;
-    let new = rms(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
+    let new = rms_error(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
     assert!(new < 0.02 * before, "new input: {new} (before {before})");
     for h in [0.03, 0.06, 0.11] {
         let (a, b) = (fit.steady_output(h), truth.steady_output(h));
