@@ -17,8 +17,7 @@ use hsid_host::identify::HostModel;
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::refine::stochastic::{noise_text, prediction_report};
 use hsid_host::refine::{InnovationForm, NoiseModel};
-use hsid_host::report::{fit_report, model_text, std_text};
-use hsid_host::units::unit_report;
+use hsid_host::report::{fit_report, std_text};
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
 use crate::args::{
@@ -176,7 +175,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     }
     let two_path = a.nonlinearity != NonlinearityArg::Static;
     let cov = estimate.std.as_ref().map(|(_, c)| c.as_slice());
-    let in_units = unit_report(model, record.ts, record.units.clone(), cov, two_path);
+    let in_units = model.unit_report(record.ts, record.units.clone(), cov, two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
     }
@@ -231,7 +230,7 @@ fn report(
     parts: &[(&[f64], &[f64])],
     hold: usize,
 ) -> Result<(), Failure> {
-    outln!("{}", model_text(model))?;
+    outln!("{}", model.text())?;
     let y: Vec<f64> = parts.iter().flat_map(|p| p.1.iter().copied()).collect();
     let sim: Vec<f64> = parts.iter().flat_map(|p| model.simulate(p.0)).collect();
     outln!("{}", fit_report(&y[hold..], &sim[hold..])?)?;

@@ -16,7 +16,7 @@ use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
-use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts, unit_report};
+use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts};
 
 use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 
@@ -179,7 +179,7 @@ fn reading(
         outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
     }
     let two_path = file.nonlinearity != Some(NonlinearityKind::Static);
-    let in_units = unit_report(m, ts, units, cov.as_deref(), two_path);
+    let in_units = m.unit_report(ts, units, cov.as_deref(), two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
     }

@@ -4,7 +4,7 @@
 use clap::ValueEnum;
 use hsid_host::hysteresis::{ElementKind, HysteresisFit, Start};
 use hsid_host::report::fit_report;
-use hsid_host::units::{UnitReport, unit_report};
+use hsid_host::units::UnitReport;
 use hsid_host::workflow::{ElementFit, Identified};
 
 use crate::failure::{Failure, outln};
@@ -72,7 +72,7 @@ pub fn print(fit: &HysteresisFit, id: &Identified) -> Result<(), Failure> {
 /// pole covariance: the delta-method text of the report speaks of the refinement's.
 pub fn in_units(fit: &HysteresisFit, id: &Identified) -> UnitReport {
     let host = fit.model.to_host(id.record.len());
-    unit_report(&host, id.record.ts, id.record.units.clone(), None, true)
+    host.unit_report(id.record.ts, id.record.units.clone(), None, true)
 }
 
 /// The fitted model: `G`, its poles, `w(−1)`, the borders and the gap, with standard

@@ -2,8 +2,6 @@
 
 use hsid_host::diagnose::dynamics::{Borders, DynamicsFit};
 use hsid_host::numerics::rms_error;
-use hsid_host::diagnose::simulate::linear_response;
-use hsid_host::diagnose::simulate::nonlinearity_output;
 
 use crate::error::ClassError;
 use crate::fixtures::{levels, model};
@@ -58,7 +56,7 @@ fn polynomial_term_fits_a_plant_of_its_class() -> Outcome {
     let y = quadratic_plant(&h);
     let skip = vec![false; h.len()];
     let data = exact(&h, &y, &skip, 50, None);
-    let before = rms_error(&linear_response(&lin, &h, &[0.0, 0.0]), &y);
+    let before = rms_error(&lin.linear_response(&h, &[0.0, 0.0]), &y);
     let (m, poly, x0) = fit(&lin, &[0.0, 0.0], 2, &data)?;
     let after = rms_error(
         &simulate(&m, Some(&poly), &h, &x0).ok_or("not simulated")?,
@@ -67,7 +65,7 @@ fn polynomial_term_fits_a_plant_of_its_class() -> Outcome {
     // On another input of the same range (not fitted).
     let h2 = levels(1500, 99);
     let y2 = quadratic_plant(&h2);
-    let before2 = rms_error(&linear_response(&lin, &h2, &[0.0, 0.0]), &y2);
+    let before2 = rms_error(&lin.linear_response(&h2, &[0.0, 0.0]), &y2);
     let after2 = rms_error(
         &simulate(&m, Some(&poly), &h2, &x0).ok_or("not simulated")?,
         &y2,
@@ -94,7 +92,7 @@ fn borders_refitted_with_the_polynomial() -> Outcome {
     let h_true: Vec<f64> = u.iter().map(|v| v * v).collect();
     let y = quadratic_plant(&h_true);
     let skip = vec![false; u.len()];
-    let h_start = nonlinearity_output(&lin, &u);
+    let h_start = lin.nonlinearity_output(&u);
     let fit_with = |borders: Option<Borders>| {
         fit(
             &lin,
@@ -109,7 +107,7 @@ fn borders_refitted_with_the_polynomial() -> Outcome {
         u: &u,
         shared: true,
     }))?;
-    let h1 = nonlinearity_output(&m1, &u);
+    let h1 = m1.nonlinearity_output(&u);
     let refit = rms_error(&simulate(&m1, Some(&p1), &h1, &x1).ok_or("refit")?, &y);
     assert_eq!(
         m1.border_asc, m1.border_desc,

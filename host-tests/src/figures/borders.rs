@@ -8,7 +8,7 @@ use hsid::Direction;
 
 use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
-use super::partial::{departures, impulse_response};
+use super::partial::departures;
 use super::{Context, Record, Written};
 use crate::numerics::direction::directions;
 use crate::plot::{Dash, Figure, Marker, PALETTE, Series};
@@ -153,7 +153,7 @@ fn measured_points(cx: &Context) -> Vec<(f64, f64, Direction)> {
     let m = cx.model;
     let Record { u, y, skip } = cx.record;
     let residual: Vec<f64> = y.iter().zip(&cx.simulated).map(|(y, s)| y - s).collect();
-    let back = departures(&impulse_response(m), &residual);
+    let back = departures(&m.impulse_response(), &residual);
     u.iter()
         .zip(directions(u, m.u_min()))
         .zip(&back)

@@ -43,7 +43,7 @@ use std::path::{Path, PathBuf};
 
 pub use element::{write_element_figures, write_element_model_figures};
 pub use error::FigureError;
-pub use partial::{MIN_ENERGY, departures, impulse_response};
+pub use partial::{MIN_ENERGY, departures};
 pub use settings::{FigureSettings, TrueBorders};
 pub use uncertainty::Uncertainty;
 

@@ -10,7 +10,6 @@ use super::model_words::{model_facts, sentence};
 use super::{HtmlError, InlineFigure, Page, Reproduction};
 use crate::diagnose::{Check, Diagnosis, Evaluation, Nonlinearity, figures};
 use crate::model_file::Units;
-use crate::units::unit_report;
 
 /// The diagnosis figures (those `--out` writes), inlined; `title` heads each figure.
 pub fn diagnosis_figures(d: &Diagnosis, title: &str) -> Result<Vec<InlineFigure>, HtmlError> {
@@ -76,7 +75,7 @@ pub fn diagnosis_page(
         .map(|el| el.to_host(d.model.hammerstein.samples));
     let two_path = d.nonlinearity != Nonlinearity::Static || element.is_some();
     let m = element.as_ref().unwrap_or(&d.model.hammerstein);
-    let r = unit_report(m, ts, units, None, two_path);
+    let r = m.unit_report(ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let mut facts = vec![
         Fact::new("data", d.data_description.clone()),

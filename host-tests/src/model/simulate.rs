@@ -62,7 +62,7 @@ impl Simulate for FileModel {
         match self {
             FileModel::TwoPath(m) => m.simulate(u),
             FileModel::Element(h) => crate::hysteresis::simulate::simulate(h, u),
-            FileModel::Integrating(m) => crate::integrating::simulate(m, u, 0.0),
+            FileModel::Integrating(m) => m.simulate_integrating(u, 0.0),
         }
     }
 }

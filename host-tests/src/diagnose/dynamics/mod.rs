@@ -12,6 +12,6 @@ pub mod cascade;
 pub mod error;
 pub mod fit_data;
 
-pub use cascade::{Cascade, cascade_forms_with};
+pub use cascade::Cascade;
 pub use error::DynamicsError;
 pub use fit_data::{Borders, DynamicsFit};

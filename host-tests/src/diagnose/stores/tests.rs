@@ -3,7 +3,6 @@
 use super::fixtures::{levels, model};
 use super::*;
 use crate::numerics::rms_error;
-use crate::diagnose::simulate::linear_response;
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
 
@@ -49,8 +48,8 @@ fn linear_start_simulates_like_the_linear_model() -> Outcome {
     // The cascade x1⁺ = 0.95 x1 + h, x2⁺ = 0.9 x2 + x1, y = 0.1 x1 + 0.05 x2 as a model.
     let lin = model([[0.95, 0.0], [1.0, 0.9]], [1.0, 0.0], [0.1, 0.05], 0.0);
     let h = levels(2000, 3);
-    let y = linear_response(&lin, &h, &[0.0, 0.0]);
-    let [cascade, _] = start_cascades(&lin)?;
+    let y = lin.linear_response(&h, &[0.0, 0.0]);
+    let [cascade, _] = lin.start_cascades()?;
     let start = linear_start(&cascade, 0.0, 0.0, 0.0, 1.0).ok_or("no start")?;
     let ys = start.simulate(&h).ok_or("not simulated")?;
     // Sub-steps discretise the cascade's coupling differently: a small mismatch only.
@@ -85,7 +84,7 @@ fn fit_recovers_two_tanks() -> Outcome {
         borders: None,
     };
     let x0 = [x1 / (1.0 - p2), 0.0];
-    let before = rms_error(&linear_response(&lin, &h, &x0), &y);
+    let before = rms_error(&lin.linear_response(&h, &x0), &y);
     let (fit, _) = fit(&lin, &x0, &data, StoresClass::LevelDependent)?;
     let after = rms_error(&fit.simulate(&h).ok_or("not simulated")?, &y);
     assert!(
