@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
-use hsid_host::html::model_words::{Element, element_facts};
+use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
 use hsid_host::hysteresis::{self, HysteresisModel};
 use hsid_host::identify::HostModel;
@@ -230,11 +230,13 @@ fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failur
     let settings = s.settings(a)?;
     let (element, figures) = match s.element {
         Some(h) => (
-            Element::from(h.kind),
+            ModelElement::from(h.kind),
             figures::of_element(h, None, &s.record, &settings),
         ),
         None => (
-            s.file.nonlinearity.map_or(Element::TwoPath, Element::from),
+            s.file
+                .nonlinearity
+                .map_or(ModelElement::TwoPath, ModelElement::from),
             figures::of_model(
                 s.model,
                 &s.record,

@@ -5,7 +5,7 @@
 use super::advice::BEFORE_FIT;
 use super::checks::{data_rows, test_rows};
 use super::headline::{Fact, Headline};
-use super::model_words::{Element, model_facts, sentence};
+use super::model_words::{ModelElement, model_facts, sentence};
 use super::residual::{data_checks, residual_tests};
 use super::{InlineFigure, Page, Reproduction};
 use crate::diagnose::Nonlinearity;
@@ -19,7 +19,7 @@ pub struct ModelRun<'a> {
     /// The page title, plain text.
     pub title: String,
     /// The input element.
-    pub element: Element,
+    pub element: ModelElement,
     /// The model (for an element model, its [`HysteresisModel::to_host`]: the linear part,
     /// the knots and the borders the residual tests and the reading in units use).
     pub model: &'a HostModel,
@@ -51,9 +51,11 @@ impl ModelRun<'_> {
 
     fn kind(&self) -> Nonlinearity {
         match self.element {
-            Element::Backlash | Element::TwoPath | Element::Play => Nonlinearity::Backlash,
-            Element::Switch | Element::Relay => Nonlinearity::Switch,
-            Element::Static => Nonlinearity::Static,
+            ModelElement::Backlash | ModelElement::TwoPath | ModelElement::Play => {
+                Nonlinearity::Backlash
+            }
+            ModelElement::Switch | ModelElement::Relay => Nonlinearity::Switch,
+            ModelElement::Static => Nonlinearity::Static,
         }
     }
 
@@ -83,7 +85,7 @@ impl ModelRun<'_> {
         );
         let mut facts = model_facts(self.model.order, self.units);
         facts.extend(self.extra.iter().cloned());
-        let shared = self.element == Element::Static;
+        let shared = self.element == ModelElement::Static;
         let mut checks = match self.estimation {
             Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind()), &BEFORE_FIT),
             None => Vec::new(),

@@ -8,7 +8,7 @@ use crate::units::UnitReport;
 
 /// What the input element is, for the sentence and the facts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Element {
+pub enum ModelElement {
     /// Backlash (gear play): two borders, a gap.
     Backlash,
     /// Switch (hysteresis): two borders, a gap.
@@ -23,44 +23,44 @@ pub enum Element {
     Relay,
 }
 
-impl From<crate::hysteresis::ElementKind> for Element {
+impl From<crate::hysteresis::ElementKind> for ModelElement {
     fn from(k: crate::hysteresis::ElementKind) -> Self {
         match k {
-            crate::hysteresis::ElementKind::Backlash => Element::Play,
-            crate::hysteresis::ElementKind::Switch => Element::Relay,
+            crate::hysteresis::ElementKind::Backlash => ModelElement::Play,
+            crate::hysteresis::ElementKind::Switch => ModelElement::Relay,
         }
     }
 }
 
-impl From<crate::diagnose::Nonlinearity> for Element {
+impl From<crate::diagnose::Nonlinearity> for ModelElement {
     fn from(n: crate::diagnose::Nonlinearity) -> Self {
         match n {
-            crate::diagnose::Nonlinearity::Backlash => Element::Backlash,
-            crate::diagnose::Nonlinearity::Switch => Element::Switch,
-            crate::diagnose::Nonlinearity::Static => Element::Static,
+            crate::diagnose::Nonlinearity::Backlash => ModelElement::Backlash,
+            crate::diagnose::Nonlinearity::Switch => ModelElement::Switch,
+            crate::diagnose::Nonlinearity::Static => ModelElement::Static,
         }
     }
 }
 
-impl From<crate::model_file::NonlinearityKind> for Element {
+impl From<crate::model_file::NonlinearityKind> for ModelElement {
     fn from(n: crate::model_file::NonlinearityKind) -> Self {
         match n {
-            crate::model_file::NonlinearityKind::Backlash => Element::Backlash,
-            crate::model_file::NonlinearityKind::Switch => Element::Switch,
-            crate::model_file::NonlinearityKind::Static => Element::Static,
+            crate::model_file::NonlinearityKind::Backlash => ModelElement::Backlash,
+            crate::model_file::NonlinearityKind::Switch => ModelElement::Switch,
+            crate::model_file::NonlinearityKind::Static => ModelElement::Static,
         }
     }
 }
 
-impl Element {
+impl ModelElement {
     fn name(self) -> &'static str {
         match self {
-            Element::Backlash => "backlash",
-            Element::Switch => "switch (hysteresis)",
-            Element::Static => "static nonlinearity",
-            Element::TwoPath => "two-path element (backlash or switch)",
-            Element::Play => "play operator (backlash, simulated on inner loops too)",
-            Element::Relay => "relay with borders (switch, simulated on inner loops too)",
+            ModelElement::Backlash => "backlash",
+            ModelElement::Switch => "switch (hysteresis)",
+            ModelElement::Static => "static nonlinearity",
+            ModelElement::TwoPath => "two-path element (backlash or switch)",
+            ModelElement::Play => "play operator (backlash, simulated on inner loops too)",
+            ModelElement::Relay => "relay with borders (switch, simulated on inner loops too)",
         }
     }
 }
@@ -76,7 +76,7 @@ pub fn gap_text(r: &UnitReport) -> Option<String> {
 }
 
 /// One sentence: the element, its gap or dead band, and the order of the linear part.
-pub fn sentence(element: Element, order: usize, r: &UnitReport) -> String {
+pub fn sentence(element: ModelElement, order: usize, r: &UnitReport) -> String {
     let play = match (gap_text(r), &r.dead_band) {
         (Some(g), _) => format!(" with a mean gap of {g}"),
         (None, Some(d)) => format!(
@@ -171,7 +171,7 @@ mod tests {
         };
         let r = m.unit_report(Some(0.01), Some(units), None, true);
         assert_eq!(
-            sentence(Element::Backlash, 1, &r),
+            sentence(ModelElement::Backlash, 1, &r),
             "A backlash with a mean gap of 0.50000 V, followed by linear dynamics of order 1."
         );
         let facts = model_facts(1, &r);
