@@ -185,7 +185,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     if let Some(fit) = &id.element {
         simulation::print(fit, &id)?;
     }
-    let view = hsid_host::figures::Record {
+    let view = hsid_host::figures::RecordView {
         u: &record.u,
         y: &record.y,
         skip: record.hold,

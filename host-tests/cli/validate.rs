@@ -4,7 +4,7 @@ use crate::failure::{Failure, outln};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
+use hsid_host::figures::{FigureSettings, RecordView, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
@@ -127,7 +127,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         element: element.as_ref(),
         units: &in_units,
         ts,
-        record: Record { u, y, skip },
+        record: RecordView { u, y, skip },
     };
     match &element {
         Some(h) => draw_element(a, h, &shown)?,
@@ -194,7 +194,7 @@ struct Shown<'a> {
     element: Option<&'a HysteresisModel>,
     units: &'a UnitReport,
     ts: Option<f64>,
-    record: Record<'a>,
+    record: RecordView<'a>,
 }
 
 impl Shown<'_> {

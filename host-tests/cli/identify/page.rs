@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use hsid_host::choose::Best;
-use hsid_host::figures::{Record, Uncertainty};
+use hsid_host::figures::{RecordView, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
@@ -43,7 +43,7 @@ pub fn write_element_page(
     path: &Path,
     fit: &HysteresisFit,
     id: &Identified,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
 ) -> Result<(), Failure> {
     let r = &id.record;
     let host = fit.model.to_host(r.len());
@@ -83,7 +83,7 @@ pub fn write_element_page(
 pub fn html_figures(
     a: &IdentifyArgs,
     best: &Best,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     ts: Option<f64>,
     units: Option<&Units>,
 ) -> Result<Vec<InlineFigure>, Failure> {
