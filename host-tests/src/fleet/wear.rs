@@ -3,7 +3,7 @@
 //! rate on the others.
 //!
 //! The gap of a week is the mean of the model's play after a descent to `u = 0` and after an
-//! ascent to `u = 0` ([`gap_at`]), in input units. A device is flagged as *wearing* when its
+//! ascent to `u = 0` ([`HostModel::gap_at`]), in input units. A device is flagged as *wearing* when its
 //! gap grows by more than `k` standard errors of the slope (a one-sided test of "no growth";
 //! with 8 weeks and `k = 3` a device that does not wear is flagged with probability about 1 %
 //! if the weekly estimates are independent and normal), and as *over the limit* when the

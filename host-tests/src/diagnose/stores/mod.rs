@@ -1,7 +1,7 @@
 //! Level-dependent stores: state-dependent dynamics with one steady state by construction.
 //!
 //! An order-2 model with real poles is a cascade of two stores
-//! ([`super::dynamics::cascade_forms_with`]).
+//! ([`HostModel::cascade_forms_with`](crate::identify::HostModel::cascade_forms_with)).
 //! Here each store drains through a monotone power-law outflow instead of a linear one, and
 //! the first one may overflow into the second above a level:
 //!
