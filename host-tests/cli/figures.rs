@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use hsid_host::choose::Best;
 use hsid_host::figures::{
-    FigureSettings, Record, TrueBorders, Uncertainty, Written, write_element_figures, write_figures,
+    FigureSettings, RecordView, TrueBorders, Uncertainty, Written, write_element_figures,
+    write_figures,
 };
 use hsid_host::hysteresis::HysteresisFit;
 use hsid_host::identify::HostModel;
@@ -74,7 +75,7 @@ pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, F
 pub fn identify(
     a: &FigureArgs,
     best: &Best,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     ts: Option<f64>,
     units: Option<&Units>,
 ) -> Result<Vec<String>, Failure> {
@@ -95,7 +96,7 @@ pub fn identify(
 pub fn element(
     a: &FigureArgs,
     fit: &HysteresisFit,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     ts: Option<f64>,
     units: Option<&Units>,
 ) -> Result<Vec<String>, Failure> {
@@ -121,7 +122,7 @@ pub fn validate(
         return Ok(());
     };
     let settings = settings(a, file.sample_time, file.units.as_ref(), model)?;
-    let record = Record { u, y, skip };
+    let record = RecordView { u, y, skip };
     let written = write_figures(dir, model, &record, Uncertainty::from_file(file), &settings);
     for line in lines(dir, written)? {
         outln!("{line}")?;

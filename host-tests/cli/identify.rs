@@ -160,7 +160,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         outln!("{line}")?;
     }
     let record = &id.record;
-    let view = hsid_host::figures::Record {
+    let view = hsid_host::figures::RecordView {
         u: &record.u,
         y: &record.y,
         skip: record.hold,

@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use hsid::{CheckpointError, Error};
 use hsid_host::identify::{IdentifyError, Solver, solve_checkpoint_with};
-use hsid_host::report::model_text;
 
 use crate::args::ModelOut;
 
@@ -71,7 +70,7 @@ pub fn run(a: &SolveArgs) -> Result<(), Failure> {
         h.scalar_name(),
         solver.name()
     )?;
-    outln!("{}", model_text(&solved.model))?;
+    outln!("{}", solved.model.text())?;
     if let Some(path) = &a.out.json {
         // A checkpoint records one border (static) or two; which two-path element it is, it
         // does not record.

@@ -5,7 +5,7 @@ use hsid_host::model::Element;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::figures::{FigureSettings, Record, Uncertainty, write_element_model_figures};
+use hsid_host::figures::{FigureSettings, RecordView, Uncertainty, write_element_model_figures};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
@@ -16,7 +16,7 @@ use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
-use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts, unit_report};
+use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts};
 
 use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
 
@@ -127,7 +127,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         element: element.as_ref(),
         units: &in_units,
         ts,
-        record: Record { u, y, skip },
+        record: RecordView { u, y, skip },
     };
     match &element {
         Some(h) => draw_element(a, h, &shown)?,
@@ -179,7 +179,7 @@ fn reading(
         outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
     }
     let two_path = file.nonlinearity != Some(Element::Static);
-    let in_units = unit_report(m, ts, units, cov.as_deref(), two_path);
+    let in_units = m.unit_report(ts, units, cov.as_deref(), two_path);
     for line in in_units.lines() {
         outln!("{line}")?;
     }
@@ -194,7 +194,7 @@ struct Shown<'a> {
     element: Option<&'a HysteresisModel>,
     units: &'a UnitReport,
     ts: Option<f64>,
-    record: Record<'a>,
+    record: RecordView<'a>,
 }
 
 impl Shown<'_> {

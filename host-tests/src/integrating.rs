@@ -69,7 +69,7 @@ pub fn increments_options(opts: &IdentifyOptions) -> IdentifyOptions {
 
 /// Identifies an integrating plant: the stable part `G₀` (normalised by `G₀(1) = 1`), μ0 and
 /// the borders from the differenced output (see the module's text). The returned model is
-/// `G₀` with the element; simulate the plant with [`simulate`].
+/// `G₀` with the element; simulate the plant with [`HostModel::simulate_integrating`].
 pub fn identify_integrating(
     u: &[f64],
     y: &[f64],
@@ -79,17 +79,18 @@ pub fn identify_integrating(
     identify(&u1, &dy, &o)
 }
 
-/// Simulates the integrating plant of the stable part `m`: the increments `m.simulate(u)`
-/// summed from `y_before`, the output of the sample before `u[0]`.
-pub fn simulate(m: &HostModel, u: &[f64], y_before: f64) -> Vec<f64> {
-    integrate(&m.simulate(u), y_before)
-}
-
-/// The poles of the integrating plant: those of `G₀`, then the fixed one at `z = 1`.
-pub fn poles(m: &HostModel) -> Vec<(f64, f64)> {
-    let mut p = m.poles();
-    p.push((1.0, 0.0));
-    p
+impl HostModel {
+    /// Simulates the integrating plant of the stable part `m`: the increments `m.simulate(u)`
+    /// summed from `y_before`, the output of the sample before `u[0]`.
+    pub fn simulate_integrating(&self, u: &[f64], y_before: f64) -> Vec<f64> {
+        integrate(&self.simulate(u), y_before)
+    }
+    /// The poles of the integrating plant: those of `G₀`, then the fixed one at `z = 1`.
+    pub fn integrating_poles(&self) -> Vec<(f64, f64)> {
+        let mut p = self.poles();
+        p.push((1.0, 0.0));
+        p
+    }
 }
 
 #[cfg(test)]

@@ -65,34 +65,36 @@ fn row(v: &[f64]) -> String {
         .join(" ")
 }
 
-/// The model as text.
-pub fn model_text(m: &HostModel) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "order n = {} (f = {}, p = {}, {} samples)",
-        m.order, m.f, m.p, m.samples
-    );
-    let _ = writeln!(s, "singular values: {}", row(&m.singular_values));
-    for i in 0..m.order {
-        let r: Vec<f64> = (0..m.order).map(|j| m.a[(i, j)]).collect();
-        let _ = writeln!(s, "A[{i}] = {}", row(&r));
+impl HostModel {
+    /// The model as text.
+    pub fn text(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "order n = {} (f = {}, p = {}, {} samples)",
+            self.order, self.f, self.p, self.samples
+        );
+        let _ = writeln!(s, "singular values: {}", row(&self.singular_values));
+        for i in 0..self.order {
+            let r: Vec<f64> = (0..self.order).map(|j| self.a[(i, j)]).collect();
+            let _ = writeln!(s, "A[{i}] = {}", row(&r));
+        }
+        let _ = writeln!(s, "B    = {}", row(&self.b));
+        let _ = writeln!(s, "C    = {}", row(&self.c));
+        let _ = writeln!(s, "D    = {:>11.6}", self.d);
+        let poles: Vec<String> = self
+            .poles()
+            .iter()
+            .map(|(r, i)| format!("{r:.5}{i:+.5}j"))
+            .collect();
+        let _ = writeln!(s, "poles: {}", poles.join(", "));
+        let _ = writeln!(s, "mu0 = {:.6}", self.mu0);
+        let _ = writeln!(s, "ascending knots : {}", row(&self.knots_asc));
+        let _ = writeln!(s, "P_a at knots    : {}", row(&self.border_asc));
+        let _ = writeln!(s, "descending knots: {}", row(&self.knots_desc));
+        let _ = write!(s, "P_d at knots    : {}", row(&self.border_desc));
+        s
     }
-    let _ = writeln!(s, "B    = {}", row(&m.b));
-    let _ = writeln!(s, "C    = {}", row(&m.c));
-    let _ = writeln!(s, "D    = {:>11.6}", m.d);
-    let poles: Vec<String> = m
-        .poles()
-        .iter()
-        .map(|(r, i)| format!("{r:.5}{i:+.5}j"))
-        .collect();
-    let _ = writeln!(s, "poles: {}", poles.join(", "));
-    let _ = writeln!(s, "mu0 = {:.6}", m.mu0);
-    let _ = writeln!(s, "ascending knots : {}", row(&m.knots_asc));
-    let _ = writeln!(s, "P_a at knots    : {}", row(&m.border_asc));
-    let _ = writeln!(s, "descending knots: {}", row(&m.knots_desc));
-    let _ = write!(s, "P_d at knots    : {}", row(&m.border_desc));
-    s
 }
 
 /// The standard deviations of a refined model's μ0 and border values, as text.

@@ -9,7 +9,6 @@ use hsid_host::closed_loop::{ReferenceError, identify_closed_loop};
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
 use hsid_host::diagnose::Estimator;
 use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
-use hsid_host::fleet::wear::gap;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify};
 
 const SEEDS: u64 = 20;
@@ -108,7 +107,7 @@ impl Errors {
         let (p, t) = (upper_pole(m), true_pole());
         self.re.push(p.0 - t.0);
         self.im.push(p.1 - t.1);
-        if let Some(g) = gap(m) {
+        if let Some(g) = m.gap() {
             self.gap.push(g);
         }
         let b = m.border_asc.iter().chain(&m.border_desc);

@@ -13,7 +13,7 @@ use std::path::Path;
 use common::{Scratch, classes, has, hsid, identify, p};
 use hsid_host::choose::{self, Best, Choices, Estimator, Segments, best_model};
 use hsid_host::figures::{
-    FigureError, FigureSettings, Record, TrueBorders, Uncertainty, write_figures,
+    FigureError, FigureSettings, RecordView, TrueBorders, Uncertainty, write_figures,
 };
 use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::io::read_columns;
@@ -93,7 +93,7 @@ fn refined_model_figures_hold_the_model_and_its_uncertainty() {
     };
     let dir = Scratch::new("figures-refined");
     let out = dir.join("figs");
-    let record = Record {
+    let record = RecordView {
         u: &u,
         y: &y,
         skip: HOLD,
@@ -290,7 +290,7 @@ fn a_model_file_gives_bands_of_borders_and_poles_but_not_of_the_bode_plot() {
         border_desc: desc,
     });
     let dir = Scratch::new("figures-stored");
-    let record = Record {
+    let record = RecordView {
         u: &u,
         y: &y,
         skip: HOLD,
@@ -338,7 +338,7 @@ fn bad_settings_and_unwritable_directories_are_errors() {
     let m = refined(&u, &y).model;
     let dir = Scratch::new("figures-errors");
     let file = dir.write("plain.txt", "not a directory");
-    let record = Record {
+    let record = RecordView {
         u: &u,
         y: &y,
         skip: HOLD,
@@ -361,7 +361,7 @@ fn bad_settings_and_unwritable_directories_are_errors() {
         write_figures(&dir.join("a"), &m, &record, None, &bad),
         Err(FigureError::InvalidSampleTime(_))
     ));
-    let short = Record {
+    let short = RecordView {
         u: &u,
         y: &y[1..],
         skip: 0,

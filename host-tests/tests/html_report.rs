@@ -14,7 +14,6 @@ use std::sync::OnceLock;
 use common::{Scratch, hsid, p};
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::ModelFile;
-use hsid_host::units::unit_report;
 use scraper::{Html, Selector};
 
 /// A name with markup and an ampersand, for the data file and the input unit.
@@ -173,7 +172,8 @@ fn the_sections_hold_the_models_numbers() {
     // The gap in the headline is the model file's, read by the library.
     let file = ModelFile::load(&r.model).unwrap();
     let m = HostModel::from_json(&file);
-    let want = unit_report(&m, Some(0.01), None, None, true)
+    let want = m
+        .unit_report(Some(0.01), None, None, true)
         .mean_gap
         .unwrap();
     let gap = fact(&doc, "mean gap (between the borders)");

@@ -145,7 +145,7 @@ fn motor_position_servo_with_gearbox_backlash() {
                 m.poles()
             );
         }
-        let all = integrating::poles(&m);
+        let all = m.integrating_poles();
         assert_eq!(all.last(), Some(&(1.0, 0.0)), "seed {seed}");
         // A fresh record: the simulated increments closer to the clean ones than the
         // measured increments are (the position itself, simulated open loop, integrates any

@@ -4,7 +4,6 @@ use hsid::Direction;
 use hsid_host::identify::HostModel;
 use hsid_host::model::{FileModel, Simulate};
 use hsid_host::model_file::ModelFile;
-use hsid_host::units::gap::gap_at;
 use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
@@ -238,7 +237,7 @@ impl Model {
         map(py, "u", u, |v| {
             self.check_u("u", v)?;
             Ok(v.iter()
-                .map(|&x| gap_at(&self.model, dir, x).unwrap_or(f64::NAN))
+                .map(|&x| self.model.gap_at(dir, x).unwrap_or(f64::NAN))
                 .collect())
         })
     }

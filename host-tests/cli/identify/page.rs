@@ -5,7 +5,7 @@ use hsid_host::model::Element;
 use std::path::{Path, PathBuf};
 
 use hsid_host::choose::Best;
-use hsid_host::figures::{Record, Uncertainty};
+use hsid_host::figures::{RecordView, Uncertainty};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::element_facts;
 use hsid_host::html::{Fact, InlineFigure, Reproduction, figures};
@@ -22,7 +22,7 @@ pub fn write(
     a: &IdentifyArgs,
     path: &Path,
     id: &Identified,
-    view: &Record<'_>,
+    view: &RecordView<'_>,
 ) -> Result<(), Failure> {
     if let Some(fit) = &id.element {
         return write_element_page(a, path, fit, id, view);
@@ -71,7 +71,7 @@ fn write_element_page(
     path: &Path,
     fit: &HysteresisFit,
     id: &Identified,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
 ) -> Result<(), Failure> {
     let r = &id.record;
     let host = fit.model.to_host(r.len());
@@ -111,7 +111,7 @@ fn write_element_page(
 fn html_figures(
     a: &IdentifyArgs,
     best: &Best,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     ts: Option<f64>,
     units: Option<&Units>,
 ) -> Result<Vec<InlineFigure>, Failure> {

@@ -13,7 +13,6 @@ use std::path::Path;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
 use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
-use hsid_host::report::model_text;
 use hsid_host::workflow::IdentifyRequest;
 use hsid_host::workflow::element_fit::{applies, why};
 
@@ -61,7 +60,7 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         "streamed {} samples (subspace model, not refined; fits not computed)",
         model.samples
     )?;
-    outln!("{}", model_text(&model))?;
+    outln!("{}", model.text())?;
     if applies(request) && runs.runs().breaks_table1() {
         outln!(
             "--fit auto: {}; the element's fit needs the whole record, not --stream: not run, the model is the two-path one",

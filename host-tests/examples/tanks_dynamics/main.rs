@@ -94,7 +94,7 @@ fn extend(
         .map(|(y, &t)| y - base.additive.eval(t))
         .collect();
     let ud = simulate::delay_input(&rec.u, base.structure.delay);
-    let hr = simulate::nonlinearity_output(&hm, &ud);
+    let hr = hm.nonlinearity_output(&ud);
     let refit_borders = matches!(class, Class::Polynomial(_, true));
     let data = DynamicsFit {
         h: &hr,
@@ -130,7 +130,7 @@ fn extend(
         Class::Polynomial(degree, _) => {
             let (m, poly, x0) =
                 poly_fit::fit(&hm, &base.x0, degree, &data).map_err(|e| e.to_string())?;
-            let h_fit = simulate::nonlinearity_output(&m, &ud);
+            let h_fit = m.nonlinearity_output(&ud);
             let steady = match poly::unique_steady_states(&m, &poly, &h_fit, &x0) {
                 Ok(()) => "one".to_string(),
                 Err(ClassError::Multistable { level, outputs }) => format!(
@@ -141,7 +141,7 @@ fn extend(
             };
             Fitted {
                 simulate: Box::new(move |r: &Record| {
-                    let h = simulate::nonlinearity_output(&m, &simulate::delay_input(&r.u, delay));
+                    let h = m.nonlinearity_output(&simulate::delay_input(&r.u, delay));
                     finish(poly::simulate(&m, Some(&poly), &h, &x0), r)
                 }),
                 steady,
@@ -151,7 +151,7 @@ fn extend(
             let o = overflow::fit_overflow(&hm, &base.x0, &data).map_err(|e| e.to_string())?;
             Fitted {
                 simulate: Box::new(move |r: &Record| {
-                    let h = simulate::nonlinearity_output(&hm, &simulate::delay_input(&r.u, delay));
+                    let h = hm.nonlinearity_output(&simulate::delay_input(&r.u, delay));
                     finish(o.simulate(&h), r)
                 }),
                 steady: "one (stable cascade)".into(),

@@ -12,7 +12,7 @@
 //! accepted only if its simulation is finite and the poles stay stable; iterations are
 //! bounded.
 
-use hsid_host::diagnose::dynamics::{Cascade, DynamicsError, DynamicsFit, cascade_forms_with};
+use hsid_host::diagnose::dynamics::{Cascade, DynamicsError, DynamicsFit};
 use hsid_host::identify::HostModel;
 use hsid_host::numerics::lm::{Settings, levenberg_marquardt};
 
@@ -103,7 +103,7 @@ pub fn cascade_forms(m: &HostModel) -> Result<[Cascade; 2], ClassError> {
     if m.order != 2 || poles.len() != 2 || poles.iter().any(|p| p.1 != 0.0) {
         return Err(ClassError::NotTwoRealPoles { poles });
     }
-    Ok(cascade_forms_with(m, poles[0].0, poles[1].0))
+    Ok(m.cascade_forms_with(poles[0].0, poles[1].0))
 }
 
 /// Fits the internal-overflow class to an order-2 model with real poles (`A`, `B`, `C`, `D`

@@ -1,11 +1,10 @@
 //! Tests of the example's model classes against plants of their class.
 
 use hsid_host::diagnose::dynamics::{Borders, DynamicsFit};
-use hsid_host::diagnose::simulate::linear_response;
-use hsid_host::diagnose::simulate::nonlinearity_output;
+use hsid_host::numerics::rms_error;
 
 use crate::error::ClassError;
-use crate::fixtures::{levels, model, rms};
+use crate::fixtures::{levels, model};
 use crate::overflow::{Overflow, fit_overflow};
 use crate::poly::{StatePoly, monomials, simulate, unique_steady_states};
 use crate::poly_fit::fit;
@@ -57,17 +56,17 @@ fn polynomial_term_fits_a_plant_of_its_class() -> Outcome {
     let y = quadratic_plant(&h);
     let skip = vec![false; h.len()];
     let data = exact(&h, &y, &skip, 50, None);
-    let before = rms(&linear_response(&lin, &h, &[0.0, 0.0]), &y);
+    let before = rms_error(&lin.linear_response(&h, &[0.0, 0.0]), &y);
     let (m, poly, x0) = fit(&lin, &[0.0, 0.0], 2, &data)?;
-    let after = rms(
+    let after = rms_error(
         &simulate(&m, Some(&poly), &h, &x0).ok_or("not simulated")?,
         &y,
     );
     // On another input of the same range (not fitted).
     let h2 = levels(1500, 99);
     let y2 = quadratic_plant(&h2);
-    let before2 = rms(&linear_response(&lin, &h2, &[0.0, 0.0]), &y2);
-    let after2 = rms(
+    let before2 = rms_error(&lin.linear_response(&h2, &[0.0, 0.0]), &y2);
+    let after2 = rms_error(
         &simulate(&m, Some(&poly), &h2, &x0).ok_or("not simulated")?,
         &y2,
     );
@@ -93,7 +92,7 @@ fn borders_refitted_with_the_polynomial() -> Outcome {
     let h_true: Vec<f64> = u.iter().map(|v| v * v).collect();
     let y = quadratic_plant(&h_true);
     let skip = vec![false; u.len()];
-    let h_start = nonlinearity_output(&lin, &u);
+    let h_start = lin.nonlinearity_output(&u);
     let fit_with = |borders: Option<Borders>| {
         fit(
             &lin,
@@ -103,13 +102,13 @@ fn borders_refitted_with_the_polynomial() -> Outcome {
         )
     };
     let (m0, p0, x0) = fit_with(None)?;
-    let held = rms(&simulate(&m0, Some(&p0), &h_start, &x0).ok_or("held")?, &y);
+    let held = rms_error(&simulate(&m0, Some(&p0), &h_start, &x0).ok_or("held")?, &y);
     let (m1, p1, x1) = fit_with(Some(Borders {
         u: &u,
         shared: true,
     }))?;
-    let h1 = nonlinearity_output(&m1, &u);
-    let refit = rms(&simulate(&m1, Some(&p1), &h1, &x1).ok_or("refit")?, &y);
+    let h1 = m1.nonlinearity_output(&u);
+    let refit = rms_error(&simulate(&m1, Some(&p1), &h1, &x1).ok_or("refit")?, &y);
     assert_eq!(
         m1.border_asc, m1.border_desc,
         "a shared border stays shared"
@@ -186,7 +185,7 @@ fn overflow_fit_finds_the_level_and_the_spill() -> Outcome {
     let skip = vec![false; h.len()];
     let data = exact(&h, &y, &skip, 100, None);
     let o = fit_overflow(&lin, &[0.0, 0.0], &data)?;
-    let after = rms(&o.simulate(&h).ok_or("not simulated")?, &y);
+    let after = rms_error(&o.simulate(&h).ok_or("not simulated")?, &y);
     assert!((o.level - 3.0).abs() < 1e-3, "{o:?}");
     assert!((o.spill - 0.6).abs() < 1e-3, "{o:?}");
     assert!(after < 1e-6, "{after:e}");

@@ -62,20 +62,22 @@ impl std::fmt::Display for DeadTime {
     }
 }
 
-/// The first lag of the model's impulse response above 1 % of its largest (`D`, `CB`, `CAB`,
-/// …).
-pub fn model_dead_time(m: &HostModel, max_lag: usize) -> usize {
-    let n = m.order;
-    let mut h = vec![m.d];
-    let mut x = DVector::from_column_slice(&m.b);
-    for _ in 0..max_lag.max(1) + 20 {
-        h.push(m.c.iter().zip(x.iter()).map(|(c, v)| c * v).sum());
-        if n > 0 {
-            x = &m.a * x;
+impl HostModel {
+    /// The first lag of the model's impulse response above 1 % of its largest (`D`, `CB`, `CAB`,
+    /// …).
+    pub fn dead_time(&self, max_lag: usize) -> usize {
+        let n = self.order;
+        let mut h = vec![self.d];
+        let mut x = DVector::from_column_slice(&self.b);
+        for _ in 0..max_lag.max(1) + 20 {
+            h.push(self.c.iter().zip(x.iter()).map(|(c, v)| c * v).sum());
+            if n > 0 {
+                x = &self.a * x;
+            }
         }
+        let top = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        h.iter().position(|v| v.abs() >= 0.01 * top).unwrap_or(0)
     }
-    let top = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    h.iter().position(|v| v.abs() >= 0.01 * top).unwrap_or(0)
 }
 
 /// The dead time of `y` after the regressor channels `z` (hat basis of the input), lags

@@ -151,7 +151,7 @@ fn diagnose_inner(
         &est.y,
         &est.time,
         opts.max_delay + 1,
-        delay::model_dead_time(&base.hammerstein, opts.max_delay + 1),
+        base.hammerstein.dead_time(opts.max_delay + 1),
     );
     let holdouts = inner.holdouts(est, &plan.inner, &base, dead.extra());
     let context = steps::Context {

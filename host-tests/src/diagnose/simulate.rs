@@ -19,65 +19,63 @@ pub fn delay_input(u: &[f64], d: usize) -> Vec<f64> {
     v
 }
 
-/// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
-/// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
-pub fn nonlinearity_output(m: &HostModel, u: &[f64]) -> Vec<f64> {
-    u.iter()
-        .zip(directions(u, m.u_min()))
-        .map(|(&ui, dir)| match dir {
-            Direction::Ascending => m.border_asc_at(ui),
-            Direction::Descending => m.border_desc_at(ui),
-        })
-        .collect()
-}
-
-/// The response of `G` to `h` from the state `x0`.
-pub fn linear_response(m: &HostModel, h: &[f64], x0: &[f64]) -> Vec<f64> {
-    let n = m.order;
-    let mut x: Vec<f64> = x0
-        .iter()
-        .copied()
-        .chain(std::iter::repeat(0.0))
-        .take(n)
-        .collect();
-    let mut next = vec![0.0; n];
-    h.iter()
-        .map(|&hi| {
-            let y = m.d * hi + m.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
-            for (i, nx) in next.iter_mut().enumerate() {
-                *nx = m.b[i] * hi + (0..n).map(|j| m.a[(i, j)] * x[j]).sum::<f64>();
-            }
-            std::mem::swap(&mut x, &mut next);
-            y
-        })
-        .collect()
-}
-
-/// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
-pub fn rest_state(m: &HostModel) -> Vec<f64> {
-    let n = m.order;
-    let ia = DMatrix::<f64>::identity(n, n) - &m.a;
-    let b = DVector::from_column_slice(&m.b) * m.mu0;
-    ia.lu()
-        .solve(&b)
-        .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
-}
-
-/// The state at rest at the unit level: `(I − A)⁻¹ B`.
-pub fn steady_state(m: &HostModel) -> Vec<f64> {
-    let n = m.order;
-    let ia = DMatrix::<f64>::identity(n, n) - &m.a;
-    ia.lu()
-        .solve(&DVector::from_column_slice(&m.b))
-        .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
-}
-
-/// The level `c` of a state at rest, `x0 = (I − A)⁻¹ B c` (least squares).
-pub fn level_of(m: &HostModel, x0: &[f64]) -> f64 {
-    let xs = steady_state(m);
-    let nn: f64 = xs.iter().map(|v| v * v).sum();
-    if nn <= 0.0 {
-        return 0.0;
+impl HostModel {
+    /// The output of the identified input nonlinearity for an input record: `P_a(u)` while the
+    /// input rises, `P_d(u)` while it falls (δ starts descending, the previous input at `u_min`).
+    pub fn nonlinearity_output(&self, u: &[f64]) -> Vec<f64> {
+        u.iter()
+            .zip(directions(u, self.u_min()))
+            .map(|(&ui, dir)| match dir {
+                Direction::Ascending => self.border_asc_at(ui),
+                Direction::Descending => self.border_desc_at(ui),
+            })
+            .collect()
     }
-    xs.iter().zip(x0).map(|(a, b)| a * b).sum::<f64>() / nn
+    /// The response of `G` to `h` from the state `x0`.
+    pub fn linear_response(&self, h: &[f64], x0: &[f64]) -> Vec<f64> {
+        let n = self.order;
+        let mut x: Vec<f64> = x0
+            .iter()
+            .copied()
+            .chain(std::iter::repeat(0.0))
+            .take(n)
+            .collect();
+        let mut next = vec![0.0; n];
+        h.iter()
+            .map(|&hi| {
+                let y = self.d * hi + self.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
+                for (i, nx) in next.iter_mut().enumerate() {
+                    *nx = self.b[i] * hi + (0..n).map(|j| self.a[(i, j)] * x[j]).sum::<f64>();
+                }
+                std::mem::swap(&mut x, &mut next);
+                y
+            })
+            .collect()
+    }
+    /// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
+    pub fn rest_state(&self) -> Vec<f64> {
+        let n = self.order;
+        let ia = DMatrix::<f64>::identity(n, n) - &self.a;
+        let b = DVector::from_column_slice(&self.b) * self.mu0;
+        ia.lu()
+            .solve(&b)
+            .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
+    }
+    /// The state at rest at the unit level: `(I − A)⁻¹ B`.
+    pub fn steady_state(&self) -> Vec<f64> {
+        let n = self.order;
+        let ia = DMatrix::<f64>::identity(n, n) - &self.a;
+        ia.lu()
+            .solve(&DVector::from_column_slice(&self.b))
+            .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
+    }
+    /// The level `c` of a state at rest, `x0 = (I − A)⁻¹ B c` (least squares).
+    pub fn level_of(&self, x0: &[f64]) -> f64 {
+        let xs = self.steady_state();
+        let nn: f64 = xs.iter().map(|v| v * v).sum();
+        if nn <= 0.0 {
+            return 0.0;
+        }
+        xs.iter().zip(x0).map(|(a, b)| a * b).sum::<f64>() / nn
+    }
 }

@@ -25,14 +25,6 @@ pub fn variance(x: &[f64]) -> f64 {
     x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / x.len() as f64
 }
 
-/// Root mean square (0 for an empty slice).
-pub fn rms(x: &[f64]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
-}
-
 /// Median (NaN for an empty slice).
 pub fn median(x: &[f64]) -> f64 {
     if x.is_empty() {

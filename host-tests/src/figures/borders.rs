@@ -8,8 +8,8 @@ use hsid::Direction;
 
 use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
-use super::partial::{departures, impulse_response};
-use super::{Context, Record, Written};
+use super::partial::departures;
+use super::{Context, RecordView, Written};
 use crate::numerics::direction::directions;
 use crate::plot::{Dash, Figure, Marker, PALETTE, Series};
 
@@ -151,9 +151,9 @@ pub(super) fn grid(lo: f64, hi: f64, knots_a: &[f64], knots_d: &[f64]) -> Vec<f6
 /// remaining record holds too little of the impulse response, are left out).
 fn measured_points(cx: &Context) -> Vec<(f64, f64, Direction)> {
     let m = cx.model;
-    let Record { u, y, skip } = cx.record;
+    let RecordView { u, y, skip } = cx.record;
     let residual: Vec<f64> = y.iter().zip(&cx.simulated).map(|(y, s)| y - s).collect();
-    let back = departures(&impulse_response(m), &residual);
+    let back = departures(&m.impulse_response(), &residual);
     u.iter()
         .zip(directions(u, m.u_min()))
         .zip(&back)

@@ -8,7 +8,9 @@
 use std::path::Path;
 
 use super::error::FigureError;
-use super::{Context, FigureSettings, Record, Written, bode, element_borders, output, residual};
+use super::{
+    Context, FigureSettings, RecordView, Written, bode, element_borders, output, residual,
+};
 use crate::hysteresis::uncertainty::Uncertainty;
 use crate::hysteresis::{HysteresisFit, HysteresisModel};
 
@@ -17,7 +19,7 @@ use crate::hysteresis::{HysteresisFit, HysteresisModel};
 pub fn write_element_figures(
     dir: &Path,
     fit: &HysteresisFit,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {
     write_element_model_figures(dir, &fit.model, fit.uncertainty.as_ref(), record, settings)
@@ -30,7 +32,7 @@ pub fn write_element_model_figures(
     dir: &Path,
     model: &HysteresisModel,
     uncertainty: Option<&Uncertainty>,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {
     super::check_record(record, settings)?;

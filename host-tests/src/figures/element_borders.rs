@@ -9,7 +9,7 @@
 use super::borders::grid;
 use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
-use super::partial::{departures, impulse_response};
+use super::partial::departures;
 use super::{Context, Written};
 use crate::hysteresis::simulate::element_output;
 use crate::hysteresis::uncertainty::Uncertainty;
@@ -149,7 +149,7 @@ fn trajectory(
         .zip(&cx.simulated)
         .map(|(y, s)| y - s)
         .collect();
-    let back = departures(&impulse_response(cx.model), &residual);
+    let back = departures(&cx.model.impulse_response(), &residual);
     let (pu, pw): (Vec<f64>, Vec<f64>) = u
         .iter()
         .zip(w)

@@ -18,9 +18,9 @@
 //! ```no_run
 //! # fn demo(model: &hsid_host::identify::HostModel, u: &[f64], y: &[f64])
 //! #     -> Result<(), hsid_host::figures::FigureError> {
-//! use hsid_host::figures::{FigureSettings, Record, write_figures};
+//! use hsid_host::figures::{FigureSettings, RecordView, write_figures};
 //! let settings = FigureSettings { ts: Some(0.01), ..FigureSettings::default() };
-//! let record = Record { u, y, skip: 300 };
+//! let record = RecordView { u, y, skip: 300 };
 //! let written = write_figures("figs".as_ref(), model, &record, None, &settings)?;
 //! println!("{} files", written.files.len());
 //! # Ok(()) }
@@ -43,7 +43,7 @@ use std::path::{Path, PathBuf};
 
 pub use element::{write_element_figures, write_element_model_figures};
 pub use error::FigureError;
-pub use partial::{MIN_ENERGY, departures, impulse_response};
+pub use partial::{MIN_ENERGY, departures};
 pub use settings::{FigureSettings, TrueBorders};
 pub use uncertainty::Uncertainty;
 
@@ -52,7 +52,7 @@ use crate::identify::HostModel;
 /// A measured record: input, output, and how many samples at the start (the hold) are left
 /// out of the residual, its autocorrelation and the measured border points.
 #[derive(Debug, Clone, Copy)]
-pub struct Record<'a> {
+pub struct RecordView<'a> {
     /// Input samples.
     pub u: &'a [f64],
     /// Output samples.
@@ -75,14 +75,14 @@ pub struct Written {
 struct Context<'a> {
     dir: &'a Path,
     model: &'a HostModel,
-    record: Record<'a>,
+    record: RecordView<'a>,
     simulated: Vec<f64>,
     settings: &'a FigureSettings,
     uncertainty: Option<Uncertainty<'a>>,
 }
 
 /// The settings' sample time, and a record of equal lengths with two samples after the skip.
-fn check_record(record: &Record<'_>, settings: &FigureSettings) -> Result<(), FigureError> {
+fn check_record(record: &RecordView<'_>, settings: &FigureSettings) -> Result<(), FigureError> {
     settings.check()?;
     let (nu, ny, skip) = (record.u.len(), record.y.len(), record.skip);
     if nu != ny || skip + 2 > nu {
@@ -95,7 +95,7 @@ fn check_record(record: &Record<'_>, settings: &FigureSettings) -> Result<(), Fi
 pub fn write_figures(
     dir: &Path,
     model: &HostModel,
-    record: &Record<'_>,
+    record: &RecordView<'_>,
     uncertainty: Option<Uncertainty<'_>>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {

@@ -14,33 +14,35 @@ use crate::identify::HostModel;
 const MAX_TAPS: usize = 5000;
 const ENERGY: f64 = 1.0 - 1e-9;
 
-/// `g_0 … g_K` of the model, cut where the remaining energy falls below `1 − ENERGY` of the
-/// whole (at most `MAX_TAPS` values; the remaining energy of a stable `G` decays
-/// geometrically, so the whole is estimated from twice the kept length).
-pub fn impulse_response(model: &HostModel) -> Vec<f64> {
-    let n = model.order;
-    let mut g = vec![model.d];
-    let mut x = nalgebra::DVector::from_column_slice(&model.b);
-    let c = nalgebra::DVector::from_column_slice(&model.c);
-    for _ in 0..2 * MAX_TAPS {
-        if n == 0 {
-            break;
+impl HostModel {
+    /// `g_0 … g_K` of the model, cut where the remaining energy falls below `1 − ENERGY` of the
+    /// whole (at most `MAX_TAPS` values; the remaining energy of a stable `G` decays
+    /// geometrically, so the whole is estimated from twice the kept length).
+    pub fn impulse_response(&self) -> Vec<f64> {
+        let n = self.order;
+        let mut g = vec![self.d];
+        let mut x = nalgebra::DVector::from_column_slice(&self.b);
+        let c = nalgebra::DVector::from_column_slice(&self.c);
+        for _ in 0..2 * MAX_TAPS {
+            if n == 0 {
+                break;
+            }
+            g.push(c.dot(&x));
+            x = &self.a * x;
         }
-        g.push(c.dot(&x));
-        x = &model.a * x;
+        let total: f64 = g.iter().map(|v| v * v).sum();
+        let mut acc = 0.0;
+        let keep = g
+            .iter()
+            .position(|v| {
+                acc += v * v;
+                acc >= ENERGY * total
+            })
+            .map_or(g.len(), |i| i + 1)
+            .min(MAX_TAPS);
+        g.truncate(keep);
+        g
     }
-    let total: f64 = g.iter().map(|v| v * v).sum();
-    let mut acc = 0.0;
-    let keep = g
-        .iter()
-        .position(|v| {
-            acc += v * v;
-            acc >= ENERGY * total
-        })
-        .map_or(g.len(), |i| i + 1)
-        .min(MAX_TAPS);
-    g.truncate(keep);
-    g
 }
 
 /// Share of the impulse response energy the record must still hold after `τ` for `ĥ(τ)` to be
@@ -93,7 +95,7 @@ mod tests {
 
     #[test]
     fn impulse_response_of_a_first_order_plant() {
-        let g = impulse_response(&first_order(0.5, 2.0));
+        let g = first_order(0.5, 2.0).impulse_response();
         assert_eq!(&g[..4], &[0.0, 2.0, 1.0, 0.5]);
         // Energy 4/(1 − 0.25) = 16/3; the kept part holds all but 1e-9 of it.
         let kept: f64 = g.iter().map(|v| v * v).sum();
@@ -103,7 +105,7 @@ mod tests {
     #[test]
     fn a_single_departure_is_recovered_exactly() {
         let m = first_order(0.8, 1.0);
-        let g = impulse_response(&m);
+        let g = m.impulse_response();
         // h departs by 0.3 at τ = 10 only: the residual is 0.3 g shifted by 10.
         let mut e = vec![0.0; 400];
         for (k, gk) in g.iter().enumerate().take(390) {

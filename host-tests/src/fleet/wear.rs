@@ -3,7 +3,7 @@
 //! rate on the others.
 //!
 //! The gap of a week is the mean of the model's play after a descent to `u = 0` and after an
-//! ascent to `u = 0` ([`gap_at`]), in input units. A device is flagged as *wearing* when its
+//! ascent to `u = 0` ([`HostModel::gap_at`]), in input units. A device is flagged as *wearing* when its
 //! gap grows by more than `k` standard errors of the slope (a one-sided test of "no growth";
 //! with 8 weeks and `k = 3` a device that does not wear is flagged with probability about 1 %
 //! if the weekly estimates are independent and normal), and as *over the limit* when the
@@ -21,7 +21,6 @@ use super::score::{ScoreError, score};
 use super::trend::fit;
 use crate::identify::HostModel;
 use crate::model_file::{ModelFile, ModelFileError};
-use crate::units::gap::gap_at;
 
 /// The flags' thresholds.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,11 +31,13 @@ pub struct ReportOptions {
     pub limit: Option<f64>,
 }
 
-/// The model's gap at `u = 0`: the mean of the play after a descent and after an ascent.
-pub fn gap(m: &HostModel) -> Option<f64> {
-    let d = gap_at(m, Direction::Descending, 0.0)?;
-    let a = gap_at(m, Direction::Ascending, 0.0)?;
-    Some(0.5 * (d + a))
+impl HostModel {
+    /// The model's gap at `u = 0`: the mean of the play after a descent and after an ascent.
+    pub fn gap(&self) -> Option<f64> {
+        let d = self.gap_at(Direction::Descending, 0.0)?;
+        let a = self.gap_at(Direction::Ascending, 0.0)?;
+        Some(0.5 * (d + a))
+    }
 }
 
 /// Why the report could not be made.
@@ -127,7 +128,7 @@ fn parse_line(line: &str, at: usize) -> Result<Line, LineError> {
     Ok(Line::Gap(
         device.to_owned(),
         week,
-        gap(&HostModel::from_json(&model)),
+        HostModel::from_json(&model).gap(),
     ))
 }
 

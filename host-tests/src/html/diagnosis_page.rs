@@ -11,7 +11,6 @@ use super::{HtmlError, InlineFigure, Page, Reproduction};
 use crate::diagnose::{Check, Diagnosis, Evaluation, figures};
 use crate::model::Element;
 use crate::model_file::Units;
-use crate::units::unit_report;
 
 /// The diagnosis figures (those `--out` writes), inlined; `title` heads each figure.
 pub fn diagnosis_figures(d: &Diagnosis, title: &str) -> Result<Vec<InlineFigure>, HtmlError> {
@@ -77,7 +76,7 @@ pub fn diagnosis_page(
         .map(|el| el.to_host(d.model.hammerstein.samples));
     let two_path = d.nonlinearity != Element::Static || element.is_some();
     let m = element.as_ref().unwrap_or(&d.model.hammerstein);
-    let r = unit_report(m, ts, units, None, two_path);
+    let r = m.unit_report(ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let mut facts = vec![
         Fact::new("data", d.data_description.clone()),

@@ -88,7 +88,7 @@ pub fn drawn_captioned(
 /// The figures of `model` on `record` (those `--out` writes), inlined.
 pub fn of_model(
     model: &crate::identify::HostModel,
-    record: &crate::figures::Record<'_>,
+    record: &crate::figures::RecordView<'_>,
     uncertainty: Option<crate::figures::Uncertainty<'_>>,
     settings: &crate::figures::FigureSettings,
 ) -> Result<Vec<InlineFigure>, HtmlError> {
@@ -104,7 +104,7 @@ pub fn of_model(
 pub fn of_element(
     model: &crate::hysteresis::HysteresisModel,
     uncertainty: Option<&crate::hysteresis::uncertainty::Uncertainty>,
-    record: &crate::figures::Record<'_>,
+    record: &crate::figures::RecordView<'_>,
     settings: &crate::figures::FigureSettings,
 ) -> Result<Vec<InlineFigure>, HtmlError> {
     drawn_captioned(

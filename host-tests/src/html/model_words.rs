@@ -150,7 +150,6 @@ mod tests {
     use super::*;
     use crate::model_file::Units;
     use crate::units::gain::tests::first_order;
-    use crate::units::unit_report;
 
     #[test]
     fn a_backlash_in_volts_reads_in_words() {
@@ -160,7 +159,7 @@ mod tests {
             input: "V".into(),
             output: "deg".into(),
         };
-        let r = unit_report(&m, Some(0.01), Some(units), None, true);
+        let r = m.unit_report(Some(0.01), Some(units), None, true);
         assert_eq!(
             sentence(ModelElement::Backlash, 1, &r),
             "A backlash with a mean gap of 0.50000 V, followed by linear dynamics of order 1."

@@ -7,7 +7,6 @@ use hsid::Direction;
 use super::params::HysteresisModel;
 use crate::identify::HostModel;
 use crate::numerics::poly::observer_form;
-use crate::units::gap::gap_at;
 
 impl HysteresisModel {
     /// The model as a [`HostModel`]: `G` in observer canonical form, `μ0 = w(−1)`, and `H_a`,
@@ -41,8 +40,8 @@ impl HysteresisModel {
     pub fn gap(&self) -> Option<f64> {
         let m = self.to_host(0);
         let mid = 0.5 * (m.u_min() + m.u_max());
-        let up = gap_at(&m, Direction::Ascending, mid)?;
-        let down = gap_at(&m, Direction::Descending, mid)?;
+        let up = m.gap_at(Direction::Ascending, mid)?;
+        let down = m.gap_at(Direction::Descending, mid)?;
         Some(0.5 * (up + down))
     }
 }

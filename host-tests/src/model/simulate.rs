@@ -1,9 +1,12 @@
 //! One way to simulate every kind of model: [`Simulate`], and the model a model file holds
 //! as it simulates ([`FileModel`]).
 
+use crate::diagnose::model::ExtendedModel;
 use crate::hysteresis::{HysteresisFit, HysteresisModel};
 use crate::identify::HostModel;
 use crate::model_file::ModelFile;
+use crate::reference::RefModel;
+use crate::refine::stochastic::InnovationForm;
 
 /// A model's output for an input record, from rest at `u_min`.
 pub trait Simulate {
@@ -26,6 +29,30 @@ impl Simulate for HysteresisModel {
 impl Simulate for HysteresisFit {
     fn simulate(&self, u: &[f64]) -> Vec<f64> {
         HysteresisFit::simulate(self, u)
+    }
+}
+
+/// The diagnosis's extended model on a record whose time is the sample index `0, 1, …` (as
+/// [`Record::new`](crate::diagnose::model::Record::new) gives it): the additive terms are
+/// evaluated at those times.
+impl Simulate for ExtendedModel {
+    fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        let time: Vec<f64> = (0..u.len()).map(|t| t as f64).collect();
+        ExtendedModel::simulate(self, u, &time)
+    }
+}
+
+/// The plant and noise model stacked: the deterministic part alone.
+impl Simulate for InnovationForm {
+    fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        InnovationForm::simulate(self, u)
+    }
+}
+
+/// The reference implementation's model.
+impl Simulate for RefModel {
+    fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        RefModel::simulate(self, u)
     }
 }
 
@@ -62,7 +89,7 @@ impl Simulate for FileModel {
         match self {
             FileModel::TwoPath(m) => m.simulate(u),
             FileModel::Element(h) => crate::hysteresis::simulate::simulate(h, u),
-            FileModel::Integrating(m) => crate::integrating::simulate(m, u, 0.0),
+            FileModel::Integrating(m) => m.simulate_integrating(u, 0.0),
         }
     }
 }

@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use super::case::{Case, ExperimentError, PaperConfig, case_system, experiment, options};
 use crate::identify::{HostModel, IdentifyError, identify, interpolate};
+use crate::numerics::rms_error;
 use crate::refine::RefineError;
 
 /// Statistics of one case.
@@ -65,11 +66,6 @@ pub struct CaseResult {
     pub true_db: Vec<f64>,
     /// Average model `|G|` in dB (average of the magnitudes).
     pub avg_db: Vec<f64>,
-}
-
-fn rms(a: &[f64], b: &[f64]) -> f64 {
-    let s: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
-    (s / a.len().max(1) as f64).sqrt()
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -265,17 +261,20 @@ pub fn summarize(
             *s += v / models.len() as f64;
         }
         let both = [a, d].concat();
-        single.push(rms(&both, &[true_asc.clone(), true_desc.clone()].concat()));
+        single.push(rms_error(
+            &both,
+            &[true_asc.clone(), true_desc.clone()].concat(),
+        ));
     }
     let truth = [true_asc.clone(), true_desc.clone()].concat();
-    let border_rms_of_average = rms(&[avg_asc.clone(), avg_desc.clone()].concat(), &truth);
+    let border_rms_of_average = rms_error(&[avg_asc.clone(), avg_desc.clone()].concat(), &truth);
     let knots = opts.knots_asc.clone();
     let best = [
         best_pwl(&knots, &grid, &true_asc),
         best_pwl(&opts.knots_desc, &grid, &true_desc),
     ]
     .concat();
-    let border_rms_best_pwl = rms(&best, &truth);
+    let border_rms_best_pwl = rms_error(&best, &truth);
 
     let w: Vec<f64> = (0..=400)
         .map(|i| 10f64.powf(-3.0 + (std::f64::consts::PI.log10() + 3.0) * i as f64 / 400.0))

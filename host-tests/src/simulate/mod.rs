@@ -22,7 +22,7 @@ mod true_loop;
 pub use element::{Static, element};
 pub use error::SimulateError;
 pub use input::{InputRecord, read_input};
-pub use model::{Colour, ModelNoise, ModelOptions, extended, simulate_model};
+pub use model::{Colour, ModelNoise, ModelOptions, simulate_model};
 pub use noise::{Level, Noise, output_noise};
 pub use output::Output;
 pub use plant::{StateSpace, linear_part, sample_time};

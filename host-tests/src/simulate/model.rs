@@ -49,30 +49,32 @@ fn line_at(k: &[f64], v: &[f64], i: usize, j: usize, u: f64) -> f64 {
     v[i] + (v[j] - v[i]) * (u - k[i]) / (k[j] - k[i])
 }
 
-/// The model with a knot added below `lo` and above `hi` where the input leaves its interval,
-/// on the end segments' lines, so the borders extend linearly.
-pub fn extended(model: &HostModel, lo: f64, hi: f64) -> HostModel {
-    let mut m = model.clone();
-    for (k, v) in [
-        (&mut m.knots_asc, &mut m.border_asc),
-        (&mut m.knots_desc, &mut m.border_desc),
-    ] {
-        let n = k.len().min(v.len());
-        if n < 2 {
-            continue;
+impl HostModel {
+    /// The model with a knot added below `lo` and above `hi` where the input leaves its interval,
+    /// on the end segments' lines, so the borders extend linearly.
+    pub fn extended(&self, lo: f64, hi: f64) -> HostModel {
+        let mut m = self.clone();
+        for (k, v) in [
+            (&mut m.knots_asc, &mut m.border_asc),
+            (&mut m.knots_desc, &mut m.border_desc),
+        ] {
+            let n = k.len().min(v.len());
+            if n < 2 {
+                continue;
+            }
+            if hi > k[n - 1] {
+                let y = line_at(k, v, n - 2, n - 1, hi);
+                k.push(hi);
+                v.push(y);
+            }
+            if lo < k[0] {
+                let y = line_at(k, v, 0, 1, lo);
+                k.insert(0, lo);
+                v.insert(0, y);
+            }
         }
-        if hi > k[n - 1] {
-            let y = line_at(k, v, n - 2, n - 1, hi);
-            k.push(hi);
-            v.push(y);
-        }
-        if lo < k[0] {
-            let y = line_at(k, v, 0, 1, lo);
-            k.insert(0, lo);
-            v.insert(0, y);
-        }
+        m
     }
-    m
 }
 
 /// The first input outside the model's interval, as an error.
@@ -102,7 +104,7 @@ pub fn simulate_model(
     let y_clean = if opts.extrapolate {
         let lo = input.u.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = input.u.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        extended(model, lo, hi).simulate(&input.u)
+        model.extended(lo, hi).simulate(&input.u)
     } else {
         check_range(model, input)?;
         model.simulate(&input.u)
@@ -227,7 +229,7 @@ mod tests {
             p: 1,
             samples: 0,
         };
-        let e = extended(&m, -2.0, 3.0);
+        let e = m.extended(-2.0, 3.0);
         assert_eq!(e.border_asc_at(3.0), 6.0);
         assert_eq!(e.border_asc_at(-2.0), -2.0);
         assert_eq!(e.border_desc_at(3.0), 2.5);

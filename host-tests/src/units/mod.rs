@@ -26,6 +26,6 @@ pub mod stated;
 pub mod time;
 
 pub use header::{HeaderComment, header_comments};
-pub use report::{GapAt, UnitReport, unit_report};
+pub use report::{GapAt, UnitReport};
 pub use stated::{UnitsError, UnitsOrigin, resolve_units, units_from_comments};
 pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column, ts_from_comments};

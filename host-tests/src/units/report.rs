@@ -8,8 +8,6 @@ use hsid::Direction;
 use serde::Serialize;
 
 use super::dead_band::{DeadBand, dead_band};
-use super::gain::{bandwidth, cascade_gain, lti_gain};
-use super::gap::{gap_at, loop_height};
 use super::poles::{ContinuousPole, Estimate, Mode, continuous_pole};
 use crate::identify::HostModel;
 use crate::model_file::Units;
@@ -56,58 +54,63 @@ pub struct UnitReport {
     pub dead_band: Option<DeadBand>,
 }
 
-/// The report of model `m`; `pole_cov` holds the covariance of `(re, im)` of each pole of
-/// `m.poles()` when the model was refined; `two_path` is false for a static element (no gap).
-pub fn unit_report(
-    m: &HostModel,
-    ts: Option<f64>,
-    units: Option<Units>,
-    pole_cov: Option<&[[[f64; 2]; 2]]>,
-    two_path: bool,
-) -> UnitReport {
-    let scale = ts.unwrap_or(1.0);
-    let poles = m
-        .poles()
-        .into_iter()
-        .enumerate()
-        .filter_map(|(i, z)| continuous_pole(z, pole_cov.and_then(|c| c.get(i).copied()), scale))
-        .collect();
-    let g = lti_gain(m);
-    let (lo, hi) = (m.u_min(), m.u_max());
-    let gap: Vec<GapAt> = if two_path {
-        (1..=GAP_POINTS)
-            .map(|k| {
-                let u = lo + (hi - lo) * k as f64 / (GAP_POINTS + 1) as f64;
-                GapAt {
-                    u,
-                    after_descent: gap_at(m, Direction::Descending, u),
-                    after_ascent: gap_at(m, Direction::Ascending, u),
-                    loop_height: g * loop_height(m, u),
-                }
+impl HostModel {
+    /// The report of model `m`; `pole_cov` holds the covariance of `(re, im)` of each pole of
+    /// `m.poles()` when the model was refined; `two_path` is false for a static element (no gap).
+    pub fn unit_report(
+        &self,
+        ts: Option<f64>,
+        units: Option<Units>,
+        pole_cov: Option<&[[[f64; 2]; 2]]>,
+        two_path: bool,
+    ) -> UnitReport {
+        let scale = ts.unwrap_or(1.0);
+        let poles = self
+            .poles()
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, z)| {
+                continuous_pole(z, pole_cov.and_then(|c| c.get(i).copied()), scale)
             })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let defined: Vec<f64> = gap
-        .iter()
-        .flat_map(|g| [g.after_descent, g.after_ascent])
-        .flatten()
-        .collect();
-    UnitReport {
-        ts,
-        units,
-        poles,
-        bandwidth: bandwidth(m).map(|w| w / scale),
-        lti_gain: g,
-        cascade_gain: cascade_gain(m),
-        mean_gap: (!defined.is_empty()).then(|| defined.iter().sum::<f64>() / defined.len() as f64),
-        gap,
-        dead_band: if two_path {
-            None
+            .collect();
+        let g = self.lti_gain();
+        let (lo, hi) = (self.u_min(), self.u_max());
+        let gap: Vec<GapAt> = if two_path {
+            (1..=GAP_POINTS)
+                .map(|k| {
+                    let u = lo + (hi - lo) * k as f64 / (GAP_POINTS + 1) as f64;
+                    GapAt {
+                        u,
+                        after_descent: self.gap_at(Direction::Descending, u),
+                        after_ascent: self.gap_at(Direction::Ascending, u),
+                        loop_height: g * self.loop_height(u),
+                    }
+                })
+                .collect()
         } else {
-            dead_band(&m.knots_asc, &m.border_asc)
-        },
+            Vec::new()
+        };
+        let defined: Vec<f64> = gap
+            .iter()
+            .flat_map(|g| [g.after_descent, g.after_ascent])
+            .flatten()
+            .collect();
+        UnitReport {
+            ts,
+            units,
+            poles,
+            bandwidth: self.bandwidth().map(|w| w / scale),
+            lti_gain: g,
+            cascade_gain: self.cascade_gain(),
+            mean_gap: (!defined.is_empty())
+                .then(|| defined.iter().sum::<f64>() / defined.len() as f64),
+            gap,
+            dead_band: if two_path {
+                None
+            } else {
+                dead_band(&self.knots_asc, &self.border_asc)
+            },
+        }
     }
 }
 
@@ -235,7 +238,7 @@ mod tests {
             input: "V".into(),
             output: "deg".into(),
         };
-        let r = unit_report(&m, Some(0.01), Some(units), None, true);
+        let r = m.unit_report(Some(0.01), Some(units), None, true);
         let Mode::Real { tau } = r.poles[0].mode else {
             unreachable!()
         };
@@ -262,7 +265,7 @@ mod tests {
     fn without_a_sample_time_the_numbers_are_per_sample() {
         let m = first_order(0.9, 0.1, vec![-1.0, 1.0], vec![-1.0, 1.0]);
         // dτ/dz = 1/(0.9 ln²0.9) = 100.0921 samples per unit of z; σ_z = 1e-3.
-        let r = unit_report(&m, None, None, Some(&[[[1e-6, 0.0], [0.0, 0.0]]]), false);
+        let r = m.unit_report(None, None, Some(&[[[1e-6, 0.0], [0.0, 0.0]]]), false);
         let text = r.lines().join("\n");
         assert!(
             text.contains("time constant 9.49122 ± 0.10009 samples"),
@@ -284,7 +287,7 @@ mod tests {
             input: "V".to_string(),
             output: "rpm".to_string(),
         };
-        let r = unit_report(&m, Some(0.01), Some(units), None, false);
+        let r = m.unit_report(Some(0.01), Some(units), None, false);
         let d = r.dead_band.unwrap();
         assert_eq!((d.from, d.to), (-0.5, 0.5));
         let text = r.lines().join("\n");
@@ -293,7 +296,7 @@ mod tests {
             "{text}"
         );
         assert!(
-            unit_report(&m, Some(0.01), None, None, true)
+            m.unit_report(Some(0.01), None, None, true)
                 .dead_band
                 .is_none()
         );

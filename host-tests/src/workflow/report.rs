@@ -7,8 +7,8 @@ use super::{Field, Identified};
 use crate::hysteresis::{ElementKind, HysteresisFit, Start};
 use crate::refine::InnovationForm;
 use crate::refine::stochastic::{noise_text, prediction_report};
-use crate::report::{UndefinedFit, fit_report, model_text, std_text};
-use crate::units::{UnitReport, unit_report};
+use crate::report::{UndefinedFit, fit_report, std_text};
+use crate::units::UnitReport;
 
 impl Identified {
     /// The model read in units (its poles with their covariance when refined).
@@ -16,7 +16,9 @@ impl Identified {
         let r = &self.record;
         let cov = self.estimate.std.as_ref().map(|(_, c)| c.as_slice());
         let two_path = self.request.element.two_path();
-        unit_report(&self.estimate.model, r.ts, r.units.clone(), cov, two_path)
+        self.estimate
+            .model
+            .unit_report(r.ts, r.units.clone(), cov, two_path)
     }
 
     /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, the gap of
@@ -25,7 +27,7 @@ impl Identified {
         let fit = self.element.as_ref()?;
         let host = fit.model.to_host(self.record.len());
         let r = &self.record;
-        Some(unit_report(&host, r.ts, r.units.clone(), None, true))
+        Some(host.unit_report(r.ts, r.units.clone(), None, true))
     }
 
     /// Every line `hsid identify` prints about the identification, in order. Each experiment
@@ -35,7 +37,7 @@ impl Identified {
         let model = &self.estimate.model;
         let (r, hold) = (&self.record, self.record.hold);
         let parts = r.parts();
-        lines.push(model_text(model));
+        lines.push(model.text());
         let sim: Vec<f64> = parts.iter().flat_map(|p| model.simulate(p.0)).collect();
         lines.push(fit_report(&r.y[hold..], &sim[hold..])?);
         if let Some(noise) = &self.estimate.noise {

@@ -16,26 +16,28 @@ pub struct Cascade {
     pub c2: f64,
 }
 
-/// The two cascade forms (one per assignment of the poles to the stores) of an order-2
-/// model's numerator `G − D = (β1 z + β0) / (…)` over the real poles `p1`, `p2` (the model's
-/// own, or real ones near them); with the model's own poles they have its transfer function
-/// `G − D`.
-pub fn cascade_forms_with(m: &HostModel, p1: f64, p2: f64) -> [Cascade; 2] {
-    let (a, b, c) = (&m.a, &m.b, &m.c);
-    let at = |i: usize, j: usize| a.get((i, j)).copied().unwrap_or(0.0);
-    let v = |x: &[f64], i: usize| x.get(i).copied().unwrap_or(0.0);
-    // G(z) − D = (β1 z + β0) / ((z − p1)(z − p2)).
-    let beta1 = v(c, 0) * v(b, 0) + v(c, 1) * v(b, 1);
-    let mb = [
-        -at(1, 1) * v(b, 0) + at(0, 1) * v(b, 1),
-        at(1, 0) * v(b, 0) - at(0, 0) * v(b, 1),
-    ];
-    let beta0 = v(c, 0) * mb[0] + v(c, 1) * mb[1];
-    let form = |p1: f64, p2: f64| Cascade {
-        p1,
-        p2,
-        c1: beta1,
-        c2: beta0 + beta1 * p2,
-    };
-    [form(p1, p2), form(p2, p1)]
+impl HostModel {
+    /// The two cascade forms (one per assignment of the poles to the stores) of an order-2
+    /// model's numerator `G − D = (β1 z + β0) / (…)` over the real poles `p1`, `p2` (the model's
+    /// own, or real ones near them); with the model's own poles they have its transfer function
+    /// `G − D`.
+    pub fn cascade_forms_with(&self, p1: f64, p2: f64) -> [Cascade; 2] {
+        let (a, b, c) = (&self.a, &self.b, &self.c);
+        let at = |i: usize, j: usize| a.get((i, j)).copied().unwrap_or(0.0);
+        let v = |x: &[f64], i: usize| x.get(i).copied().unwrap_or(0.0);
+        // G(z) − D = (β1 z + β0) / ((z − p1)(z − p2)).
+        let beta1 = v(c, 0) * v(b, 0) + v(c, 1) * v(b, 1);
+        let mb = [
+            -at(1, 1) * v(b, 0) + at(0, 1) * v(b, 1),
+            at(1, 0) * v(b, 0) - at(0, 0) * v(b, 1),
+        ];
+        let beta0 = v(c, 0) * mb[0] + v(c, 1) * mb[1];
+        let form = |p1: f64, p2: f64| Cascade {
+            p1,
+            p2,
+            c1: beta1,
+            c2: beta0 + beta1 * p2,
+        };
+        [form(p1, p2), form(p2, p1)]
+    }
 }

@@ -1,7 +1,6 @@
 //! What a fit of the dynamics beyond the linear `G` holds fixed and what it fits to.
 
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::simulate::nonlinearity_output;
 use crate::identify::HostModel;
 
 /// What the fit holds fixed and what it fits to.
@@ -51,7 +50,7 @@ impl DynamicsFit<'_> {
     /// The input nonlinearity's output for a model whose border values may be refitted:
     /// recomputed from [`Borders::u`] if they are (`None` if they are held: `h` as given).
     pub fn refitted_h(&self, m: &HostModel) -> Option<Vec<f64>> {
-        self.borders.map(|b| nonlinearity_output(m, b.u))
+        self.borders.map(|b| m.nonlinearity_output(b.u))
     }
 }
 

@@ -1,16 +1,12 @@
 //! The border values refitted by least squares for a given linear part, with the initial
 //! state at rest.
 
-use hsid::Direction;
-use nalgebra::{DMatrix, DVector};
-
-use crate::diagnose::simulate::{
-    level_of, linear_response, nonlinearity_output, rest_state, steady_state,
-};
 use crate::identify::HostModel;
 use crate::numerics::direction::directions;
 use crate::numerics::hat::hat_weights;
 use crate::numerics::lstsq::lstsq_min_norm;
+use hsid::Direction;
+use nalgebra::{DMatrix, DVector};
 
 use super::fit_options::InitialState;
 
@@ -18,9 +14,9 @@ use super::fit_options::InitialState;
 /// c · C A^t (I − A)⁻¹ B`.
 pub(super) fn estimate_x0(m: &HostModel, h: &[f64], target: &[f64], skip: &[bool]) -> Vec<f64> {
     let n = m.order;
-    let zs = linear_response(m, h, &vec![0.0; n]);
-    let xs = steady_state(m);
-    let free = linear_response(m, &vec![0.0; h.len()], &xs);
+    let zs = m.linear_response(h, &vec![0.0; n]);
+    let xs = m.steady_state();
+    let free = m.linear_response(&vec![0.0; h.len()], &xs);
     let (mut num, mut den) = (0.0, 0.0);
     for t in 0..target.len() {
         if !skip[t] {
@@ -62,7 +58,7 @@ impl BorderBasis {
         let phi = border_channels(m, u, shared)?;
         let order = m.order;
         let zero = vec![0.0; order];
-        let mut cols: Vec<Vec<f64>> = phi.iter().map(|p| linear_response(m, p, &zero)).collect();
+        let mut cols: Vec<Vec<f64>> = phi.iter().map(|p| m.linear_response(p, &zero)).collect();
         match initial {
             InitialState::Rest => {
                 // Rest at μ0 before the record: y = μ0 (1 − Σ_{c≥1} ψ_c) + Σ_{c≥1} v_c ψ_c.
@@ -74,8 +70,8 @@ impl BorderBasis {
             }
             InitialState::Estimated => {
                 // Free response from rest at the unit level, C A^t (I − A)⁻¹ B.
-                let xs = steady_state(m);
-                cols.push(linear_response(m, &vec![0.0; n], &xs));
+                let xs = m.steady_state();
+                cols.push(m.linear_response(&vec![0.0; n], &xs));
             }
         }
         Some(Self {
@@ -104,7 +100,7 @@ impl BorderBasis {
             b.extend(m.border_desc.iter().skip(1));
         }
         if self.initial == InitialState::Estimated {
-            b.push(level_of(m, x0));
+            b.push(m.level_of(x0));
         }
         b
     }
@@ -144,9 +140,9 @@ impl BorderBasis {
         let x0 = match self.initial {
             InitialState::Estimated => {
                 let c = beta.get(self.borders).copied().unwrap_or(0.0);
-                steady_state(&out).iter().map(|v| v * c).collect()
+                out.steady_state().iter().map(|v| v * c).collect()
             }
-            InitialState::Rest => rest_state(&out),
+            InitialState::Rest => out.rest_state(),
         };
         (out, x0)
     }
@@ -184,9 +180,9 @@ impl BdBasis {
         // The rest level the record starts from: μ0, or the fitted level.
         let level = match initial {
             InitialState::Rest => m.mu0,
-            InitialState::Estimated => level_of(m, x0),
+            InitialState::Estimated => m.level_of(x0),
         };
-        let h = nonlinearity_output(m, u);
+        let h = m.nonlinearity_output(u);
         let len = u.len();
         // Free response rows C A^t.
         let mut ca = vec![vec![0.0; n]; len];
@@ -274,7 +270,7 @@ impl BdBasis {
         }
         let x0 = match self.initial {
             InitialState::Estimated => x_start,
-            InitialState::Rest => rest_state(&out),
+            InitialState::Rest => out.rest_state(),
         };
         Some((out, x0))
     }

@@ -2,7 +2,7 @@
 
 use crate::diagnose::noise::ArNoise;
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output};
+use crate::diagnose::simulate::delay_input;
 use crate::diagnose::stores::Stores;
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
@@ -44,10 +44,10 @@ impl ExtendedModel {
         if let Some(el) = &self.hysteresis {
             return crate::hysteresis::simulate::simulate(el, &ud);
         }
-        let h = nonlinearity_output(&self.hammerstein, &ud);
+        let h = self.hammerstein.nonlinearity_output(&ud);
         match &self.stores {
             Some(st) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
-            None => linear_response(&self.hammerstein, &h, &self.x0),
+            None => self.hammerstein.linear_response(&h, &self.x0),
         }
     }
 

@@ -6,7 +6,7 @@ use crate::diagnose::dynamics::{Borders, DynamicsFit};
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::noise::fit_ar;
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::simulate::{delay_input, linear_response, nonlinearity_output, rest_state};
+use crate::diagnose::simulate::delay_input;
 use crate::diagnose::stores::{self, StoresClass};
 use crate::identify::HostModel;
 
@@ -57,7 +57,7 @@ pub(super) fn fit_stores(
     class: StoresClass,
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
-    let h = nonlinearity_output(&model.hammerstein, &ud);
+    let h = model.hammerstein.nonlinearity_output(&ud);
     let target: Vec<f64> = rec
         .y
         .iter()
@@ -179,9 +179,9 @@ pub(super) fn fit_structure_impl(
         let (m, x0) = match refit {
             Some(r) => r,
             None => {
-                let h = nonlinearity_output(&m, &ud);
+                let h = m.nonlinearity_output(&ud);
                 let x0 = match opts.initial {
-                    InitialState::Rest => rest_state(&m),
+                    InitialState::Rest => m.rest_state(),
                     InitialState::Estimated => estimate_x0(&m, &h, &target, &imputed),
                 };
                 (m, x0)
@@ -221,8 +221,8 @@ pub(super) fn fit_structure_impl(
         } else {
             (m, x0)
         };
-        let h = nonlinearity_output(&m, &ud);
-        let lin = linear_response(&m, &h, &x0);
+        let h = m.nonlinearity_output(&ud);
+        let lin = m.linear_response(&h, &x0);
         let out: Vec<f64> = lin
             .iter()
             .map(|&l| map.as_ref().map_or(l, |g| g.eval(l)))
@@ -239,8 +239,8 @@ pub(super) fn fit_structure_impl(
             if let Some((best_sse, bm, bx, bg)) = &best_round
                 && sse.partial_cmp(best_sse) != Some(std::cmp::Ordering::Less)
             {
-                let h = nonlinearity_output(bm, &ud);
-                lin_prev = Some(linear_response(bm, &h, bx));
+                let h = bm.nonlinearity_output(&ud);
+                lin_prev = Some(bm.linear_response(&h, bx));
                 last = Some((bm.clone(), bx.clone()));
                 map = bg.clone();
                 continue;

@@ -4,9 +4,6 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::simulate::{
-    level_of, linear_response, nonlinearity_output, rest_state, steady_state,
-};
 use crate::identify::HostModel;
 use crate::numerics::lm::{Damping, DampingLimit, JacobianFailure, Settings, levenberg_marquardt};
 use crate::numerics::lstsq::lstsq_min_norm;
@@ -16,32 +13,34 @@ use super::borders::border_channels;
 use super::fit_options::{InitialState, Saturation};
 use super::refine_linear::{LinearFitParams, refine_linear};
 
-/// The linear part in observer canonical form (`C = e₁`): the same transfer function.
-pub(super) fn to_observer(m: &HostModel) -> Option<(Vec<f64>, HostModel)> {
-    let n = m.order;
-    if n == 0 {
-        return None;
+impl HostModel {
+    /// The linear part in observer canonical form (`C = e₁`): the same transfer function.
+    pub(super) fn to_observer(&self) -> Option<(Vec<f64>, HostModel)> {
+        let n = self.order;
+        if n == 0 {
+            return None;
+        }
+        let poles = self.poles();
+        if poles.len() != n {
+            return None;
+        }
+        let a = from_roots(&poles)[1..].to_vec();
+        // Markov parameters h_k = C A^{k−1} B, k = 1…n.
+        let mut h = Vec::with_capacity(n);
+        let mut v = DVector::from_column_slice(&self.b);
+        for _ in 0..n {
+            h.push(self.c.iter().zip(v.iter()).map(|(c, x)| c * x).sum::<f64>());
+            v = &self.a * v;
+        }
+        let b: Vec<f64> = (0..n)
+            .map(|k| h[k] + (0..k).map(|i| a[i] * h[k - 1 - i]).sum::<f64>())
+            .collect();
+        let mut out = self.clone();
+        out.a = observer_a(&a);
+        out.b = b;
+        out.c = (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect();
+        Some((a, out))
     }
-    let poles = m.poles();
-    if poles.len() != n {
-        return None;
-    }
-    let a = from_roots(&poles)[1..].to_vec();
-    // Markov parameters h_k = C A^{k−1} B, k = 1…n.
-    let mut h = Vec::with_capacity(n);
-    let mut v = DVector::from_column_slice(&m.b);
-    for _ in 0..n {
-        h.push(m.c.iter().zip(v.iter()).map(|(c, x)| c * x).sum::<f64>());
-        v = &m.a * v;
-    }
-    let b: Vec<f64> = (0..n)
-        .map(|k| h[k] + (0..k).map(|i| a[i] * h[k - 1 - i]).sum::<f64>())
-        .collect();
-    let mut out = m.clone();
-    out.a = observer_a(&a);
-    out.b = b;
-    out.c = (0..n).map(|i| if i == 0 { 1.0 } else { 0.0 }).collect();
-    Some((a, out))
 }
 
 /// Residual of the over-parameterised model with `A` fixed: the output is linear in the
@@ -128,7 +127,7 @@ pub(super) fn refine_poles(
     p: &LinearFitParams<'_>,
 ) -> Option<(HostModel, Vec<f64>)> {
     let (u, y, skip, initial) = (p.u, p.y, p.skip, p.initial);
-    let (mut a, obs) = to_observer(m)?;
+    let (mut a, obs) = m.to_observer()?;
     let n = a.len();
     let limit = 1.0 - 0.5 / u.len().max(4) as f64;
     if root_radius(&a) >= limit {
@@ -173,10 +172,10 @@ pub(super) fn refine_poles(
     let mut mm = obs;
     mm.a = observer_a(&a);
     let x0 = match initial {
-        InitialState::Rest => rest_state(&mm),
+        InitialState::Rest => mm.rest_state(),
         InitialState::Estimated => {
-            let c = level_of(m, x0);
-            steady_state(&mm).iter().map(|v| v * c).collect()
+            let c = m.level_of(x0);
+            mm.steady_state().iter().map(|v| v * c).collect()
         }
     };
     let sat = Saturation::default();
@@ -199,10 +198,10 @@ pub(super) fn refine_poles_mapped(
     p: &LinearFitParams<'_>,
 ) -> Option<(HostModel, Vec<f64>, Option<OutputMap>)> {
     let (u, y, skip, initial) = (p.u, p.y, p.skip, p.initial);
-    let (a0, obs) = to_observer(m)?;
+    let (a0, obs) = m.to_observer()?;
     let n = a0.len();
     let limit = 1.0 - 0.5 / u.len().max(4) as f64;
-    let level = level_of(m, x0);
+    let level = m.level_of(x0);
     let eval = |a: &[f64]| -> Option<(f64, HostModel, Vec<f64>, Option<OutputMap>)> {
         if root_radius(a) >= limit {
             return None;
@@ -210,11 +209,11 @@ pub(super) fn refine_poles_mapped(
         let mut mm = obs.clone();
         mm.a = observer_a(a);
         let xs = match initial {
-            InitialState::Rest => rest_state(&mm),
-            InitialState::Estimated => steady_state(&mm).iter().map(|v| v * level).collect(),
+            InitialState::Rest => mm.rest_state(),
+            InitialState::Estimated => mm.steady_state().iter().map(|v| v * level).collect(),
         };
         let (m2, x2, g) = refine_linear(&mm, &xs, p);
-        let lin = linear_response(&m2, &nonlinearity_output(&m2, u), &x2);
+        let lin = m2.linear_response(&m2.nonlinearity_output(u), &x2);
         let sse: f64 = lin
             .iter()
             .zip(y)

@@ -1,7 +1,6 @@
 //! The linear part refined by least squares on the simulation error.
 
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::simulate::{linear_response, nonlinearity_output};
 use crate::identify::HostModel;
 
 use super::borders::{BdBasis, BorderBasis};
@@ -48,7 +47,7 @@ pub(super) fn refine_linear(
         initial,
         shared,
     } = *p;
-    let lin_of = |m: &HostModel, x0: &[f64]| linear_response(m, &nonlinearity_output(m, u), x0);
+    let lin_of = |m: &HostModel, x0: &[f64]| m.linear_response(&m.nonlinearity_output(u), x0);
     let fit_map = |lin: &[f64]| map_segments.and_then(|k| fit_output_map(lin, y, skip, k, sat));
     let sse = |lin: &[f64], g: &Option<OutputMap>| -> f64 {
         lin.iter()

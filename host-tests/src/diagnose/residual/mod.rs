@@ -32,7 +32,8 @@ pub mod whiteness;
 
 pub use regressor::regressor;
 
-use crate::diagnose::stats::{acf, rms};
+use crate::diagnose::stats::acf;
+use crate::numerics::rms;
 pub use result::{Curves, LEVEL, ResidualInput, Test, TestResult, TestSet};
 
 fn max_lag(n: usize) -> usize {

@@ -1,5 +1,5 @@
-//! Fixtures of the tests of dynamics beyond the linear `G`: a small order-2 model, a staircase
-//! input and the RMS of a difference. Shared with
+//! Fixtures of the tests of dynamics beyond the linear `G`: a small order-2 model and a
+//! staircase input. Shared with
 //! the tests of the example `tanks_dynamics`, which includes this file (the parent module
 //! brings `HostModel` into scope).
 
@@ -43,9 +43,4 @@ pub(crate) fn levels(n: usize, seed: u64) -> Vec<f64> {
             level
         })
         .collect()
-}
-
-/// RMS of the difference of two signals.
-pub(crate) fn rms(a: &[f64], b: &[f64]) -> f64 {
-    (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt()
 }

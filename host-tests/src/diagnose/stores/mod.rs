@@ -1,7 +1,7 @@
 //! Level-dependent stores: state-dependent dynamics with one steady state by construction.
 //!
 //! An order-2 model with real poles is a cascade of two stores
-//! ([`super::dynamics::cascade_forms_with`]).
+//! ([`HostModel::cascade_forms_with`](crate::identify::HostModel::cascade_forms_with)).
 //! Here each store drains through a monotone power-law outflow instead of a linear one, and
 //! the first one may overflow into the second above a level:
 //!
@@ -34,7 +34,7 @@
 
 use serde::Serialize;
 
-use super::dynamics::{Cascade, DynamicsError, DynamicsFit, cascade_forms_with};
+use super::dynamics::{Cascade, DynamicsError, DynamicsFit};
 use crate::identify::HostModel;
 use crate::numerics::lm::{Settings, levenberg_marquardt};
 
@@ -186,19 +186,21 @@ pub enum StoresClass {
     Linear,
 }
 
-/// The cascade forms the fit starts from: the model's poles if real; a complex pair
-/// `re ± j·im` (stores do not oscillate) starts as the real pair `re ± |im|`, and whether the
-/// stores then fit is for the validation to judge.
-pub fn start_cascades(m: &HostModel) -> Result<[Cascade; 2], DynamicsError> {
-    let poles = m.poles();
-    if m.order != 2 || poles.len() != 2 {
-        return Err(DynamicsError::NotOrderTwo { order: m.order });
+impl HostModel {
+    /// The cascade forms the fit starts from: the model's poles if real; a complex pair
+    /// `re ± j·im` (stores do not oscillate) starts as the real pair `re ± |im|`, and whether the
+    /// stores then fit is for the validation to judge.
+    pub fn start_cascades(&self) -> Result<[Cascade; 2], DynamicsError> {
+        let poles = self.poles();
+        if self.order != 2 || poles.len() != 2 {
+            return Err(DynamicsError::NotOrderTwo { order: self.order });
+        }
+        let (re, im) = poles[0];
+        if im == 0.0 {
+            return Ok(self.cascade_forms_with(re, poles[1].0));
+        }
+        Ok(self.cascade_forms_with(re + im.abs(), re - im.abs()))
     }
-    let (re, im) = poles[0];
-    if im == 0.0 {
-        return Ok(cascade_forms_with(m, re, poles[1].0));
-    }
-    Ok(cascade_forms_with(m, re + im.abs(), re - im.abs()))
 }
 
 /// Fits the level-dependent stores to an order-2 model with real poles (`A`, `B`, `C`, `D`
@@ -211,7 +213,7 @@ pub fn fit(
     data: &DynamicsFit,
     class: StoresClass,
 ) -> Result<(Stores, HostModel), DynamicsError> {
-    let cascades = start_cascades(m)?;
+    let cascades = m.start_cascades()?;
     let y_first = m.d * data.h.first().copied().unwrap_or(0.0)
         + m.c.iter().zip(x0).map(|(c, x)| c * x).sum::<f64>();
     let (h_low, h_high) = data

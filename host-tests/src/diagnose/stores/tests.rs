@@ -1,8 +1,8 @@
 //! Tests of the level-dependent stores against plants of their class.
 
-use super::fixtures::{levels, model, rms};
+use super::fixtures::{levels, model};
 use super::*;
-use crate::diagnose::simulate::linear_response;
+use crate::numerics::rms_error;
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
 
@@ -48,13 +48,13 @@ fn linear_start_simulates_like_the_linear_model() -> Outcome {
     // The cascade x1⁺ = 0.95 x1 + h, x2⁺ = 0.9 x2 + x1, y = 0.1 x1 + 0.05 x2 as a model.
     let lin = model([[0.95, 0.0], [1.0, 0.9]], [1.0, 0.0], [0.1, 0.05], 0.0);
     let h = levels(2000, 3);
-    let y = linear_response(&lin, &h, &[0.0, 0.0]);
-    let [cascade, _] = start_cascades(&lin)?;
+    let y = lin.linear_response(&h, &[0.0, 0.0]);
+    let [cascade, _] = lin.start_cascades()?;
     let start = linear_start(&cascade, 0.0, 0.0, 0.0, 1.0).ok_or("no start")?;
     let ys = start.simulate(&h).ok_or("not simulated")?;
     // Sub-steps discretise the cascade's coupling differently: a small mismatch only.
-    let spread = rms(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
-    let e = rms(&y, &ys);
+    let spread = rms_error(&y, &vec![y.iter().sum::<f64>() / y.len() as f64; y.len()]);
+    let e = rms_error(&y, &ys);
     assert!(e < 0.05 * spread, "start error {e}, output spread {spread}");
     Ok(())
 }
@@ -84,9 +84,9 @@ fn fit_recovers_two_tanks() -> Outcome {
         borders: None,
     };
     let x0 = [x1 / (1.0 - p2), 0.0];
-    let before = rms(&linear_response(&lin, &h, &x0), &y);
+    let before = rms_error(&lin.linear_response(&h, &x0), &y);
     let (fit, _) = fit(&lin, &x0, &data, StoresClass::LevelDependent)?;
-    let after = rms(&fit.simulate(&h).ok_or("not simulated")?, &y);
+    let after = rms_error(&fit.simulate(&h).ok_or("not simulated")?, &y);
     assert!(
         after < 0.01 * before,
         "before {before}, after {after}: {fit:?}"
@@ -94,7 +94,7 @@ fn fit_recovers_two_tanks() -> Outcome {
     // On a new input too, and with the tanks' own steady states.
     let h2 = inflow(3000, 12);
     let y2 = truth.simulate(&h2).ok_or("not simulated")?;
-    let new = rms(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
+    let new = rms_error(&fit.simulate(&h2).ok_or("not simulated")?, &y2);
     assert!(new < 0.02 * before, "new input: {new} (before {before})");
     for h in [0.03, 0.06, 0.11] {
         let (a, b) = (fit.steady_output(h), truth.steady_output(h));
