@@ -10,9 +10,9 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hsid_host::diagnose::bench::{Outcome, run_all};
-use hsid_host::diagnose::residual::{ResidualInput, run_tests};
 use hsid_host::diagnose::scenario::{Plant, Scenario, generate};
 use hsid_host::diagnose::{Effect, Nonlinearity, PoleRefinement, Test, diagnose};
+use hsid_host::validation::residual::{ResidualInput, run_tests};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 

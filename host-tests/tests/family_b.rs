@@ -3,7 +3,7 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{Check, Effect, Validation, checks::feedback::feedback_test};
+use hsid_host::diagnose::{Check, Effect, Validation};
 use hsid_host::family_b::element::{Borders, Element, Kind};
 use hsid_host::family_b::input::InputKind;
 use hsid_host::family_b::noise::{Colour, noise, variance};
@@ -11,6 +11,7 @@ use hsid_host::family_b::plant::{Plant, Section};
 use hsid_host::family_b::rng::Rng;
 use hsid_host::family_b::scenario::HOLD;
 use hsid_host::family_b::{Class, Scenario, generate, run_adjusted, run_one};
+use hsid_host::validation::checks::feedback::feedback_test;
 
 /// Every class, seeds 1–4: the realised ratio of the estimation record within 1 dB of the
 /// target, the target in 10–40 dB, the declared order (the drawn order cycles through 1–4,

@@ -406,14 +406,14 @@ fn diagnose_integrating_diagnoses_the_stable_part() {
 /// first family. A diagnosis of an integrating plant adds nothing and ends with the route.
 #[test]
 fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
-    use hsid_host::diagnose::residual;
     use hsid_host::diagnose::scenario::{self as first, Plant};
-    use hsid_host::diagnose::unit_root::{UnitRoot, unit_root};
     use hsid_host::diagnose::verdict::End;
     use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Nonlinearity, Record, diagnose};
     use hsid_host::family_b::class::Class;
     use hsid_host::family_b::generate::generate;
     use hsid_host::family_b::scenario::Scenario;
+    use hsid_host::validation::residual;
+    use hsid_host::validation::unit_root::{UnitRoot, unit_root};
 
     let test = |r: &Record, o: &DiagnoseOptions| -> UnitRoot {
         let id = &o.identify;

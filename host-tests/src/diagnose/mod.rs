@@ -29,11 +29,10 @@
 //! two-tank plants for the stores.
 
 use crate::identify::{IdentifyError, IdentifyOptions};
+use crate::validation::{checks, residual, unit_root};
 
-pub mod arx;
 pub mod base_order;
 pub mod bench;
-pub mod checks;
 pub mod delay;
 pub mod diagnosis;
 pub mod dynamics;
@@ -45,23 +44,19 @@ pub mod findings;
 pub mod fit_plan;
 pub mod inner;
 pub mod model;
-pub mod noise;
 pub mod options;
 pub mod output_map;
 pub mod report;
-pub mod residual;
 pub mod scenario;
 pub mod scoring;
 pub mod segments;
 pub mod simulate;
 pub mod split;
-pub mod stats;
 pub mod steps;
 pub mod stores;
-pub mod unit_root;
 pub mod verdict;
 
-pub use checks::{Check, Warning};
+pub use crate::validation::{Check, Test, TestSet, Warning};
 pub use diagnosis::{Diagnosis, Rejected, Step};
 pub use effects::Effect;
 pub use error::DiagnoseError;
@@ -69,7 +64,6 @@ pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
 pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
 pub use options::{DiagnoseOptions, Nonlinearity, PoleRefinement, Proposing, Validation};
-pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
 
 /// Runs the whole loop. `record` is the estimation record (or the whole record, for

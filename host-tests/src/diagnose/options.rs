@@ -7,29 +7,7 @@ use serde::Serialize;
 
 use super::model::{InitialState, Record};
 use crate::identify::IdentifyOptions;
-
-/// The kind of input nonlinearity.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Nonlinearity {
-    /// Backlash (needs the Table I excitation).
-    Backlash,
-    /// Switch.
-    Switch,
-    /// Static (memoryless) piecewise-linear nonlinearity, one border for both directions.
-    Static,
-}
-
-impl Nonlinearity {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Nonlinearity::Backlash => "backlash",
-            Nonlinearity::Switch => "switch",
-            Nonlinearity::Static => "static",
-        }
-    }
-}
+pub use crate::validation::checks::Nonlinearity;
 
 /// Where the validation data come from.
 #[derive(Clone, Debug, PartialEq)]

@@ -5,15 +5,15 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::checks::Warning;
 use super::diagnosis::Diagnosis;
 use super::effects::{Effect, Significance, has_evidence};
 use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::options::Nonlinearity;
 use super::output_map::OutputMap;
-use super::residual::TestSet;
 use crate::model_file::{ModelFile, NoiseFile, NonlinearityKind};
+use crate::validation::checks::Warning;
+use crate::validation::residual::TestSet;
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]

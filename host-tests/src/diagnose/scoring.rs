@@ -3,7 +3,7 @@
 use std::ops::Range;
 
 use super::model::{Evaluation, ExtendedModel, Record};
-use super::residual::{self, TestSet};
+use crate::validation::residual::{self, TestSet};
 
 /// Tests of a model's residual on `range` of `rec`; `ev` is the model's evaluation there and
 /// `shared` says whether the nonlinearity has one border for both directions.

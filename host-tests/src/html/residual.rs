@@ -2,10 +2,10 @@
 //! `identify` and `validate` (the page of `diagnose` takes them from the diagnosis): the same
 //! checks and tests `diagnose` runs, on the simulation residual after the hold.
 
-use crate::diagnose::checks::{CheckSetup, check_data};
-use crate::diagnose::residual::{ResidualInput, TestSet, regressor, run_tests};
-use crate::diagnose::{Nonlinearity, Warning};
 use crate::identify::{HostModel, IdentifyOptions};
+use crate::validation::checks::{CheckSetup, check_data};
+use crate::validation::residual::{ResidualInput, TestSet, regressor, run_tests};
+use crate::validation::{Nonlinearity, Warning};
 
 /// The residual tests of `model`'s simulation `sim` of the record `(u, y)`, leaving out the
 /// first `skip` samples; `shared`: one border for both directions (a static element). `None`

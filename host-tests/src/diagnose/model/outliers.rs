@@ -1,6 +1,6 @@
 //! Outliers flagged by the MAD rule.
 
-use crate::diagnose::stats::{mad_sigma, rms, running_median};
+use crate::validation::stats::{mad_sigma, rms, running_median};
 
 /// Flags isolated outliers of a residual: the residual minus its running median (window 7) is
 /// beyond `k` robust standard deviations (1.4826 MAD), in runs of at most two samples.

@@ -1,6 +1,30 @@
-//! What the checks need to know about the identification.
+//! What the checks need to know about the identification: the nonlinearity kind, the knots,
+//! the hold and the horizons.
 
-use crate::diagnose::options::Nonlinearity;
+use serde::Serialize;
+
+/// The kind of input nonlinearity.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Nonlinearity {
+    /// Backlash (needs the Table I excitation).
+    Backlash,
+    /// Switch.
+    Switch,
+    /// Static (memoryless) piecewise-linear nonlinearity, one border for both directions.
+    Static,
+}
+
+impl Nonlinearity {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Nonlinearity::Backlash => "backlash",
+            Nonlinearity::Switch => "switch",
+            Nonlinearity::Static => "static",
+        }
+    }
+}
 
 /// What the checks need to know about the identification.
 #[derive(Clone, Debug)]

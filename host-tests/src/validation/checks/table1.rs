@@ -1,9 +1,8 @@
 //! The Table I structure: every monotone input run starts at `u_min` (ascending) or `u_max`
 //! (descending).
 
-use super::setup::CheckSetup;
+use super::setup::{CheckSetup, Nonlinearity};
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::options::Nonlinearity;
 use crate::table1::{Runs, count_runs};
 
 /// Runs that do not start at an end of the interval (backlash and switch only). `ex` is the

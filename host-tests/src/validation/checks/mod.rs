@@ -12,8 +12,8 @@ pub mod setup;
 pub mod table1;
 pub mod warning;
 
-pub use output::saturation;
-pub use setup::CheckSetup;
+pub use output::{Saturation, saturation};
+pub use setup::{CheckSetup, Nonlinearity};
 pub use warning::{Check, Warning, warn};
 
 /// Runs all checks on an estimation record (`u` and `y` of one length).

@@ -32,7 +32,7 @@ pub mod whiteness;
 
 pub use regressor::regressor;
 
-use crate::diagnose::stats::{acf, rms};
+use crate::validation::stats::{acf, rms};
 pub use result::{Curves, LEVEL, ResidualInput, Test, TestResult, TestSet};
 
 fn max_lag(n: usize) -> usize {
