@@ -28,8 +28,8 @@
 //! Table I experiments with one undeclared effect, for the tests and the confusion table, and
 //! two-tank plants for the stores.
 
-use crate::identify::{IdentifyError, IdentifyOptions};
-use crate::validation::{checks, residual, unit_root};
+use crate::identify::IdentifyError;
+use crate::validation::{checks, data_checks, residual, unit_root};
 
 pub mod base_order;
 pub mod bench;
@@ -115,7 +115,7 @@ fn diagnose_inner(
         Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
         None => String::new(),
     };
-    let mut warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
+    let mut warnings = data_checks(&est.u, &est.y, &id, opts.nonlinearity);
     let mut plan = fit_plan::FitPlan::new(opts, &id, est);
     let (base, lowered) = base_order::fit_base(est, opts, &mut id, &mut plan)?;
     warnings.extend(lowered);
@@ -236,18 +236,4 @@ fn diagnose_inner(
         dead_time: dead,
         inner,
     })
-}
-
-/// What the data checks need to know about the identification `id` (knots chosen).
-fn check_setup<'a>(opts: &DiagnoseOptions, id: &'a IdentifyOptions) -> checks::CheckSetup<'a> {
-    checks::CheckSetup {
-        kind: opts.nonlinearity,
-        knots_asc: &id.knots_asc,
-        knots_desc: &id.knots_desc,
-        hold: id.hold,
-        settle: id.settle,
-        mu0_known: id.mu0.is_some(),
-        f: id.f,
-        p: id.p,
-    }
 }

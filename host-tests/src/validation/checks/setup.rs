@@ -3,6 +3,8 @@
 
 use serde::Serialize;
 
+use crate::identify::IdentifyOptions;
+
 /// The kind of input nonlinearity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -47,7 +49,21 @@ pub struct CheckSetup<'a> {
     pub p: usize,
 }
 
-impl CheckSetup<'_> {
+impl<'a> CheckSetup<'a> {
+    /// The setup of an identification with `opts` (knots chosen) as `kind`.
+    pub fn new(opts: &'a IdentifyOptions, kind: Nonlinearity) -> Self {
+        CheckSetup {
+            kind,
+            knots_asc: &opts.knots_asc,
+            knots_desc: &opts.knots_desc,
+            hold: opts.hold,
+            settle: opts.settle,
+            mu0_known: opts.mu0.is_some(),
+            f: opts.f,
+            p: opts.p,
+        }
+    }
+
     /// The knots' interval `(u_min, u_max)` and the tolerance of "at an end" of it.
     pub fn interval(&self) -> (f64, f64, f64) {
         let u_min = self.knots_asc.first().copied().unwrap_or(f64::NAN);
