@@ -1,6 +1,6 @@
 //! The identify workflow: one record in, one model out, every decision in one place. The
 //! command line and Python are its faces: they build an [`IdentifyRequest`] and a
-//! [`Record`](crate::model::Record), call [`identify_record`], and print or return what it
+//! [`Record`], call [`identify_record`], and print or return what it
 //! gives ([`Identified`]).
 //!
 //! The steps, in order: the request is checked ([`IdentifyRequest::validate`]); an
