@@ -25,4 +25,5 @@ pub mod sim;
 pub mod simulate;
 pub mod table1;
 pub mod units;
+pub mod validation;
 pub mod workflow;

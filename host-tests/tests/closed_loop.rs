@@ -8,8 +8,8 @@ use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, identify_closed_loop};
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
 use hsid_host::diagnose::Estimator;
-use hsid_host::diagnose::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
 use hsid_host::identify::{HostModel, IdentifyOptions, identify};
+use hsid_host::validation::checks::feedback::{FeedbackTest, feedback_in_record, feedback_warning};
 
 const SEEDS: u64 = 20;
 

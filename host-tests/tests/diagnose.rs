@@ -4,9 +4,9 @@
 //! false alarms on clean data) is `hsid-lab`'s `tests/diagnose.rs`.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::diagnose::residual::{ResidualInput, run_tests};
 use hsid_host::diagnose::{Test, diagnose};
 use hsid_host::model::Element;
+use hsid_host::validation::residual::{ResidualInput, run_tests};
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 

@@ -1,8 +1,10 @@
-//! The distribution functions of the residual tests (`diagnose::stats`) against values computed
+//! The distribution functions of the residual tests (`validation::stats`) against values computed
 //! independently to 30 digits (mpmath: `erfc`, `erfinv`, the regularised incomplete gamma
 //! and a root of it), and their answers outside the domain (no panic).
 
-use hsid_host::diagnose::stats::{chi2_quantile, chi2_sf, normal_quantile, normal_sf, poisson_sf};
+use hsid_host::validation::stats::{
+    chi2_quantile, chi2_sf, normal_quantile, normal_sf, poisson_sf,
+};
 
 /// `|got − want| ≤ rel · |want|`.
 fn close(got: f64, want: f64, rel: f64) -> bool {

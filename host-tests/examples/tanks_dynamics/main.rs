@@ -40,7 +40,8 @@ use hsid_host::diagnose::effects::Holdout;
 use hsid_host::diagnose::model::{
     self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure,
 };
-use hsid_host::diagnose::{checks, residual, simulate};
+use hsid_host::diagnose::simulate;
+use hsid_host::validation::{checks, residual};
 // The shared test fixtures name the model through their parent module.
 #[cfg(test)]
 use hsid_host::identify::HostModel;

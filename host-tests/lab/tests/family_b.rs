@@ -3,7 +3,8 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{Check, Effect, Validation, checks::feedback::feedback_test};
+use hsid_host::diagnose::{Check, Effect, Validation};
+use hsid_host::validation::checks::feedback::feedback_test;
 use hsid_lab::family_b::element::{Borders, Element, Kind};
 use hsid_lab::family_b::input::InputKind;
 use hsid_lab::family_b::noise::{Colour, noise, variance};

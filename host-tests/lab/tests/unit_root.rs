@@ -15,10 +15,10 @@ use hsid_host::model::Element;
 /// first family. A diagnosis of an integrating plant adds nothing and ends with the route.
 #[test]
 fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
-    use hsid_host::diagnose::residual;
-    use hsid_host::diagnose::unit_root::{UnitRoot, unit_root};
     use hsid_host::diagnose::verdict::End;
     use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Record, diagnose};
+    use hsid_host::validation::residual;
+    use hsid_host::validation::unit_root::{UnitRoot, unit_root};
     use hsid_lab::family_b::class::Class;
     use hsid_lab::family_b::generate::generate;
     use hsid_lab::family_b::scenario::Scenario;

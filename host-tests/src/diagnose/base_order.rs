@@ -11,12 +11,12 @@
 //! chosen from the singular values, or when no lower order can be normalised either, the
 //! error stands.
 
-use super::checks::{Check, Warning, warn};
 use super::error::DiagnoseError;
 use super::fit_plan::FitPlan;
 use super::model::{self, ExtendedModel, Record, Structure};
 use super::options::DiagnoseOptions;
 use crate::identify::{IdentifyError, IdentifyOptions};
+use crate::validation::checks::{Check, Warning, warn};
 
 /// Whether `e` is the core's refusal of a (near) zero static gain.
 fn zero_gain(e: &DiagnoseError) -> bool {

@@ -12,11 +12,11 @@
 use nalgebra::DVector;
 use serde::Serialize;
 
-use super::arx::{continuous_rows, lagged, rss};
-use super::residual::LEVEL;
-use super::stats::chi2_sf;
 use crate::identify::HostModel;
 use crate::numerics::select::{Criterion, best};
+use crate::validation::arx::{continuous_rows, lagged, rss};
+use crate::validation::residual::LEVEL;
+use crate::validation::stats::chi2_sf;
 
 /// The dead time found in the data.
 #[derive(Clone, Debug, PartialEq, Serialize)]

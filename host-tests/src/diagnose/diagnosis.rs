@@ -6,15 +6,15 @@ use std::ops::Range;
 
 use serde::Serialize;
 
-use super::checks::Warning;
 use super::delay;
 use super::effects::{Effect, Significance};
 use super::evidence::{Evidence, Tried};
 use super::findings::Finding;
 use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric, Record};
-use super::residual::TestSet;
 use super::verdict::Verdict;
+use crate::validation::checks::Warning;
+use crate::validation::residual::TestSet;
 
 /// One effect added.
 #[derive(Clone, Debug)]

@@ -6,12 +6,12 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
-use super::checks::{Check, Warning};
 use super::delay::DeadTime;
 use super::dynamics::DynamicsError;
 use super::effects::Effect;
-use super::residual::{TestResult, TestSet};
 use crate::identify::IdentifyError;
+use crate::validation::checks::{Check, Warning};
+use crate::validation::residual::{TestResult, TestSet};
 
 /// One piece of evidence that pointed at an effect.
 #[derive(Clone, Debug, PartialEq)]

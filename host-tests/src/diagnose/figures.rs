@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use super::diagnosis::Diagnosis;
 use super::error::DiagnoseError;
-use super::residual::TestSet;
 use crate::plot::{Dash, Figure, LegendPosition, Marker, Series};
+use crate::validation::residual::TestSet;
 
 const BEFORE: &str = "#d62728";
 const AFTER: &str = "#1f77b4";

@@ -3,7 +3,7 @@
 //! [`verdict`](super::verdict).
 
 use super::effects::Effect;
-use super::residual::Test;
+use crate::validation::residual::Test;
 
 /// A finding the loop could not act on.
 #[derive(Clone, Debug, PartialEq)]
@@ -79,8 +79,8 @@ impl Finding {
 /// checks (`warnings`) find; `shared`: a static nonlinearity, `stores`: the model has the
 /// level-dependent stores, `element`: the element with memory.
 pub fn outside_catalog(
-    tests: &super::residual::TestSet,
-    warnings: &[super::checks::Warning],
+    tests: &crate::validation::residual::TestSet,
+    warnings: &[crate::validation::checks::Warning],
     shared: bool,
     stores: bool,
     element: bool,
@@ -102,7 +102,7 @@ pub fn outside_catalog(
     }
     if warnings
         .iter()
-        .any(|w| w.check == super::checks::Check::OutputQuantisation)
+        .any(|w| w.check == crate::validation::checks::Check::OutputQuantisation)
     {
         out.push(Finding::Quantised);
     }

@@ -9,7 +9,7 @@ use std::ops::Range;
 use super::effects::Holdout;
 use super::model::{self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure};
 use super::options::DiagnoseOptions;
-use super::residual;
+use crate::validation::residual;
 
 /// The blocks of the inner validation.
 #[derive(Clone, Debug, PartialEq)]

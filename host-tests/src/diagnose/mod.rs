@@ -27,12 +27,11 @@
 //! The validation data never choose anything: they are only scored. The simulated scenarios
 //! of the tests and the confusion tables are in the crate `hsid-lab`.
 
-use crate::identify::{IdentifyError, IdentifyOptions};
+use crate::identify::IdentifyError;
 use crate::model::Element;
+use crate::validation::{checks, data_checks, residual, unit_root};
 
-pub mod arx;
 pub mod base_order;
-pub mod checks;
 pub mod delay;
 pub mod diagnosis;
 pub mod dynamics;
@@ -44,22 +43,18 @@ pub mod findings;
 pub mod fit_plan;
 pub mod inner;
 pub mod model;
-pub mod noise;
 pub mod options;
 pub mod output_map;
 pub mod report;
-pub mod residual;
 pub mod scoring;
 pub mod segments;
 pub mod simulate;
 pub mod split;
-pub mod stats;
 pub mod steps;
 pub mod stores;
-pub mod unit_root;
 pub mod verdict;
 
-pub use checks::{Check, Warning};
+pub use crate::validation::{Check, Test, TestSet, Warning};
 pub use diagnosis::{Diagnosis, Rejected, Step};
 pub use effects::Effect;
 pub use error::DiagnoseError;
@@ -67,7 +62,6 @@ pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
 pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
 pub use options::{DiagnoseOptions, PoleRefinement, Proposing, Validation};
-pub use residual::{Test, TestSet};
 pub use scoring::residual_tests;
 
 /// Runs the whole loop. `record` is the estimation record (or the whole record, for
@@ -119,7 +113,7 @@ fn diagnose_inner(
         Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
         None => String::new(),
     };
-    let mut warnings = checks::check_data(&est.u, &est.y, &check_setup(opts, &id));
+    let mut warnings = data_checks(&est.u, &est.y, &id, opts.nonlinearity);
     let mut plan = fit_plan::FitPlan::new(opts, &id, est);
     let (base, lowered) = base_order::fit_base(est, opts, &mut id, &mut plan)?;
     warnings.extend(lowered);
@@ -240,18 +234,4 @@ fn diagnose_inner(
         dead_time: dead,
         inner,
     })
-}
-
-/// What the data checks need to know about the identification `id` (knots chosen).
-fn check_setup<'a>(opts: &DiagnoseOptions, id: &'a IdentifyOptions) -> checks::CheckSetup<'a> {
-    checks::CheckSetup {
-        kind: opts.nonlinearity,
-        knots_asc: &id.knots_asc,
-        knots_desc: &id.knots_desc,
-        hold: id.hold,
-        settle: id.settle,
-        mu0_known: id.mu0.is_some(),
-        f: id.f,
-        p: id.p,
-    }
 }

@@ -6,14 +6,14 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::checks::Warning;
 use super::diagnosis::Diagnosis;
 use super::effects::{Effect, Significance, has_evidence};
 use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::output_map::OutputMap;
-use super::residual::TestSet;
 use crate::model_file::{ModelFile, NoiseFile};
+use crate::validation::checks::Warning;
+use crate::validation::residual::TestSet;
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
 #[derive(Clone, Debug, Serialize)]

@@ -3,7 +3,7 @@
 use std::ops::Range;
 
 use super::model::{Evaluation, ExtendedModel, Record};
-use super::residual::{self, TestSet};
+use crate::validation::{self, TestSet};
 
 /// Tests of a model's residual on `range` of `rec`; `ev` is the model's evaluation there and
 /// `shared` says whether the nonlinearity has one border for both directions.
@@ -15,16 +15,13 @@ pub fn residual_tests(
     shared: bool,
 ) -> TestSet {
     let h = &model.hammerstein;
-    let (delta, z, bins, count) = residual::regressor(&rec.u, &h.knots_asc, &h.knots_desc, shared);
-    let r = range.clone();
-    let zs: Vec<Vec<f64>> = z.iter().map(|c| c[r.clone()].to_vec()).collect();
-    residual::run_tests(&residual::ResidualInput {
-        residual: &ev.residual,
-        u: &rec.u[r.clone()],
-        delta: &delta[r.clone()],
-        regressor: &zs,
-        bins: &bins[r.clone()],
-        bin_count: count,
-        simulated: &ev.output[r],
-    })
+    validation::residual_tests(
+        &h.knots_asc,
+        &h.knots_desc,
+        shared,
+        &rec.u,
+        &ev.residual,
+        &ev.output[range.clone()],
+        range,
+    )
 }

@@ -5,7 +5,6 @@
 
 use std::ops::Range;
 
-use super::checks::{Check, Warning};
 use super::delay::DeadTime;
 use super::diagnosis::{Rejected, Step};
 use super::effects::candidate::compare_common;
@@ -15,9 +14,10 @@ use super::evidence::{Tried, evidence};
 use super::findings::Finding;
 use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
 use super::options::{DiagnoseOptions, Proposing};
-use super::residual::TestSet;
 use super::scoring::residual_tests;
 use super::verdict::Ending;
+use crate::validation::checks::{Check, Warning};
+use crate::validation::residual::TestSet;
 
 /// What the loop works with; nothing here changes while it runs.
 pub struct Context<'a> {

@@ -3,7 +3,7 @@
 
 use crate::diagnose::{Check, Test};
 
-/// The data checks run on a record before any fit (`diagnose::checks::check_data`), in
+/// The data checks run on a record before any fit (`validation::checks::check_data`), in
 /// their order: what an identification's page can report.
 pub const BEFORE_FIT: [Check; 7] = [
     Check::Table1Structure,

@@ -31,7 +31,6 @@ pub mod paper_captions;
 pub mod paper_page;
 pub mod printed;
 pub mod reproduce;
-pub mod residual;
 pub mod skeleton;
 
 use std::path::Path;

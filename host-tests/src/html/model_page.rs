@@ -6,13 +6,13 @@ use super::advice::BEFORE_FIT;
 use super::checks::{data_rows, test_rows};
 use super::headline::{Fact, Headline};
 use super::model_words::{ModelElement, model_facts, sentence};
-use super::residual::{data_checks, residual_tests};
 use super::{InlineFigure, Page, Reproduction};
 use crate::hysteresis::HysteresisModel;
 use crate::identify::{HostModel, IdentifyOptions};
 use crate::model::Element;
 use crate::report::fit_report;
 use crate::units::UnitReport;
+use crate::validation::{data_checks, residual_tests};
 
 /// A model and the record it is shown on.
 pub struct ModelRun<'a> {
@@ -90,7 +90,21 @@ impl ModelRun<'_> {
             Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind()), &BEFORE_FIT),
             None => Vec::new(),
         };
-        let tests = residual_tests(self.model, &u, &y, &sim, skip, shared);
+        // The residual tests need 20 samples after the first `skip`.
+        let n = u.len().min(y.len()).min(sim.len());
+        let tests = (skip + 20 <= n).then(|| {
+            let residual: Vec<f64> = (skip..n).map(|i| y[i] - sim[i]).collect();
+            let m = self.model;
+            residual_tests(
+                &m.knots_asc,
+                &m.knots_desc,
+                shared,
+                &u[..n],
+                &residual,
+                &sim[skip..n],
+                skip..n,
+            )
+        });
         let checks_note = match (&tests, self.estimation) {
             (None, _) => format!(
                 "Too few samples after the first {skip} for the residual tests (20 needed)."

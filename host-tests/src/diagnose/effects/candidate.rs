@@ -3,8 +3,8 @@
 
 use crate::diagnose::evidence::Tried;
 use crate::diagnose::model::{Evaluation, ExtendedModel, Structure};
-use crate::diagnose::residual::LEVEL;
-use crate::diagnose::stats::{newey_west_var_of_mean, normal_sf};
+use crate::validation::residual::LEVEL;
+use crate::validation::stats::{newey_west_var_of_mean, normal_sf};
 
 use super::catalog::Effect;
 

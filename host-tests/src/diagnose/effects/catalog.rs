@@ -4,8 +4,8 @@
 use serde::Serialize;
 
 use crate::diagnose::model::{Dynamics, ExtendedModel, Structure};
-use crate::diagnose::residual::{Test, TestSet};
 use crate::hysteresis::ElementKind;
+use crate::validation::residual::{Test, TestSet};
 
 /// The effects the diagnosis can name and add.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]

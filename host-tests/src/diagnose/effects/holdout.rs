@@ -81,7 +81,7 @@ fn pool(est: &Record, evs: Vec<(std::ops::Range<usize>, Evaluation)>) -> Option<
         .map(|(r, _)| r * r)
         .sum();
     out.rmse = (sse / used.max(1) as f64).sqrt();
-    let sd = crate::diagnose::stats::variance(&meas).sqrt();
+    let sd = crate::validation::stats::variance(&meas).sqrt();
     out.nrmse = out.rmse / sd.max(1e-300);
     out.fit_percent = 100.0 * (1.0 - out.nrmse);
     out.used = used;
@@ -201,7 +201,7 @@ impl<'a> Holdout<'a> {
             if ok(end - len, end) && (end - len > hold || !estimated_start) {
                 valid.push((
                     end - len..end,
-                    crate::diagnose::stats::variance(&est.y[end - len..end]),
+                    crate::validation::stats::variance(&est.y[end - len..end]),
                 ));
             }
             end = end.saturating_sub(step);

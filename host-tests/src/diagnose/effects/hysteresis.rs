@@ -17,8 +17,8 @@ use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::{Dynamics, Metric, evaluate};
-use crate::diagnose::residual::LEVEL;
 use crate::hysteresis::ElementKind;
+use crate::validation::residual::LEVEL;
 
 impl Proposal<'_> {
     /// The play operator (backlash), then the relay with borders (switch), on a static model

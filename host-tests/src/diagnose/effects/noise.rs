@@ -6,7 +6,7 @@ use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
-use crate::diagnose::noise::ar_order_bic;
+use crate::validation::noise::ar_order_bic;
 
 impl Proposal<'_> {
     /// An AR noise model of the residual's BIC order.

@@ -7,7 +7,7 @@ use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
-use crate::diagnose::residual::Test;
+use crate::validation::residual::Test;
 
 impl Proposal<'_> {
     /// The MAD rule, kept only while the outliers are rare.

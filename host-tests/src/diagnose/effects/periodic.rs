@@ -5,7 +5,7 @@ use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::Metric;
-use crate::diagnose::stats::periodogram;
+use crate::validation::stats::periodogram;
 
 impl Proposal<'_> {
     /// A sinusoid at the refined frequency of the strongest spectral line.

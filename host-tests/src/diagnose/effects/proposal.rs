@@ -7,7 +7,7 @@ use super::holdout::Holdout;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::evidence::{Tried, Unscored};
 use crate::diagnose::model::{Evaluation, ExtendedModel, Metric, Structure};
-use crate::diagnose::residual::TestSet;
+use crate::validation::residual::TestSet;
 
 /// What a proposal needs.
 pub struct Proposal<'a> {

@@ -10,26 +10,11 @@
 //! fit; the extensions (output map, element with memory, stores, noise model, …) are fitted
 //! on top of that Hammerstein part as usual.
 
-use serde::Serialize;
-
 use super::record::Record;
+pub use crate::closed_loop::Estimator;
 use crate::closed_loop::identify_closed_loop;
 use crate::diagnose::error::DiagnoseError;
 use crate::identify::{HostModel, IdentifyOptions, identify};
-
-/// Which estimate the Hammerstein part is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Estimator {
-    /// PI-MOESP on the record (the paper's open-loop estimate); the poles are then refined by
-    /// the simulation error as [`FitOptions::refine_poles`](super::FitOptions::refine_poles)
-    /// says.
-    OpenLoop,
-    /// PI-MOESP on the data projected on instruments built from the logged reference
-    /// ([`identify_closed_loop`]), consistent in closed loop; of the order given, or of the
-    /// open-loop estimate's order; the poles are not refined.
-    Reference,
-}
 
 impl Estimator {
     /// The estimator of a record: [`Estimator::Reference`] when it carries a reference.
@@ -38,21 +23,6 @@ impl Estimator {
             Some(_) => Estimator::Reference,
             None => Estimator::OpenLoop,
         }
-    }
-
-    /// The estimator in words, for the reports.
-    pub fn describe(self) -> &'static str {
-        match self {
-            Estimator::OpenLoop => "open-loop subspace (PI-MOESP)",
-            Estimator::Reference => {
-                "closed-loop subspace (PI-MOESP on instruments from the reference), poles not refined"
-            }
-        }
-    }
-
-    /// Whether the poles may be refined by the simulation error after the subspace step.
-    pub fn refines_poles(self) -> bool {
-        self == Estimator::OpenLoop
     }
 }
 

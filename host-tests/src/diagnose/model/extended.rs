@@ -1,11 +1,11 @@
 //! The fitted extended model and its simulation.
 
-use crate::diagnose::noise::ArNoise;
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::delay_input;
 use crate::diagnose::stores::Stores;
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
+use crate::validation::noise::ArNoise;
 
 use super::additive::Additive;
 use super::outliers::detect_outliers;

@@ -4,11 +4,11 @@ use std::ops::Range;
 
 use crate::diagnose::dynamics::{Borders, DynamicsFit};
 use crate::diagnose::error::DiagnoseError;
-use crate::diagnose::noise::fit_ar;
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::delay_input;
 use crate::diagnose::stores::{self, StoresClass};
 use crate::identify::HostModel;
+use crate::validation::noise::fit_ar;
 
 use super::additive::Additive;
 use super::borders::{estimate_x0, refit_borders};

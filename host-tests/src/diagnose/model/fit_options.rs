@@ -3,6 +3,7 @@
 use serde::Serialize;
 
 use crate::identify::IdentifyOptions;
+pub use crate::validation::checks::Saturation;
 
 /// How the simulation of a record starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -42,28 +43,4 @@ pub struct FitOptions {
     pub refine_poles: bool,
     /// Saturation levels of the output (from the data checks): the output map is clipped there.
     pub saturation: Saturation,
-}
-
-/// Levels at which the measured output saturates (found by the data checks).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct Saturation {
-    /// Upper level.
-    pub ceiling: Option<f64>,
-    /// Lower level.
-    pub floor: Option<f64>,
-    /// Samples within this of a level are at it.
-    pub tolerance: f64,
-}
-
-impl Saturation {
-    /// Whether `y` sits at a saturation level.
-    pub fn at_limit(&self, y: f64) -> bool {
-        self.ceiling.is_some_and(|c| y >= c - self.tolerance)
-            || self.floor.is_some_and(|f| y <= f + self.tolerance)
-    }
-
-    /// Whether any level is known.
-    pub fn any(&self) -> bool {
-        self.ceiling.is_some() || self.floor.is_some()
-    }
 }

@@ -1,7 +1,7 @@
 //! Outliers flagged by the MAD rule.
 
-use crate::diagnose::stats::{mad_sigma, running_median};
 use crate::numerics::rms;
+use crate::validation::stats::{mad_sigma, running_median};
 
 /// Flags isolated outliers of a residual: the residual minus its running median (window 7) is
 /// beyond `k` robust standard deviations (1.4826 MAD), in runs of at most two samples.

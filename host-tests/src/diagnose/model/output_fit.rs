@@ -4,7 +4,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::diagnose::output_map::OutputMap;
-use crate::diagnose::stats::nnls;
+use crate::validation::stats::nnls;
 
 use super::fit_options::Saturation;
 

@@ -18,11 +18,11 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::model::Estimator;
-use crate::diagnose::residual::result::LEVEL;
-use crate::diagnose::stats::chi2_quantile;
+use crate::closed_loop::Estimator;
 use crate::identify::{IdentifyError, IdentifyOptions, identify};
 use crate::numerics::lstsq::{Scaling, solve_normal};
+use crate::validation::residual::result::LEVEL;
+use crate::validation::stats::chi2_quantile;
 
 /// Past residuals tested, `K`.
 pub const LAGS: usize = 10;

@@ -1,7 +1,32 @@
 //! The output's sensor: saturation and quantisation.
 
+use serde::Serialize;
+
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::model::Saturation;
+
+/// Levels at which the measured output saturates (found by the data checks).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Saturation {
+    /// Upper level.
+    pub ceiling: Option<f64>,
+    /// Lower level.
+    pub floor: Option<f64>,
+    /// Samples within this of a level are at it.
+    pub tolerance: f64,
+}
+
+impl Saturation {
+    /// Whether `y` sits at a saturation level.
+    pub fn at_limit(&self, y: f64) -> bool {
+        self.ceiling.is_some_and(|c| y >= c - self.tolerance)
+            || self.floor.is_some_and(|f| y <= f + self.tolerance)
+    }
+
+    /// Whether any level is known.
+    pub fn any(&self) -> bool {
+        self.ceiling.is_some() || self.floor.is_some()
+    }
+}
 
 /// The levels at which the output saturates: an extreme (maximum or minimum) at which more
 /// than 2 % of the samples sit (within 0.1 % of the output's span).

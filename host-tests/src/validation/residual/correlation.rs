@@ -2,7 +2,7 @@
 //! regressor channels.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, max_normal_p, result};
-use crate::diagnose::stats::{acf, ccf, ccf_sigma, mean, normal_quantile};
+use crate::validation::stats::{acf, ccf, ccf_sigma, mean, normal_quantile};
 
 /// The input, direction and regressor correlation tests on `inp` (autocorrelation `rho` of the
 /// residual up to lag `k`), into `set` with their curves and strongest lags.
@@ -78,10 +78,10 @@ pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSe
 pub fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let m = mean(x);
     let xc: Vec<f64> = x.iter().map(|v| v - m).collect();
-    let Some(p) = crate::diagnose::noise::ar_order_bic(&xc, 10) else {
+    let Some(p) = crate::validation::noise::ar_order_bic(&xc, 10) else {
         return (x.to_vec(), r.to_vec());
     };
-    let Some(ar) = crate::diagnose::noise::fit_ar(&xc, p) else {
+    let Some(ar) = crate::validation::noise::fit_ar(&xc, p) else {
         return (x.to_vec(), r.to_vec());
     };
     let filt = |v: &[f64]| -> Vec<f64> {

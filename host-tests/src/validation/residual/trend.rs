@@ -1,7 +1,7 @@
 //! Trend and offset of the residual over time, Newey–West standard errors.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
-use crate::diagnose::stats::{mean, newey_west_var_of_mean, normal_quantile, normal_sf};
+use crate::validation::stats::{mean, newey_west_var_of_mean, normal_quantile, normal_sf};
 
 /// The trend and offset test on `inp`, into `set`.
 pub fn trend(inp: &ResidualInput, set: &mut TestSet) {

@@ -1,5 +1,7 @@
-//! What the checks need to know about the identification.
+//! What the checks need to know about the identification: the nonlinearity kind, the knots,
+//! the hold and the horizons.
 
+use crate::identify::IdentifyOptions;
 use crate::model::Element;
 
 /// What the checks need to know about the identification.
@@ -23,7 +25,21 @@ pub struct CheckSetup<'a> {
     pub p: usize,
 }
 
-impl CheckSetup<'_> {
+impl<'a> CheckSetup<'a> {
+    /// The setup of an identification with `opts` (knots chosen) as `kind`.
+    pub fn new(opts: &'a IdentifyOptions, kind: Element) -> Self {
+        CheckSetup {
+            kind,
+            knots_asc: &opts.knots_asc,
+            knots_desc: &opts.knots_desc,
+            hold: opts.hold,
+            settle: opts.settle,
+            mu0_known: opts.mu0.is_some(),
+            f: opts.f,
+            p: opts.p,
+        }
+    }
+
     /// The knots' interval `(u_min, u_max)` and the tolerance of "at an end" of it.
     pub fn interval(&self) -> (f64, f64, f64) {
         let u_min = self.knots_asc.first().copied().unwrap_or(f64::NAN);

@@ -1,7 +1,7 @@
 //! Spectral lines of the residual not shared with the input.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
-use crate::diagnose::stats::{periodogram, running_median};
+use crate::validation::stats::{periodogram, running_median};
 
 /// The spectral line test on `inp`, into `set` with the periodogram curves.
 pub fn spectral_line(inp: &ResidualInput, set: &mut TestSet) {

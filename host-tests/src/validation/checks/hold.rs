@@ -2,7 +2,7 @@
 
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::stats::{mean, newey_west_var_of_mean, normal_sf};
+use crate::validation::stats::{mean, newey_west_var_of_mean, normal_sf};
 
 /// A missing hold (without a known μ0), or an output still moving in it.
 pub fn hold(y: &[f64], s: &CheckSetup) -> Vec<Warning> {

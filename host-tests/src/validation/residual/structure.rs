@@ -2,7 +2,7 @@
 //! simulated output.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
-use crate::diagnose::stats::{chi2_quantile, chi2_sf, mean};
+use crate::validation::stats::{chi2_quantile, chi2_sf, mean};
 
 /// The structure tests against the input per path and against the simulated output, into
 /// `set` (autocorrelation `rho` of the residual).
@@ -58,7 +58,7 @@ pub fn structure(inp: &ResidualInput, rho: &[f64], set: &mut TestSet) {
 /// Variance-corrected binned means test: `(chi2, df)` or `None` with fewer than two bins.
 pub fn binned_test(r: &[f64], bins: &[usize], count: usize, rho: &[f64]) -> Option<(f64, usize)> {
     let n = r.len();
-    let var = crate::diagnose::stats::variance(r);
+    let var = crate::validation::stats::variance(r);
     let m = mean(r);
     let mut chi2 = 0.0;
     let mut used = 0;

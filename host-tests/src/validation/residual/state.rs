@@ -3,7 +3,7 @@
 
 use super::correlation::xcorr_test;
 use super::result::{LEVEL, ResidualInput, Test, TestSet, max_normal_p, result};
-use crate::diagnose::stats::{mean, normal_quantile};
+use crate::validation::stats::{mean, normal_quantile};
 
 /// The state dependence test on `inp` (autocorrelation `rho` up to lag `k`), into `set`; none
 /// for a constant simulated output.
@@ -48,6 +48,6 @@ pub fn level_times_increment(sim: &[f64]) -> Option<Vec<f64>> {
     let beta = crate::numerics::lstsq::lstsq_min_norm(&x, &y)?;
     let e = &y - &x * beta;
     let out: Vec<f64> = e.iter().copied().collect();
-    (crate::diagnose::stats::variance(&out) > 0.0 && out.iter().all(|v| v.is_finite()))
+    (crate::validation::stats::variance(&out) > 0.0 && out.iter().all(|v| v.is_finite()))
         .then_some(out)
 }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use crate::diagnose::stats::normal_sf;
+use crate::validation::stats::normal_sf;
 
 /// Significance level of every test.
 pub const LEVEL: f64 = 0.01;

@@ -2,7 +2,7 @@
 
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::residual::regressor;
+use crate::validation::residual::regressor;
 
 /// Knot segments with too few samples.
 pub fn path_coverage(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {

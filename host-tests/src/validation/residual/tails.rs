@@ -1,7 +1,7 @@
 //! Heavy tails: samples beyond 5 robust standard deviations of the median.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
-use crate::diagnose::stats::{excess_kurtosis, mad_sigma, poisson_sf};
+use crate::validation::stats::{excess_kurtosis, mad_sigma, poisson_sf};
 
 /// The heavy tails test on `inp`, into `set`.
 pub fn heavy_tails(inp: &ResidualInput, set: &mut TestSet) {
@@ -9,7 +9,7 @@ pub fn heavy_tails(inp: &ResidualInput, set: &mut TestSet) {
     let n = r.len();
     // Heavy tails: samples beyond 5 robust standard deviations of the median (for Gaussian
     // residuals, P(|Z| > 5) = 5.73e-7 per sample).
-    let med = crate::diagnose::stats::median(r);
+    let med = crate::validation::stats::median(r);
     let s: Vec<f64> = r.iter().map(|a| a - med).collect();
     let sigma = mad_sigma(&s).max(1e-300);
     let beyond = s.iter().filter(|v| v.abs() > 5.0 * sigma).count();

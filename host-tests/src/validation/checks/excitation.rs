@@ -4,7 +4,7 @@ use nalgebra::DMatrix;
 
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::residual::regressor;
+use crate::validation::residual::regressor;
 
 /// The regressor's block-Toeplitz Gram, checked for rank and condition.
 pub fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {

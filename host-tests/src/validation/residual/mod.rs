@@ -32,8 +32,8 @@ pub mod whiteness;
 
 pub use regressor::regressor;
 
-use crate::diagnose::stats::acf;
 use crate::numerics::rms;
+use crate::validation::stats::acf;
 pub use result::{Curves, LEVEL, ResidualInput, Test, TestResult, TestSet};
 
 fn max_lag(n: usize) -> usize {

@@ -1,5 +1,5 @@
-//! The least-squares pieces the ARX tests share ([`delay`](super::delay) and
-//! [`unit_root`](super::unit_root)): a lagged copy of a signal, the residual sum of squares
+//! The least-squares pieces the ARX tests share (the unit-root test [`unit_root`](super::unit_root)
+//! and the diagnosis's dead-time test): a lagged copy of a signal, the residual sum of squares
 //! of a regression over chosen rows, and the rows whose lags stay inside one piece of a
 //! joined record.
 

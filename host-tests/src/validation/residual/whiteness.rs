@@ -1,7 +1,7 @@
 //! Whiteness: the Ljung–Box test on the autocorrelation.
 
 use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
-use crate::diagnose::stats::{chi2_quantile, chi2_sf, normal_quantile};
+use crate::validation::stats::{chi2_quantile, chi2_sf, normal_quantile};
 
 /// The Ljung–Box whiteness test over `k` lags of `rho`, into `set` with the autocorrelation.
 pub fn whiteness(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSet) {

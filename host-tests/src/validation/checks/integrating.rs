@@ -1,5 +1,5 @@
 //! An integrating plant (voltage → position, a level loop), seen in the data: the ARX
-//! unit-root test of [`unit_root`](crate::diagnose::unit_root) does not reject `Σ aᵢ = 1`.
+//! unit-root test of [`unit_root`](crate::validation::unit_root) does not reject `Σ aᵢ = 1`.
 //! The method's normalisation `G(1) = 1` then divides by nearly zero, the borders lose their
 //! meaning, and no extension can be scored against the model: the diagnosis adds nothing and
 //! points at `--integrating`.
@@ -10,7 +10,7 @@
 //! the circle although its data reject the unit root far beyond the 1 % level.
 
 use super::warning::{Check, Warning, warn};
-use crate::diagnose::unit_root::{CRITICAL_1PCT, UnitRoot};
+use crate::validation::unit_root::{CRITICAL_1PCT, UnitRoot};
 
 /// A warning when the unit root is not rejected at 1 % (`None`: the test could not be run on
 /// a record this short, and nothing is said).

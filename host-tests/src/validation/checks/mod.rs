@@ -12,7 +12,7 @@ pub mod setup;
 pub mod table1;
 pub mod warning;
 
-pub use output::saturation;
+pub use output::{Saturation, saturation};
 pub use setup::CheckSetup;
 pub use warning::{Check, Warning, warn};
 
