@@ -1,7 +1,7 @@
 //! The model to report: the refined one with its noise model and standard deviations, or the
 //! subspace one with the noise model of its residual (Remark 6).
 
-use super::{IdentifyRequest, WorkflowError};
+use super::{IdentifyRequest, Lines, WorkflowError};
 use crate::choose::{Best, model_std};
 use crate::identify::HostModel;
 use crate::model::Record;
@@ -29,7 +29,7 @@ pub fn estimate(
     best: &Best,
     record: &Record,
     request: &IdentifyRequest,
-) -> Result<(Estimate, Vec<String>), WorkflowError> {
+) -> Result<(Estimate, Lines), WorkflowError> {
     let mut notes = Vec::new();
     if let Some(fit) = &best.fit {
         let estimator = format!(

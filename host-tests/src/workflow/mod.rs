@@ -29,6 +29,9 @@ use crate::identify::IdentifyError;
 use crate::model::Record;
 use crate::model_file::ModelFile;
 
+/// Lines of text for the user, in order (notes, a report).
+pub type Lines = Vec<String>;
+
 /// Why [`identify_record`] gave no model.
 #[derive(Debug, thiserror::Error)]
 pub enum WorkflowError {

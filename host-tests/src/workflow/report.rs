@@ -3,7 +3,7 @@
 //! reading in units and, when the element was fitted, its fit. `hsid identify` prints these
 //! lines; the HTML page and Python take the same pieces.
 
-use super::{Field, Identified};
+use super::{Field, Identified, Lines};
 use crate::hysteresis::{ElementKind, HysteresisFit, Start};
 use crate::refine::InnovationForm;
 use crate::refine::stochastic::{noise_text, prediction_report};
@@ -32,7 +32,7 @@ impl Identified {
 
     /// Every line `hsid identify` prints about the identification, in order. Each experiment
     /// is simulated and predicted from rest on its own; the hold is left out of the fits.
-    pub fn lines(&self) -> Result<Vec<String>, UndefinedFit> {
+    pub fn lines(&self) -> Result<Lines, UndefinedFit> {
         let mut lines = self.notes.clone();
         let model = &self.estimate.model;
         let (r, hold) = (&self.record, self.record.hold);
@@ -62,7 +62,7 @@ impl Identified {
     }
 
     /// The fitted element's lines: the fit, the model, its simulation fit, its reading in units.
-    fn element_lines(&self, fit: &HysteresisFit) -> Result<Vec<String>, UndefinedFit> {
+    fn element_lines(&self, fit: &HysteresisFit) -> Result<Lines, UndefinedFit> {
         let s = self.request.syntax;
         let name = match fit.model.kind {
             ElementKind::Backlash => "play operator (backlash)",
