@@ -137,7 +137,6 @@ pub fn identify(
         request.reference = Some("reference".to_string());
     }
     (rec.ts, rec.units) = (ts, units);
-    request.validate(hold).map_err(Failure::from)?;
     let id = py.detach(|| identify_record(&rec, &request).map_err(Failure::from))?;
     Ok(Model::with_notes(id.model_file(), identified_notes(&id)))
 }

@@ -1,35 +1,11 @@
-//! The model file of a [`Best`]: the model with its noise model and, when refined, the
-//! standard deviations of its poles, μ0 and borders — what `hsid identify --json` writes.
+//! The model file's parts of a [`Best`](super::Best): the noise model in the file's form and,
+//! when refined, the standard deviations of its poles, μ0 and borders (the identify workflow,
+//! `crate::workflow`, writes the whole file).
 
-use crate::identify::HostModel;
-use crate::model::Element;
-use crate::model_file::{ModelFile, ModelStd, NoiseFile};
-use crate::refine::pem::{PemFit, PemOptions};
-use crate::refine::stochastic::estimate_noise;
+use crate::model_file::{ModelStd, NoiseFile};
+use crate::refine::NoiseModel;
+use crate::refine::pem::PemFit;
 use crate::refine::uncertainty::{border_std, fit_poles};
-use crate::refine::{NoiseModel, NoiseOrder};
-
-use super::Best;
-
-/// The model file of `best` identified from `(u, y)`: a refined model carries the noise
-/// model and the standard deviations of its fit; a subspace model carries the noise model
-/// fitted to its simulation residual (Remark 6), or none when that fit fails. Sample time and
-/// units are left to the caller.
-pub fn model_file(best: Best, u: &[f64], y: &[f64], nonlinearity: Option<Element>) -> ModelFile {
-    let (model, noise, std): (HostModel, Option<NoiseModel>, Option<ModelStd>) =
-        if let Some(fit) = best.fit {
-            let (std, _) = model_std(&fit);
-            (fit.model, Some(fit.noise), Some(std))
-        } else {
-            let pem = PemOptions::for_identify(&best.options);
-            let nf = estimate_noise(&best.model, u, y, pem.start, NoiseOrder::default());
-            (best.model, nf.ok().map(|f| f.model), None)
-        };
-    let mut file = model.to_json(nonlinearity);
-    file.noise = noise.as_ref().map(noise_file);
-    file.std = std;
-    file
-}
 
 /// The noise model in the model file's form.
 pub fn noise_file(n: &NoiseModel) -> NoiseFile {

@@ -6,7 +6,7 @@ mod file;
 mod horizons;
 mod order;
 
-pub use file::{model_file, model_std, noise_file};
+pub use file::{model_std, noise_file};
 
 pub use horizons::{
     COLUMNS_PER_ROW, HorizonChoice, MAX_HORIZON, MEMORY_LEVEL, MIN_HORIZON, choose_horizons,

@@ -1,7 +1,7 @@
 //! The model to report: the refined one with its noise model and standard deviations, or the
 //! subspace one with the noise model of its residual (Remark 6).
 
-use super::{IdentifyRequest, Lines, WorkflowError};
+use super::{IdentifyRequest, Lines};
 use crate::choose::{Best, model_std};
 use crate::identify::HostModel;
 use crate::model::Record;
@@ -25,11 +25,7 @@ pub struct Estimate {
 
 /// The [`Estimate`] of `best` on `record`, and the notes to print (the refinement, or why
 /// there is no noise model).
-pub fn estimate(
-    best: &Best,
-    record: &Record,
-    request: &IdentifyRequest,
-) -> Result<(Estimate, Lines), WorkflowError> {
+pub fn estimate(best: &Best, record: &Record, request: &IdentifyRequest) -> (Estimate, Lines) {
     let mut notes = Vec::new();
     if let Some(fit) = &best.fit {
         let estimator = format!(
@@ -50,7 +46,7 @@ pub fn estimate(
             std: Some((std, cov)),
             estimator,
         };
-        return Ok((estimate, notes));
+        return (estimate, notes);
     }
     let pem = PemOptions::for_identify(&best.options);
     let model = best.model.clone();
@@ -75,5 +71,5 @@ pub fn estimate(
         std: None,
         estimator,
     };
-    Ok((estimate, notes))
+    (estimate, notes)
 }

@@ -73,8 +73,6 @@ pub enum WorkflowError {
 pub struct Identified {
     /// The record as identified (the increments of an integrating plant, detrended).
     pub record: Record,
-    /// The request's settings turned into the library's.
-    pub plan: Plan,
     /// The subspace model and what was chosen (segments, horizons, order, the refinement);
     /// its model is the closed-loop estimate for a closed-loop record.
     pub best: Best,
@@ -157,7 +155,7 @@ pub fn identify_record(
     if let Some(name) = &request.reference {
         notes.push(closed_loop::replace(&mut best, &record, name)?);
     }
-    let (estimate, estimate_notes) = estimate::estimate(&best, &record, request)?;
+    let (estimate, estimate_notes) = estimate::estimate(&best, &record, request);
     notes.extend(estimate_notes);
     let decision = element_fit::decide(request, &record);
     let element = match decision.run {
@@ -166,7 +164,6 @@ pub fn identify_record(
     };
     Ok(Identified {
         record,
-        plan,
         best,
         estimate,
         notes,
