@@ -4,15 +4,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::choose::Best;
 use hsid_host::figures::{
-    FigureSettings, RecordView, TrueBorders, Uncertainty, Written, write_element_figures,
-    write_figures,
+    FigureSettings, RecordView, TrueBorders, Uncertainty, Written, write_figures, write_identified,
 };
-use hsid_host::hysteresis::HysteresisFit;
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::simulate::{PlantSpec, true_loop};
+use hsid_host::workflow::Identified;
 
 use crate::failure::{Failure, outln};
 
@@ -68,43 +66,20 @@ pub fn truth(a: &FigureArgs, model: &HostModel) -> Result<Option<TrueBorders>, F
     }))
 }
 
-/// The figures of an identified model on its estimation record; `hold` samples at the start
-/// are left out of the residual and the measured border points. Axes are in seconds/Hz and
-/// in units when the sample time and units are known. Returns the lines to print after the
-/// model report (none without `--out`).
-pub fn identify(
+/// The figures of the identification `id` on its estimation record (the fitted element's
+/// when it was fitted, else the model's); the hold is left out of the residual and the
+/// measured border points. Axes are in seconds/Hz and in units when the sample time and
+/// units are known. Returns the lines to print after the model report (none without
+/// `--out`).
+pub fn identified(
     a: &FigureArgs,
-    best: &Best,
-    record: &RecordView<'_>,
-    ts: Option<f64>,
-    units: Option<&Units>,
+    id: &Identified,
+    settings: &FigureSettings,
 ) -> Result<Vec<String>, Failure> {
     let Some(dir) = &a.out else {
         return Ok(Vec::new());
     };
-    let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
-    let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
-    let settings = settings(a, ts, units, model)?;
-    lines(
-        dir,
-        write_figures(dir, model, record, uncertainty, &settings),
-    )
-}
-
-/// The figures of the fitted element model (`--fit`) on its estimation record, as
-/// [`identify`] draws a two-path model's. Returns the lines to print (none without `--out`).
-pub fn element(
-    a: &FigureArgs,
-    fit: &HysteresisFit,
-    record: &RecordView<'_>,
-    ts: Option<f64>,
-    units: Option<&Units>,
-) -> Result<Vec<String>, Failure> {
-    let Some(dir) = &a.out else {
-        return Ok(Vec::new());
-    };
-    let settings = settings(a, ts, units, &fit.model.to_host(0))?;
-    lines(dir, write_element_figures(dir, fit, record, &settings))
+    lines(dir, write_identified(dir, id, settings))
 }
 
 /// The figures of a model file on a validation record; `skip` samples at the start are left

@@ -149,29 +149,22 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let request = request(a);
+    refuse_bad_flags(a, &request)?;
     if a.stream {
-        refuse_bad_flags(a, &request)?;
         return stream::run(a, &request);
     }
-    let records = read_records(a, &request)?;
+    let records = read_records(a)?;
     let id = identify_record(&records.record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
     for line in id.lines()? {
         outln!("{line}")?;
     }
     let record = &id.record;
-    let view = hsid_host::figures::RecordView {
-        u: &record.u,
-        y: &record.y,
-        skip: record.hold,
-    };
-    let (ts, units) = (record.ts, record.units.as_ref());
-    let figures = match &id.element {
-        Some(fit) => crate::figures::element(&a.figures, fit, &view, ts, units)?,
-        None => crate::figures::identify(&a.figures, &id.best, &view, ts, units)?,
-    };
+    let settings =
+        crate::figures::settings(&a.figures, record.ts, record.units.as_ref(), &id.best.model)?;
+    let figures = crate::figures::identified(&a.figures, &id, &settings)?;
     if let Some(path) = &a.html {
-        page::write(a, path, &id, &view)?;
+        page::write(a, path, &id, &settings)?;
     }
     if let Some(path) = &a.out.json {
         write(&id.model_file(), path)?;

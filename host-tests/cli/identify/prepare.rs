@@ -27,9 +27,9 @@ pub fn refuse_bad_flags(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(
     Ok(())
 }
 
-/// The records, read and their junctions checked, once the flags are found consistent.
-pub fn read_records(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<Records, Failure> {
-    refuse_bad_flags(a, request)?;
+/// The records, read and their junctions checked (once the flags are found consistent by
+/// [`refuse_bad_flags`]).
+pub fn read_records(a: &IdentifyArgs) -> Result<Records, Failure> {
     let reference = a.reference_column.as_deref();
     Ok(Records::read_joined(
         &a.data,

@@ -16,7 +16,7 @@ pub use order::{OrderChoice, choose_order, neighbours};
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
-use crate::refine::pem::{PemFit, PemOptions};
+use crate::refine::pem::PemFit;
 
 /// `order 2: why; order 3: why`.
 fn per_order(why: &[(usize, String)]) -> String {
@@ -36,6 +36,9 @@ pub enum ChooseError {
         per_order(.0)
     )]
     Refine(Vec<(usize, String)>),
+    /// No candidate was given (an empty list of candidate orders).
+    #[error("no candidate to identify: give at least one order or segment count")]
+    NoCandidate,
 }
 
 /// How the horizons are set.
@@ -171,25 +174,37 @@ impl SegmentChoice {
 }
 
 /// Identifies `(u, y)` with `base` (interval, knots, hold, order, method) and `choices`.
+///
+/// With the segment count from the data (refined estimator), every candidate count is
+/// identified and refined on its uniform knots and the best by the criterion is kept; else
+/// the model is the one at `base`'s knots. The candidates' first error is returned when none
+/// gives a model.
 pub fn best_model(
     u: &[f64],
     y: &[f64],
     base: &IdentifyOptions,
     choices: &Choices,
 ) -> Result<Best, ChooseError> {
-    let candidates = match &choices.segments {
-        Segments::FromData(c) if choices.estimator == Estimator::Refined && !c.is_empty() => c,
-        _ => return at_knots(u, y, base, choices),
+    let counts: &[usize] = match &choices.segments {
+        Segments::FromData(c) if choices.estimator == Estimator::Refined => c,
+        _ => &[],
+    };
+    // `None`: `base`'s own knots, the only candidate when the count is not chosen.
+    let candidates: Vec<Option<usize>> = match counts {
+        [] => vec![None],
+        c => c.iter().copied().map(Some).collect(),
     };
     let (lo, hi) = (base.u_min(), base.u_max());
     let mut kept: Option<(f64, Best)> = None;
     let mut scores = Vec::new();
     let mut failures = Vec::new();
     let mut first_error = None;
-    for &s in candidates {
+    for s in candidates {
         let mut opts = base.clone();
-        opts.knots_asc = uniform_knots(lo, hi, s);
-        opts.knots_desc = opts.knots_asc.clone();
+        if let Some(s) = s {
+            opts.knots_asc = uniform_knots(lo, hi, s);
+            opts.knots_desc = opts.knots_asc.clone();
+        }
         match at_knots(u, y, &opts, choices) {
             Ok(b) => {
                 let score = b.fit.as_ref().map_or(f64::INFINITY, |f| {
@@ -197,33 +212,34 @@ pub fn best_model(
                         .criterion
                         .score(f.samples as f64, f.mse, f.parameters() as f64)
                 });
-                scores.push((s, score));
+                scores.extend(s.map(|s| (s, score)));
                 if kept.as_ref().is_none_or(|(k, _)| score < *k) {
                     kept = Some((score, b));
                 }
             }
             Err(e) => {
-                failures.push((s, e.to_string()));
+                failures.extend(s.map(|s| (s, e.to_string())));
                 first_error.get_or_insert(e);
             }
         }
     }
-    match (kept, first_error) {
-        (Some((_, mut b)), _) => {
-            b.segments = Some(SegmentChoice {
-                segments: b.options.knots_asc.len() - 1,
-                criterion: choices.criterion,
-                scores,
-                failures,
-            });
-            Ok(b)
-        }
-        (None, Some(e)) => Err(e),
-        (None, None) => at_knots(u, y, base, choices),
+    let Some((_, mut b)) = kept else {
+        return Err(first_error.unwrap_or(ChooseError::NoCandidate));
+    };
+    if !counts.is_empty() {
+        b.segments = Some(SegmentChoice {
+            segments: b.options.knots_asc.len() - 1,
+            criterion: choices.criterion,
+            scores,
+            failures,
+        });
     }
+    Ok(b)
 }
 
-/// [`best_model`] at the knots of `base`.
+/// [`best_model`] at the knots of `base`: the subspace model at the given horizons, or at
+/// those chosen from a first model at the given ones ([`choose_horizons`]), then refined at
+/// the candidate orders ([`choose_order`]) unless the estimator is the subspace one.
 fn at_knots(
     u: &[f64],
     y: &[f64],
@@ -231,18 +247,19 @@ fn at_knots(
     choices: &Choices,
 ) -> Result<Best, ChooseError> {
     let mut opts = base.clone();
-    let first = identify(u, y, &opts)?;
     let mut horizons = None;
-    if choices.horizons == Horizons::FromData {
-        let h = choose_horizons(&first, &opts, u.len().saturating_sub(opts.hold));
-        opts.f = h.f;
-        opts.p = h.p;
+    let model = loop {
+        let model = identify(u, y, &opts)?;
+        if choices.horizons != Horizons::FromData || horizons.is_some() {
+            break model;
+        }
+        let h = choose_horizons(&model, &opts, u.len().saturating_sub(opts.hold));
+        let same = (h.f, h.p) == (opts.f, opts.p);
+        (opts.f, opts.p) = (h.f, h.p);
         horizons = Some(h);
-    }
-    let model = if (opts.f, opts.p) == (base.f, base.p) {
-        first
-    } else {
-        identify(u, y, &opts)?
+        if same {
+            break model;
+        }
     };
     if choices.estimator == Estimator::Subspace {
         return Ok(Best {
@@ -254,20 +271,11 @@ fn at_knots(
             order: None,
         });
     }
-    let pem = PemOptions::for_identify(&opts);
     let candidates = match base.order {
         Some(n) => vec![n],
         None => neighbours(model.order, opts.f),
     };
-    let (fit, order) = choose_order(
-        u,
-        y,
-        &opts,
-        &pem,
-        model.order,
-        &candidates,
-        choices.criterion,
-    )?;
+    let (fit, order) = choose_order(u, y, &opts, model.order, &candidates, choices.criterion)?;
     Ok(Best {
         model: fit.model.clone(),
         options: opts,

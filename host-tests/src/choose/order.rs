@@ -41,17 +41,18 @@ impl OrderChoice {
     }
 }
 
-/// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order) and
-/// keeps the best by `criterion`; the fit of the kept order is returned with the choice.
+/// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order,
+/// refined with [`PemOptions::for_identify`]) and keeps the best by `criterion`; the fit of
+/// the kept order is returned with the choice.
 pub fn choose_order(
     u: &[f64],
     y: &[f64],
     opts: &IdentifyOptions,
-    pem: &PemOptions,
     subspace: usize,
     candidates: &[usize],
     criterion: Criterion,
 ) -> Result<(PemFit, OrderChoice), ChooseError> {
+    let pem = &PemOptions::for_identify(opts);
     let mut fits = Vec::new();
     let mut scores = Vec::new();
     let mut failures = Vec::new();
@@ -72,11 +73,12 @@ pub fn choose_order(
             Err(e) => failures.push((n, e)),
         }
     }
-    let Some(order) = best(&scores) else {
-        return Err(ChooseError::Refine(failures));
-    };
-    let Some(fit) = fits.into_iter().find(|(n, _)| *n == order).map(|(_, f)| f) else {
-        return Err(ChooseError::Refine(failures));
+    let kept = best(&scores).and_then(|order| fits.into_iter().find(|(n, _)| *n == order));
+    let Some((order, fit)) = kept else {
+        return Err(match candidates {
+            [] => ChooseError::NoCandidate,
+            _ => ChooseError::Refine(failures),
+        });
     };
     Ok((
         fit,

@@ -32,6 +32,7 @@ mod csv;
 mod element;
 mod element_borders;
 mod error;
+mod identified;
 mod output;
 mod partial;
 mod poles;
@@ -43,6 +44,7 @@ use std::path::{Path, PathBuf};
 
 pub use element::{write_element_figures, write_element_model_figures};
 pub use error::FigureError;
+pub use identified::write_identified;
 pub use partial::{MIN_ENERGY, departures};
 pub use settings::{FigureSettings, TrueBorders};
 pub use uncertainty::Uncertainty;

@@ -25,6 +25,7 @@ pub mod escape;
 pub mod figure;
 pub mod figures;
 pub mod headline;
+pub mod identified;
 pub mod model_page;
 pub mod model_words;
 pub mod paper_captions;

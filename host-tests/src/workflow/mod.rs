@@ -131,7 +131,6 @@ pub fn identify_record(
     if request.integrating {
         plan.options = crate::integrating::increments_options(&plan.options);
     }
-    check_hold(&record, request)?;
     if request.detrend {
         let mean;
         (record, mean) = record.detrended();
@@ -183,27 +182,4 @@ pub fn sample_index(e: &IdentifyError) -> Option<usize> {
         ) => Some(usize::try_from(*index).unwrap_or(usize::MAX)),
         _ => None,
     }
-}
-
-/// The first experiment must outlast the hold.
-fn check_hold(record: &Record, request: &IdentifyRequest) -> Result<(), RequestError> {
-    let first = record.first_len();
-    if record.hold < first {
-        return Ok(());
-    }
-    let s = request.syntax;
-    Err(RequestError {
-        field: Field::Hold,
-        kind: "all_hold",
-        message: match s {
-            Syntax::Cli => format!(
-                "{first} samples, all inside the hold of {} (--hold): nothing left to identify from",
-                record.hold
-            ),
-            Syntax::Python => format!(
-                "{first} samples, all inside the hold of {}: nothing left to identify from",
-                record.hold
-            ),
-        },
-    })
 }

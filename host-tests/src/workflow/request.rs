@@ -387,8 +387,8 @@ impl IdentifyRequest {
         Ok(Plan { options, choices })
     }
 
-    /// Checks what depends on the record: the hold within the first experiment, the element's
-    /// fit and the closed-loop estimate on one experiment, the reference present.
+    /// Checks what depends on the record: the element's fit and the closed-loop estimate on
+    /// one experiment, the reference present, the first experiment longer than the hold.
     pub fn check_record(&self, record: &crate::model::Record) -> Result<(), RequestError> {
         let s = self.syntax;
         let experiments = record.starts.len();
@@ -426,7 +426,30 @@ impl IdentifyRequest {
                 ),
             ));
         }
-        Ok(())
+        // The first experiment must outlast the hold (of the increments, which lose one
+        // sample of each, for an integrating plant).
+        let (hold, first) = match self.integrating {
+            true => (
+                record.hold.saturating_sub(1),
+                record.first_len().saturating_sub(1),
+            ),
+            false => (record.hold, record.first_len()),
+        };
+        if hold < first {
+            return Ok(());
+        }
+        Err(RequestError::new(
+            Field::Hold,
+            "all_hold",
+            match s {
+                Syntax::Cli => format!(
+                    "{first} samples, all inside the hold of {hold} (--hold): nothing left to identify from"
+                ),
+                Syntax::Python => format!(
+                    "{first} samples, all inside the hold of {hold}: nothing left to identify from"
+                ),
+            },
+        ))
     }
 }
 
