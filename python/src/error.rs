@@ -162,6 +162,9 @@ impl From<ChooseError> for Failure {
             e @ ChooseError::Refine(_) => {
                 Failure::new(Class::Identification, "refinement_failed", e.to_string())
             }
+            e @ ChooseError::NoCandidate => {
+                Failure::new(Class::Settings, "no_candidate", e.to_string())
+            }
         }
     }
 }
