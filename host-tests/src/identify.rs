@@ -172,7 +172,7 @@ pub const CAPACITIES: [Capacity; 3] = [PAPER, MEDIUM, LARGE];
 /// Largest channel capacity (segments of both paths together) the desktop front end accepts.
 pub const MAX_CHANNELS: usize = LARGE.channels;
 /// Largest `f + p` the desktop front end accepts.
-pub const MAX_BLOCK_ROWS: usize = LARGE.block_rows;
+pub(crate) const MAX_BLOCK_ROWS: usize = LARGE.block_rows;
 
 /// Stack of the thread that runs the large capacities.
 const LARGE_STACK: usize = 256 << 20;
@@ -460,7 +460,7 @@ impl HostModel {
     }
 
     /// `|G(e^{jw})|` in dB.
-    pub fn magnitude_db(&self, w: f64) -> f64 {
+    pub(crate) fn magnitude_db(&self, w: f64) -> f64 {
         let (re, im) = self.freq_response(w);
         10.0 * (re * re + im * im).log10()
     }

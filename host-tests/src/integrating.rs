@@ -30,7 +30,7 @@ pub fn increments(u: &[f64], y: &[f64]) -> (Vec<f64>, Vec<f64>) {
 
 /// The running sum `y(t) = y₀ + Σ_{s ≤ t} Δy(s)` (the inverse of [`difference`] given the
 /// sample before the first increment).
-pub fn integrate(increments: &[f64], y0: f64) -> Vec<f64> {
+pub(crate) fn integrate(increments: &[f64], y0: f64) -> Vec<f64> {
     increments
         .iter()
         .scan(y0, |acc, d| {

@@ -143,12 +143,12 @@ impl RefConfig {
     }
 
     /// Number of ascending segments `n_a`.
-    pub fn n_asc(&self) -> usize {
+    pub(crate) fn n_asc(&self) -> usize {
         self.knots_asc.len().saturating_sub(1)
     }
 
     /// Number of descending segments `n_d`.
-    pub fn n_desc(&self) -> usize {
+    pub(crate) fn n_desc(&self) -> usize {
         self.knots_desc.len().saturating_sub(1)
     }
 

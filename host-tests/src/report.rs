@@ -98,7 +98,7 @@ impl HostModel {
 }
 
 /// The standard deviations of a refined model's μ0 and border values, as text.
-pub fn std_text(s: &ModelStd) -> String {
+pub(crate) fn std_text(s: &ModelStd) -> String {
     format!(
         "std of mu0 = {:.6}\nstd of P_a at knots: {}\nstd of P_d at knots: {}",
         s.mu0,

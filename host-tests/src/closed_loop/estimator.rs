@@ -30,7 +30,7 @@ impl Estimator {
     }
 
     /// Whether the poles may be refined by the simulation error after the subspace step.
-    pub fn refines_poles(self) -> bool {
+    pub(crate) fn refines_poles(self) -> bool {
         self == Estimator::OpenLoop
     }
 }

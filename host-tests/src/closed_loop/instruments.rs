@@ -23,7 +23,7 @@ use crate::closed_loop::linalg::spd_factor;
 use crate::reference::{RefConfig, block_hankel, regressors};
 
 /// Lags `L` of the reference in the input's predictor (`L + 1` coefficients and a constant).
-pub const PREDICTOR_LAGS: usize = 20;
+pub(crate) const PREDICTOR_LAGS: usize = 20;
 
 /// Whether `u` sits at an end of `[u_min, u_max]` (within `1e-12` of the interval's width).
 fn at_end(u: f64, cfg: &RefConfig) -> bool {
@@ -42,7 +42,7 @@ fn row(r: &[f64], t: usize, lags: usize) -> DVector<f64> {
 
 /// The input predicted from the reference (see the module's documentation): `u` at the ends
 /// of the interval, the FIR prediction mapped onto the commands' distribution elsewhere.
-pub fn predicted_input(
+pub(crate) fn predicted_input(
     u: &[f64],
     r: &[f64],
     cfg: &RefConfig,

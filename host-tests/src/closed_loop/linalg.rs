@@ -8,7 +8,7 @@ use crate::reference;
 
 /// Cholesky factor of the symmetric positive definite `g` ([`reference::spd_factor`]);
 /// `RankDeficient(which)` when it is singular or numerically so.
-pub fn spd_factor(
+pub(crate) fn spd_factor(
     g: DMatrix<f64>,
     which: &'static str,
 ) -> Result<Cholesky<f64, Dyn>, ReferenceError> {
@@ -16,7 +16,7 @@ pub fn spd_factor(
 }
 
 /// Least-squares solution of `m x = r` ([`reference::least_squares`]).
-pub fn least_squares(
+pub(crate) fn least_squares(
     m: DMatrix<f64>,
     r: &DMatrix<f64>,
     which: &'static str,

@@ -29,7 +29,7 @@ fn zero_gain(e: &DiagnoseError) -> bool {
 /// The base structure fitted on `est` with the reported options of `plan`; when that fails
 /// with a zero static gain at the order `id` declares, the highest lower order that does not,
 /// with `id` and `plan` set to it and the warning that says so.
-pub fn fit_base(
+pub(crate) fn fit_base(
     est: &Record,
     opts: &DiagnoseOptions,
     id: &mut IdentifyOptions,

@@ -55,7 +55,7 @@ pub enum Finding {
 
 impl Finding {
     /// Whether the finding is that the estimation data cannot score extensions.
-    pub fn unscorable(&self) -> bool {
+    pub(crate) fn unscorable(&self) -> bool {
         matches!(
             self,
             Finding::FoldsUnfittable { .. } | Finding::BlockUnscorable { .. }

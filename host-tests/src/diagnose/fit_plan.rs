@@ -8,7 +8,7 @@ use crate::validation::checks;
 
 /// Fit options of one diagnosis.
 #[derive(Clone, Debug)]
-pub struct FitPlan {
+pub(crate) struct FitPlan {
     /// The inner hold-out fits (poles refined only with [`PoleRefinement::Always`]).
     pub inner: FitOptions,
     /// The models reported: the base model and the model after each step.

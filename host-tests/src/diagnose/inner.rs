@@ -136,7 +136,7 @@ impl InnerValidation {
 
     /// The hold-outs of these blocks on `est`, fitted with `fit`; `extra_dead_time` is the
     /// dead-time test's delay beyond the base model's.
-    pub fn holdouts<'a>(
+    pub(crate) fn holdouts<'a>(
         &self,
         est: &'a Record,
         fit: &'a FitOptions,
@@ -196,7 +196,7 @@ fn scorable(est: &Record, fit: &FitOptions, base: &ExtendedModel, r: &Range<usiz
 }
 
 /// The hold-outs the steps are scored on (see [`steps::Context`](super::steps::Context)).
-pub struct Holdouts<'a> {
+pub(crate) struct Holdouts<'a> {
     /// The inner validation's blocks.
     pub main: Holdout<'a>,
     /// The dead-time test's delay scored by cross-validation over the whole record: when the
@@ -211,7 +211,11 @@ pub struct Holdouts<'a> {
 /// can be scored: their removal leaves every knot segment excited, the first is not one of
 /// them with an estimated initial state, and the base model fitted without each simulates it
 /// within 3 × its in-sample RMSE. Fewer than two means the record cannot be cross-validated.
-pub fn cross_folds(est: &Record, fit: &FitOptions, base: &ExtendedModel) -> Vec<Range<usize>> {
+pub(crate) fn cross_folds(
+    est: &Record,
+    fit: &FitOptions,
+    base: &ExtendedModel,
+) -> Vec<Range<usize>> {
     let id = &fit.identify;
     let estimated = fit.initial == InitialState::Estimated;
     let (_, _, bins, count) = residual::regressor(

@@ -46,7 +46,7 @@ impl OutputMap {
     }
 
     /// `g⁻¹(y)` where `g` is invertible with a slope of at least `min_slope`, else `None`.
-    pub fn invert(&self, y: f64, min_slope: f64) -> Option<f64> {
+    pub(crate) fn invert(&self, y: f64, min_slope: f64) -> Option<f64> {
         let min_slope = min_slope.max(1e-12);
         if self.ceiling.is_some_and(|c| y >= c) || self.floor.is_some_and(|f| y <= f) {
             return None;
@@ -72,7 +72,7 @@ impl OutputMap {
     }
 
     /// Slope of `g` at `x` (end slopes outside the knots).
-    pub fn slope_at(&self, x: f64) -> f64 {
+    pub(crate) fn slope_at(&self, x: f64) -> f64 {
         let n = self.x.len();
         if self.clipped(x) {
             return 0.0;
@@ -88,7 +88,7 @@ impl OutputMap {
     }
 
     /// Mean slope over the knots.
-    pub fn mean_slope(&self) -> f64 {
+    pub(crate) fn mean_slope(&self) -> f64 {
         let n = self.x.len();
         if n < 2 {
             return 1.0;

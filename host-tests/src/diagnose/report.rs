@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use super::diagnosis::Diagnosis;
-use super::effects::{Effect, Significance, has_evidence};
+use super::effects::Significance;
 use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::output_map::OutputMap;
@@ -402,13 +402,4 @@ fn poles(m: &ExtendedModel) -> String {
         })
         .collect::<Vec<_>>()
         .join(", ")
-}
-
-/// Names of the effects whose evidence fired on a test set (for summaries).
-pub fn pointed_at(tests: &TestSet) -> Vec<&'static str> {
-    Effect::ALL
-        .into_iter()
-        .filter(|&e| has_evidence(e, tests))
-        .map(Effect::name)
-        .collect()
 }

@@ -53,7 +53,7 @@ impl HostModel {
             .collect()
     }
     /// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
-    pub fn rest_state(&self) -> Vec<f64> {
+    pub(crate) fn rest_state(&self) -> Vec<f64> {
         let n = self.order;
         let ia = DMatrix::<f64>::identity(n, n) - &self.a;
         let b = DVector::from_column_slice(&self.b) * self.mu0;
@@ -62,7 +62,7 @@ impl HostModel {
             .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
     }
     /// The state at rest at the unit level: `(I − A)⁻¹ B`.
-    pub fn steady_state(&self) -> Vec<f64> {
+    pub(crate) fn steady_state(&self) -> Vec<f64> {
         let n = self.order;
         let ia = DMatrix::<f64>::identity(n, n) - &self.a;
         ia.lu()
@@ -70,7 +70,7 @@ impl HostModel {
             .map_or_else(|| vec![0.0; n], |x| x.iter().copied().collect())
     }
     /// The level `c` of a state at rest, `x0 = (I − A)⁻¹ B c` (least squares).
-    pub fn level_of(&self, x0: &[f64]) -> f64 {
+    pub(crate) fn level_of(&self, x0: &[f64]) -> f64 {
         let xs = self.steady_state();
         let nn: f64 = xs.iter().map(|v| v * v).sum();
         if nn <= 0.0 {

@@ -23,12 +23,12 @@ pub struct DataSplit {
 }
 
 /// Fewest samples an estimation record needs with these options.
-pub fn min_len(id: &IdentifyOptions) -> usize {
+pub(crate) fn min_len(id: &IdentifyOptions) -> usize {
     id.hold + 4 * (id.f + id.p) + 50
 }
 
 /// `u` and `y` of one length, every input inside `[u_min, u_max]`.
-pub fn check_record(
+pub(crate) fn check_record(
     rec: &Record,
     which: &'static str,
     u_min: f64,
@@ -60,7 +60,7 @@ pub fn check_record(
 /// A closed-loop record's reference, if it has one: one finite value per sample, not constant
 /// after the hold, and a two-path element (the closed-loop estimate is for backlash or
 /// switch).
-pub fn check_reference(rec: &Record, id: &IdentifyOptions) -> Result<(), DiagnoseError> {
+pub(crate) fn check_reference(rec: &Record, id: &IdentifyOptions) -> Result<(), DiagnoseError> {
     let Some(r) = &rec.reference else {
         return Ok(());
     };

@@ -20,7 +20,7 @@ use crate::validation::checks::{Check, Warning};
 use crate::validation::residual::TestSet;
 
 /// What the loop works with; nothing here changes while it runs.
-pub struct Context<'a> {
+pub(crate) struct Context<'a> {
     /// The estimation record.
     pub est: &'a Record,
     /// The record the validation simulation runs over.
@@ -51,7 +51,7 @@ pub struct Context<'a> {
 }
 
 /// What the loop has done so far.
-pub struct Progress {
+pub(crate) struct Progress {
     /// The current structure.
     pub current: Structure,
     /// The current model (fitted on the whole estimation record).

@@ -12,7 +12,7 @@ const OUTSIDE: &str = "found, not in the catalog: ";
 
 impl Finding {
     /// The short name of an effect outside the catalog, as the verdict lists it.
-    pub fn outside_name(&self) -> Option<&'static str> {
+    pub(crate) fn outside_name(&self) -> Option<&'static str> {
         match self {
             Finding::DirectionDependence => {
                 Some("the residual depends on the direction of the input")

@@ -10,7 +10,7 @@ use crate::refine::pem::PemFit;
 use crate::refine::uncertainty::{border_std_on_grid, fit_poles};
 
 /// Covariance of `(re, im)` of a pole.
-pub type Cov2 = [[f64; 2]; 2];
+pub(crate) type Cov2 = [[f64; 2]; 2];
 
 /// The source of a model's uncertainty.
 #[derive(Debug, Clone, Copy)]
@@ -61,7 +61,7 @@ impl<'a> Uncertainty<'a> {
 
     /// The 2 × 2 covariance of `(re, im)` of each pole in `poles` (each paired with the
     /// nearest pole of the source).
-    pub fn pole_covariances(&self, poles: &[(f64, f64)]) -> Option<Vec<Cov2>> {
+    pub(crate) fn pole_covariances(&self, poles: &[(f64, f64)]) -> Option<Vec<Cov2>> {
         let known: Vec<((f64, f64), Cov2)> = match self {
             Self::Refined(fit) => fit_poles(fit).iter().map(|p| (p.pole, p.cov)).collect(),
             Self::Stored(file) => {
@@ -87,7 +87,7 @@ impl<'a> Uncertainty<'a> {
 
     /// Standard deviations of the Bode magnitude (dB) and phase (deg) at each `w`
     /// (rad/sample); only a refined fit has the covariance they need.
-    pub fn bode_std(&self, w: &[f64]) -> Option<Vec<(f64, f64)>> {
+    pub(crate) fn bode_std(&self, w: &[f64]) -> Option<Vec<(f64, f64)>> {
         match self {
             Self::Refined(fit) => Some(bode_std(fit, w)),
             Self::Stored(_) => None,

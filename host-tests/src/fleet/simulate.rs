@@ -14,7 +14,7 @@ use crate::sim::{Backlash, Nonlinearity, paper_noise_model, paper_plant};
 
 /// The devices' identifier: `f32`, the paper's capacity (14 channels, 20 block rows), as the
 /// firmware builds it.
-pub type DeviceIdentifier = Identifier<f32, 14, 20>;
+pub(crate) type DeviceIdentifier = Identifier<f32, 14, 20>;
 
 /// Working interval of every device.
 pub const U_MIN: f32 = -3.0;
@@ -163,7 +163,7 @@ pub fn truth(spec: &FleetSpec, index: usize) -> DeviceTruth {
 
 /// One week's record of a device with gap `gap` through the identifier of `settings`, and the
 /// checkpoint it saves. `seed` drives the excitation and the noise.
-pub fn record_week(
+pub(crate) fn record_week(
     spec: &FleetSpec,
     settings: Settings<f32, 14>,
     gap: f64,
@@ -188,7 +188,11 @@ pub fn record_week(
 
 /// The checkpoint of device `t` in `week` as it arrives: recorded, then damaged if the truth
 /// says so.
-pub fn device_week(spec: &FleetSpec, t: &DeviceTruth, week: usize) -> Result<Vec<u8>, hsid::Error> {
+pub(crate) fn device_week(
+    spec: &FleetSpec,
+    t: &DeviceTruth,
+    week: usize,
+) -> Result<Vec<u8>, hsid::Error> {
     let damage = match t.damaged {
         Some((w, d)) if w == week => d,
         _ => Damage::None,

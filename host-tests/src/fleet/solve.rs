@@ -124,7 +124,7 @@ pub fn solve_many(
 }
 
 /// A pool of `threads` workers (`None`: rayon's default, one per core).
-pub fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetError> {
+pub(crate) fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetError> {
     let mut b = rayon::ThreadPoolBuilder::new();
     match threads {
         Some(0) => return Err(FleetError::ZeroThreads),
@@ -135,7 +135,7 @@ pub fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetError> {
 }
 
 /// A directory entry: the device id, and the file's path or why it cannot be read.
-pub type Entry = (String, Result<PathBuf, DeviceError>);
+pub(crate) type Entry = (String, Result<PathBuf, DeviceError>);
 
 /// The files of a directory, sorted by file name (the device id); an entry that cannot be
 /// listed is that device's error (named `entry N`). Subdirectories are skipped.

@@ -134,7 +134,9 @@ fn parse_line(line: &str, at: usize) -> Result<Line, LineError> {
 
 /// Reads the JSON lines of `hsid fleet`: the devices' weekly gaps and the count of each
 /// error kind.
-pub fn read_models(path: &Path) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), WearError> {
+pub(crate) fn read_models(
+    path: &Path,
+) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), WearError> {
     let text = std::fs::read_to_string(path).map_err(|source| WearError::Read {
         path: path.to_path_buf(),
         source,

@@ -5,7 +5,7 @@ use crate::diagnose::{Check, Test};
 
 /// The data checks run on a record before any fit (`validation::checks::check_data`), in
 /// their order: what an identification's page can report.
-pub const BEFORE_FIT: [Check; 7] = [
+pub(crate) const BEFORE_FIT: [Check; 7] = [
     Check::Table1Structure,
     Check::PathCoverage,
     Check::PersistentExcitation,
@@ -29,7 +29,7 @@ pub const CHECKS: [Check; 9] = {
 };
 
 /// `(what it means, what to do)` for a data check that warns.
-pub fn check_advice(c: Check) -> (&'static str, &'static str) {
+pub(crate) fn check_advice(c: Check) -> (&'static str, &'static str) {
     match c {
         Check::Table1Structure => (
             "A monotone run of the input starts inside the interval: the method's excitation \
@@ -97,7 +97,7 @@ pub fn check_advice(c: Check) -> (&'static str, &'static str) {
 }
 
 /// `(what it means, what to do)` for a residual test that fires.
-pub fn test_advice(t: Test) -> (&'static str, &'static str) {
+pub(crate) fn test_advice(t: Test) -> (&'static str, &'static str) {
     match t {
         Test::Whiteness => (
             "The residual is correlated with its own past: dynamics the model lacks, or \

@@ -86,7 +86,7 @@ pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
 
 /// `(title, caption)` of a figure of an element model (the play operator or relay itself,
 /// `write_element_figures`): its own `borders` figure, the others as [`caption`] says.
-pub fn element_caption(stem: &str) -> Option<(&'static str, &'static str)> {
+pub(crate) fn element_caption(stem: &str) -> Option<(&'static str, &'static str)> {
     match stem {
         "borders" => Some((
             "The element: borders and its output on the record",

@@ -29,7 +29,7 @@ pub struct CheckRow {
 /// One row per data check of `run` (the checks that ran, [`BEFORE_FIT`](super::advice::BEFORE_FIT)
 /// or [`CHECKS`](super::advice::CHECKS)): the warnings of `warnings`, the others passed. A
 /// check that did not run has no row, rather than a "passed" it did not earn.
-pub fn data_rows(warnings: &[Warning], run: &[Check]) -> Vec<CheckRow> {
+pub(crate) fn data_rows(warnings: &[Warning], run: &[Check]) -> Vec<CheckRow> {
     run.iter()
         .map(|&c| {
             let found: Vec<&str> = warnings
@@ -61,7 +61,7 @@ pub fn data_rows(warnings: &[Warning], run: &[Check]) -> Vec<CheckRow> {
 }
 
 /// One row per test of `set`, named `{test} ({on})`.
-pub fn test_rows(set: &TestSet, on: &str) -> Vec<CheckRow> {
+pub(crate) fn test_rows(set: &TestSet, on: &str) -> Vec<CheckRow> {
     set.tests
         .iter()
         .map(|t| {

@@ -8,14 +8,6 @@ use super::captions::{caption, element_caption};
 use super::error::HtmlError;
 use super::figure::{InlineFigure, inline_svg};
 
-/// The SVG files among `files` as inline figures; `prefix` is the file-name prefix the writer
-/// put before each figure's name (`""` for none).
-pub fn from_files(files: &[PathBuf], prefix: &str) -> Result<Vec<InlineFigure>, HtmlError> {
-    captioned(files, prefix, |stem| {
-        caption(stem).map(|(t, c)| (t.to_string(), c.to_string()))
-    })
-}
-
 /// The SVG files among `files` as inline figures, each titled and captioned by `caption` from
 /// its file name (without `.svg` and `prefix`); `None` shows the name and says it has no
 /// caption.
@@ -64,7 +56,7 @@ pub fn drawn(
 }
 
 /// [`drawn`], each figure titled and captioned by `caption` (as in [`captioned`]).
-pub fn drawn_captioned(
+pub(crate) fn drawn_captioned(
     write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, String>,
     caption: impl Fn(&str) -> Option<(String, String)>,
 ) -> Result<Vec<InlineFigure>, HtmlError> {

@@ -61,7 +61,7 @@ pub fn input_unit(r: &UnitReport) -> &str {
 }
 
 /// The mean gap as the headline writes it (five decimals and the input unit).
-pub fn gap_text(r: &UnitReport) -> Option<String> {
+pub(crate) fn gap_text(r: &UnitReport) -> Option<String> {
     r.mean_gap.map(|g| format!("{g:.5} {}", input_unit(r)))
 }
 
@@ -83,7 +83,7 @@ pub fn sentence(element: ModelElement, order: usize, r: &UnitReport) -> String {
 }
 
 /// The facts of the model: order, poles, bandwidth, gain, gap or dead band.
-pub fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
+pub(crate) fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
     let mut facts = vec![Fact::new("order of the linear part", order.to_string())];
     for line in r.lines() {
         let labelled = ["pole ", "bandwidth", "static gain"]

@@ -35,7 +35,7 @@ pre{background:#f4f4f4;padding:.6rem;white-space:pre-wrap;overflow-wrap:anywhere
 ";
 
 /// The sections of the page, in order: (anchor, heading).
-pub const SECTIONS: [(&str, &str); 4] = [
+pub(crate) const SECTIONS: [(&str, &str); 4] = [
     ("headline", "Result"),
     ("figures", "Figures"),
     ("checks", "Data checks and residual tests"),

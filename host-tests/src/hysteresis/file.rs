@@ -29,7 +29,7 @@ impl ElementKind {
 
 impl HysteresisModel {
     /// The model file of this model, fitted on `samples` samples.
-    pub fn to_file(&self, samples: usize) -> ModelFile {
+    pub(crate) fn to_file(&self, samples: usize) -> ModelFile {
         let mut file = self
             .to_host(samples)
             .to_json(Some(self.kind.nonlinearity()));

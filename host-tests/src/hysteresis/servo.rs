@@ -40,7 +40,7 @@ pub struct ServoRecord {
 }
 
 /// Low-pass filtered Gaussian noise (`1/(1 − 0.95 q⁻¹)²`), scaled into `[−RANGE, RANGE]`.
-pub fn smoothed_input(len: usize, rng: &mut Pcg64) -> Vec<f64> {
+pub(crate) fn smoothed_input(len: usize, rng: &mut Pcg64) -> Vec<f64> {
     let (mut s1, mut s2) = (0.0, 0.0);
     let raw: Vec<f64> = (0..len + 200)
         .map(|_| {

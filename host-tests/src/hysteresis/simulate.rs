@@ -13,7 +13,7 @@ fn knot_border(knots: &[f64], values: &[f64]) -> crate::sim::Border {
 }
 
 /// The element's output `w(t)` for the input `u`.
-pub fn element_output(m: &HysteresisModel, u: &[f64]) -> Vec<f64> {
+pub(crate) fn element_output(m: &HysteresisModel, u: &[f64]) -> Vec<f64> {
     let a = knot_border(&m.knots, &m.border_asc);
     let d = knot_border(&m.knots, &m.border_desc);
     let mut el: Box<dyn Nonlinearity> = match m.kind {

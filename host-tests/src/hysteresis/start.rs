@@ -188,7 +188,7 @@ fn sse(m: &HysteresisModel, u: &[f64], y: &[f64]) -> f64 {
 }
 
 /// The starting hysteresis model of `kind` from the subspace estimate `m` on the record.
-pub fn start_model(
+pub(crate) fn start_model(
     m: &HostModel,
     kind: ElementKind,
     feedthrough: bool,

@@ -90,7 +90,7 @@ pub fn uncertainty(
 impl Uncertainty {
     /// Adds the gap's standard deviation: the gradient of [`HysteresisModel::gap`] with
     /// respect to the border values by central differences, through the covariance.
-    pub fn with_gap(mut self, layout: &Layout, model: &HysteresisModel) -> Self {
+    pub(crate) fn with_gap(mut self, layout: &Layout, model: &HysteresisModel) -> Self {
         let th = model.theta(layout);
         let idx: Vec<usize> = layout.asc().chain(layout.desc()).collect();
         let h = 1e-6 * th.iter().fold(1e-3f64, |m, v| m.max(v.abs()));

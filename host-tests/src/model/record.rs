@@ -95,7 +95,7 @@ impl Record {
     }
 
     /// The sample range of each experiment.
-    pub fn ranges(&self) -> Vec<Range<usize>> {
+    pub(crate) fn ranges(&self) -> Vec<Range<usize>> {
         let ends = self.starts.iter().skip(1).copied().chain([self.u.len()]);
         self.starts.iter().zip(ends).map(|(&a, b)| a..b).collect()
     }
@@ -109,7 +109,7 @@ impl Record {
     }
 
     /// Samples of the first experiment.
-    pub fn first_len(&self) -> usize {
+    pub(crate) fn first_len(&self) -> usize {
         self.ranges().first().map_or(0, |r| r.len())
     }
 
@@ -158,7 +158,7 @@ impl Record {
     }
 
     /// The record with the mean output subtracted; the mean.
-    pub fn detrended(mut self) -> (Record, f64) {
+    pub(crate) fn detrended(mut self) -> (Record, f64) {
         let mean = self.y.iter().sum::<f64>() / self.y.len().max(1) as f64;
         self.y.iter_mut().for_each(|v| *v -= mean);
         (self, mean)

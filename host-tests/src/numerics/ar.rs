@@ -4,11 +4,10 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::lstsq::{Scaling, lstsq, lstsq_min_norm};
-use super::select::{Criterion, best};
 
 /// A fitted AR(p) model.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Ar {
+pub(crate) struct Ar {
     /// `d_1 … d_p` of `D(q)`: `r(t) = −Σ d_i r(t − i) + e(t)`.
     pub d: Vec<f64>,
     /// Mean square of the innovations over the fitted samples `p … N − 1`.
@@ -16,11 +15,6 @@ pub struct Ar {
 }
 
 impl Ar {
-    /// The order `p`.
-    pub fn order(&self) -> usize {
-        self.d.len()
-    }
-
     /// The innovations `e(t) = D(q) r(t)` for `t ≥ p`, and 0 before (where the lags are
     /// missing).
     pub fn innovations(&self, r: &[f64]) -> Vec<f64> {
@@ -35,7 +29,7 @@ impl Ar {
 
 /// How [`fit_ar_with`] solves the least-squares problem.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ArSolver {
+pub(crate) enum ArSolver {
     /// The normal equations by Cholesky ([`lstsq`] without scaling): no result if the lagged
     /// record is rank deficient.
     Cholesky,
@@ -46,7 +40,7 @@ pub enum ArSolver {
 /// Settings of [`fit_ar_with`]: the solver, and the samples an order `p` needs (more than
 /// `per_order · p + extra`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ArSettings {
+pub(crate) struct ArSettings {
     /// The least-squares solver.
     pub solver: ArSolver,
     /// Samples needed per coefficient.
@@ -68,13 +62,13 @@ impl Default for ArSettings {
 
 /// Fits an AR(`p`) model to `r` (zero mean) by least squares over `t = p … N − 1`; `None` if
 /// `p` is 0, the record is not longer than `p`, or the lagged record is rank deficient.
-pub fn fit_ar(r: &[f64], p: usize) -> Option<Ar> {
+pub(crate) fn fit_ar(r: &[f64], p: usize) -> Option<Ar> {
     fit_ar_with(r, p, &ArSettings::default())
 }
 
 /// [`fit_ar`] with `settings`: `None` if `p` is 0, the record has no more than
 /// `per_order · p + extra` samples, or the solver finds no solution.
-pub fn fit_ar_with(r: &[f64], p: usize, settings: &ArSettings) -> Option<Ar> {
+pub(crate) fn fit_ar_with(r: &[f64], p: usize, settings: &ArSettings) -> Option<Ar> {
     let n = r.len();
     if p == 0 || n <= settings.per_order * p + settings.extra {
         return None;
@@ -92,19 +86,6 @@ pub fn fit_ar_with(r: &[f64], p: usize, settings: &ArSettings) -> Option<Ar> {
         d: d.iter().copied().collect(),
         sigma2: e.norm_squared() / rows as f64,
     })
-}
-
-/// The AR model of order `1 … max` with the smallest BIC (`N ln σ̂² + p ln N`, `N = r.len()`);
-/// `None` if no order can be fitted.
-pub fn fit_ar_bic(r: &[f64], max: usize) -> Option<Ar> {
-    let n = r.len() as f64;
-    let fits: Vec<Ar> = (1..=max).filter_map(|p| fit_ar(r, p)).collect();
-    let scores: Vec<(usize, f64)> = fits
-        .iter()
-        .enumerate()
-        .map(|(i, a)| (i, Criterion::Bic.score(n, a.sigma2, a.order() as f64)))
-        .collect();
-    best(&scores).and_then(|i| fits.into_iter().nth(i))
 }
 
 #[cfg(test)]
@@ -146,17 +127,9 @@ mod tests {
     }
 
     #[test]
-    fn bic_chooses_the_true_order() {
-        let r = ar2(20_000, 11);
-        let ar = fit_ar_bic(&r, 8).map(|a| a.order());
-        assert_eq!(ar, Some(2));
-    }
-
-    #[test]
     fn too_short_or_order_zero_is_refused() {
         assert!(fit_ar(&[1.0, 2.0], 2).is_none());
         assert!(fit_ar(&[1.0, 2.0, 3.0], 0).is_none());
-        assert!(fit_ar_bic(&[], 3).is_none());
     }
     #[test]
     fn both_solvers_agree_and_the_sample_rule_is_kept() {

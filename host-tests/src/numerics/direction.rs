@@ -5,7 +5,7 @@ use hsid::Direction;
 
 /// δ(t) sample by sample: the direction and the previous input.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectionTracker {
+pub(crate) struct DirectionTracker {
     dir: Direction,
     prev: f64,
 }

@@ -5,7 +5,7 @@
 /// `knots[s] ≤ u < knots[s + 1]` (the first segment below the knots, the last above them) and
 /// `θ = (u − knots[s]) / (knots[s + 1] − knots[s])` clamped to `[0, 1]`; the hat `φ_s` has
 /// weight `1 − θ`, `φ_{s+1}` weight `θ`. `(0, 0.0)` for fewer than two knots.
-pub fn hat_weights(knots: &[f64], u: f64) -> (usize, f64) {
+pub(crate) fn hat_weights(knots: &[f64], u: f64) -> (usize, f64) {
     if knots.len() < 2 {
         return (0, 0.0);
     }

@@ -18,7 +18,11 @@ pub enum Scaling {
 /// Solves `G θ = r` for a symmetric positive definite Gram matrix `G`; `None` if the Cholesky
 /// factorisation meets a non-positive pivot (e.g. a column without information). Collinear
 /// columns whose rounding leaves a tiny positive pivot are not detected here.
-pub fn solve_normal(g: &DMatrix<f64>, r: &DVector<f64>, scaling: Scaling) -> Option<DVector<f64>> {
+pub(crate) fn solve_normal(
+    g: &DMatrix<f64>,
+    r: &DVector<f64>,
+    scaling: Scaling,
+) -> Option<DVector<f64>> {
     match scaling {
         Scaling::None => g.clone().cholesky().map(|c| c.solve(r)),
         Scaling::UnitDiagonal => {
@@ -40,7 +44,7 @@ pub fn lstsq(x: &DMatrix<f64>, y: &DVector<f64>, scaling: Scaling) -> Option<DVe
 }
 
 /// Least squares for `X` given by its columns; `None` if `XᵀX` is singular.
-pub fn lstsq_columns(cols: &[Vec<f64>], y: &[f64], scaling: Scaling) -> Option<Vec<f64>> {
+pub(crate) fn lstsq_columns(cols: &[Vec<f64>], y: &[f64], scaling: Scaling) -> Option<Vec<f64>> {
     let k = cols.len();
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
     let g = DMatrix::from_fn(k, k, |i, j| dot(&cols[i], &cols[j]));
@@ -107,7 +111,7 @@ pub fn lstsq_min_norm(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>
 /// The minimum-norm solution of `G x = b` for a symmetric positive semi-definite `G`, by a
 /// symmetric eigendecomposition with eigenvalues below `1e-13` of the largest left out; zero
 /// when `G` has no positive eigenvalue, `None` if the decomposition does not converge.
-pub fn solve_min_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+pub(crate) fn solve_min_norm(g: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
     let k = g.nrows();
     let eig = nalgebra::SymmetricEigen::try_new(g, f64::EPSILON, 10_000)?;
     let max = eig.eigenvalues.iter().fold(0.0f64, |a, &v| a.max(v));

@@ -40,7 +40,7 @@ pub fn best<T: Copy>(scores: &[(T, f64)]) -> Option<T> {
 
 /// `candidate: score − score of chosen` for every candidate, comma separated (`7: +0.0, 10:
 /// −12.3`), for a report line.
-pub fn relative_scores<T: Copy + PartialEq + std::fmt::Display>(
+pub(crate) fn relative_scores<T: Copy + PartialEq + std::fmt::Display>(
     scores: &[(T, f64)],
     chosen: T,
 ) -> String {

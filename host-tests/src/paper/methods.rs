@@ -96,7 +96,7 @@ impl Method {
 
 /// One identification by a method.
 #[derive(Clone, Debug)]
-pub struct MethodRun {
+pub(crate) struct MethodRun {
     /// The model.
     pub model: HostModel,
     /// Wall-clock seconds (subspace step included for the refinements).
@@ -106,7 +106,7 @@ pub struct MethodRun {
 }
 
 /// Identifies `(u, y)` with `method`.
-pub fn identify_method(
+pub(crate) fn identify_method(
     method: Method,
     u: &[f64],
     y: &[f64],
@@ -242,14 +242,14 @@ fn min_med_max(mut v: Vec<f64>) -> [f64; 3] {
 }
 
 /// 40 log-spaced frequencies for the Bode check.
-pub fn check_frequencies() -> Vec<f64> {
+pub(crate) fn check_frequencies() -> Vec<f64> {
     (0..40)
         .map(|i| 10f64.powf(-2.5 + (std::f64::consts::PI.log10() + 2.5) * i as f64 / 39.0))
         .collect()
 }
 
 /// Compares the reported standard deviations of the refinements with their spread.
-pub fn uncertainty_check(fits: &[PemFit]) -> Option<UncertaintyCheck> {
+pub(crate) fn uncertainty_check(fits: &[PemFit]) -> Option<UncertaintyCheck> {
     let fits: Vec<&PemFit> = fits.iter().filter(|f| f.model.order == 2).collect();
     if fits.len() < 3 {
         return None;
@@ -292,7 +292,7 @@ pub fn uncertainty_check(fits: &[PemFit]) -> Option<UncertaintyCheck> {
 }
 
 /// Runs `method` on every run of `case` (in parallel) and summarises against `crb`.
-pub fn run_method(
+pub(crate) fn run_method(
     method: Method,
     case: Case,
     cfg: &PaperConfig,
@@ -369,7 +369,7 @@ pub fn run_method(
 
 /// Experiments over which the bound's information is averaged (it barely varies: ±1 % from 5
 /// to 20 experiments).
-pub const CRB_RUNS: usize = 10;
+pub(crate) const CRB_RUNS: usize = 10;
 
 /// Every method in `methods` on `case`, and the bound.
 pub fn run_methods(

@@ -80,7 +80,7 @@ impl Figure {
 
     /// Same scale on both axes (one unit is as long in x as in y); the axis with room to spare
     /// is widened symmetrically. Ignored with a logarithmic axis.
-    pub fn equal_aspect(mut self, equal: bool) -> Self {
+    pub(crate) fn equal_aspect(mut self, equal: bool) -> Self {
         self.equal_aspect = equal;
         self
     }

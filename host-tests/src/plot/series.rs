@@ -93,7 +93,7 @@ impl Series {
     }
 
     /// Any SVG colour (`"#1f77b4"`, `"black"`, `"rgb(0,0,0)"`); default: the palette.
-    pub fn color(mut self, color: impl Into<String>) -> Self {
+    pub(crate) fn color(mut self, color: impl Into<String>) -> Self {
         self.color = Some(color.into());
         self
     }
@@ -117,7 +117,7 @@ impl Series {
     }
 
     /// Fill opacity of a band, 0 to 1.
-    pub fn opacity(mut self, opacity: f64) -> Self {
+    pub(crate) fn opacity(mut self, opacity: f64) -> Self {
         self.opacity = opacity;
         self
     }

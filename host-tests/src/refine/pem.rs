@@ -152,7 +152,7 @@ impl ParamLayout {
         self.n..self.n + self.nb()
     }
     /// Number of free numerator coefficients.
-    pub fn nb(&self) -> usize {
+    pub(crate) fn nb(&self) -> usize {
         if self.feedthrough { self.n } else { self.n - 1 }
     }
     /// Power of `q⁻¹` of the numerator coefficient fixed by `G(1) = 1` (0 or `n`).
@@ -357,7 +357,7 @@ impl Problem {
     }
 
     /// Whether the predictor of `θ` is stable (`F` and `C` inside the unit circle).
-    pub fn check_stable(&self, th: &[f64]) -> Result<(), RefineError> {
+    pub(crate) fn check_stable(&self, th: &[f64]) -> Result<(), RefineError> {
         let p = self.layout.polynomials(th);
         let rf = spectral_radius(&p.f);
         if rf >= 1.0 {
@@ -525,7 +525,7 @@ impl Problem {
 
     /// The deterministic model of `θ` in observer canonical form, with the knots, singular
     /// values and horizons of `template`.
-    pub fn model_of(&self, th: &[f64], template: &HostModel, samples: usize) -> HostModel {
+    pub(crate) fn model_of(&self, th: &[f64], template: &HostModel, samples: usize) -> HostModel {
         let l = self.layout;
         let p = l.polynomials(th);
         let (a, b, c, d) = observer_form(&p.b, &p.f);
@@ -550,7 +550,7 @@ impl Problem {
     }
 
     /// The noise model of `θ` with variance `sigma2`.
-    pub fn noise_of(&self, th: &[f64], sigma2: f64) -> NoiseModel {
+    pub(crate) fn noise_of(&self, th: &[f64], sigma2: f64) -> NoiseModel {
         let p = self.layout.polynomials(th);
         NoiseModel {
             c: p.c,

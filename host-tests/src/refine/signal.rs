@@ -26,7 +26,7 @@ pub fn filter(b: &[f64], a: &[f64], x: &[f64]) -> Vec<f64> {
 }
 
 /// [`filter`] into a caller-provided buffer of the same length as `x`.
-pub fn filter_into(b: &[f64], a: &[f64], x: &[f64], y: &mut [f64]) {
+pub(crate) fn filter_into(b: &[f64], a: &[f64], x: &[f64], y: &mut [f64]) {
     let n = x.len().min(y.len());
     let warm = b.len().max(a.len()).min(n);
     for t in 0..warm {
@@ -62,7 +62,7 @@ pub fn delay(x: &[f64], k: usize) -> Vec<f64> {
 }
 
 /// Checks a knot vector: at least two finite, strictly increasing values.
-pub fn check_knots(k: &[f64], which: &'static str) -> Result<(), RefineError> {
+pub(crate) fn check_knots(k: &[f64], which: &'static str) -> Result<(), RefineError> {
     if k.len() < 2 {
         return Err(RefineError::InvalidKnots(which));
     }
@@ -155,24 +155,9 @@ impl HatRegressors {
         self.idx.is_empty()
     }
 
-    /// Whether both directions share one border (a static nonlinearity).
-    pub fn is_shared(&self) -> bool {
-        self.shared
-    }
-
     /// Channels: `1 + n_a + n_d` (μ0 first; `1 + n` for a static nonlinearity).
     pub fn channels(&self) -> usize {
         1 + self.n_asc + self.n_desc
-    }
-
-    /// Ascending segments `n_a`.
-    pub fn n_asc(&self) -> usize {
-        self.n_asc
-    }
-
-    /// Descending segments `n_d`.
-    pub fn n_desc(&self) -> usize {
-        self.n_desc
     }
 
     /// `H[u(t)] = Σ_k β_k w_k(t)` for every sample.

@@ -108,7 +108,7 @@ impl NoiseModel {
 
     /// The noise part of the innovation form in observer form: `(A_v, K_v, C_v)` with
     /// `C(q)/D(q) = 1 + C_v (qI − A_v)⁻¹ K_v`.
-    pub fn state_space(&self) -> (DMatrix<f64>, Vec<f64>, Vec<f64>) {
+    pub(crate) fn state_space(&self) -> (DMatrix<f64>, Vec<f64>, Vec<f64>) {
         let n = self.order();
         let mut c = self.c.clone();
         c.resize(n + 1, 0.0);
@@ -397,7 +397,7 @@ pub fn prediction_report(meas: &[f64], pred: &[f64], sigma2: f64) -> Result<Stri
 }
 
 /// One line describing a noise model.
-pub fn noise_text(m: &NoiseModel) -> String {
+pub(crate) fn noise_text(m: &NoiseModel) -> String {
     let fmt = |v: &[f64]| {
         v.iter()
             .map(|x| format!("{x:.5}"))

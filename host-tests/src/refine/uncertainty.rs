@@ -65,7 +65,7 @@ fn block(p: &DMatrix<f64>, idx: &[usize]) -> DMatrix<f64> {
 }
 
 /// The poles of a refined model with their standard deviations.
-pub fn fit_poles(fit: &PemFit) -> Vec<PoleStd> {
+pub(crate) fn fit_poles(fit: &PemFit) -> Vec<PoleStd> {
     let l = fit.layout;
     let p = l.polynomials(&fit.theta);
     let idx: Vec<usize> = l.f().collect();
@@ -81,7 +81,7 @@ pub fn upper_pole(fit: &PemFit) -> Option<PoleStd> {
 
 /// Gradient of `|G(e^{jω})|` in dB with respect to the plant parameters `(f, b)`, and the
 /// value.
-pub fn bode_db_gradient(l: &ParamLayout, theta: &[f64], w: f64) -> (f64, Vec<f64>) {
+pub(crate) fn bode_db_gradient(l: &ParamLayout, theta: &[f64], w: f64) -> (f64, Vec<f64>) {
     let p = l.polynomials(theta);
     let fz = eval_w(&p.f, w);
     let g = eval_w(&p.b, w) / fz;
@@ -161,7 +161,7 @@ fn path_std_on_grid(fit: &PemFit, knots: &[f64], indices: &[usize], grid: &[f64]
 }
 
 /// Standard deviations of `P_a(u)` and `P_d(u)` on a grid.
-pub fn border_std_on_grid(fit: &PemFit, grid: &[f64]) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn border_std_on_grid(fit: &PemFit, grid: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let na = fit.model.knots_asc.len().saturating_sub(1);
     let nd = fit.model.knots_desc.len().saturating_sub(1);
     let ia: Vec<usize> = (0..=na).collect();

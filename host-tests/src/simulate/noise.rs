@@ -74,7 +74,7 @@ pub fn white() -> Lti {
 }
 
 /// The noise of a plant specification.
-pub fn from_spec(n: &NoiseSpec) -> Result<Noise, SimulateError> {
+pub(crate) fn from_spec(n: &NoiseSpec) -> Result<Noise, SimulateError> {
     let level_of = match (n.snr_db, n.std) {
         (Some(db), None) => level(Level::SnrDb(db), "noise.snr_db")?,
         (None, Some(s)) => level(Level::Std(s), "noise.std")?,

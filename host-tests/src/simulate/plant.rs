@@ -22,7 +22,7 @@ pub struct StateSpace {
 
 impl StateSpace {
     /// `wn² / (s² + 2 ζ wn s + wn²)` in controllable form.
-    pub fn second_order(wn: f64, zeta: f64) -> Self {
+    pub(crate) fn second_order(wn: f64, zeta: f64) -> Self {
         Self {
             a: DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -wn * wn, -2.0 * zeta * wn]),
             b: DMatrix::from_row_slice(2, 1, &[0.0, 1.0]),
@@ -31,7 +31,7 @@ impl StateSpace {
     }
 
     /// `1 / (τ s + 1)`.
-    pub fn first_order(tau: f64) -> Self {
+    pub(crate) fn first_order(tau: f64) -> Self {
         Self {
             a: DMatrix::from_element(1, 1, -1.0 / tau),
             b: DMatrix::from_element(1, 1, 1.0),
@@ -56,7 +56,7 @@ impl StateSpace {
 
     /// Zero-order-hold discretisation at `ts`: `A_d = e^{A ts}`, `B_d = ∫₀^ts e^{A s} ds B`,
     /// both read off the exponential of `[[A, B], [0, 0]] ts`. Returns `(A_d, B_d)`.
-    pub fn zoh(&self, ts: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    pub(crate) fn zoh(&self, ts: f64) -> (DMatrix<f64>, DMatrix<f64>) {
         let n = self.a.nrows();
         let mut m = DMatrix::zeros(n + 1, n + 1);
         m.view_mut((0, 0), (n, n)).copy_from(&(&self.a * ts));
@@ -70,7 +70,7 @@ impl StateSpace {
 
     /// The discrete transfer function `(num, den)` in `q⁻¹` of the zero-order-hold model, with
     /// the static gain `gain` (`num[0] = 0`: one sample of delay, as a sampled plant has).
-    pub fn discrete(&self, ts: f64, gain: f64) -> (Vec<f64>, Vec<f64>) {
+    pub(crate) fn discrete(&self, ts: f64, gain: f64) -> (Vec<f64>, Vec<f64>) {
         let (ad, bd) = self.zoh(ts);
         let c: Vec<f64> = self.c.iter().map(|v| v * gain).collect();
         let b: Vec<f64> = bd.iter().copied().collect();

@@ -156,7 +156,7 @@ pub struct LinearSpec {
 
 impl LinearSpec {
     /// The section given inline (`wn`/`fn_hz`, `zeta`, `tau` at the top of `plant`), if any.
-    pub fn inline_section(&self) -> Option<SectionSpec> {
+    pub(crate) fn inline_section(&self) -> Option<SectionSpec> {
         let s = SectionSpec {
             wn: self.wn,
             fn_hz: self.fn_hz,

@@ -32,7 +32,7 @@ impl DeadBand {
 /// The widest run of flat segments of the border through `(knots[i], values[i])`, or `None`
 /// when no segment is flat (or the border is flat everywhere: then the input has no effect,
 /// which is not a dead band). Knots increase strictly (as the model file guarantees).
-pub fn dead_band(knots: &[f64], values: &[f64]) -> Option<DeadBand> {
+pub(crate) fn dead_band(knots: &[f64], values: &[f64]) -> Option<DeadBand> {
     let n = knots.len().min(values.len());
     if n < 2 {
         return None;

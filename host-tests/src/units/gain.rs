@@ -7,14 +7,14 @@ use crate::identify::HostModel;
 impl HostModel {
     /// Static gain of the linear part, `G(1) = C (I − A)⁻¹ B + D` (output units per unit of the
     /// element's output).
-    pub fn lti_gain(&self) -> f64 {
+    pub(crate) fn lti_gain(&self) -> f64 {
         self.freq_response(0.0).0
     }
 
     /// Static gain of the whole cascade in output units per input unit: `G(1)` times the mean
     /// slope of the element, the secant `(P(u_max) − P(u_min)) / (u_max − u_min)` averaged over
     /// the two borders.
-    pub fn cascade_gain(&self) -> f64 {
+    pub(crate) fn cascade_gain(&self) -> f64 {
         let (lo, hi) = (self.u_min(), self.u_max());
         let secant = |p: fn(&HostModel, f64) -> f64| (p(self, hi) - p(self, lo)) / (hi - lo);
         let slope = 0.5 * (secant(HostModel::border_asc_at) + secant(HostModel::border_desc_at));
@@ -24,7 +24,7 @@ impl HostModel {
     /// The −3 dB bandwidth of the linear part in rad/sample: the lowest frequency at which
     /// `|G(e^{jω})|` falls to `|G(1)|/√2`, located on a grid of 2048 points up to π and refined by
     /// bisection; `None` when it stays above that level up to the Nyquist frequency or `G(1)` is 0.
-    pub fn bandwidth(&self) -> Option<f64> {
+    pub(crate) fn bandwidth(&self) -> Option<f64> {
         let mag = |w: f64| self.freq_response(w).0.hypot(self.freq_response(w).1);
         let level = mag(0.0) / 2f64.sqrt();
         if !(level.is_finite() && level > 0.0) {

@@ -51,7 +51,7 @@ impl HostModel {
     }
 
     /// `P_d(u) − P_a(u)`, in the element's output units.
-    pub fn loop_height(&self, u: f64) -> f64 {
+    pub(crate) fn loop_height(&self, u: f64) -> f64 {
         self.border_desc_at(u) - self.border_asc_at(u)
     }
 }

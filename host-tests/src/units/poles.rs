@@ -48,7 +48,7 @@ pub struct ContinuousPole {
 
 /// The continuous-time reading of pole `z` at sample time `ts`; `cov` is the covariance of
 /// `(re z, im z)` when known. `None` for the lower member of a complex pair.
-pub fn continuous_pole(
+pub(crate) fn continuous_pole(
     z: (f64, f64),
     cov: Option<[[f64; 2]; 2]>,
     ts: f64,

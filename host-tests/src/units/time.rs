@@ -171,7 +171,11 @@ pub fn ts_from_comments(source: &Path, text: &str) -> Result<Option<f64>, TimeEr
 
 /// Checks that a time column `t` increases strictly; `lines` are the rows' 1-based lines, for
 /// the error.
-pub fn strictly_increasing(source: &Path, t: &[f64], lines: &[usize]) -> Result<(), TimeError> {
+pub(crate) fn strictly_increasing(
+    source: &Path,
+    t: &[f64],
+    lines: &[usize],
+) -> Result<(), TimeError> {
     match (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
         None => Ok(()),
         Some(i) => Err(TimeError::NotIncreasing {

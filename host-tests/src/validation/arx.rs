@@ -9,7 +9,7 @@ use crate::numerics::lstsq::lstsq_min_norm;
 
 /// Residual sum of squares of `y` on the columns `cols` over the rows `rows` (`None` with
 /// fewer than ten rows beyond the columns, or when the solve fails).
-pub fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
+pub(crate) fn rss(cols: &[&[f64]], y: &[f64], rows: &[usize]) -> Option<f64> {
     fit(cols, y, rows).map(|(_, r)| r)
 }
 
@@ -37,7 +37,7 @@ pub fn lagged(x: &[f64], lag: usize) -> Vec<f64> {
 
 /// The samples `t ≥ span` whose previous `span` samples are consecutive in `time` (rows of a
 /// joined record whose lags would reach across a gap are left out).
-pub fn continuous_rows(time: &[f64], span: usize) -> Vec<usize> {
+pub(crate) fn continuous_rows(time: &[f64], span: usize) -> Vec<usize> {
     (span..time.len())
         .filter(|&t| (time[t] - time[t - span] - span as f64).abs() < 0.5)
         .collect()

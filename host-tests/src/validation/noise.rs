@@ -22,7 +22,7 @@ const SETTINGS: ArSettings = ArSettings {
 };
 
 /// Fits an AR(`p`) model to `r` by least squares; `None` when there are too few samples.
-pub fn fit_ar(r: &[f64], p: usize) -> Option<ArNoise> {
+pub(crate) fn fit_ar(r: &[f64], p: usize) -> Option<ArNoise> {
     fit_ar_with(r, p, &SETTINGS).map(|ar| ArNoise {
         a: ar.d.iter().map(|d| -d).collect(),
         sigma: ar.sigma2.sqrt(),
@@ -30,7 +30,7 @@ pub fn fit_ar(r: &[f64], p: usize) -> Option<ArNoise> {
 }
 
 /// AR order by BIC on the residual, `1 … max`.
-pub fn ar_order_bic(r: &[f64], max: usize) -> Option<usize> {
+pub(crate) fn ar_order_bic(r: &[f64], max: usize) -> Option<usize> {
     let n = r.len() as f64;
     let scores: Vec<(usize, f64)> = (1..=max.min(r.len() / 50))
         .filter_map(|p| {

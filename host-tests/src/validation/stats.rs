@@ -41,14 +41,14 @@ pub fn median(x: &[f64]) -> f64 {
 }
 
 /// Robust standard deviation `1.4826 · median(|x − median(x)|)` (the MAD rule's scale).
-pub fn mad_sigma(x: &[f64]) -> f64 {
+pub(crate) fn mad_sigma(x: &[f64]) -> f64 {
     let m = median(x);
     let dev: Vec<f64> = x.iter().map(|v| (v - m).abs()).collect();
     1.4826 * median(&dev)
 }
 
 /// Running median with an odd window `w` (shrunk at the ends).
-pub fn running_median(x: &[f64], w: usize) -> Vec<f64> {
+pub(crate) fn running_median(x: &[f64], w: usize) -> Vec<f64> {
     let h = w / 2;
     let n = x.len();
     (0..n)
@@ -79,7 +79,7 @@ pub fn acf(x: &[f64], max_lag: usize) -> Vec<f64> {
 /// Sample cross-correlation `r_xy(k) = Σ_t x̃(t) ỹ(t + k) / (N σ_x σ_y)` for
 /// `k = −max_lag … max_lag` (index `k + max_lag`). Positive `k`: `y` follows `x` by `k`
 /// samples (for `x` an input and `y` a residual, an effect of the input `k` samples later).
-pub fn ccf(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
+pub(crate) fn ccf(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
     let n = x.len().min(y.len());
     let (mx, my) = (mean(&x[..n]), mean(&y[..n]));
     let sx: f64 = x[..n].iter().map(|v| (v - mx) * (v - mx)).sum::<f64>();
@@ -105,7 +105,7 @@ pub fn ccf(x: &[f64], y: &[f64], max_lag: usize) -> Vec<f64> {
 
 /// Standard deviation of a sample cross-correlation between two independent series with
 /// autocorrelations `ra`, `rb` (Bartlett): `√((1 + 2 Σ_k ρ_a(k) ρ_b(k)) / N)`.
-pub fn ccf_sigma(ra: &[f64], rb: &[f64], n: usize) -> f64 {
+pub(crate) fn ccf_sigma(ra: &[f64], rb: &[f64], n: usize) -> f64 {
     let s: f64 = ra.iter().zip(rb).skip(1).map(|(a, b)| a * b).sum();
     ((1.0 + 2.0 * s).max(0.2) / n.max(1) as f64).sqrt()
 }
@@ -167,7 +167,7 @@ pub fn poisson_sf(k: usize, lambda: f64) -> f64 {
 
 /// Long-run variance of the mean of `x` (Newey–West, Bartlett weights up to `lags`):
 /// `Var(x̄) ≈ (γ0 + 2 Σ_k (1 − k/(L+1)) γ_k) / N`.
-pub fn newey_west_var_of_mean(x: &[f64], lags: usize) -> f64 {
+pub(crate) fn newey_west_var_of_mean(x: &[f64], lags: usize) -> f64 {
     let n = x.len();
     if n == 0 {
         return f64::NAN;
@@ -188,7 +188,7 @@ pub fn newey_west_var_of_mean(x: &[f64], lags: usize) -> f64 {
 
 /// Non-negative least squares `min ‖X β − y‖, β_i ≥ 0 for i ≥ free` (the first `free`
 /// coefficients are unconstrained): Lawson–Hanson active set on the normal equations.
-pub fn nnls(x: &DMatrix<f64>, y: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
+pub(crate) fn nnls(x: &DMatrix<f64>, y: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
     if x.nrows() != y.len() || x.iter().chain(y.iter()).any(|v| !v.is_finite()) {
         return None;
     }
@@ -196,7 +196,7 @@ pub fn nnls(x: &DMatrix<f64>, y: &DVector<f64>, free: usize) -> Option<DVector<f
 }
 
 /// [`nnls`] from the Gram matrix `XᵀX` and `Xᵀy`.
-pub fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
+pub(crate) fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVector<f64>> {
     let p = g.ncols();
     let mut passive = vec![false; p];
     for v in passive.iter_mut().take(free) {
@@ -255,7 +255,7 @@ pub fn nnls_gram(g: &DMatrix<f64>, b: &DVector<f64>, free: usize) -> Option<DVec
 }
 
 /// In-place radix-2 FFT of `(re, im)` pairs; the length must be a power of two.
-pub fn fft(data: &mut [(f64, f64)]) {
+pub(crate) fn fft(data: &mut [(f64, f64)]) {
     let n = data.len();
     if n < 2 || !n.is_power_of_two() {
         return;
@@ -292,7 +292,7 @@ pub fn fft(data: &mut [(f64, f64)]) {
 /// Hann-windowed periodogram of `x` (mean removed), zero-padded to a power of two at least
 /// twice the length: `(ω, I(ω))` for `0 < ω < π` in radians per sample. The window's power is
 /// normalised so that white noise of variance σ² has `E I(ω) = σ²`.
-pub fn periodogram(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn periodogram(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = x.len();
     if n < 4 {
         return (Vec::new(), Vec::new());
@@ -318,7 +318,7 @@ pub fn periodogram(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Excess kurtosis `m4 / m2² − 3`.
-pub fn excess_kurtosis(x: &[f64]) -> f64 {
+pub(crate) fn excess_kurtosis(x: &[f64]) -> f64 {
     let m = mean(x);
     let m2 = x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / x.len().max(1) as f64;
     let m4 = x.iter().map(|v| (v - m).powi(4)).sum::<f64>() / x.len().max(1) as f64;

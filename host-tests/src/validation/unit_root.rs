@@ -25,7 +25,7 @@ use super::arx::{continuous_rows, fit, lagged, rss};
 use crate::numerics::select::{Criterion, best};
 
 /// Dickey–Fuller's 1 % critical value of `τ` for the regression with a constant (asymptotic).
-pub const CRITICAL_1PCT: f64 = -3.43;
+pub(crate) const CRITICAL_1PCT: f64 = -3.43;
 
 /// The test's result.
 #[derive(Clone, Copy, Debug, PartialEq)]

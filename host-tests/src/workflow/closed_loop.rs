@@ -8,7 +8,7 @@ use crate::identify::HostModel;
 use crate::model::Record;
 
 /// The estimator, in words.
-pub const ESTIMATOR: &str =
+pub(crate) const ESTIMATOR: &str =
     "closed-loop subspace (PI-MOESP on instruments from the reference column), not refined";
 
 /// Replaces the open-loop model of `best` by the closed-loop estimate with the record's

@@ -17,7 +17,7 @@ use crate::table1::{Runs, count_runs, end_tolerance};
 
 /// Whether to fit the element, and the note that says why.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Decision {
+pub(crate) struct Decision {
     /// Fit it.
     pub run: bool,
     /// Why, when the input asked for it.
@@ -40,7 +40,7 @@ pub fn applies(request: &IdentifyRequest) -> bool {
 }
 
 /// Whether to run the fit on `record` (the record as identified).
-pub fn decide(request: &IdentifyRequest, record: &Record) -> Decision {
+pub(crate) fn decide(request: &IdentifyRequest, record: &Record) -> Decision {
     let none = Decision {
         run: false,
         note: None,

@@ -173,7 +173,7 @@ pub fn identify_record(
 }
 
 /// The sample a core error names, if any.
-pub fn sample_index(e: &IdentifyError) -> Option<usize> {
+pub(crate) fn sample_index(e: &IdentifyError) -> Option<usize> {
     match e {
         IdentifyError::Core(
             hsid::Error::NonFinite { index, .. }

@@ -23,7 +23,7 @@ impl Identified {
 
     /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, the gap of
     /// the borders (input units) and the loop height (output units); `None` without a fit.
-    pub fn element_in_units(&self) -> Option<UnitReport> {
+    pub(crate) fn element_in_units(&self) -> Option<UnitReport> {
         let fit = self.element.as_ref()?;
         let host = fit.model.to_host(self.record.len());
         let r = &self.record;
@@ -100,7 +100,7 @@ impl Identified {
 
 /// The fitted element: `G`, its poles, `w(−1)`, the borders and the gap, with standard
 /// deviations where the data determine them.
-pub fn element_text(fit: &HysteresisFit) -> Vec<String> {
+pub(crate) fn element_text(fit: &HysteresisFit) -> Vec<String> {
     let m = &fit.model;
     let u = fit.uncertainty.as_ref();
     let list = |v: &[f64]| {

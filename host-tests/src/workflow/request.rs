@@ -389,7 +389,7 @@ impl IdentifyRequest {
 
     /// Checks what depends on the record: the element's fit and the closed-loop estimate on
     /// one experiment, the reference present, the first experiment longer than the hold.
-    pub fn check_record(&self, record: &crate::model::Record) -> Result<(), RequestError> {
+    pub(crate) fn check_record(&self, record: &crate::model::Record) -> Result<(), RequestError> {
         let s = self.syntax;
         let experiments = record.starts.len();
         if let Some(name) = &self.reference {

@@ -16,7 +16,7 @@ pub fn compare(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
 
 /// [`compare`] on the samples that neither model excludes: for two settings of the same
 /// extension, whose outliers differ, so that neither wins by leaving out what the other keeps.
-pub fn compare_common(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
+pub(crate) fn compare_common(base: &Evaluation, cand: &Evaluation) -> (f64, f64) {
     let (mut lb, mut lc) = (base.losses(), cand.losses());
     for (b, c) in lb.iter_mut().zip(lc.iter_mut()) {
         if b.is_none() || c.is_none() {

@@ -82,7 +82,7 @@ impl Effect {
     }
 
     /// The residual tests that point at this effect (at least one must fire).
-    pub fn evidence_tests(self) -> &'static [Test] {
+    pub(crate) fn evidence_tests(self) -> &'static [Test] {
         match self {
             Effect::OffsetDrift => &[Test::Trend],
             Effect::InputDelay => &[
@@ -152,7 +152,7 @@ impl Effect {
     }
 
     /// Rough count of parameters the extension adds (ties go to the simpler one).
-    pub fn complexity(self, s: &Structure, base_order: usize) -> f64 {
+    pub(crate) fn complexity(self, s: &Structure, base_order: usize) -> f64 {
         match self {
             Effect::InputDelay => 1.0,
             Effect::OffsetDrift => {
@@ -174,7 +174,7 @@ impl Effect {
     }
 
     /// Whether structure `s` already has the effect.
-    pub fn is_in(self, s: &Structure) -> bool {
+    pub(crate) fn is_in(self, s: &Structure) -> bool {
         match self {
             Effect::OffsetDrift => s.trend_degree.is_some(),
             Effect::InputDelay => s.delay > 0,

@@ -95,7 +95,7 @@ impl<'a> Holdout<'a> {
     }
 
     /// Leave-block-out cross-validation over the blocks `ranges` (at least one).
-    pub fn with_folds(
+    pub(crate) fn with_folds(
         est: &'a Record,
         ranges: Vec<std::ops::Range<usize>>,
         opts: &'a FitOptions,
@@ -150,7 +150,7 @@ impl<'a> Holdout<'a> {
     /// The structure fitted on every fold's fitting part and scored on its block (pooled); the
     /// model is the first fold's. `None` when a fold's model has a mode too slow to be
     /// validated (see [`too_slow`]) and `check_slow` is set.
-    pub fn evaluate_folds(
+    pub(crate) fn evaluate_folds(
         &self,
         s: &Structure,
         metric: Metric,

@@ -45,7 +45,7 @@ impl Proposal<'_> {
 
     /// Scores every setting (given in increasing complexity) on the inner hold-out and keeps
     /// the simplest whose RMSE is within 0.5 % of the best.
-    pub fn best_of(
+    pub(crate) fn best_of(
         &self,
         effect: Effect,
         options: Vec<(String, Structure)>,

@@ -93,7 +93,7 @@ impl BorderBasis {
     }
 
     /// The unknowns of a model (`x0` for an estimated initial state).
-    pub fn unknowns(&self, m: &HostModel, x0: &[f64]) -> Vec<f64> {
+    pub(crate) fn unknowns(&self, m: &HostModel, x0: &[f64]) -> Vec<f64> {
         let mut b = vec![m.mu0];
         b.extend(m.border_asc.iter().skip(1));
         if !self.shared {

@@ -41,7 +41,7 @@ pub struct Evaluation {
 
 impl Evaluation {
     /// Squared errors over the scored range (`None` at excluded samples).
-    pub fn losses(&self) -> Vec<Option<f64>> {
+    pub(crate) fn losses(&self) -> Vec<Option<f64>> {
         self.residual
             .iter()
             .zip(&self.excluded)

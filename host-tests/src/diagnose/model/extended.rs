@@ -39,7 +39,7 @@ pub struct ExtendedModel {
 
 impl ExtendedModel {
     /// Output of the Hammerstein part (delay included) for an input record.
-    pub fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
+    pub(crate) fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);
         if let Some(el) = &self.hysteresis {
             return crate::hysteresis::simulate::simulate(el, &ud);
@@ -55,7 +55,7 @@ impl ExtendedModel {
     /// validated: a pole at `1 − 1/(2n)` or beyond has a time constant over twice the record
     /// and acts as a drift the data cannot tell from one (see
     /// [`too_slow`](crate::diagnose::effects::too_slow)).
-    pub fn validatable_radius(n: usize) -> f64 {
+    pub(crate) fn validatable_radius(n: usize) -> f64 {
         1.0 - 0.5 / n.max(4) as f64
     }
 

@@ -39,10 +39,10 @@ use crate::identify::HostModel;
 use crate::numerics::lm::{Settings, levenberg_marquardt};
 
 /// Sub-steps per sample of the store equations.
-pub const SUBSTEPS: usize = 4;
+pub(crate) const SUBSTEPS: usize = 4;
 
 /// Levenberg–Marquardt iterations per start.
-pub const ITERATIONS: usize = 100;
+pub(crate) const ITERATIONS: usize = 100;
 
 /// Bounds on the outflow exponents `α`.
 pub const EXPONENT_RANGE: (f64, f64) = (0.2, 3.0);
@@ -150,7 +150,8 @@ impl Stores {
 
     /// The steady output (before the output map) for a constant `h`, from the store balance
     /// (unique: every outflow increases with its level).
-    pub fn steady_output(&self, h: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn steady_output(&self, h: f64) -> f64 {
         let inflow = (h + self.inflow_offset).max(0.0);
         let level = |q: f64, i: usize| (q / self.k[i]).powf(1.0 / self.alpha[i]);
         let free = level(inflow, 0);
@@ -190,7 +191,7 @@ impl HostModel {
     /// The cascade forms the fit starts from: the model's poles if real; a complex pair
     /// `re ± j·im` (stores do not oscillate) starts as the real pair `re ± |im|`, and whether the
     /// stores then fit is for the validation to judge.
-    pub fn start_cascades(&self) -> Result<[Cascade; 2], DynamicsError> {
+    pub(crate) fn start_cascades(&self) -> Result<[Cascade; 2], DynamicsError> {
         let poles = self.poles();
         if self.order != 2 || poles.len() != 2 {
             return Err(DynamicsError::NotOrderTwo { order: self.order });

@@ -5,7 +5,7 @@ use super::warning::{Check, Warning, warn};
 use crate::validation::residual::regressor;
 
 /// Knot segments with too few samples.
-pub fn path_coverage(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
+pub(crate) fn path_coverage(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let shared = s.shared();
     // Both paths over the whole interval.

@@ -7,7 +7,7 @@ use super::warning::{Check, Warning, warn};
 use crate::validation::residual::regressor;
 
 /// The regressor's block-Toeplitz Gram, checked for rank and condition.
-pub fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
+pub(crate) fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let shared = s.shared();
     // Persistent excitation of order (f + p)·m of the regressor.

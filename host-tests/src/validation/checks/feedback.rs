@@ -25,7 +25,7 @@ use crate::validation::residual::result::LEVEL;
 use crate::validation::stats::chi2_quantile;
 
 /// Past residuals tested, `K`.
-pub const LAGS: usize = 10;
+pub(crate) const LAGS: usize = 10;
 
 /// The feedback test's outcome.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,7 +146,7 @@ pub fn feedback(
 
 /// The simulated output `ŷ` and the residual `y − ŷ` of the open-loop identification of
 /// `(u, y)` with `opts`, simulated from rest at `u_min`, after the hold (`opts.hold` samples).
-pub fn open_loop_residual(
+pub(crate) fn open_loop_residual(
     u: &[f64],
     y: &[f64],
     opts: &IdentifyOptions,

@@ -3,7 +3,7 @@
 use super::warning::{Check, Warning, warn};
 
 /// An input with at most 40 distinct values, each held for 20 samples on average or more.
-pub fn input_levels(ex: &[f64]) -> Vec<Warning> {
+pub(crate) fn input_levels(ex: &[f64]) -> Vec<Warning> {
     let mut out = Vec::new();
     // Piecewise-constant input with few levels.
     let mut levels = ex.to_vec();

@@ -17,7 +17,7 @@ pub use setup::CheckSetup;
 pub use warning::{Check, Warning, warn};
 
 /// Runs all checks on an estimation record (`u` and `y` of one length).
-pub fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
+pub(crate) fn check_data(u: &[f64], y: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let n = u.len();
     if n < 10 {
         return Vec::new();

@@ -17,7 +17,7 @@ pub struct Saturation {
 
 impl Saturation {
     /// Whether `y` sits at a saturation level.
-    pub fn at_limit(&self, y: f64) -> bool {
+    pub(crate) fn at_limit(&self, y: f64) -> bool {
         self.ceiling.is_some_and(|c| y >= c - self.tolerance)
             || self.floor.is_some_and(|f| y <= f + self.tolerance)
     }
@@ -49,7 +49,7 @@ pub fn saturation(y: &[f64]) -> Saturation {
 }
 
 /// An output that sits at an extreme, or takes values on a grid only.
-pub fn output_sensor(y: &[f64]) -> Vec<Warning> {
+pub(crate) fn output_sensor(y: &[f64]) -> Vec<Warning> {
     let mut out = Vec::new();
     let n = y.len();
     // Output saturation and quantisation.

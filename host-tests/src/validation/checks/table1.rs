@@ -9,7 +9,7 @@ use crate::table1::{Runs, count_runs};
 /// Runs that do not start at an end of the interval (backlash and switch only). `ex` is the
 /// record from the last sample of the hold on (the whole record without a hold), so that the
 /// first run's start is a sample of the record.
-pub fn table1_structure(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
+pub(crate) fn table1_structure(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let (u_min, u_max, tol) = s.interval();
     if s.kind != Element::Static {

@@ -6,7 +6,7 @@ use crate::validation::stats::{acf, ccf, ccf_sigma, mean, normal_quantile};
 
 /// The input, direction and regressor correlation tests on `inp` (autocorrelation `rho` of the
 /// residual up to lag `k`), into `set` with their curves and strongest lags.
-pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSet) {
+pub(crate) fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSet) {
     let r = inp.residual;
     let z99 = normal_quantile(1.0 - LEVEL / 2.0);
     // Cross-correlations.
@@ -75,7 +75,7 @@ pub fn correlations(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSe
 /// Prewhitening (Box–Jenkins): an AR model of the input (order by BIC, at most 10) filters
 /// both the input and the residual, so that the cross-correlation of the filtered pair is
 /// that of a white input, with bounds near `±2.58/√N` and its peak at the input's delay.
-pub fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let m = mean(x);
     let xc: Vec<f64> = x.iter().map(|v| v - m).collect();
     let Some(p) = crate::validation::noise::ar_order_bic(&xc, 10) else {
@@ -101,7 +101,7 @@ pub fn prewhiten(x: &[f64], r: &[f64]) -> (Vec<f64>, Vec<f64>) {
 
 /// Largest normalised cross-correlation over lags, after prewhitening the input;
 /// `(stat, lag, values, bounds)`.
-pub fn xcorr_test(
+pub(crate) fn xcorr_test(
     x: &[f64],
     r: &[f64],
     _rho_r: &[f64],

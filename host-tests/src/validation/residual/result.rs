@@ -178,6 +178,6 @@ pub fn result(name: Test, statistic: f64, threshold: f64, p: f64, detail: String
 }
 
 /// Bonferroni p-value of the largest of `m` two-sided normal statistics.
-pub fn max_normal_p(stat: f64, m: usize) -> f64 {
+pub(crate) fn max_normal_p(stat: f64, m: usize) -> f64 {
     (2.0 * normal_sf(stat) * m as f64).min(1.0)
 }

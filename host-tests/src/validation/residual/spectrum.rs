@@ -4,7 +4,7 @@ use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
 use crate::validation::stats::{periodogram, running_median};
 
 /// The spectral line test on `inp`, into `set` with the periodogram curves.
-pub fn spectral_line(inp: &ResidualInput, set: &mut TestSet) {
+pub(crate) fn spectral_line(inp: &ResidualInput, set: &mut TestSet) {
     let r = inp.residual;
     let n = r.len();
     // Spectral lines not shared with the input.
@@ -58,7 +58,7 @@ pub fn spectral_line(inp: &ResidualInput, set: &mut TestSet) {
 }
 
 /// Local-median spectral line test on the periodogram: `(ratio, index, median curve)`.
-pub fn line_scan(power: &[f64], exclude: &[bool]) -> (f64, usize, Vec<f64>) {
+pub(crate) fn line_scan(power: &[f64], exclude: &[bool]) -> (f64, usize, Vec<f64>) {
     let m = power.len();
     let w = (m / 20).clamp(16, 128);
     let med: Vec<f64> = running_median(power, 2 * w + 1);

@@ -29,7 +29,7 @@ pub fn state_dependence(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut Te
 
 /// `(ŷ − ȳ)·Δŷ` with its least-squares fit on `1, ŷ, Δŷ` removed; `None` for a constant
 /// simulated output.
-pub fn level_times_increment(sim: &[f64]) -> Option<Vec<f64>> {
+pub(crate) fn level_times_increment(sim: &[f64]) -> Option<Vec<f64>> {
     let n = sim.len();
     if n < 10 {
         return None;

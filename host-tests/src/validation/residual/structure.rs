@@ -56,7 +56,12 @@ pub fn structure(inp: &ResidualInput, rho: &[f64], set: &mut TestSet) {
 }
 
 /// Variance-corrected binned means test: `(chi2, df)` or `None` with fewer than two bins.
-pub fn binned_test(r: &[f64], bins: &[usize], count: usize, rho: &[f64]) -> Option<(f64, usize)> {
+pub(crate) fn binned_test(
+    r: &[f64],
+    bins: &[usize],
+    count: usize,
+    rho: &[f64],
+) -> Option<(f64, usize)> {
     let n = r.len();
     let var = crate::validation::stats::variance(r);
     let m = mean(r);

@@ -4,7 +4,7 @@ use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
 use crate::validation::stats::{excess_kurtosis, mad_sigma, poisson_sf};
 
 /// The heavy tails test on `inp`, into `set`.
-pub fn heavy_tails(inp: &ResidualInput, set: &mut TestSet) {
+pub(crate) fn heavy_tails(inp: &ResidualInput, set: &mut TestSet) {
     let r = inp.residual;
     let n = r.len();
     // Heavy tails: samples beyond 5 robust standard deviations of the median (for Gaussian

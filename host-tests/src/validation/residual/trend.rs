@@ -4,7 +4,7 @@ use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
 use crate::validation::stats::{mean, newey_west_var_of_mean, normal_quantile, normal_sf};
 
 /// The trend and offset test on `inp`, into `set`.
-pub fn trend(inp: &ResidualInput, set: &mut TestSet) {
+pub(crate) fn trend(inp: &ResidualInput, set: &mut TestSet) {
     let r = inp.residual;
     let n = r.len();
     // Trend and offset, Newey–West.

@@ -4,7 +4,7 @@ use super::result::{LEVEL, ResidualInput, Test, TestSet, result};
 use crate::validation::stats::{chi2_quantile, chi2_sf, normal_quantile};
 
 /// The Ljung–Box whiteness test over `k` lags of `rho`, into `set` with the autocorrelation.
-pub fn whiteness(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSet) {
+pub(crate) fn whiteness(inp: &ResidualInput, rho: &[f64], k: usize, set: &mut TestSet) {
     let r = inp.residual;
     let n = r.len();
     let z99 = normal_quantile(1.0 - LEVEL / 2.0);
