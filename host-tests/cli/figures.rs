@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::figures::{
-    FigureSettings, RecordView, TrueBorders, Uncertainty, Written, write_figures, write_identified,
+    FigureSettings, RecordView, TrueBorders, UncertaintySource, Written, write_figures,
+    write_identified,
 };
 use hsid_host::identify::HostModel;
 use hsid_host::model_file::{ModelFile, Units};
@@ -98,7 +99,13 @@ pub fn validate(
     };
     let settings = settings(a, file.sample_time, file.units.as_ref(), model)?;
     let record = RecordView { u, y, skip };
-    let written = write_figures(dir, model, &record, Uncertainty::from_file(file), &settings);
+    let written = write_figures(
+        dir,
+        model,
+        &record,
+        UncertaintySource::from_file(file),
+        &settings,
+    );
     for line in lines(dir, written)? {
         outln!("{line}")?;
     }

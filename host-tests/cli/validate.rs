@@ -5,7 +5,9 @@ use hsid_host::model::Element;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use hsid_host::figures::{FigureSettings, RecordView, Uncertainty, write_element_model_figures};
+use hsid_host::figures::{
+    FigureSettings, RecordView, UncertaintySource, write_element_model_figures,
+};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
@@ -240,7 +242,7 @@ fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failur
             figures::of_model(
                 s.model,
                 &s.record,
-                Uncertainty::from_file(s.file),
+                UncertaintySource::from_file(s.file),
                 &settings,
             ),
         ),

@@ -11,9 +11,9 @@ use hsid_host::model::Element;
 use std::path::Path;
 
 use common::{Scratch, classes, has, hsid, identify, p};
-use hsid_host::choose::{self, Best, Choices, Estimator, Segments, best_model};
+use hsid_host::choose::{self, Best, Choices, ModelStage, Segments, best_model};
 use hsid_host::figures::{
-    FigureError, FigureSettings, RecordView, TrueBorders, Uncertainty, write_figures,
+    FigureError, FigureSettings, RecordView, TrueBorders, UncertaintySource, write_figures,
 };
 use hsid_host::identify::{HostModel, IdentifyOptions};
 use hsid_host::io::read_columns;
@@ -56,7 +56,7 @@ fn refined(u: &[f64], y: &[f64]) -> Best {
     let choices = Choices {
         segments: Segments::Given,
         horizons: choose::Horizons::Given,
-        estimator: Estimator::Refined,
+        estimator: ModelStage::Refined,
         ..Choices::default()
     };
     best_model(u, y, &opts, &choices).unwrap()
@@ -98,8 +98,14 @@ fn refined_model_figures_hold_the_model_and_its_uncertainty() {
         y: &y,
         skip: HOLD,
     };
-    let written =
-        write_figures(&out, m, &record, Some(Uncertainty::Refined(fit)), &settings).unwrap();
+    let written = write_figures(
+        &out,
+        m,
+        &record,
+        Some(UncertaintySource::Refined(fit)),
+        &settings,
+    )
+    .unwrap();
     assert!(written.notes.is_empty(), "{:?}", written.notes);
     assert_eq!(written.files.len(), 18, "{:?}", written.files);
     let f = |name: &str| out.join(name);
@@ -295,7 +301,7 @@ fn a_model_file_gives_bands_of_borders_and_poles_but_not_of_the_bode_plot() {
         y: &y,
         skip: HOLD,
     };
-    let unc = Uncertainty::from_file(&file);
+    let unc = UncertaintySource::from_file(&file);
     let written = write_figures(
         &dir.join("f"),
         &HostModel::from_json(&file),

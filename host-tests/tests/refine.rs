@@ -14,8 +14,8 @@ use hsid_host::refine::Unstable;
 use hsid_host::refine::bilinear::split;
 use hsid_host::refine::knots::{Criterion, SegmentCount, select_segments};
 use hsid_host::refine::pem::{
-    BURN_IN, Feedthrough, InitialState, PemOptions, Problem, Structure, feedthrough_std, minimise,
-    refine,
+    BURN_IN, Feedthrough, PemInitialState, PemOptions, PemProblem, PemStructure, feedthrough_std,
+    minimise, refine,
 };
 use hsid_host::refine::poly::{
     char_poly, from_roots, observer_form, root_sensitivity, roots, spectral_radius, stabilise,
@@ -194,8 +194,8 @@ fn hat_regressors_reproduce_the_piecewise_linear_borders() {
 // The prediction-error problem
 // ---------------------------------------------------------------------------------------------
 
-fn structure(nv: usize, initial: InitialState, feedthrough: bool) -> Structure {
-    Structure {
+fn structure(nv: usize, initial: PemInitialState, feedthrough: bool) -> PemStructure {
+    PemStructure {
         n: 2,
         nv,
         initial,
@@ -207,7 +207,7 @@ fn structure(nv: usize, initial: InitialState, feedthrough: bool) -> Structure {
 }
 
 /// θ of the true system (PWL borders) in a problem's layout.
-fn true_theta(p: &Problem, beta: &[f64]) -> Vec<f64> {
+fn true_theta(p: &PemProblem, beta: &[f64]) -> Vec<f64> {
     let l = p.layout();
     let mut th = vec![0.0; l.len()];
     th[l.f()].copy_from_slice(&paper_plant().den()[1..]);
@@ -233,8 +233,11 @@ fn analytic_jacobian_matches_finite_differences() {
         d: vec![1.0, -0.8, 0.05],
         sigma2: 1.0,
     };
-    for (ft, ini) in [(true, InitialState::Rest), (false, InitialState::Estimate)] {
-        let p = Problem::new(
+    for (ft, ini) in [
+        (true, PemInitialState::Rest),
+        (false, PemInitialState::Estimate),
+    ] {
+        let p = PemProblem::new(
             &e.u,
             &e.y,
             &opts.knots_asc,
@@ -318,12 +321,12 @@ fn minimiser_finds_the_same_optimum_from_the_truth_and_from_the_subspace_model()
         ..PemOptions::for_identify(&opts)
     };
     let fit = refine(&u, &y, &init, &po).unwrap();
-    let p = Problem::new(
+    let p = PemProblem::new(
         &u,
         &y,
         &opts.knots_asc,
         &opts.knots_desc,
-        structure(1, InitialState::Rest, false),
+        structure(1, PemInitialState::Rest, false),
     )
     .unwrap();
     let (th, ev, _) = minimise(&p, true_theta(&p, &beta), 200, 1e-12).unwrap();
@@ -354,12 +357,12 @@ fn typed_errors_for_bad_starts_and_bad_data() {
     );
     assert!(err.to_string().contains("unstable predictor"), "{err}");
     // An unstable predictor (noise numerator) given to the minimiser.
-    let p = Problem::new(
+    let p = PemProblem::new(
         &e.u,
         &e.y,
         &opts.knots_asc,
         &opts.knots_desc,
-        structure(1, InitialState::Rest, true),
+        structure(1, PemInitialState::Rest, true),
     )
     .unwrap();
     let noise = NoiseModel {
@@ -714,7 +717,7 @@ fn refinement_without_a_hold_estimates_mu0_and_the_initial_state() {
     let e = experiment(Case::Backlash, &cfg, 0).unwrap();
     let init = identify(&e.u, &e.y, &opts).unwrap();
     let po = PemOptions::for_identify(&opts);
-    assert_eq!(po.initial, InitialState::Estimate);
+    assert_eq!(po.initial, PemInitialState::Estimate);
     let fit = refine(&e.u, &e.y, &init, &po).unwrap();
     let up = upper_pole(&fit).unwrap();
     assert!(close(up.pole.0, TRUE_POLE.0, 4.0 * up.std.0), "{up:?}");

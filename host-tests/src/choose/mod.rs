@@ -56,7 +56,7 @@ pub enum Segments {
     /// As given in the identification options.
     Given,
     /// Uniform, this many segments per path, the count with the smallest criterion of the
-    /// refined model ([`Estimator::Refined`] only; the subspace estimator keeps the given knots).
+    /// refined model ([`ModelStage::Refined`] only; the subspace estimator keeps the given knots).
     FromData(Vec<usize>),
 }
 
@@ -65,9 +65,9 @@ pub enum Segments {
 /// error, so BIC adds segments only when the data resolve them).
 pub const SEGMENT_CANDIDATES: [usize; 3] = [7, 10, 14];
 
-/// The estimator.
+/// The stage of the estimation the model is taken from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Estimator {
+pub enum ModelStage {
     /// The paper's: the subspace model as it is.
     Subspace,
     /// The subspace model refined by the prediction-error method; without a fixed order, the
@@ -83,7 +83,7 @@ pub struct Choices {
     /// Horizons given or from the data.
     pub horizons: Horizons,
     /// Subspace only, or refined.
-    pub estimator: Estimator,
+    pub estimator: ModelStage,
     /// The criterion of the order choice.
     pub criterion: Criterion,
 }
@@ -95,7 +95,7 @@ impl Default for Choices {
         Self {
             segments: Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
             horizons: Horizons::FromData,
-            estimator: Estimator::Refined,
+            estimator: ModelStage::Refined,
             criterion: Criterion::Bic,
         }
     }
@@ -107,7 +107,7 @@ impl Choices {
         Self {
             segments: Segments::Given,
             horizons: Horizons::Given,
-            estimator: Estimator::Subspace,
+            estimator: ModelStage::Subspace,
             criterion: Criterion::Bic,
         }
     }
@@ -186,7 +186,7 @@ pub fn best_model(
     choices: &Choices,
 ) -> Result<Best, ChooseError> {
     let counts: &[usize] = match &choices.segments {
-        Segments::FromData(c) if choices.estimator == Estimator::Refined => c,
+        Segments::FromData(c) if choices.estimator == ModelStage::Refined => c,
         _ => &[],
     };
     // `None`: `base`'s own knots, the only candidate when the count is not chosen.
@@ -261,7 +261,7 @@ fn at_knots(
             break model;
         }
     };
-    if choices.estimator == Estimator::Subspace {
+    if choices.estimator == ModelStage::Subspace {
         return Ok(Best {
             model,
             options: opts,

@@ -15,4 +15,4 @@ pub use error::ReferenceError;
 pub use estimator::Estimator;
 pub use record::identify_closed_loop;
 pub use reference_iv::identify_with_reference;
-pub use simulate::{Servo, ServoError, ServoSpec, simulate_servo};
+pub use simulate::{LoopRecord, ServoError, ServoSpec, simulate_servo};

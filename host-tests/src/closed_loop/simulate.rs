@@ -155,7 +155,7 @@ pub enum ServoError {
 
 /// One closed-loop record.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Servo {
+pub struct LoopRecord {
     /// Reference `r(t)` (0 during the hold).
     pub r: Vec<f64>,
     /// Input `u(t)` applied to the element.
@@ -165,7 +165,7 @@ pub struct Servo {
 }
 
 /// Simulates the servo of `spec` with the random stream of `seed` (reference and noise).
-pub fn simulate_servo(spec: &ServoSpec, seed: u64) -> Result<Servo, ServoError> {
+pub fn simulate_servo(spec: &ServoSpec, seed: u64) -> Result<LoopRecord, ServoError> {
     spec.check()?;
     let mut rng = Pcg64::seed_from_u64(seed);
     let n = spec.hold + spec.len;
@@ -176,7 +176,7 @@ pub fn simulate_servo(spec: &ServoSpec, seed: u64) -> Result<Servo, ServoError> 
     let mut g = paper_plant();
     let mut gv = Lti::new(vec![1.0, 0.5], vec![1.0, -spec.noise_pole])
         .map_err(|_| ServoError::NoisePole(spec.noise_pole))?;
-    let mut servo = Servo {
+    let mut servo = LoopRecord {
         r: Vec::with_capacity(n),
         u: Vec::with_capacity(n),
         y: Vec::with_capacity(n),

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::{
-    FigureError, FigureSettings, RecordView, Uncertainty, Written, write_element_figures,
+    FigureError, FigureSettings, RecordView, UncertaintySource, Written, write_element_figures,
     write_figures,
 };
 use crate::model::Record;
@@ -34,7 +34,7 @@ pub fn write_identified(
         None => {
             let best = &id.best;
             let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
-            let uncertainty = best.fit.as_ref().map(Uncertainty::Refined);
+            let uncertainty = best.fit.as_ref().map(UncertaintySource::Refined);
             write_figures(dir, model, &view, uncertainty, settings)
         }
     }

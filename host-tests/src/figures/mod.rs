@@ -47,7 +47,7 @@ pub use error::FigureError;
 pub use identified::write_identified;
 pub use partial::{MIN_ENERGY, departures};
 pub use settings::{FigureSettings, TrueBorders};
-pub use uncertainty::Uncertainty;
+pub use uncertainty::UncertaintySource;
 
 use crate::identify::HostModel;
 
@@ -80,7 +80,7 @@ struct Context<'a> {
     record: RecordView<'a>,
     simulated: Vec<f64>,
     settings: &'a FigureSettings,
-    uncertainty: Option<Uncertainty<'a>>,
+    uncertainty: Option<UncertaintySource<'a>>,
 }
 
 /// The settings' sample time, and a record of equal lengths with two samples after the skip.
@@ -98,7 +98,7 @@ pub fn write_figures(
     dir: &Path,
     model: &HostModel,
     record: &RecordView<'_>,
-    uncertainty: Option<Uncertainty<'_>>,
+    uncertainty: Option<UncertaintySource<'_>>,
     settings: &FigureSettings,
 ) -> Result<Written, FigureError> {
     check_record(record, settings)?;

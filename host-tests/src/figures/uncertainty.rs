@@ -14,7 +14,7 @@ pub(crate) type Cov2 = [[f64; 2]; 2];
 
 /// The source of a model's uncertainty.
 #[derive(Debug, Clone, Copy)]
-pub enum Uncertainty<'a> {
+pub enum UncertaintySource<'a> {
     /// A refined fit with its asymptotic parameter covariance `P = σ̂² (JᵀJ)⁻¹`: bands for the
     /// borders, the Bode magnitude and phase, and 2σ ellipses of the poles, all by first-order
     /// propagation of `P` (correlations included).
@@ -26,7 +26,7 @@ pub enum Uncertainty<'a> {
     Stored(&'a ModelFile),
 }
 
-impl<'a> Uncertainty<'a> {
+impl<'a> UncertaintySource<'a> {
     /// The stored standard deviations of a model file, if it has them.
     pub fn from_file(file: &'a ModelFile) -> Option<Self> {
         file.std.as_ref().map(|_| Self::Stored(file))

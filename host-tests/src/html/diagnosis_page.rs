@@ -5,7 +5,7 @@
 use super::advice::CHECKS;
 use super::checks::{data_rows, test_rows};
 use super::figures::drawn;
-use super::headline::{Fact, Headline, Table};
+use super::headline::{Fact, Headline, TextTable};
 use super::model_words::{model_facts, sentence};
 use super::{HtmlError, InlineFigure, Page, Reproduction};
 use crate::diagnose::{Check, Diagnosis, Evaluation, figures};
@@ -27,7 +27,7 @@ fn row(name: String, e: &Evaluation) -> Vec<String> {
 }
 
 /// The validation error of each model along the diagnosis.
-fn before_after(d: &Diagnosis) -> Table {
+fn before_after(d: &Diagnosis) -> TextTable {
     let mut rows = Vec::new();
     if let Some(p) = &d.paper {
         rows.push(row("the paper's estimate alone (subspace)".into(), p));
@@ -48,7 +48,7 @@ fn before_after(d: &Diagnosis) -> Table {
             p,
         ));
     }
-    Table {
+    TextTable {
         caption: format!(
             "Validation error on {} samples before and after each step (RMSE in output units; \
              NRMSE = RMSE / std of y; fit = 100 (1 − NRMSE)):",

@@ -81,7 +81,7 @@ pub(crate) fn drawn_captioned(
 pub fn of_model(
     model: &crate::identify::HostModel,
     record: &crate::figures::RecordView<'_>,
-    uncertainty: Option<crate::figures::Uncertainty<'_>>,
+    uncertainty: Option<crate::figures::UncertaintySource<'_>>,
     settings: &crate::figures::FigureSettings,
 ) -> Result<Vec<InlineFigure>, HtmlError> {
     drawn(|dir| {

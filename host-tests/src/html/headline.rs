@@ -26,7 +26,7 @@ impl Fact {
 
 /// A table of plain-text cells; cells that parse as numbers are aligned right.
 #[derive(Clone, Debug, PartialEq, Default)]
-pub struct Table {
+pub struct TextTable {
     /// The sentence above the table.
     pub caption: String,
     /// Column headings.
@@ -35,7 +35,7 @@ pub struct Table {
     pub rows: Vec<Vec<String>>,
 }
 
-impl Table {
+impl TextTable {
     /// The table as HTML; a table without header and rows is its caption alone.
     pub fn html(&self) -> String {
         let mut s = String::new();
@@ -79,7 +79,7 @@ pub struct Headline {
     /// The model and the fit, one value each.
     pub facts: Vec<Fact>,
     /// Further tables (before/after).
-    pub tables: Vec<Table>,
+    pub tables: Vec<TextTable>,
 }
 
 impl Headline {
@@ -114,7 +114,7 @@ mod tests {
 
     #[test]
     fn cells_are_escaped_and_numbers_aligned() {
-        let t = Table {
+        let t = TextTable {
             caption: "a <b> & c".into(),
             header: vec!["x".into(), "y".into()],
             rows: vec![vec!["1.5 ± 0.2".into(), "<i>".into()]],

@@ -39,7 +39,7 @@ use std::path::Path;
 pub use checks::CheckRow;
 pub use error::HtmlError;
 pub use figure::InlineFigure;
-pub use headline::{Fact, Headline, Table};
+pub use headline::{Fact, Headline, TextTable};
 pub use reproduce::Reproduction;
 
 /// Everything the page shows.

@@ -4,7 +4,7 @@
 //! command with its settings and output files. The records are simulated, so the page has no
 //! data checks.
 
-use super::headline::{Fact, Headline, Table};
+use super::headline::{Fact, Headline, TextTable};
 use super::printed::tables;
 use super::{InlineFigure, Page, Reproduction};
 use crate::paper::{CaseResult, PaperConfig, paper_table};
@@ -146,7 +146,7 @@ fn departures(c: &PaperConfig) -> Vec<&'static str> {
 }
 
 /// The paper's settings (Section IV) beside this run's.
-fn paper_beside_run(c: &PaperConfig, cases: &str) -> Table {
+fn paper_beside_run(c: &PaperConfig, cases: &str) -> TextTable {
     let row = |s: &str, paper: &str, run: String| vec![s.to_string(), paper.to_string(), run];
     let order = c
         .order
@@ -161,7 +161,7 @@ fn paper_beside_run(c: &PaperConfig, cases: &str) -> Table {
             c.hold, c.settle
         )
     };
-    Table {
+    TextTable {
         caption: "The paper's settings beside this run's:".to_string(),
         header: ["setting", "the paper (Section IV)", "this run"]
             .map(String::from)

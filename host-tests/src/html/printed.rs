@@ -1,12 +1,12 @@
 //! The tables a command prints (Markdown pipe tables between sentences) as page tables, cell
 //! for cell: the page shows the very strings the terminal showed, so the two cannot disagree.
 
-use super::headline::Table;
+use super::headline::TextTable;
 
 /// The blocks of `text` (separated by blank lines) as tables: a block of `|` lines is a table
 /// (its first line the header, a `|---|` line skipped), the sentences before it its caption;
 /// sentences after the last table become a caption-only table (a paragraph).
-pub fn tables(text: &str) -> Vec<Table> {
+pub fn tables(text: &str) -> Vec<TextTable> {
     let mut out = Vec::new();
     let mut caption: Vec<&str> = Vec::new();
     for block in text.split("\n\n") {
@@ -32,16 +32,16 @@ pub fn tables(text: &str) -> Vec<Table> {
         } else {
             rows.remove(0)
         };
-        out.push(Table {
+        out.push(TextTable {
             caption: std::mem::take(&mut caption).join(" "),
             header,
             rows,
         });
     }
     if !caption.is_empty() {
-        out.push(Table {
+        out.push(TextTable {
             caption: caption.join(" "),
-            ..Table::default()
+            ..TextTable::default()
         });
     }
     out

@@ -20,7 +20,7 @@ use nalgebra::DMatrix;
 
 use super::case::{Case, PaperConfig, case_system, experiment, options};
 use crate::refine::RefineError;
-use crate::refine::pem::{BURN_IN, InitialState, Problem, Structure};
+use crate::refine::pem::{BURN_IN, PemInitialState, PemProblem, PemStructure};
 use crate::refine::uncertainty::{PoleStd, pole_std};
 use crate::sim::{paper_noise_model, paper_plant, variance};
 
@@ -71,18 +71,18 @@ pub fn paper_crb(
     let mut b0 = 0usize;
     for r in 0..runs.max(1) {
         let e = experiment(case, cfg, r).map_err(|e| RefineError::Identify(e.to_string()))?;
-        let problem = Problem::new(
+        let problem = PemProblem::new(
             &e.u,
             &e.y,
             &opts.knots_asc,
             &opts.knots_desc,
-            Structure {
+            PemStructure {
                 n,
                 nv: 1,
                 initial: if cfg.hold > 0 {
-                    InitialState::Rest
+                    PemInitialState::Rest
                 } else {
-                    InitialState::Estimate
+                    PemInitialState::Estimate
                 },
                 start: cfg.settle.min(cfg.hold),
                 feedthrough,

@@ -33,7 +33,7 @@ pub mod signal;
 pub mod stochastic;
 pub mod uncertainty;
 
-pub use pem::{InitialState, PemFit, PemOptions, identify_pem, refine};
+pub use pem::{PemFit, PemInitialState, PemOptions, identify_pem, refine};
 pub use stochastic::NoiseOrder;
 pub use stochastic::{InnovationForm, NoiseModel};
 

@@ -14,7 +14,7 @@
 //!   with or without a hold);
 //! * the noise model `C(q)/D(q)` (ARMA, order from BIC on the starting residual or given);
 //! * optionally the initial plant state as the free response `I(q)/F(q)`, `deg I = n − 1`
-//!   ([`InitialState::Estimate`]); with [`InitialState::Rest`] the plant starts at rest at μ0
+//!   ([`PemInitialState::Estimate`]); with [`PemInitialState::Rest`] the plant starts at rest at μ0
 //!   at `t0` (after a settled hold).
 //!
 //! The one-step-ahead prediction error is `ε(t) = (D/C)(y − ŷ_det)`; its Jacobian is computed
@@ -45,7 +45,7 @@ pub use super::stochastic::NoiseOrder;
 
 /// How the plant's state at the first sample used is handled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InitialState {
+pub enum PemInitialState {
     /// At rest at μ0 (the record starts inside a settled hold at `u_min`).
     Rest,
     /// Estimated: `n` more parameters (any record).
@@ -58,7 +58,7 @@ pub struct PemOptions {
     /// Noise model order.
     pub noise_order: NoiseOrder,
     /// Initial plant state.
-    pub initial: InitialState,
+    pub initial: PemInitialState,
     /// First sample used (e.g. the end of the settling part of the hold).
     pub start: usize,
     /// Iteration limit.
@@ -88,7 +88,7 @@ impl Default for PemOptions {
     fn default() -> Self {
         Self {
             noise_order: NoiseOrder::default(),
-            initial: InitialState::Rest,
+            initial: PemInitialState::Rest,
             start: 0,
             max_iter: 100,
             tol: 1e-10,
@@ -110,13 +110,13 @@ impl PemOptions {
         if opts.hold > 0 {
             Self {
                 start: opts.settle.min(opts.hold),
-                initial: InitialState::Rest,
+                initial: PemInitialState::Rest,
                 ..base
             }
         } else {
             Self {
                 start: 0,
-                initial: InitialState::Estimate,
+                initial: PemInitialState::Estimate,
                 ..base
             }
         }
@@ -225,15 +225,15 @@ impl ParamLayout {
     }
 }
 
-/// The model structure of a [`Problem`].
+/// The model structure of a [`PemProblem`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Structure {
+pub struct PemStructure {
     /// Plant order `n`.
     pub n: usize,
     /// Noise model order (ARMA(nv, nv)).
     pub nv: usize,
     /// Initial plant state.
-    pub initial: InitialState,
+    pub initial: PemInitialState,
     /// First sample in the cost.
     pub start: usize,
     /// Direct feed-through `D` estimated (else `D = 0`).
@@ -255,7 +255,7 @@ pub const BURN_IN: usize = 50;
 
 /// A prediction-error problem: the data and the structure, without the parameters.
 #[derive(Clone, Debug)]
-pub struct Problem {
+pub struct PemProblem {
     layout: ParamLayout,
     hat: HatRegressors,
     /// Dense hat channels over `start..`.
@@ -268,7 +268,7 @@ pub struct Problem {
 
 /// Prediction errors and their Jacobian at one parameter vector.
 #[derive(Clone, Debug)]
-pub struct Evaluation {
+pub struct PemEvaluation {
     /// `ε(t)`, `t = start + burn …`.
     pub eps: Vec<f64>,
     /// `∂ε/∂θ` (`N × d`).
@@ -277,16 +277,16 @@ pub struct Evaluation {
     pub cost: f64,
 }
 
-impl Problem {
+impl PemProblem {
     /// Sets up the problem of structure `st` on `u`, `y` with the given knots.
     pub fn new(
         u: &[f64],
         y: &[f64],
         knots_asc: &[f64],
         knots_desc: &[f64],
-        st: Structure,
+        st: PemStructure,
     ) -> Result<Self, RefineError> {
-        let Structure {
+        let PemStructure {
             n,
             nv,
             initial,
@@ -312,7 +312,7 @@ impl Problem {
             n,
             channels: hat.channels(),
             nv,
-            init: initial == InitialState::Estimate,
+            init: initial == PemInitialState::Estimate,
             feedthrough,
             shared,
         };
@@ -420,7 +420,7 @@ impl Problem {
     }
 
     /// Prediction errors and the analytic Jacobian at `θ`.
-    pub fn evaluate(&self, th: &[f64]) -> Evaluation {
+    pub fn evaluate(&self, th: &[f64]) -> PemEvaluation {
         let l = self.layout;
         let p = l.polynomials(th);
         let len = self.y.len();
@@ -483,7 +483,7 @@ impl Problem {
                 jac[(t - burn, l.nc().start + i - 1)] = -b[t];
             }
         }
-        Evaluation { eps, jac, cost }
+        PemEvaluation { eps, jac, cost }
     }
 
     /// `θ` of a deterministic model and a noise model (initial-state coefficients 0).
@@ -609,14 +609,14 @@ impl PemFit {
 ///
 /// Returns `(θ, evaluation at θ, iterations)`.
 pub fn minimise(
-    problem: &Problem,
+    problem: &PemProblem,
     theta0: Vec<f64>,
     max_iter: usize,
     tol: f64,
-) -> Result<(Vec<f64>, Evaluation, usize), RefineError> {
+) -> Result<(Vec<f64>, PemEvaluation, usize), RefineError> {
     problem.check_stable(&theta0)?;
     // The last evaluation, kept for the result when it is at the optimum.
-    let last: RefCell<Option<(Vec<f64>, Evaluation)>> = RefCell::new(None);
+    let last: RefCell<Option<(Vec<f64>, PemEvaluation)>> = RefCell::new(None);
     let residual = |th: &[f64]| Some(problem.errors(th));
     let admissible = |th: &[f64]| problem.check_stable(th).is_ok();
     let jacobian = |th: &[f64]| {
@@ -660,7 +660,7 @@ pub fn minimise(
 }
 
 /// `σ̂² (JᵀJ)⁻¹` at an evaluation.
-pub fn covariance(ev: &Evaluation) -> Result<(DMatrix<f64>, f64), RefineError> {
+pub fn covariance(ev: &PemEvaluation) -> Result<(DMatrix<f64>, f64), RefineError> {
     let (n, d) = ev.jac.shape();
     let sigma2 = ev.cost / (n.saturating_sub(d)).max(1) as f64;
     let h = ev.jac.tr_mul(&ev.jac);
@@ -798,12 +798,12 @@ fn refine_from(
     start: usize,
     feedthrough: bool,
 ) -> Result<(PemFit, Vec<f64>), RefineError> {
-    let problem = Problem::new(
+    let problem = PemProblem::new(
         u,
         y,
         &init.knots_asc,
         &init.knots_desc,
-        Structure {
+        PemStructure {
             n: init.order,
             nv: noise.order(),
             initial: opts.initial,

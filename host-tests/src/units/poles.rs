@@ -7,7 +7,7 @@ use serde::Serialize;
 
 /// A value with its standard deviation when known.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Estimate {
+pub struct ValueStd {
     /// The value.
     pub value: f64,
     /// Its standard deviation (first order), when the model was refined.
@@ -21,14 +21,14 @@ pub enum Mode {
     /// A real pole in (0, 1): a first-order decay of time constant `tau = −ts/ln z`.
     Real {
         /// Time constant (s, or samples without a sample time).
-        tau: Estimate,
+        tau: ValueStd,
     },
     /// A complex pair (reported once, for the pole with positive imaginary part).
     Complex {
         /// Natural frequency `|s|` in rad/s (rad/sample without a sample time).
-        wn: Estimate,
+        wn: ValueStd,
         /// Damping `ζ = −Re(s)/|s|`.
-        zeta: Estimate,
+        zeta: ValueStd,
     },
     /// A real pole at or below zero: no continuous-time equivalent (a delay, or an
     /// oscillation at the Nyquist frequency).
@@ -67,7 +67,7 @@ pub(crate) fn continuous_pole(
         let tau = -ts / l;
         let d = ts / (x * l * l);
         Mode::Real {
-            tau: Estimate {
+            tau: ValueStd {
                 value: tau,
                 std: cov.map(|c| (d * d * c[0][0]).max(0.0).sqrt()),
             },
@@ -99,11 +99,11 @@ fn complex(x: f64, y: f64, r2: f64, cov: Option<[[f64; 2]; 2]>, ts: f64) -> Mode
             .sqrt()
     };
     Mode::Complex {
-        wn: Estimate {
+        wn: ValueStd {
             value: wn,
             std: cov.map(|c| var(g_wn, c)),
         },
-        zeta: Estimate {
+        zeta: ValueStd {
             value: zeta,
             std: cov.map(|c| var(g_zeta, c)),
         },

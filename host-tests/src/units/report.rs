@@ -8,7 +8,7 @@ use hsid::Direction;
 use serde::Serialize;
 
 use super::dead_band::{DeadBand, dead_band};
-use super::poles::{ContinuousPole, Estimate, Mode, continuous_pole};
+use super::poles::{ContinuousPole, Mode, ValueStd, continuous_pole};
 use crate::identify::HostModel;
 use crate::model_file::Units;
 
@@ -114,7 +114,7 @@ impl HostModel {
     }
 }
 
-fn pm(e: &Estimate) -> String {
+fn pm(e: &ValueStd) -> String {
     match e.std {
         Some(s) => format!("{:.5} ± {s:.5}", e.value),
         None => format!("{:.5}", e.value),

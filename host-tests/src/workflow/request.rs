@@ -6,7 +6,7 @@
 use crate::model::Element;
 use hsid::Basis;
 
-use crate::choose::{self, Choices, Estimator, SEGMENT_CANDIDATES, Segments};
+use crate::choose::{self, Choices, ModelStage, SEGMENT_CANDIDATES, Segments};
 use crate::identify::IdentifyOptions;
 use crate::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 
@@ -378,9 +378,9 @@ impl IdentifyRequest {
                 None => choose::Horizons::FromData,
             },
             estimator: if !self.refine || self.reference.is_some() {
-                Estimator::Subspace
+                ModelStage::Subspace
             } else {
-                Estimator::Refined
+                ModelStage::Refined
             },
             ..Choices::default()
         };
@@ -468,7 +468,7 @@ mod tests {
         assert_eq!(plan.options, IdentifyOptions::uniform(-3.0, 3.0, 7, 300));
         assert_eq!(plan.choices.segments, Segments::Given);
         assert_eq!(plan.choices.horizons, choose::Horizons::Given);
-        assert_eq!(plan.choices.estimator, Estimator::Subspace);
+        assert_eq!(plan.choices.estimator, ModelStage::Subspace);
     }
 
     #[test]
@@ -482,7 +482,7 @@ mod tests {
             Segments::FromData(SEGMENT_CANDIDATES.to_vec())
         );
         assert_eq!(plan.choices.horizons, choose::Horizons::FromData);
-        assert_eq!(plan.choices.estimator, Estimator::Refined);
+        assert_eq!(plan.choices.estimator, ModelStage::Refined);
         assert!(plan.options.static_nonlinearity);
         assert_eq!(plan.options.order, Some(3));
     }
@@ -526,7 +526,7 @@ mod tests {
         );
         r.element = Element::Backlash;
         let plan = r.validate(0).unwrap();
-        assert_eq!(plan.choices.estimator, Estimator::Subspace);
+        assert_eq!(plan.choices.estimator, ModelStage::Subspace);
         let mut rec = crate::model::Record::new(vec![0.0; 4], vec![0.0; 4]).unwrap();
         rec.starts = vec![0, 2];
         assert_eq!(r.check_record(&rec).unwrap_err().kind, "reference_records");
