@@ -37,7 +37,9 @@ pub struct IdentifyArgs {
     umax: f64,
     /// Uniform segments per path (ignored when knots are given), or `auto` to choose the
     /// count from the data by BIC of the refined model over 2 to 14. Default: 7, 10 or 14 by
-    /// BIC of the refined model (7, the paper's, with --no-refine).
+    /// BIC of the refined model (7, the paper's, with --no-refine). A segment with fewer than
+    /// 10 samples of its path (ascending or descending) is merged into a neighbour, and a line
+    /// says so; knots given are never moved.
     #[arg(long)]
     segments: Option<SegmentCount>,
     #[command(flatten)]

@@ -138,7 +138,8 @@ def identify(
     settle: Optional[int] = None,
 ) -> Model:
     """A model from ``(u, y)`` as ``hsid identify`` makes it (the library's one identify
-    workflow): segments, horizons and order from the data and refined by default, the element
+    workflow): segments, horizons and order from the data and refined by default (segments
+    with fewer than 10 samples of their path merged into a neighbour unless knots are given), the element
     itself fitted by simulation error when the input reverses inside the range (``fit``), the
     closed-loop estimate with ``reference``; ``refine=False, segments=7, f=10, p=10`` is the
     paper's estimator. ``Model.notes`` says what was chosen and done."""

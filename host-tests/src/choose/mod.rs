@@ -4,6 +4,7 @@
 
 mod file;
 mod horizons;
+mod knots;
 mod order;
 
 pub use file::{model_std, noise_file};
@@ -11,6 +12,7 @@ pub use file::{model_std, noise_file};
 pub use horizons::{
     COLUMNS_PER_ROW, HorizonChoice, MAX_HORIZON, MEMORY_LEVEL, MIN_HORIZON, choose_horizons,
 };
+pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
 pub use order::{OrderChoice, choose_order, neighbours};
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
@@ -50,7 +52,17 @@ pub enum Horizons {
     FromData,
 }
 
-/// How the knots are set.
+/// Whether uniform knots stay where the record has few samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KnotPlacement {
+    /// As given: every knot stays (knots the user gave, or the paper's uniform knots).
+    Given,
+    /// Segments with too few samples of their path merged into a neighbour
+    /// ([`supported_knots`]).
+    FromData,
+}
+
+/// How many segments.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Segments {
     /// As given in the identification options.
@@ -78,8 +90,10 @@ pub enum ModelStage {
 /// The choices of [`best_model`].
 #[derive(Clone, Debug)]
 pub struct Choices {
-    /// Knots given or from the data.
+    /// Segment count given or from the data.
     pub segments: Segments,
+    /// Knots kept, or merged where the record has few samples.
+    pub knots: KnotPlacement,
     /// Horizons given or from the data.
     pub horizons: Horizons,
     /// Subspace only, or refined.
@@ -89,11 +103,12 @@ pub struct Choices {
 }
 
 impl Default for Choices {
-    /// The desktop default: segments among [`SEGMENT_CANDIDATES`] and horizons from the data,
-    /// refined, BIC.
+    /// The desktop default: segments among [`SEGMENT_CANDIDATES`], knots where the record has
+    /// samples, horizons from the data, refined, BIC.
     fn default() -> Self {
         Self {
             segments: Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
+            knots: KnotPlacement::FromData,
             horizons: Horizons::FromData,
             estimator: ModelStage::Refined,
             criterion: Criterion::Bic,
@@ -106,6 +121,7 @@ impl Choices {
     pub fn paper() -> Self {
         Self {
             segments: Segments::Given,
+            knots: KnotPlacement::Given,
             horizons: Horizons::Given,
             estimator: ModelStage::Subspace,
             criterion: Criterion::Bic,
@@ -118,8 +134,11 @@ impl Choices {
 pub struct Best {
     /// The model.
     pub model: HostModel,
-    /// The options the final subspace model was identified with (horizons included).
+    /// The options the final subspace model was identified with (knots and horizons
+    /// included).
     pub options: IdentifyOptions,
+    /// The knots' merging, when segments were merged where the record has few samples.
+    pub knots: Option<KnotSupport>,
     /// The refinement, when refined.
     pub fit: Option<PemFit>,
     /// The segments' choice, when from the data: `(segments, score)` of every candidate.
@@ -136,6 +155,9 @@ impl Best {
         let mut lines = Vec::new();
         if let Some(s) = &self.segments {
             lines.push(s.report());
+        }
+        if let Some(k) = &self.knots {
+            lines.push(k.report());
         }
         if let Some(h) = &self.horizons {
             lines.push(h.report());
@@ -195,7 +217,7 @@ pub fn best_model(
         c => c.iter().copied().map(Some).collect(),
     };
     let (lo, hi) = (base.u_min(), base.u_max());
-    let mut kept: Option<(f64, Best)> = None;
+    let mut kept: Option<(f64, usize, Best)> = None;
     let mut scores = Vec::new();
     let mut failures = Vec::new();
     let mut first_error = None;
@@ -213,8 +235,8 @@ pub fn best_model(
                         .score(f.samples as f64, f.mse, f.parameters() as f64)
                 });
                 scores.extend(s.map(|s| (s, score)));
-                if kept.as_ref().is_none_or(|(k, _)| score < *k) {
-                    kept = Some((score, b));
+                if kept.as_ref().is_none_or(|(k, _, _)| score < *k) {
+                    kept = Some((score, s.unwrap_or(0), b));
                 }
             }
             Err(e) => {
@@ -223,12 +245,12 @@ pub fn best_model(
             }
         }
     }
-    let Some((_, mut b)) = kept else {
+    let Some((_, segments, mut b)) = kept else {
         return Err(first_error.unwrap_or(ChooseError::NoCandidate));
     };
     if !counts.is_empty() {
         b.segments = Some(SegmentChoice {
-            segments: b.options.knots_asc.len() - 1,
+            segments,
             criterion: choices.criterion,
             scores,
             failures,
@@ -247,6 +269,21 @@ fn at_knots(
     choices: &Choices,
 ) -> Result<Best, ChooseError> {
     let mut opts = base.clone();
+    let mut knots = None;
+    if choices.knots == KnotPlacement::FromData {
+        let s = supported_knots(
+            u,
+            opts.hold,
+            &opts.knots_asc,
+            &opts.knots_desc,
+            !opts.static_nonlinearity,
+        );
+        if s.merged() {
+            opts.knots_asc = s.asc.clone();
+            opts.knots_desc = s.desc.clone();
+            knots = Some(s);
+        }
+    }
     let mut horizons = None;
     let model = loop {
         let model = identify(u, y, &opts)?;
@@ -265,6 +302,7 @@ fn at_knots(
         return Ok(Best {
             model,
             options: opts,
+            knots,
             fit: None,
             segments: None,
             horizons,
@@ -279,6 +317,7 @@ fn at_knots(
     Ok(Best {
         model: fit.model.clone(),
         options: opts,
+        knots,
         fit: Some(fit),
         segments: None,
         horizons,

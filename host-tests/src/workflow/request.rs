@@ -373,6 +373,10 @@ impl IdentifyRequest {
                 Some(SegmentCount::Auto) => Segments::FromData(AUTO_CANDIDATES.collect()),
                 None => Segments::FromData(SEGMENT_CANDIDATES.to_vec()),
             },
+            knots: match knots_given {
+                true => choose::KnotPlacement::Given,
+                false => choose::KnotPlacement::FromData,
+            },
             horizons: match self.horizons {
                 Some(_) => choose::Horizons::Given,
                 None => choose::Horizons::FromData,
