@@ -5,6 +5,8 @@
 //! The plant is written here, apart from the project's simulators: a play operator of width
 //! 0.2 before `G(q) = (0.06 q⁻¹ + 0.04 q⁻²) / (1 − 1.5 q⁻¹ + 0.6 q⁻²)` (`G(1) = 1`).
 
+#![allow(clippy::unwrap_used, clippy::panic)]
+
 use hsid_host::model::{FileModel, Record, Simulate};
 use hsid_host::workflow::{IdentifyRequest, Syntax, WorkflowError, identify_record};
 use rand_core::SeedableRng;
