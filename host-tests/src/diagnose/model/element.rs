@@ -5,7 +5,8 @@
 use crate::diagnose::dynamics::DynamicsError;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::simulate::delay_input;
-use crate::hysteresis::{ElementKind, FitOptions, Start, fit_hysteresis_skipping};
+use crate::hysteresis::{FitOptions, Start, fit_hysteresis_skipping};
+use crate::model::MemoryElement;
 
 use super::extended::ExtendedModel;
 use super::record::Record;
@@ -21,7 +22,7 @@ pub(super) fn fit_element(
     model: &mut ExtendedModel,
     rec: &Record,
     skip: &[bool],
-    kind: ElementKind,
+    kind: MemoryElement,
     shared: bool,
     fitted: usize,
 ) -> Result<(), DiagnoseError> {
