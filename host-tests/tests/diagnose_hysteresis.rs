@@ -8,11 +8,11 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{DiagnoseOptions, Effect, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Effect, Validation, diagnose};
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::model::Element;
-use hsid_host::model::MemoryElement;
+use hsid_host::model::{MemoryElement, Record};
 use hsid_host::report::fit;
 
 const LEN: usize = 3000;
@@ -37,11 +37,16 @@ fn run(kind: MemoryElement, width: f64, seed: u64) -> (hsid_host::diagnose::Diag
     let est = servo.record(LEN, seed);
     let val = servo.record(LEN, seed + 1000);
     let floor = fit(&val.y[HOLD..], &val.y_clean[HOLD..]).rmse;
+    let records = Record::new(val.u, val.y).and_then(|v| Ok((Record::new(est.u, est.y)?, v)));
+    let (est, val) = match records {
+        Ok(records) => records,
+        Err(e) => panic!("width {width} seed {seed}: {e}"),
+    };
     let validation = Validation::Separate {
-        record: Record::new(val.u, val.y),
+        record: val,
         skip: HOLD,
     };
-    match diagnose(&Record::new(est.u, est.y), &validation, &options()) {
+    match diagnose(&est, &validation, &options()) {
         Ok(d) => (d, floor),
         Err(e) => panic!("width {width} seed {seed}: {e}"),
     }

@@ -33,7 +33,7 @@ impl Simulate for HysteresisFit {
 }
 
 /// The diagnosis's extended model on a record whose time is the sample index `0, 1, …` (as
-/// [`Record::new`](crate::diagnose::model::Record::new) gives it): the additive terms are
+/// [`Record::new`](crate::model::Record::new) gives it): the additive terms are
 /// evaluated at those times.
 impl Simulate for ExtendedModel {
     fn simulate(&self, u: &[f64]) -> Vec<f64> {

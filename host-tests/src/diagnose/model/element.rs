@@ -9,7 +9,7 @@ use crate::hysteresis::{FitOptions, Start, fit_hysteresis_skipping};
 use crate::model::MemoryElement;
 
 use super::extended::ExtendedModel;
-use super::record::Record;
+use crate::model::Record;
 
 /// Replaces the simulation of `model`'s Hammerstein part by the element `kind` and `G`,
 /// fitted on the simulation error of `rec` without the `skip` samples (the input drives the
