@@ -219,9 +219,9 @@ pub fn comment_units(
         .map(|(p, u)| (UnitsOrigin::Comment(p), u))
 }
 
-/// A record read from CSV: the requested columns and, when the file has a time column, its
-/// sample time.
-pub struct Record {
+/// What reading a record from CSV gives: the requested columns, the sample times the file
+/// states and the units its header comments state.
+pub struct CsvRead {
     /// The requested columns and the line of each row.
     pub table: Table,
     /// The sample times the record states, with where each came from: its header comment
@@ -239,7 +239,7 @@ pub fn read_record(
     names: &[&str],
     csv: &CsvArgs,
     units: &UnitArgs,
-) -> Result<Record, String> {
+) -> Result<CsvRead, String> {
     let options = CsvOptions {
         delimiter: csv.delimiter(),
     };
@@ -258,7 +258,7 @@ pub fn read_record(
     let mut table = match parse_table(&source, &text, &all, &options) {
         Err(IoError::MissingColumn { column, .. }) if !named && column == time.trim() => {
             return parse_table(&source, &text, names, &options)
-                .map(|table| Record {
+                .map(|table| CsvRead {
                     table,
                     ts,
                     units: stated_units,
@@ -270,7 +270,7 @@ pub fn read_record(
     let t = table.columns.pop().unwrap_or_default();
     let column = ts_from_column(source.clone(), &t, &table.lines).map_err(|e| e.to_string())?;
     ts.push((Origin::TimeColumn(source), column));
-    Ok(Record {
+    Ok(CsvRead {
         table,
         ts,
         units: stated_units,
@@ -284,7 +284,7 @@ pub fn read_uy(
     columns: &Columns,
     csv: &CsvArgs,
     units: &UnitArgs,
-) -> Result<Record, String> {
+) -> Result<CsvRead, String> {
     let names = [
         columns.input_column.as_str(),
         columns.output_column.as_str(),

@@ -3,14 +3,13 @@
 mod integrating;
 
 use crate::failure::{Failure, outln};
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use hsid_host::diagnose::report::ModelSummary;
 use hsid_host::diagnose::{
-    DiagnoseOptions, Effect, InitialState, PoleRefinement, Record, Validation, diagnose, figures,
-    report,
+    DiagnoseOptions, Effect, InitialState, PoleRefinement, Validation, diagnose, figures, report,
 };
 use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
@@ -205,11 +204,14 @@ fn record(
     let (Some(u), Some(y)) = (columns.next(), columns.next()) else {
         return Err("internal: two columns expected".to_string());
     };
+    let record = Record::new(u, y)
+        .and_then(|rec| match columns.next() {
+            Some(r) => rec.with_reference(r),
+            None => Ok(rec),
+        })
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(Stated {
-        record: match columns.next() {
-            Some(r) => Record::with_reference(u, y, r),
-            None => Record::new(u, y),
-        },
+        record,
         ts: r.ts,
         units: r.units,
     })
@@ -388,7 +390,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         )?;
         opts.identify = increments_options(&opts.identify);
         validation = integrating::validation(validation);
-        integrating::increments(&est)
+        est.increments()
     } else {
         est
     };

@@ -6,9 +6,9 @@
 mod common;
 
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
-use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Validation, diagnose};
 use hsid_host::identify::{HostModel, IdentifyOptions};
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 use hsid_host::model_file::ModelFile;
 use serde_json::Value;
 
@@ -61,7 +61,10 @@ fn hsid_diagnose_takes_the_reference_column() {
     id.order = Some(2);
     let mut opts = DiagnoseOptions::new(id, Element::Backlash);
     opts.max_steps = 1;
-    let record = Record::with_reference(s.u.clone(), s.y.clone(), s.r.clone());
+    let record = Record::new(s.u.clone(), s.y.clone())
+        .unwrap()
+        .with_reference(s.r.clone())
+        .unwrap();
     let lib = diagnose(&record, &Validation::Split(0.7), &opts).unwrap();
     let (cli, lib) = (
         upper_pole(&HostModel::from_json(&file)),

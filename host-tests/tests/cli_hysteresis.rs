@@ -8,9 +8,9 @@
 //! `validate` on a fresh record.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use hsid_host::hysteresis::ElementKind;
 use hsid_host::hysteresis::servo::{HOLD, Servo};
 use hsid_host::io::parse_columns;
+use hsid_host::model::MemoryElement;
 use hsid_host::report::fit;
 use hsid_host::table1::{count_runs, end_tolerance};
 
@@ -19,7 +19,7 @@ mod common;
 use common::{Scratch, hsid, identify, p, schema_errors};
 
 const SERVO: Servo = Servo {
-    kind: ElementKind::Backlash,
+    kind: MemoryElement::Play,
     width: 0.6,
     snr_db: 20.0,
 };

@@ -88,9 +88,9 @@ fn state_dependence_fires_on_level_times_increment() {
 
 #[test]
 fn static_knot_never_visited_gets_advice_for_static_data() {
-    use hsid_host::diagnose::model::Record;
     use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Validation};
     use hsid_host::identify::IdentifyOptions;
+    use hsid_host::model::Record;
     // The input stays in [0, 3]; knot 4 (u = 4) lives on [3, 10] and is never excited.
     let u: Vec<f64> = (0..600)
         .map(|t| 1.5 + 1.5 * (t as f64 / 20.0).sin())
@@ -101,7 +101,7 @@ fn static_knot_never_visited_gets_advice_for_static_data() {
     id.knots_desc = id.knots_asc.clone();
     id.order = Some(1);
     let opts = DiagnoseOptions::new(id, Element::Static);
-    let e = diagnose(&Record::new(u, y), &Validation::Split(0.7), &opts).unwrap_err();
+    let e = diagnose(&Record::new(u, y).unwrap(), &Validation::Split(0.7), &opts).unwrap_err();
     assert!(
         matches!(e, DiagnoseError::KnotNotVisited { knot: 4, .. }),
         "{e:?}"

@@ -8,11 +8,11 @@
 
 #![allow(clippy::panic)]
 
-use hsid_host::diagnose::{DiagnoseOptions, Effect, Record, Validation, diagnose};
-use hsid_host::hysteresis::ElementKind;
+use hsid_host::diagnose::{DiagnoseOptions, Effect, Validation, diagnose};
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::model::Element;
+use hsid_host::model::{MemoryElement, Record};
 use hsid_host::report::fit;
 
 const LEN: usize = 3000;
@@ -28,7 +28,7 @@ fn options() -> DiagnoseOptions {
 
 /// The diagnosis and the validation record's noise floor (RMSE of the noise itself after the
 /// hold).
-fn run(kind: ElementKind, width: f64, seed: u64) -> (hsid_host::diagnose::Diagnosis, f64) {
+fn run(kind: MemoryElement, width: f64, seed: u64) -> (hsid_host::diagnose::Diagnosis, f64) {
     let servo = Servo {
         kind,
         width,
@@ -37,11 +37,16 @@ fn run(kind: ElementKind, width: f64, seed: u64) -> (hsid_host::diagnose::Diagno
     let est = servo.record(LEN, seed);
     let val = servo.record(LEN, seed + 1000);
     let floor = fit(&val.y[HOLD..], &val.y_clean[HOLD..]).rmse;
+    let records = Record::new(val.u, val.y).and_then(|v| Ok((Record::new(est.u, est.y)?, v)));
+    let (est, val) = match records {
+        Ok(records) => records,
+        Err(e) => panic!("width {width} seed {seed}: {e}"),
+    };
     let validation = Validation::Separate {
-        record: Record::new(val.u, val.y),
+        record: val,
         skip: HOLD,
     };
-    match diagnose(&Record::new(est.u, est.y), &validation, &options()) {
+    match diagnose(&est, &validation, &options()) {
         Ok(d) => (d, floor),
         Err(e) => panic!("width {width} seed {seed}: {e}"),
     }
@@ -50,7 +55,7 @@ fn run(kind: ElementKind, width: f64, seed: u64) -> (hsid_host::diagnose::Diagno
 #[test]
 fn a_static_model_of_a_backlash_servo_gains_the_play_operator_first() {
     for seed in [1, 2] {
-        let (d, floor) = run(ElementKind::Backlash, 0.6, seed);
+        let (d, floor) = run(MemoryElement::Play, 0.6, seed);
         if std::env::var_os("HSID_SHOW").is_some() {
             println!("{}", hsid_host::diagnose::report::text(&d));
         }
@@ -85,7 +90,7 @@ fn a_static_model_of_a_backlash_servo_gains_the_play_operator_first() {
 
 #[test]
 fn without_backlash_no_element_is_added() {
-    let (d, _) = run(ElementKind::Backlash, 0.0, 3);
+    let (d, _) = run(MemoryElement::Play, 0.0, 3);
     let named: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     println!("no play: steps {named:?}");
     assert!(
@@ -96,7 +101,7 @@ fn without_backlash_no_element_is_added() {
 
 #[test]
 fn a_static_model_of_a_switch_servo_gains_the_relay_first() {
-    let (d, floor) = run(ElementKind::Switch, 0.5, 1);
+    let (d, floor) = run(MemoryElement::Relay, 0.5, 1);
     let named: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let kind = d.model.hysteresis.as_ref().map(|h| h.kind);
     println!(
@@ -108,6 +113,6 @@ fn a_static_model_of_a_switch_servo_gains_the_relay_first() {
         Some(Effect::Hysteresis),
         "{named:?}"
     );
-    assert_eq!(kind, Some(ElementKind::Switch));
+    assert_eq!(kind, Some(MemoryElement::Relay));
     assert!(d.after.rmse <= 0.7 * d.before.rmse && d.after.rmse <= 1.3 * floor);
 }

@@ -3,7 +3,6 @@
 //! The numbers checked are those of docs/closing-the-loop.md.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use hsid_host::diagnose::model::Record;
 use hsid_host::diagnose::verdict::End;
 use hsid_host::diagnose::{
     Check, DiagnoseOptions, Effect, Evidence, Finding, Test, Tried, Validation, diagnose,
@@ -11,6 +10,7 @@ use hsid_host::diagnose::{
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::io::read_columns;
 use hsid_host::model::Element;
+use hsid_host::model::Record;
 
 const TANKS: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -35,9 +35,9 @@ fn cascaded_tanks_level_dependent_stores_chosen_by_cross_validation_reach_the_go
     let mut opts = DiagnoseOptions::new(id, Element::Static);
     opts.select_segments = Some(3..=8);
     let d = diagnose(
-        &Record::new(c[0].clone(), c[1].clone()),
+        &Record::new(c[0].clone(), c[1].clone()).unwrap(),
         &Validation::Separate {
-            record: Record::new(c[2].clone(), c[3].clone()),
+            record: Record::new(c[2].clone(), c[3].clone()).unwrap(),
             skip: 0,
         },
         &opts,
@@ -92,7 +92,7 @@ fn dc_motor_dead_zone_gains_and_time_constant() {
     id.order = Some(1);
     let opts = DiagnoseOptions::new(id, Element::Static);
     let d = diagnose(
-        &Record::new(c[0].clone(), c[1].clone()),
+        &Record::new(c[0].clone(), c[1].clone()).unwrap(),
         &Validation::Holdout(3900..4500),
         &opts,
     )

@@ -9,10 +9,10 @@ mod common;
 use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, ServoSpec, simulate_servo};
 use hsid_host::diagnose::{
-    Check, DiagnoseError, DiagnoseOptions, Diagnosis, Estimator, Record, Validation, diagnose,
+    Check, DiagnoseError, DiagnoseOptions, Diagnosis, Estimator, Validation, diagnose,
 };
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 
 const SEEDS: u64 = 10;
 
@@ -40,12 +40,12 @@ fn diagnosis(spec: &ServoSpec, seed: u64, with_reference: bool) -> Diagnosis {
     let s = simulate_servo(spec, 100 + seed).unwrap();
     let v = simulate_servo(spec, 1000 + seed).unwrap();
     let record = if with_reference {
-        Record::with_reference(s.u, s.y, s.r)
+        Record::new(s.u, s.y).unwrap().with_reference(s.r).unwrap()
     } else {
-        Record::new(s.u, s.y)
+        Record::new(s.u, s.y).unwrap()
     };
     let validation = Validation::Separate {
-        record: Record::new(v.u, v.y),
+        record: Record::new(v.u, v.y).unwrap(),
         skip: spec.hold,
     };
     diagnose(&record, &validation, &options(spec)).unwrap()
@@ -109,7 +109,9 @@ fn a_bad_reference_is_a_typed_error() {
     let s = simulate_servo(&spec, 1).unwrap();
     let n = s.u.len();
     let run = |r: Vec<f64>, opts: &DiagnoseOptions| {
-        let record = Record::with_reference(s.u.clone(), s.y.clone(), r);
+        // Set directly: the record's fields are public, so the diagnosis checks them itself.
+        let mut record = Record::new(s.u.clone(), s.y.clone()).unwrap();
+        record.reference = Some(r);
         diagnose(&record, &Validation::Split(0.7), opts).err()
     };
     let opts = options(&spec);
@@ -120,6 +122,19 @@ fn a_bad_reference_is_a_typed_error() {
             Some(DiagnoseError::Reference(ReferenceError::LengthMismatch { r, .. })) if r == n - 1
         ),
         "{short:?}"
+    );
+    // Made through `with_reference`, such a record is refused with the same error.
+    let refused = Record::new(s.u.clone(), s.y.clone())
+        .unwrap()
+        .with_reference(s.r[..n - 1].to_vec())
+        .map_err(DiagnoseError::from)
+        .err();
+    assert!(
+        matches!(
+            refused,
+            Some(DiagnoseError::Reference(ReferenceError::LengthMismatch { r, .. })) if r == n - 1
+        ),
+        "{refused:?}"
     );
     let constant = run(vec![0.5; n], &opts);
     assert!(

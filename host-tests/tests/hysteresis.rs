@@ -9,10 +9,9 @@ use std::time::Instant;
 
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
 use hsid_host::hysteresis::simulate::simulate;
-use hsid_host::hysteresis::{
-    ElementKind, FitOptions, HysteresisFit, HysteresisModel, Start, fit_hysteresis,
-};
+use hsid_host::hysteresis::{FitOptions, HysteresisFit, HysteresisModel, Start, fit_hysteresis};
 use hsid_host::identify::{IdentifyOptions, identify};
+use hsid_host::model::MemoryElement;
 use hsid_host::report::fit;
 
 type Outcome = Result<(), Box<dyn std::error::Error>>;
@@ -50,7 +49,7 @@ fn run(
 #[test]
 fn backlash_from_an_ordinary_input() -> Outcome {
     let servo = Servo {
-        kind: ElementKind::Backlash,
+        kind: MemoryElement::Play,
         width: 0.6,
         snr_db: 20.0,
     };
@@ -83,7 +82,7 @@ fn backlash_from_an_ordinary_input() -> Outcome {
 fn switch_from_an_ordinary_input() -> Outcome {
     // A relay whose borders open into a lens of half height 0.3 between u_min and u_max.
     let servo = Servo {
-        kind: ElementKind::Switch,
+        kind: MemoryElement::Relay,
         width: 0.3,
         snr_db: 20.0,
     };
@@ -107,7 +106,7 @@ fn switch_from_an_ordinary_input() -> Outcome {
 fn the_fit_keeps_g_inside_the_pole_radius_it_is_given() -> Outcome {
     use hsid_host::hysteresis::HysteresisError;
     let servo = Servo {
-        kind: ElementKind::Backlash,
+        kind: MemoryElement::Play,
         width: 0.6,
         snr_db: 20.0,
     };
@@ -173,7 +172,7 @@ fn true_model(servo: &Servo) -> HysteresisModel {
         .collect();
     let h = 0.5 * servo.width;
     HysteresisModel {
-        kind: ElementKind::Backlash,
+        kind: MemoryElement::Play,
         f: vec![1.0, -1.8858, 0.9048],
         b: vec![0.0, 0.1994, -0.1804],
         feedthrough: false,
@@ -191,7 +190,7 @@ fn sse(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn the_fit_reaches_the_true_parameters_error() -> Outcome {
     let servo = Servo {
-        kind: ElementKind::Backlash,
+        kind: MemoryElement::Play,
         width: 0.6,
         snr_db: 20.0,
     };

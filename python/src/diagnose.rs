@@ -2,9 +2,9 @@
 //! writes.
 
 use hsid_host::diagnose::report;
-use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose as run};
+use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Validation, diagnose as run};
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 use pyo3::prelude::*;
 
 use crate::arrays::vector;
@@ -41,9 +41,9 @@ pub fn diagnose<'py>(
     f: Option<usize>,
     p: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let est = Record::new(vector("u", u)?, vector("y", y)?);
+    let est = record(vector("u", u)?, vector("y", y)?)?;
     let val = match (u_val, y_val) {
-        (Some(u), Some(y)) => Some(Record::new(vector("u_val", u)?, vector("y_val", y)?)),
+        (Some(u), Some(y)) => Some(record(vector("u_val", u)?, vector("y_val", y)?)?),
         (None, None) => None,
         _ => {
             return Err(Failure::new(
@@ -126,4 +126,9 @@ fn options(
     let id: IdentifyOptions = s;
     let nonlinearity = kind;
     Ok(DiagnoseOptions::new(id, nonlinearity))
+}
+
+/// The record of `u` and `y`; a length mismatch is reported as the diagnosis reports it.
+fn record(u: Vec<f64>, y: Vec<f64>) -> Result<Record, Failure> {
+    Record::new(u, y).map_err(|e| Failure::from(DiagnoseError::from(e)))
 }

@@ -6,27 +6,16 @@
 //! drifts with any error of the rate, so the increments are where a model of such a plant is
 //! scored.
 
-use hsid_host::diagnose::{Record, Validation};
-use hsid_host::integrating;
+use hsid_host::diagnose::Validation;
 
-/// The record of the increments: the first sample (which has no increment) dropped, the
-/// output differenced, each sample keeping its time in the file.
-pub fn increments(r: &Record) -> Record {
-    let (u, y) = integrating::increments(&r.u, &r.y);
-    Record {
-        u,
-        y,
-        time: r.time.get(1..).unwrap_or_default().to_vec(),
-        reference: r.reference.as_ref().map(|v| v[1.min(v.len())..].to_vec()),
-    }
-}
-
-/// The validation of the increments' records: a separate record's increments, its unscored
+/// The validation of the increments' records: a separate record's increments
+/// ([`Record::increments`](hsid_host::model::Record::increments): the first sample, which has
+/// no increment, dropped, the output differenced, each sample keeping its time), its unscored
 /// samples and a held-out range one sample earlier (the record lost its first sample).
 pub fn validation(v: Validation) -> Validation {
     match v {
         Validation::Separate { record, skip } => Validation::Separate {
-            record: increments(&record),
+            record: record.increments(),
             skip: skip.saturating_sub(1),
         },
         Validation::Holdout(r) => {
@@ -41,9 +30,10 @@ mod tests {
     use super::*;
 
     #[test]
-    fn increments_drop_the_first_sample_and_keep_the_times() {
-        let r = Record::new(vec![1.0, 2.0, 3.0], vec![0.0, 0.5, 2.0]);
-        let d = increments(&r);
+    fn increments_drop_the_first_sample_and_keep_the_times() -> Result<(), String> {
+        let r = hsid_host::model::Record::new(vec![1.0, 2.0, 3.0], vec![0.0, 0.5, 2.0])
+            .map_err(|e| e.to_string())?;
+        let d = r.increments();
         assert_eq!(d.u, [2.0, 3.0]);
         assert_eq!(d.y, [0.5, 1.5]);
         assert_eq!(d.time, [1.0, 2.0]);
@@ -52,5 +42,6 @@ mod tests {
             matches!(shifted, Validation::Holdout(ref h) if *h == (9..19)),
             "{shifted:?}"
         );
+        Ok(())
     }
 }

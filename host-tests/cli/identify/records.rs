@@ -151,6 +151,7 @@ impl Records {
         Record {
             u: self.u.clone(),
             y: self.y.clone(),
+            time: (0..self.u.len()).map(|t| t as f64).collect(),
             reference: (!self.r.is_empty()).then(|| self.r.clone()),
             ts: self.ts,
             units: self.units.clone(),

@@ -38,9 +38,10 @@ mod tests;
 use hsid_host::diagnose::dynamics::{Borders, DynamicsFit};
 use hsid_host::diagnose::effects::Holdout;
 use hsid_host::diagnose::model::{
-    self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure,
+    self, ExtendedModel, FitOptions, InitialState, Metric, Structure,
 };
 use hsid_host::diagnose::simulate;
+use hsid_host::model::Record;
 use hsid_host::validation::{checks, residual};
 // The shared test fixtures name the model through their parent module.
 #[cfg(test)]
@@ -171,8 +172,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .unwrap_or_else(|| "../shared/data/cascaded-tanks/dataBenchmark.csv".into());
     let c = read_columns(&path, &["uEst", "yEst", "uVal", "yVal"])?;
-    let est = Record::new(c[0].clone(), c[1].clone());
-    let val = Record::new(c[2].clone(), c[3].clone());
+    let est = Record::new(c[0].clone(), c[1].clone())?;
+    let val = Record::new(c[2].clone(), c[3].clone())?;
     let (lo, hi) = est
         .u
         .iter()
@@ -204,7 +205,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .filter(|r| {
             model::fit_structure(
                 &Structure::base(),
-                &est.parts(&[0..r.start, r.end..n]),
+                &est.joined(&[0..r.start, r.end..n]),
                 &opts,
             )
             .is_ok_and(|m| {
@@ -228,7 +229,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let full = model::fit_structure(&s, &est, &opts)?;
         let fold_models: Vec<Option<ExtendedModel>> = blocks
             .iter()
-            .map(|r| model::fit_structure(&s, &est.parts(&[0..r.start, r.end..n]), &opts).ok())
+            .map(|r| model::fit_structure(&s, &est.joined(&[0..r.start, r.end..n]), &opts).ok())
             .collect();
         for class in [
             Class::Linear,

@@ -26,9 +26,9 @@ use rand_core::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rand_pcg::Pcg32;
 
-use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Diagnosis, Effect, Record, Validation};
+use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Diagnosis, Effect, Validation};
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 use hsid_host::paper::derive_seed;
 use hsid_host::sim::{
     Backlash, Lti, Nonlinearity as SimElement, Switch, paper_noise_model, paper_plant,
@@ -260,7 +260,7 @@ pub fn generate(s: &Scenario) -> Result<ScenarioData, String> {
     id.f = h;
     id.p = h;
     Ok(ScenarioData {
-        record: Record::new(u, y),
+        record: Record::new(u, y).map_err(|e| e.to_string())?,
         options: DiagnoseOptions::new(id, s.kind),
         validation: Validation::Split(split),
         noise_floor: rms(&v[at..]),
@@ -360,7 +360,7 @@ impl TwoTanks {
                 .map(|(y, e)| y + e)
                 .collect();
             let floor = (noise.iter().map(|e| e * e).sum::<f64>() / noise.len() as f64).sqrt();
-            (Record::new(u, y), floor)
+            (Record::from_samples(u.into_iter().zip(y)), floor)
         };
         let (estimation, _) = run();
         let (validation, noise_floor) = run();

@@ -16,7 +16,8 @@ use hsid_host::model::Element;
 #[test]
 fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
     use hsid_host::diagnose::verdict::End;
-    use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, Record, diagnose};
+    use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, diagnose};
+    use hsid_host::model::Record;
     use hsid_host::validation::residual;
     use hsid_host::validation::unit_root::{UnitRoot, unit_root};
     use hsid_lab::family_b::class::Class;

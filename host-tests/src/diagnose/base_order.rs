@@ -13,9 +13,10 @@
 
 use super::error::DiagnoseError;
 use super::fit_plan::FitPlan;
-use super::model::{self, ExtendedModel, Record, Structure};
+use super::model::{self, ExtendedModel, Structure};
 use super::options::DiagnoseOptions;
 use crate::identify::{IdentifyError, IdentifyOptions};
+use crate::model::Record;
 use crate::validation::checks::{Check, Warning, warn};
 
 /// Whether `e` is the core's refusal of a (near) zero static gain.

@@ -11,8 +11,9 @@ use super::effects::{Effect, Significance};
 use super::evidence::{Evidence, Tried};
 use super::findings::Finding;
 use super::inner::InnerValidation;
-use super::model::{Evaluation, ExtendedModel, Metric, Record};
+use super::model::{Evaluation, ExtendedModel, Metric};
 use super::verdict::Verdict;
+use crate::model::Record;
 use crate::validation::checks::Warning;
 use crate::validation::residual::TestSet;
 

@@ -3,6 +3,7 @@
 use super::dynamics;
 use crate::closed_loop::ReferenceError;
 use crate::identify::IdentifyError;
+use crate::model::RecordError;
 
 /// Why a diagnosis could not run.
 #[derive(Debug, thiserror::Error)]
@@ -82,6 +83,20 @@ pub enum DiagnoseError {
     /// A figure or report could not be written.
     #[error("{0}")]
     Output(String),
+}
+
+/// A record that could not be made, as the diagnosis reports the same fault in a record it is
+/// given: `u` and `y` of different lengths, or a reference of another length than both.
+impl From<RecordError> for DiagnoseError {
+    fn from(e: RecordError) -> Self {
+        match e {
+            RecordError::LengthMismatch { u, y } => DiagnoseError::LengthMismatch { u, y },
+            // `with_reference` takes a record whose `u` and `y` agree.
+            RecordError::ReferenceLength { u, r } => {
+                DiagnoseError::Reference(ReferenceError::LengthMismatch { u, y: u, r })
+            }
+        }
+    }
 }
 
 /// ` (u = 0.5)` after the knot's index when its value is known.

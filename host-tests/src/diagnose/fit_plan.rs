@@ -1,9 +1,10 @@
 //! The three kinds of fits of a diagnosis and their options: the inner hold-out fits that
 //! choose the effects, the models reported, and the paper's estimate alone.
 
-use super::model::{FitOptions, InitialState, Record};
+use super::model::{FitOptions, InitialState};
 use super::options::{DiagnoseOptions, PoleRefinement};
 use crate::identify::IdentifyOptions;
+use crate::model::Record;
 use crate::validation::checks;
 
 /// Fit options of one diagnosis.

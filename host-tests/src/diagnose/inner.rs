@@ -7,8 +7,9 @@
 use std::ops::Range;
 
 use super::effects::Holdout;
-use super::model::{self, ExtendedModel, FitOptions, InitialState, Metric, Record, Structure};
+use super::model::{self, ExtendedModel, FitOptions, InitialState, Metric, Structure};
 use super::options::DiagnoseOptions;
+use crate::model::Record;
 use crate::validation::residual;
 
 /// The blocks of the inner validation.
@@ -188,7 +189,7 @@ pub fn weak(
 fn scorable(est: &Record, fit: &FitOptions, base: &ExtendedModel, r: &Range<usize>) -> bool {
     let (hold, ne) = (fit.identify.hold, est.len());
     let in_sample = model::evaluate(base, est, hold..ne, Metric::Simulation).rmse;
-    let fit_part = est.parts(&[0..r.start, r.end..ne]);
+    let fit_part = est.joined(&[0..r.start, r.end..ne]);
     model::fit_structure(&Structure::base(), &fit_part, fit).is_ok_and(|m| {
         let e = model::evaluate(&m, est, r.clone(), Metric::Simulation).rmse;
         e.is_finite() && e <= 3.0 * in_sample

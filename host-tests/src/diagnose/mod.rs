@@ -7,7 +7,7 @@
 //!    quantisation, input levels, and feedback (a closed-loop record) against the base model's
 //!    residual;
 //! 2. identifies the paper's model — or, for a record that carries the controller's reference
-//!    ([`Record::with_reference`]), the closed-loop consistent estimate
+//!    ([`Record::with_reference`](crate::model::Record::with_reference)), the closed-loop consistent estimate
 //!    ([`model::Estimator`]), for the base model and every refit — and simulates it on the
 //!    validation data;
 //! 3. tests the residual ([`residual`]): whiteness, independence from the input, δ and the
@@ -28,7 +28,7 @@
 //! of the tests and the confusion tables are in the crate `hsid-lab`.
 
 use crate::identify::IdentifyError;
-use crate::model::Element;
+use crate::model::{Element, Record};
 use crate::validation::{checks, data_checks, residual, unit_root};
 
 pub mod base_order;
@@ -60,7 +60,7 @@ pub use effects::Effect;
 pub use error::DiagnoseError;
 pub use evidence::{Evidence, Tried, Unscored};
 pub use findings::Finding;
-pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Record, Structure};
+pub use model::{Estimator, Evaluation, ExtendedModel, InitialState, Metric, Structure};
 pub use options::{DiagnoseOptions, PoleRefinement, Proposing, Validation};
 pub use scoring::residual_tests;
 

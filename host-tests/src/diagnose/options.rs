@@ -5,9 +5,10 @@ use std::ops::Range;
 
 use serde::Serialize;
 
-use super::model::{InitialState, Record};
+use super::model::InitialState;
 use crate::identify::IdentifyOptions;
 use crate::model::Element;
+use crate::model::Record;
 
 /// Where the validation data come from.
 #[derive(Clone, Debug, PartialEq)]

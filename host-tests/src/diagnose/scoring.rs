@@ -2,7 +2,8 @@
 
 use std::ops::Range;
 
-use super::model::{Evaluation, ExtendedModel, Record};
+use super::model::{Evaluation, ExtendedModel};
+use crate::model::Record;
 use crate::validation::{self, TestSet};
 
 /// Tests of a model's residual on `range` of `rec`; `ev` is the model's evaluation there and

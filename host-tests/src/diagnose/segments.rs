@@ -3,9 +3,10 @@
 
 use std::ops::RangeInclusive;
 
-use super::model::{self, FitOptions, InitialState, Metric, Record, Saturation, Structure};
+use super::model::{self, FitOptions, InitialState, Metric, Saturation, Structure};
 use super::options::{DiagnoseOptions, PoleRefinement};
 use crate::identify::IdentifyOptions;
+use crate::model::Record;
 use crate::numerics::select::{Criterion, best};
 
 /// Sets `id`'s knots to the best uniform segment count in `range` and says so in words (empty

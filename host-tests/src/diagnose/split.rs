@@ -4,10 +4,10 @@
 use std::ops::Range;
 
 use super::error::DiagnoseError;
-use super::model::Record;
 use super::options::Validation;
 use crate::closed_loop::ReferenceError;
 use crate::identify::IdentifyOptions;
+use crate::model::Record;
 
 /// Estimation and validation data.
 #[derive(Clone, Debug)]
@@ -154,7 +154,7 @@ pub fn split(
                 });
             }
             DataSplit {
-                estimation: record.parts(&[0..r.start, r.end..n]),
+                estimation: record.joined(&[0..r.start, r.end..n]),
                 validation: record.clone(),
                 range: r.clone(),
                 description: format!(

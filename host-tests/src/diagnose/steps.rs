@@ -12,10 +12,11 @@ use super::effects::{self, Candidate, Effect, Holdout, Proposal};
 use super::error::DiagnoseError;
 use super::evidence::{Tried, evidence};
 use super::findings::Finding;
-use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure};
+use super::model::{self, Evaluation, ExtendedModel, FitOptions, Metric, Structure};
 use super::options::{DiagnoseOptions, Proposing};
 use super::scoring::residual_tests;
 use super::verdict::Ending;
+use crate::model::Record;
 use crate::validation::checks::{Check, Warning};
 use crate::validation::residual::TestSet;
 

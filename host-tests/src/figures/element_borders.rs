@@ -11,10 +11,11 @@ use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
 use super::partial::departures;
 use super::{Context, Written};
+use crate::hysteresis::HysteresisModel;
 use crate::hysteresis::simulate::element_output;
 use crate::hysteresis::uncertainty::Uncertainty;
-use crate::hysteresis::{ElementKind, HysteresisModel};
 use crate::identify::interpolate;
+use crate::model::MemoryElement;
 use crate::plot::{Dash, Figure, Marker, PALETTE, Series};
 
 pub(super) fn write(
@@ -33,7 +34,7 @@ pub(super) fn write(
         .iter()
         .map(|&u| interpolate(&m.knots, &m.border_desc, u))
         .collect();
-    let gap = (m.kind == ElementKind::Backlash).then(|| m.gap()).flatten();
+    let gap = (m.kind == MemoryElement::Play).then(|| m.gap()).flatten();
     let unit = s.units.as_ref().map_or("", |u| u.0.trim());
     let mut fig = Figure::new(title(m.kind, gap, unit))
         .x_label(s.input("u"))
@@ -114,15 +115,15 @@ pub(super) fn write(
 }
 
 /// The figure's title: the element and, for a play, its gap in input units.
-fn title(kind: ElementKind, gap: Option<f64>, unit: &str) -> String {
+fn title(kind: MemoryElement, gap: Option<f64>, unit: &str) -> String {
     match (kind, gap) {
-        (ElementKind::Backlash, Some(g)) => {
+        (MemoryElement::Play, Some(g)) => {
             format!("Play operator (backlash): borders H_a, H_d, gap {g:.4} {unit}")
                 .trim_end()
                 .to_string()
         }
-        (ElementKind::Backlash, None) => "Play operator (backlash): borders H_a, H_d".to_string(),
-        (ElementKind::Switch, _) => {
+        (MemoryElement::Play, None) => "Play operator (backlash): borders H_a, H_d".to_string(),
+        (MemoryElement::Relay, _) => {
             "Relay with borders (switch): H_a (u rising), H_d (u falling)".to_string()
         }
     }
@@ -164,8 +165,8 @@ fn trajectory(
             .label("partial residuals"),
     );
     let path = match m.kind {
-        ElementKind::Backlash => Series::line(u, w).width(1.0),
-        ElementKind::Switch => Series::scatter(u, w, Marker::Dot).size(1.6),
+        MemoryElement::Play => Series::line(u, w).width(1.0),
+        MemoryElement::Relay => Series::scatter(u, w, Marker::Dot).size(1.6),
     };
     fig.push(
         path.color("#303030")

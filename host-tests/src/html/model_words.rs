@@ -23,11 +23,11 @@ pub enum ModelElement {
     Relay,
 }
 
-impl From<crate::hysteresis::ElementKind> for ModelElement {
-    fn from(k: crate::hysteresis::ElementKind) -> Self {
+impl From<crate::model::MemoryElement> for ModelElement {
+    fn from(k: crate::model::MemoryElement) -> Self {
         match k {
-            crate::hysteresis::ElementKind::Backlash => ModelElement::Play,
-            crate::hysteresis::ElementKind::Switch => ModelElement::Relay,
+            crate::model::MemoryElement::Play => ModelElement::Play,
+            crate::model::MemoryElement::Relay => ModelElement::Relay,
         }
     }
 }
@@ -127,7 +127,7 @@ pub fn element_facts(
     r: &UnitReport,
 ) -> Vec<Fact> {
     let mut facts = Vec::new();
-    if m.kind == crate::hysteresis::ElementKind::Backlash {
+    if m.kind == crate::model::MemoryElement::Play {
         let sd = gap_sd.map_or(String::new(), |s| format!(" ± {s:.6}"));
         facts.push(Fact::new(
             "gap of the play at mid-range",

@@ -3,47 +3,23 @@
 //! `"relay"`), which tells a reader to simulate the element itself and which a reader that
 //! does not know it refuses rather than simulate the file as a two-path model.
 
-use super::params::{ElementKind, HysteresisModel};
+use super::params::HysteresisModel;
 use crate::identify::HostModel;
-use crate::model::Element;
-use crate::model_file::{MemoryElement, ModelFile};
+use crate::model_file::ModelFile;
 use crate::numerics::poly::tf_from_ss;
-
-impl ElementKind {
-    /// The model file's `"element"`.
-    pub fn memory(self) -> MemoryElement {
-        match self {
-            ElementKind::Backlash => MemoryElement::Play,
-            ElementKind::Switch => MemoryElement::Relay,
-        }
-    }
-
-    /// The model file's `"nonlinearity"`.
-    pub fn nonlinearity(self) -> Element {
-        match self {
-            ElementKind::Backlash => Element::Backlash,
-            ElementKind::Switch => Element::Switch,
-        }
-    }
-}
 
 impl HysteresisModel {
     /// The model file of this model, fitted on `samples` samples.
     pub(crate) fn to_file(&self, samples: usize) -> ModelFile {
-        let mut file = self
-            .to_host(samples)
-            .to_json(Some(self.kind.nonlinearity()));
-        file.element = Some(self.kind.memory());
+        let mut file = self.to_host(samples).to_json(Some(self.kind.element()));
+        file.element = Some(self.kind);
         file
     }
 
     /// The model a file with an `"element"` holds; `None` for a two-path file. The file is
     /// taken as read by [`ModelFile::load`], which checked that both borders share the knots.
     pub fn from_file(file: &ModelFile) -> Option<Self> {
-        let kind = match file.element? {
-            MemoryElement::Play => ElementKind::Backlash,
-            MemoryElement::Relay => ElementKind::Switch,
-        };
+        let kind = file.element?;
         let h = HostModel::from_json(file);
         let (b, f) = tf_from_ss(&h.a, &h.b, &h.c, h.d);
         Some(Self {
@@ -63,12 +39,13 @@ impl HysteresisModel {
 mod tests {
     use super::super::simulate::simulate;
     use super::*;
+    use crate::model::MemoryElement;
 
     #[test]
     fn a_model_file_round_trips_through_json_and_simulates_the_same() {
         let knots = vec![-3.0, -1.0, 1.0, 3.0];
         let m = HysteresisModel {
-            kind: ElementKind::Backlash,
+            kind: MemoryElement::Play,
             f: vec![1.0, -1.8858, 0.9048],
             b: vec![0.0, 0.1994, -0.1804],
             feedthrough: false,
@@ -92,7 +69,7 @@ mod tests {
             .zip(&b)
             .fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
         assert!(off < 1e-9, "{off}");
-        assert_eq!(back.kind, ElementKind::Backlash);
+        assert_eq!(back.kind, MemoryElement::Play);
         // A relay element under a backlash is refused.
         let bad = text.replace("\"element\": \"play\"", "\"element\": \"relay\"");
         assert!(ModelFile::from_json_str("m.json", &bad).is_err());

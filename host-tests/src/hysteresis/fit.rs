@@ -16,11 +16,12 @@
 //! one simulation (`O(N n)`) per parameter, well within the bounded iteration budget.
 
 use super::error::HysteresisError;
-use super::params::{ElementKind, HysteresisModel, Layout};
+use super::params::{HysteresisModel, Layout};
 use super::simulate::simulate;
 use super::start::{Start, start_model};
 use super::uncertainty::{Uncertainty, uncertainty};
 use crate::identify::HostModel;
+use crate::model::MemoryElement;
 use crate::numerics::lm::{self, Divergence, Exhausted, Jacobian, Problem, Settings};
 use crate::numerics::poly::spectral_radius;
 
@@ -28,7 +29,7 @@ use crate::numerics::poly::spectral_radius;
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
     /// Backlash or switch.
-    pub kind: ElementKind,
+    pub kind: MemoryElement,
     /// Iteration limit of Levenberg–Marquardt.
     pub max_iter: usize,
     /// Whether `G` has a direct feed-through (usually not for a sampled plant).
@@ -42,7 +43,7 @@ pub struct FitOptions {
 
 impl FitOptions {
     /// A fit of `kind` with 60 iterations and a strictly proper, stable `G`.
-    pub fn new(kind: ElementKind) -> Self {
+    pub fn new(kind: MemoryElement) -> Self {
         Self {
             kind,
             max_iter: 60,
@@ -213,8 +214,8 @@ pub fn fit_hysteresis_skipping(
     let model = HysteresisModel::from_theta(&layout, &knots, &min.theta);
     let uncertainty = uncertainty(&problem, &layout, &min.theta, &min.residual, used, &typical)
         .map(|s| match opts.kind {
-            ElementKind::Backlash => s.with_gap(&layout, &model),
-            ElementKind::Switch => s,
+            MemoryElement::Play => s.with_gap(&layout, &model),
+            MemoryElement::Relay => s,
         });
     Ok(HysteresisFit {
         uncertainty,
@@ -231,7 +232,7 @@ pub fn fit_hysteresis_skipping(
 /// knot (the play operator's condition).
 fn admissible(layout: &Layout, th: &[f64], max_radius: f64) -> bool {
     let p = layout.linear().polynomials(&th[layout.plant()]);
-    let ordered = layout.kind == ElementKind::Switch
+    let ordered = layout.kind == MemoryElement::Relay
         || th[layout.asc()]
             .iter()
             .zip(&th[layout.desc()])

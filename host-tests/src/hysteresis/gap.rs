@@ -48,15 +48,15 @@ impl HysteresisModel {
 
 #[cfg(test)]
 mod tests {
-    use super::super::params::ElementKind;
     use super::*;
+    use crate::model::MemoryElement;
 
     #[test]
     fn the_gap_of_a_play_of_constant_width_is_its_width() {
         // H_a = 2(u − 0.15), H_d = 2(u + 0.15): the play is 0.3.
         let k = vec![-1.0, 0.0, 1.0];
         let m = HysteresisModel {
-            kind: ElementKind::Backlash,
+            kind: MemoryElement::Play,
             f: vec![1.0, -0.5],
             b: vec![0.0, 0.5],
             feedthrough: false,

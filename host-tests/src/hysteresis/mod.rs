@@ -32,5 +32,5 @@ pub mod uncertainty;
 
 pub use error::HysteresisError;
 pub use fit::{FitOptions, HysteresisFit, fit_hysteresis, fit_hysteresis_skipping};
-pub use params::{ElementKind, HysteresisModel, Layout};
+pub use params::{HysteresisModel, Layout};
 pub use start::Start;

@@ -7,33 +7,14 @@
 //! coefficient fixed by `G(1) = 1` is not a parameter, as in the prediction-error
 //! refinement's layout.
 
+use crate::model::MemoryElement;
 use crate::refine::pem::ParamLayout;
-
-/// Which element with memory.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ElementKind {
-    /// The play operator `w(t) = min(max(w(t−1), H_a(u)), H_d(u))`, `H_a ≤ H_d`.
-    Backlash,
-    /// The relay with borders: `H_a(u)` while the input rises, `H_d(u)` while it falls.
-    Switch,
-}
-
-impl ElementKind {
-    /// The name used in the model file and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ElementKind::Backlash => "backlash",
-            ElementKind::Switch => "switch",
-        }
-    }
-}
 
 /// Where each parameter group sits in `θ`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Layout {
     /// The element.
-    pub kind: ElementKind,
+    pub kind: MemoryElement,
     /// Order of `G`.
     pub n: usize,
     /// Number of knots (both borders use the same knots).
@@ -86,7 +67,7 @@ impl Layout {
 #[derive(Clone, Debug, PartialEq)]
 pub struct HysteresisModel {
     /// The element.
-    pub kind: ElementKind,
+    pub kind: MemoryElement,
     /// `F = [1, f₁ … f_n]`.
     pub f: Vec<f64>,
     /// `B = [b₀ … b_n]` with `B(1) = F(1)`.
@@ -155,14 +136,14 @@ mod tests {
     #[test]
     fn theta_round_trips_and_fixes_the_static_gain() {
         let layout = Layout {
-            kind: ElementKind::Backlash,
+            kind: MemoryElement::Play,
             n: 2,
             knots: 3,
             feedthrough: false,
         };
         assert_eq!(layout.len(), 2 + 1 + 3 + 3 + 1);
         let relay = Layout {
-            kind: ElementKind::Switch,
+            kind: MemoryElement::Relay,
             ..layout
         };
         assert_eq!(relay.len(), layout.len());

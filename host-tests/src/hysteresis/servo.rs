@@ -8,7 +8,7 @@ use rand_core::SeedableRng;
 use rand_distr::StandardNormal;
 use rand_pcg::Pcg64;
 
-use super::params::ElementKind;
+use crate::model::MemoryElement;
 use crate::sim::{Backlash, Nonlinearity, Switch, paper_plant, variance};
 
 /// Half the input range: the input lies in `[−RANGE, RANGE]`.
@@ -18,7 +18,7 @@ pub const RANGE: f64 = 3.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Servo {
     /// Backlash (`H_a = u − g/2`, `H_d = u + g/2`) or switch (`u ∓ o sin(π(u + 3)/6)`).
-    pub kind: ElementKind,
+    pub kind: MemoryElement,
     /// The play `g` (backlash) or the lens' half height `o` (switch).
     pub width: f64,
     /// Output SNR in dB (variance of the noise-free output over the noise's).
@@ -63,11 +63,11 @@ impl Servo {
     fn element(&self) -> Box<dyn Nonlinearity> {
         let w = self.width;
         match self.kind {
-            ElementKind::Backlash => Box::new(Backlash::from_fns(
+            MemoryElement::Play => Box::new(Backlash::from_fns(
                 move |u| u - 0.5 * w,
                 move |u| u + 0.5 * w,
             )),
-            ElementKind::Switch => {
+            MemoryElement::Relay => {
                 let lens =
                     move |u: f64| w * (std::f64::consts::PI * (u + RANGE) / (2.0 * RANGE)).sin();
                 Box::new(Switch::from_fns(move |u| u - lens(u), move |u| u + lens(u)))

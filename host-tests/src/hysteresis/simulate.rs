@@ -1,8 +1,9 @@
 //! Simulation of a hysteresis model: the simulator's play operator or relay on the model's
 //! piecewise-linear borders, feeding `G(q)` started in the steady state of `w(−1)`.
 
-use super::params::{ElementKind, HysteresisModel};
+use super::params::HysteresisModel;
 use crate::identify::interpolate;
+use crate::model::MemoryElement;
 use crate::refine::signal::filter;
 use crate::sim::{Backlash, Nonlinearity, Switch, border};
 
@@ -17,8 +18,8 @@ pub(crate) fn element_output(m: &HysteresisModel, u: &[f64]) -> Vec<f64> {
     let a = knot_border(&m.knots, &m.border_asc);
     let d = knot_border(&m.knots, &m.border_desc);
     let mut el: Box<dyn Nonlinearity> = match m.kind {
-        ElementKind::Backlash => Box::new(Backlash::new(a, d).with_initial_output(m.w0)),
-        ElementKind::Switch => Box::new(Switch::new(a, d)),
+        MemoryElement::Play => Box::new(Backlash::new(a, d).with_initial_output(m.w0)),
+        MemoryElement::Relay => Box::new(Switch::new(a, d)),
     };
     u.iter().map(|&x| el.step(x)).collect()
 }
@@ -46,7 +47,7 @@ mod tests {
     fn a_backlash_model_holds_its_output_inside_the_gap_and_settles_on_the_border() {
         // G = 0.5 q⁻¹ / (1 − 0.5 q⁻¹); H_a = u − 0.25, H_d = u + 0.25 on [−1, 1].
         let m = HysteresisModel {
-            kind: ElementKind::Backlash,
+            kind: MemoryElement::Play,
             f: vec![1.0, -0.5],
             b: vec![0.0, 0.5],
             feedthrough: false,
@@ -68,7 +69,7 @@ mod tests {
     #[test]
     fn a_switch_model_takes_the_border_of_the_direction() {
         let m = HysteresisModel {
-            kind: ElementKind::Switch,
+            kind: MemoryElement::Relay,
             f: vec![1.0],
             b: vec![1.0],
             feedthrough: true,

@@ -13,9 +13,10 @@
 //! ladder is built on both centre lines.
 
 use super::error::HysteresisError;
-use super::params::{ElementKind, HysteresisModel};
+use super::params::HysteresisModel;
 use super::simulate::simulate;
 use crate::identify::HostModel;
+use crate::model::MemoryElement;
 use crate::numerics::hat::hat_weights;
 use crate::numerics::lstsq::{Scaling, lstsq_columns};
 use crate::numerics::poly::tf_from_ss;
@@ -37,14 +38,14 @@ const PLAYS: [f64; 12] = [
 ];
 
 /// The element of `kind` with borders `u ∓ g/2` applied to the input.
-fn input_play(kind: ElementKind, g: f64, u: &[f64]) -> Vec<f64> {
+fn input_play(kind: MemoryElement, g: f64, u: &[f64]) -> Vec<f64> {
     let h = 0.5 * g;
     let mut el: Box<dyn Nonlinearity> = match kind {
-        ElementKind::Backlash => Box::new(
+        MemoryElement::Play => Box::new(
             Backlash::from_fns(move |x| x - h, move |x| x + h)
                 .with_initial_output(u.first().copied().unwrap_or(0.0)),
         ),
-        ElementKind::Switch => Box::new(Switch::from_fns(move |x| x - h, move |x| x + h)),
+        MemoryElement::Relay => Box::new(Switch::from_fns(move |x| x - h, move |x| x + h)),
     };
     u.iter().map(|&x| el.step(x)).collect()
 }
@@ -190,7 +191,7 @@ fn sse(m: &HysteresisModel, u: &[f64], y: &[f64]) -> f64 {
 /// The starting hysteresis model of `kind` from the subspace estimate `m` on the record.
 pub(crate) fn start_model(
     m: &HostModel,
-    kind: ElementKind,
+    kind: MemoryElement,
     feedthrough: bool,
     u: &[f64],
     y: &[f64],
@@ -243,8 +244,8 @@ pub(crate) fn start_model(
     };
     // The estimate's own paths (for a backlash ordered where they cross: H_a ≤ H_d).
     let (a0, d0) = match kind {
-        ElementKind::Backlash => ordered(&pa, &pd),
-        ElementKind::Switch => (pa.clone(), pd.clone()),
+        MemoryElement::Play => ordered(&pa, &pd),
+        MemoryElement::Relay => (pa.clone(), pd.clone()),
     };
     push(a0, d0, &centres[0]);
     for c in &centres {

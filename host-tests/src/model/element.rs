@@ -1,6 +1,7 @@
 //! The input element a model assumes: the one enum of the host (the model file's
 //! `"nonlinearity"`, the diagnosis's setting, a plant specification's element, the command
-//! line's `--nonlinearity`, Python's `nonlinearity=`).
+//! line's `--nonlinearity`, Python's `nonlinearity=`), and the element with memory a model
+//! fitted by simulation error simulates (the model file's `"element"`).
 
 use serde::{Deserialize, Serialize};
 
@@ -35,11 +36,52 @@ impl Element {
     pub fn two_path(self) -> bool {
         self != Element::Static
     }
+
+    /// The element with memory that simulates this element itself: the play operator for a
+    /// backlash, the relay with borders for a switch; `None` for a static element.
+    pub fn memory(self) -> Option<MemoryElement> {
+        match self {
+            Element::Backlash => Some(MemoryElement::Play),
+            Element::Switch => Some(MemoryElement::Relay),
+            Element::Static => None,
+        }
+    }
 }
 
 impl std::fmt::Display for Element {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+/// An element with memory, simulated as itself on its two borders: the model file's
+/// `"element"` (`"play"` or `"relay"`) and the kind of a model fitted by simulation error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MemoryElement {
+    /// The play operator `w(t) = min(max(w(t−1), H_a(u)), H_d(u))`, `H_a ≤ H_d` (backlash).
+    Play,
+    /// The relay with borders: `H_a(u)` while the input rises, `H_d(u)` while it falls
+    /// (switch).
+    Relay,
+}
+
+impl MemoryElement {
+    /// Both elements with memory.
+    pub const ALL: [MemoryElement; 2] = [MemoryElement::Play, MemoryElement::Relay];
+
+    /// The element it simulates: backlash for the play operator, switch for the relay.
+    pub fn element(self) -> Element {
+        match self {
+            MemoryElement::Play => Element::Backlash,
+            MemoryElement::Relay => Element::Switch,
+        }
+    }
+
+    /// The name of the element it simulates, as in files, on the command line and in the
+    /// diagnosis: `backlash` or `switch`.
+    pub fn name(self) -> &'static str {
+        self.element().name()
     }
 }
 
@@ -76,5 +118,23 @@ mod tests {
             Err(UnknownElement("play".into()))
         );
         assert!(!Element::Static.two_path() && Element::Switch.two_path());
+    }
+
+    #[test]
+    fn memory_elements_map_to_their_elements_and_keep_the_file_names() {
+        for m in MemoryElement::ALL {
+            assert_eq!(m.element().memory(), Some(m));
+            assert_eq!(m.name(), m.element().name());
+        }
+        assert_eq!(Element::Static.memory(), None);
+        let json: Vec<String> = MemoryElement::ALL
+            .iter()
+            .map(|m| serde_json::to_string(m).unwrap_or_default())
+            .collect();
+        assert_eq!(json, ["\"play\"", "\"relay\""]);
+        assert_eq!(
+            serde_json::from_str::<MemoryElement>("\"relay\"").ok(),
+            Some(MemoryElement::Relay)
+        );
     }
 }

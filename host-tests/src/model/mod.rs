@@ -5,6 +5,6 @@ mod element;
 mod record;
 mod simulate;
 
-pub use element::{Element, UnknownElement};
+pub use element::{Element, MemoryElement, UnknownElement};
 pub use record::{Record, RecordError};
 pub use simulate::{FileModel, Simulate};

@@ -1,6 +1,7 @@
 //! A measured record as it enters the host: input and output, the controller's reference of
 //! a closed-loop record, the sample time and units when known, the hold at its start, and
-//! where each experiment of a joined record starts.
+//! where each experiment of a joined record starts, and the time of each sample (kept when a
+//! record is cut, so that a junction shows as a jump).
 
 use std::ops::Range;
 
@@ -13,6 +14,10 @@ pub struct Record {
     pub u: Vec<f64>,
     /// Output samples.
     pub y: Vec<f64>,
+    /// Time of each sample, in samples: its index in the record as given (`0, 1, …` from the
+    /// constructors), kept by [`Record::slice`] and [`Record::joined`] so that a junction
+    /// shows as a jump. Time-dependent terms (trends, settling) are evaluated at it.
+    pub time: Vec<f64>,
     /// The controller's reference of a closed-loop record, one value per sample.
     pub reference: Option<Vec<f64>>,
     /// Sample time in seconds, when known.
@@ -55,15 +60,29 @@ impl Record {
                 y: y.len(),
             });
         }
-        Ok(Self {
+        Ok(Self::checked(u, y))
+    }
+
+    /// One experiment from its samples `(u(t), y(t))`, without hold, sample time or units:
+    /// one output per input by construction.
+    pub fn from_samples(samples: impl IntoIterator<Item = (f64, f64)>) -> Self {
+        let (u, y) = samples.into_iter().unzip();
+        Self::checked(u, y)
+    }
+
+    /// The record of `u` and `y`, whose lengths the caller checked.
+    fn checked(u: Vec<f64>, y: Vec<f64>) -> Self {
+        let time = (0..u.len()).map(|t| t as f64).collect();
+        Self {
             u,
             y,
+            time,
             reference: None,
             ts: None,
             units: None,
             hold: 0,
             starts: vec![0],
-        })
+        }
     }
 
     /// The record with a hold of `hold` samples at its start.
@@ -118,13 +137,80 @@ impl Record {
         self.starts.iter().rposition(|&s| s <= index).unwrap_or(0)
     }
 
+    /// A contiguous part of the samples (time kept). The experiments that start inside `r`
+    /// start there too, the hold is what of it lies in `r`; sample time and units are kept.
+    ///
+    /// # Panics
+    ///
+    /// If `r` is not within the record.
+    pub fn slice(&self, r: Range<usize>) -> Record {
+        let starts = std::iter::once(0)
+            .chain(
+                self.starts
+                    .iter()
+                    .filter(|&&s| s > r.start && s < r.end)
+                    .map(|&s| s - r.start),
+            )
+            .collect();
+        Record {
+            u: self.u[r.clone()].to_vec(),
+            y: self.y[r.clone()].to_vec(),
+            time: self.time[r.clone()].to_vec(),
+            reference: self.reference.as_ref().map(|v| v[r.clone()].to_vec()),
+            ts: self.ts,
+            units: self.units.clone(),
+            hold: self.hold.saturating_sub(r.start).min(r.len()),
+            starts,
+        }
+    }
+
+    /// The parts `ranges` of the samples joined in that order (time kept: a junction shows as
+    /// a jump in time). Each non-empty part starts an experiment of the result (with those
+    /// that start inside it); the hold is that of the first non-empty part.
+    ///
+    /// # Panics
+    ///
+    /// If a range is not within the record.
+    pub fn joined(&self, ranges: &[Range<usize>]) -> Record {
+        let mut out = Record {
+            u: Vec::new(),
+            y: Vec::new(),
+            time: Vec::new(),
+            reference: self.reference.as_ref().map(|_| Vec::new()),
+            ts: self.ts,
+            units: self.units.clone(),
+            hold: 0,
+            starts: Vec::new(),
+        };
+        for r in ranges.iter().filter(|r| !r.is_empty()) {
+            let part = self.slice(r.clone());
+            if out.starts.is_empty() {
+                out.hold = part.hold;
+            }
+            let at = out.u.len();
+            out.starts.extend(part.starts.iter().map(|s| s + at));
+            out.u.extend(part.u);
+            out.y.extend(part.y);
+            out.time.extend(part.time);
+            if let (Some(o), Some(v)) = (&mut out.reference, part.reference) {
+                o.extend(v);
+            }
+        }
+        if out.starts.is_empty() {
+            out.starts.push(0);
+        }
+        out
+    }
+
     /// The record of an integrating plant's stable part: in each experiment the first sample
     /// is dropped (it has no increment) and the output differenced within the experiment; the
-    /// hold loses its first sample. [`Record::increments_source`] maps a sample back.
+    /// hold loses its first sample. Each increment keeps the time of the sample it ends at;
+    /// [`Record::increments_source`] maps a sample back.
     pub fn increments(&self) -> Record {
         let mut out = Record {
             u: Vec::with_capacity(self.len()),
             y: Vec::with_capacity(self.len()),
+            time: Vec::with_capacity(self.len()),
             reference: self.reference.as_ref().map(|_| Vec::new()),
             ts: self.ts,
             units: self.units.clone(),
@@ -136,6 +222,8 @@ impl Record {
             out.starts.push(out.u.len());
             out.u.extend(u);
             out.y.extend(dy);
+            out.time
+                .extend_from_slice(self.time[r.clone()].get(1..).unwrap_or_default());
             if let (Some(o), Some(v)) = (&mut out.reference, &self.reference) {
                 o.extend_from_slice(v[r].get(1..).unwrap_or_default());
             }
@@ -189,12 +277,51 @@ mod tests {
         assert_eq!(d.y, vec![1.0, 2.0, 3.0, 2.0, -3.0]);
         assert_eq!(d.starts, vec![0, 3]);
         assert_eq!(d.hold, 1);
+        assert_eq!(d.time, vec![1.0, 2.0, 3.0, 5.0, 6.0]);
         // Each increment comes from the sample it ends at.
         let sources: Vec<usize> = (0..d.len()).map(|i| r.increments_source(i)).collect();
         assert_eq!(sources, vec![1, 2, 3, 5, 6]);
         for (i, &s) in sources.iter().enumerate() {
             assert_eq!(d.u[i], r.u[s]);
         }
+    }
+
+    #[test]
+    fn slices_and_joined_parts_keep_the_time_and_cut_the_reference_like_the_input() {
+        let n = 10;
+        let u: Vec<f64> = (0..n).map(|t| t as f64).collect();
+        let r: Vec<f64> = u.iter().map(|v| 100.0 + v).collect();
+        let rec = Record::new(u, vec![0.0; n])
+            .unwrap()
+            .with_reference(r)
+            .unwrap();
+        assert_eq!(rec.time, rec.u);
+        let s = rec.slice(2..5);
+        assert_eq!(s.reference, Some(vec![102.0, 103.0, 104.0]));
+        assert_eq!(s.time, vec![2.0, 3.0, 4.0]);
+        let p = rec.joined(&[0..2, 8..10]);
+        assert_eq!(p.u, vec![0.0, 1.0, 8.0, 9.0]);
+        assert_eq!(p.time, vec![0.0, 1.0, 8.0, 9.0]);
+        assert_eq!(p.reference, Some(vec![100.0, 101.0, 108.0, 109.0]));
+        assert_eq!(p.starts, vec![0, 2]);
+        let plain = Record::from_samples([(1.0, 2.0)]);
+        assert_eq!(
+            Some(&plain),
+            Record::new(vec![1.0], vec![2.0]).ok().as_ref()
+        );
+        assert_eq!(plain.slice(0..1).reference, None);
+        assert_eq!(plain.joined(&[0..0, 1..1]).starts, vec![0]);
+    }
+
+    #[test]
+    fn slices_keep_the_experiments_and_the_hold_inside_them() {
+        let r = two_experiments();
+        let s = r.slice(1..6);
+        assert_eq!((s.starts.clone(), s.hold), (vec![0, 3], 1));
+        assert_eq!(s.time, vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        let j = r.joined(&[5..7, 0..3]);
+        assert_eq!((j.starts, j.hold), (vec![0, 2], 0));
+        assert_eq!(j.u, vec![11.0, 12.0, 0.0, 1.0, 2.0]);
     }
 
     #[test]

@@ -33,7 +33,7 @@ impl Simulate for HysteresisFit {
 }
 
 /// The diagnosis's extended model on a record whose time is the sample index `0, 1, …` (as
-/// [`Record::new`](crate::diagnose::model::Record::new) gives it): the additive terms are
+/// [`Record::new`](crate::model::Record::new) gives it): the additive terms are
 /// evaluated at those times.
 impl Simulate for ExtendedModel {
     fn simulate(&self, u: &[f64]) -> Vec<f64> {
@@ -98,13 +98,13 @@ impl Simulate for FileModel {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
-    use crate::hysteresis::ElementKind;
+    use crate::model::MemoryElement;
 
     #[test]
     fn an_element_file_simulates_the_play_not_two_paths() {
         let knots = vec![-1.0, 0.0, 1.0];
         let play = HysteresisModel {
-            kind: ElementKind::Backlash,
+            kind: MemoryElement::Play,
             f: vec![1.0, -0.5],
             b: vec![0.0, 0.5],
             feedthrough: false,

@@ -36,15 +36,11 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
 
 /// A play or relay element: the kind it belongs to, one set of knots for both borders.
 fn element(m: &ModelFile, bad: &Bad) -> Checked {
-    use super::MemoryElement;
     use crate::model::Element;
     let Some(e) = m.element else {
         return Ok(());
     };
-    let kind = match e {
-        MemoryElement::Play => Element::Backlash,
-        MemoryElement::Relay => Element::Switch,
-    };
+    let kind = e.element();
     if m.nonlinearity != Some(kind) {
         return Err(bad(
             "element",

@@ -25,8 +25,9 @@ use serde::{Deserialize, Serialize};
 use crate::io::{FileError, read_to_string_limited};
 use crate::model::Element;
 
+pub use crate::model::MemoryElement;
 pub use error::ModelFileError;
-pub use parts::{FormatTag, MemoryElement, ModelStd, NoiseFile, Units};
+pub use parts::{FormatTag, ModelStd, NoiseFile, Units};
 
 /// The largest model file read, in bytes (16 MiB). A model of the largest capacity the desktop
 /// accepts is well under 1 MB; a larger file is refused before it is read

@@ -28,17 +28,6 @@ impl<'de> Deserialize<'de> for FormatTag {
     }
 }
 
-/// The element of a model fitted by simulation error: simulated as itself on the borders.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MemoryElement {
-    /// The play operator `w(t) = min(max(w(t−1), H_a(u)), H_d(u))` (backlash).
-    Play,
-    /// The relay with borders: `H_a(u)` while the input rises, `H_d(u)` while it falls
-    /// (switch).
-    Relay,
-}
-
 /// Units of the signals, as free text (e.g. `"V"`, `"rpm"`).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -9,9 +9,10 @@
 //! fit cannot run (several experiments, an integrating plant) the note says it was not run.
 
 use super::{ElementFit, Field, IdentifyRequest, Syntax, WorkflowError};
-use crate::hysteresis::{ElementKind, FitOptions, HysteresisFit, Start, fit_hysteresis};
+use crate::hysteresis::{FitOptions, HysteresisFit, Start, fit_hysteresis};
 use crate::identify::HostModel;
 use crate::model::Element;
+use crate::model::MemoryElement;
 use crate::model::Record;
 use crate::table1::{Runs, count_runs, end_tolerance};
 
@@ -96,11 +97,10 @@ pub(crate) fn decide(request: &IdentifyRequest, record: &Record) -> Decision {
 }
 
 /// The element fitted, and the subspace model it starts from.
-pub fn element(kind: Element) -> (ElementKind, Start) {
-    match kind {
-        Element::Backlash => (ElementKind::Backlash, Start::TwoPath),
-        Element::Switch => (ElementKind::Switch, Start::TwoPath),
-        Element::Static => (ElementKind::Backlash, Start::Static),
+pub fn element(kind: Element) -> (MemoryElement, Start) {
+    match kind.memory() {
+        Some(memory) => (memory, Start::TwoPath),
+        None => (MemoryElement::Play, Start::Static),
     }
 }
 

@@ -4,7 +4,8 @@
 //! lines; the HTML page and Python take the same pieces.
 
 use super::{Field, Identified, Lines};
-use crate::hysteresis::{ElementKind, HysteresisFit, Start};
+use crate::hysteresis::{HysteresisFit, Start};
+use crate::model::MemoryElement;
 use crate::refine::InnovationForm;
 use crate::refine::stochastic::{noise_text, prediction_report};
 use crate::report::{UndefinedFit, fit_report, std_text};
@@ -65,8 +66,8 @@ impl Identified {
     fn element_lines(&self, fit: &HysteresisFit) -> Result<Lines, UndefinedFit> {
         let s = self.request.syntax;
         let name = match fit.model.kind {
-            ElementKind::Backlash => "play operator (backlash)",
-            ElementKind::Switch => "relay with borders (switch)",
+            MemoryElement::Play => "play operator (backlash)",
+            MemoryElement::Relay => "relay with borders (switch)",
         };
         let origin = match fit.start {
             Start::TwoPath => "the two-path model above".to_string(),
@@ -138,7 +139,7 @@ pub(crate) fn element_text(fit: &HysteresisFit) -> Vec<String> {
                 .to_string(),
         );
     }
-    if m.kind == ElementKind::Backlash {
+    if m.kind == MemoryElement::Play {
         lines.push(match m.gap() {
             Some(g) => format!("fitted gap {g:.6}{}", sd(u.and_then(|u| u.gap))),
             None => "fitted gap: none, the borders do not meet at mid-range".to_string(),

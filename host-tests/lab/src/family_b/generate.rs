@@ -9,9 +9,9 @@ use super::closed_loop;
 use super::element::{Element, Kind};
 use super::noise::{Noise, noise, rms, sigma_for, snr_db, variance};
 use super::scenario::{Design, ESTIMATION, HOLD, SEGMENTS, Scenario, VALIDATION};
-use hsid_host::diagnose::{DiagnoseOptions, Record, Validation};
+use hsid_host::diagnose::{DiagnoseOptions, Validation};
 use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::Element as ModelElement;
+use hsid_host::model::{Element as ModelElement, Record};
 
 /// What the scenario really is.
 #[derive(Clone, Debug, PartialEq)]
@@ -75,7 +75,7 @@ pub fn generate(s: &Scenario) -> Data {
                 if add.clip { y.min(clip) } else { y }
             })
             .collect();
-        Record::new(c.u.clone(), y)
+        Record::from_samples(c.u.iter().copied().zip(y))
     };
     let (record, validation) = (measured(0), measured(1));
     let scored = |x: &[f64]| rms(&x[HOLD.min(x.len())..]);

@@ -5,9 +5,9 @@ use super::case::{Case, HOLD};
 use super::element::Kind;
 use super::score::{Estimate, Row, score};
 use hsid_host::choose::{Choices, best_model};
-use hsid_host::diagnose::{DiagnoseOptions, Record, Validation, diagnose};
+use hsid_host::diagnose::{DiagnoseOptions, Validation, diagnose};
 use hsid_host::identify::{IdentifyOptions, identify};
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Record};
 
 /// Samples of each record after the hold.
 pub const SAMPLES: usize = 6000;
@@ -52,7 +52,7 @@ pub fn diagnose_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, 
         Kind::Switch => Element::Switch,
     };
     let opts = DiagnoseOptions::new(IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD), kind);
-    let record = Record::new(u.to_vec(), y.to_vec());
+    let record = Record::new(u.to_vec(), y.to_vec()).map_err(|e| e.to_string())?;
     // The base model is fitted on the estimation record alone; the validation given here only
     // sets what diagnose reports as its error, which the benchmark does not use.
     let validation = Validation::Separate {

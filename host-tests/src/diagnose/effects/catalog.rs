@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::diagnose::model::{Dynamics, ExtendedModel, Structure};
-use crate::hysteresis::ElementKind;
+use crate::model::MemoryElement;
 use crate::validation::residual::{Test, TestSet};
 
 /// The effects the diagnosis can name and add.
@@ -236,12 +236,12 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
         },
         Effect::Hysteresis => match model.and_then(|m| m.hysteresis.as_ref()) {
             Some(h) => match (h.kind, h.gap()) {
-                (ElementKind::Backlash, Some(g)) => format!("play operator, gap {g:.4}"),
-                (ElementKind::Backlash, None) => "play operator".into(),
-                (ElementKind::Switch, _) => "relay with borders".into(),
+                (MemoryElement::Play, Some(g)) => format!("play operator, gap {g:.4}"),
+                (MemoryElement::Play, None) => "play operator".into(),
+                (MemoryElement::Relay, _) => "relay with borders".into(),
             },
             None => match s.element {
-                Some(ElementKind::Switch) => "relay with borders".into(),
+                Some(MemoryElement::Relay) => "relay with borders".into(),
                 _ => "play operator".into(),
             },
         },

@@ -3,9 +3,10 @@
 
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::{
-    Evaluation, ExtendedModel, FitOptions, Metric, Record, Structure, evaluate, fit_structure,
+    Evaluation, ExtendedModel, FitOptions, Metric, Structure, evaluate, fit_structure,
     fit_structure_fold,
 };
+use crate::model::Record;
 
 /// One fold of the inner validation: the estimation record without a block (joined at the
 /// gap) fits, the block is scored.
@@ -103,7 +104,7 @@ impl<'a> Holdout<'a> {
         let folds: Vec<Fold> = ranges
             .into_iter()
             .map(|r| Fold {
-                fit_part: est.parts(&[0..r.start, r.end..est.len()]),
+                fit_part: est.joined(&[0..r.start, r.end..est.len()]),
                 range: r,
             })
             .collect();
@@ -275,7 +276,7 @@ mod tests {
     #[test]
     fn the_interior_block_is_the_middle_one_that_leaves_every_segment() -> Result<(), String> {
         let n = 1000;
-        let rec = Record::new(vec![0.0; n], vec![0.0; n]);
+        let rec = Record::new(vec![0.0; n], vec![0.0; n]).map_err(|e| e.to_string())?;
         let flat = vec![0usize; n];
         let middle = Holdout::interior_block(&rec, 100, 300, &flat, 1);
         if middle != Some(400..700) {

@@ -17,7 +17,7 @@ use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::model::{Dynamics, Metric, evaluate};
-use crate::hysteresis::ElementKind;
+use crate::model::MemoryElement;
 use crate::validation::residual::LEVEL;
 
 impl Proposal<'_> {
@@ -31,8 +31,8 @@ impl Proposal<'_> {
             return Ok(None);
         }
         let opts = [
-            ("play operator (backlash)", ElementKind::Backlash),
-            ("relay with borders (switch)", ElementKind::Switch),
+            ("play operator (backlash)", MemoryElement::Play),
+            ("relay with borders (switch)", MemoryElement::Relay),
         ]
         .into_iter()
         .map(|(label, kind)| (label.to_string(), self.with(|s| s.element = Some(kind))))

@@ -5,10 +5,11 @@
 use crate::diagnose::dynamics::DynamicsError;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::simulate::delay_input;
-use crate::hysteresis::{ElementKind, FitOptions, Start, fit_hysteresis_skipping};
+use crate::hysteresis::{FitOptions, Start, fit_hysteresis_skipping};
+use crate::model::MemoryElement;
 
 use super::extended::ExtendedModel;
-use super::record::Record;
+use crate::model::Record;
 
 /// Replaces the simulation of `model`'s Hammerstein part by the element `kind` and `G`,
 /// fitted on the simulation error of `rec` without the `skip` samples (the input drives the
@@ -21,7 +22,7 @@ pub(super) fn fit_element(
     model: &mut ExtendedModel,
     rec: &Record,
     skip: &[bool],
-    kind: ElementKind,
+    kind: MemoryElement,
     shared: bool,
     fitted: usize,
 ) -> Result<(), DiagnoseError> {

@@ -10,11 +10,11 @@
 //! fit; the extensions (output map, element with memory, stores, noise model, …) are fitted
 //! on top of that Hammerstein part as usual.
 
-use super::record::Record;
 pub use crate::closed_loop::Estimator;
 use crate::closed_loop::identify_closed_loop;
 use crate::diagnose::error::DiagnoseError;
 use crate::identify::{HostModel, IdentifyOptions, identify};
+use crate::model::Record;
 
 impl Estimator {
     /// The estimator of a record: [`Estimator::Reference`] when it carries a reference.

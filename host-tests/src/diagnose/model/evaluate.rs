@@ -8,7 +8,7 @@ use crate::report::fit;
 
 use super::extended::ExtendedModel;
 use super::outliers::detect_outliers;
-use super::record::Record;
+use crate::model::Record;
 
 /// Which error a score measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -18,9 +18,9 @@ use super::extended::ExtendedModel;
 use super::fit_options::{FitOptions, InitialState};
 use super::outliers::detect_outliers;
 use super::poles::{refine_poles, refine_poles_mapped};
-use super::record::Record;
 use super::refine_linear::{LinearFitParams, refine_linear};
 use super::structure::Structure;
+use crate::model::Record;
 
 /// Fits a structure on a record.
 pub fn fit_structure(

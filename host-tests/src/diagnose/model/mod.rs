@@ -40,7 +40,6 @@ pub mod fit_options;
 pub mod outliers;
 pub mod output_fit;
 pub mod poles;
-pub mod record;
 pub mod refine_linear;
 pub mod structure;
 
@@ -52,5 +51,4 @@ pub use extended::ExtendedModel;
 pub use fit::{fit_structure, fit_structure_fold};
 pub use fit_options::{FitOptions, InitialState, Saturation};
 pub use outliers::detect_outliers;
-pub use record::Record;
 pub use structure::{Dynamics, Structure};

@@ -1,9 +1,9 @@
 //! The structure of an extended model: which effects it has and their settings.
 
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 
 use crate::diagnose::stores::StoresClass;
-use crate::hysteresis::ElementKind;
+use crate::model::MemoryElement;
 
 /// Which extensions a model has, with their settings.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -41,7 +41,15 @@ pub struct Structure {
     /// The input element simulated itself — the play operator (backlash) or the relay with
     /// borders (switch) on the knots — with `G` refitted by simulation error in place of the
     /// static or two-path nonlinearity (`hysteresis`).
-    pub element: Option<ElementKind>,
+    /// Written as the element's name, `"backlash"` or `"switch"` (the model file writes the
+    /// element itself, `"play"` or `"relay"`).
+    #[serde(serialize_with = "element_name")]
+    pub element: Option<MemoryElement>,
+}
+
+/// [`Structure::element`] as the name of the element it simulates.
+fn element_name<S: Serializer>(e: &Option<MemoryElement>, s: S) -> Result<S::Ok, S::Error> {
+    e.map(MemoryElement::name).serialize(s)
 }
 
 /// The dynamics between the input nonlinearity and the output map.
@@ -98,5 +106,30 @@ impl Structure {
         } else {
             1
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_element_is_written_by_the_name_of_the_element_it_simulates() {
+        let json = |e: Option<MemoryElement>| {
+            let mut out = Vec::new();
+            let written = element_name(&e, &mut serde_json::Serializer::new(&mut out));
+            written
+                .map(|()| String::from_utf8_lossy(&out).into_owned())
+                .ok()
+        };
+        assert_eq!(
+            json(Some(MemoryElement::Play)).as_deref(),
+            Some("\"backlash\"")
+        );
+        assert_eq!(
+            json(Some(MemoryElement::Relay)).as_deref(),
+            Some("\"switch\"")
+        );
+        assert_eq!(json(None).as_deref(), Some("null"));
     }
 }
