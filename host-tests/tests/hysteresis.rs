@@ -9,7 +9,9 @@ use std::time::Instant;
 
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
 use hsid_host::hysteresis::simulate::simulate;
-use hsid_host::hysteresis::{FitOptions, HysteresisFit, HysteresisModel, Start, fit_hysteresis};
+use hsid_host::hysteresis::{
+    ElementFitOptions, HysteresisFit, HysteresisModel, Start, fit_hysteresis,
+};
 use hsid_host::identify::{IdentifyOptions, identify};
 use hsid_host::model::MemoryElement;
 use hsid_host::report::fit;
@@ -39,7 +41,13 @@ fn run(
     let est = servo.record(LEN, seed);
     let val = servo.record(LEN, seed + 1000);
     let init = identify(&est.u, &est.y, &options(start == Start::Static))?;
-    let f = fit_hysteresis(&est.u, &est.y, &init, start, &FitOptions::new(servo.kind))?;
+    let f = fit_hysteresis(
+        &est.u,
+        &est.y,
+        &init,
+        start,
+        &ElementFitOptions::new(servo.kind),
+    )?;
     let floor = fit(&val.y, &val.y_clean).nrmse;
     let ratio = fit(&val.y, &f.simulate(&val.u)).nrmse / floor;
     let before = fit(&val.y, &init.simulate(&val.u)).nrmse / floor;
@@ -113,9 +121,9 @@ fn the_fit_keeps_g_inside_the_pole_radius_it_is_given() -> Outcome {
     let est = servo.record(LEN, 1);
     let init = identify(&est.u, &est.y, &options(true))?;
     let fit_with = |r: f64| {
-        let opts = FitOptions {
+        let opts = ElementFitOptions {
             max_pole_radius: r,
-            ..FitOptions::new(servo.kind)
+            ..ElementFitOptions::new(servo.kind)
         };
         fit_hysteresis(&est.u, &est.y, &init, Start::Static, &opts)
     };
@@ -213,7 +221,7 @@ fn the_fit_reaches_the_true_parameters_error() -> Outcome {
             &est.y,
             &init,
             Start::TwoPath,
-            &FitOptions::new(servo.kind),
+            &ElementFitOptions::new(servo.kind),
         )?;
         let at_truth = sse(&exact, &est.y);
         println!(

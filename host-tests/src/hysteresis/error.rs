@@ -50,7 +50,7 @@ pub enum HysteresisError {
     )]
     StartDoesNotSimulate,
     /// The starting model is stable, but has a pole at or beyond the radius the fit admits
-    /// ([`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius)).
+    /// ([`ElementFitOptions::max_pole_radius`](super::ElementFitOptions::max_pole_radius)).
     #[error(
         "the starting model has a pole of radius {radius:.6}, at or beyond the {limit:.6} admitted (a mode slower than the record can validate): a longer record, or a lower order"
     )]
@@ -60,7 +60,7 @@ pub enum HysteresisError {
         /// The radius admitted.
         limit: f64,
     },
-    /// [`FitOptions::max_pole_radius`](super::FitOptions::max_pole_radius) is not in (0, 1].
+    /// [`ElementFitOptions::max_pole_radius`](super::ElementFitOptions::max_pole_radius) is not in (0, 1].
     #[error(
         "the largest pole radius admitted is {0}, which is not in (0, 1]: give 1 to admit every stable linear part"
     )]

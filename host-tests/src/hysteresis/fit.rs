@@ -27,7 +27,7 @@ use crate::numerics::poly::spectral_radius;
 
 /// Settings of the fit.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FitOptions {
+pub struct ElementFitOptions {
     /// Backlash or switch.
     pub kind: MemoryElement,
     /// Iteration limit of Levenberg–Marquardt.
@@ -41,7 +41,7 @@ pub struct FitOptions {
     pub max_pole_radius: f64,
 }
 
-impl FitOptions {
+impl ElementFitOptions {
     /// A fit of `kind` with 60 iterations and a strictly proper, stable `G`.
     pub fn new(kind: MemoryElement) -> Self {
         Self {
@@ -109,7 +109,7 @@ pub fn fit_hysteresis(
     y: &[f64],
     init: &HostModel,
     start: Start,
-    opts: &FitOptions,
+    opts: &ElementFitOptions,
 ) -> Result<HysteresisFit, HysteresisError> {
     fit_hysteresis_skipping(u, y, &[], init, start, opts)
 }
@@ -125,7 +125,7 @@ pub fn fit_hysteresis_skipping(
     skip: &[bool],
     init: &HostModel,
     start: Start,
-    opts: &FitOptions,
+    opts: &ElementFitOptions,
 ) -> Result<HysteresisFit, HysteresisError> {
     let layout = Layout {
         kind: opts.kind,

@@ -31,6 +31,6 @@ pub mod start;
 pub mod uncertainty;
 
 pub use error::HysteresisError;
-pub use fit::{FitOptions, HysteresisFit, fit_hysteresis, fit_hysteresis_skipping};
+pub use fit::{ElementFitOptions, HysteresisFit, fit_hysteresis, fit_hysteresis_skipping};
 pub use params::{HysteresisModel, Layout};
 pub use start::Start;

@@ -9,7 +9,7 @@
 //! fit cannot run (several experiments, an integrating plant) the note says it was not run.
 
 use super::{ElementFit, Field, IdentifyRequest, Syntax, WorkflowError};
-use crate::hysteresis::{FitOptions, HysteresisFit, Start, fit_hysteresis};
+use crate::hysteresis::{ElementFitOptions, HysteresisFit, Start, fit_hysteresis};
 use crate::identify::HostModel;
 use crate::model::Element;
 use crate::model::MemoryElement;
@@ -111,7 +111,14 @@ pub fn fit(
     start: &HostModel,
 ) -> Result<HysteresisFit, WorkflowError> {
     let (kind, from) = element(request.element);
-    fit_hysteresis(&record.u, &record.y, start, from, &FitOptions::new(kind)).map_err(|error| {
+    fit_hysteresis(
+        &record.u,
+        &record.y,
+        start,
+        from,
+        &ElementFitOptions::new(kind),
+    )
+    .map_err(|error| {
         let s = request.syntax;
         WorkflowError::ElementFit {
             prefix: s.set(Field::Fit, s.text("simulation")),

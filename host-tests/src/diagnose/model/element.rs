@@ -5,7 +5,7 @@
 use crate::diagnose::dynamics::DynamicsError;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::simulate::delay_input;
-use crate::hysteresis::{FitOptions, Start, fit_hysteresis_skipping};
+use crate::hysteresis::{ElementFitOptions, Start, fit_hysteresis_skipping};
 use crate::model::MemoryElement;
 
 use super::extended::ExtendedModel;
@@ -44,9 +44,9 @@ pub(super) fn fit_element(
         skip,
         &model.hammerstein,
         start,
-        &FitOptions {
+        &ElementFitOptions {
             max_pole_radius: ExtendedModel::validatable_radius(fitted),
-            ..FitOptions::new(kind)
+            ..ElementFitOptions::new(kind)
         },
     )
     .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Hysteresis(e)))?;
