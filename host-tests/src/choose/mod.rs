@@ -6,6 +6,7 @@ mod file;
 mod horizons;
 mod knots;
 mod order;
+mod start;
 
 pub use file::{model_std, noise_file};
 
@@ -14,11 +15,13 @@ pub use horizons::{
 };
 pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
 pub use order::{OrderChoice, choose_order, neighbours};
+pub use start::{MAX_START_RADIUS, StableStart, stabilised};
 
-use crate::identify::{HostModel, IdentifyError, IdentifyOptions, identify};
+use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
 use crate::refine::pem::PemFit;
+use start::subspace_start;
 
 /// `order 2: why; order 3: why`.
 fn per_order(why: &[(usize, String)]) -> String {
@@ -139,6 +142,8 @@ pub struct Best {
     pub options: IdentifyOptions,
     /// The knots' merging, when segments were merged where the record has few samples.
     pub knots: Option<KnotSupport>,
+    /// The stable start of the refinement, when the subspace model was not stable.
+    pub start: Option<StableStart>,
     /// The refinement, when refined.
     pub fit: Option<PemFit>,
     /// The segments' choice, when from the data: `(segments, score)` of every candidate.
@@ -158,6 +163,9 @@ impl Best {
         }
         if let Some(k) = &self.knots {
             lines.push(k.report());
+        }
+        if let Some(s) = &self.start {
+            lines.push(s.report());
         }
         if let Some(h) = &self.horizons {
             lines.push(h.report());
@@ -285,17 +293,17 @@ fn at_knots(
         }
     }
     let mut horizons = None;
-    let model = loop {
-        let model = identify(u, y, &opts)?;
+    let (model, start) = loop {
+        let (model, start) = subspace_start(u, y, &opts, choices.estimator)?;
         if choices.horizons != Horizons::FromData || horizons.is_some() {
-            break model;
+            break (model, start);
         }
         let h = choose_horizons(&model, &opts, u.len().saturating_sub(opts.hold));
         let same = (h.f, h.p) == (opts.f, opts.p);
         (opts.f, opts.p) = (h.f, h.p);
         horizons = Some(h);
         if same {
-            break model;
+            break (model, start);
         }
     };
     if choices.estimator == ModelStage::Subspace {
@@ -303,6 +311,7 @@ fn at_knots(
             model,
             options: opts,
             knots,
+            start,
             fit: None,
             segments: None,
             horizons,
@@ -318,6 +327,7 @@ fn at_knots(
         model: fit.model.clone(),
         options: opts,
         knots,
+        start,
         fit: Some(fit),
         segments: None,
         horizons,

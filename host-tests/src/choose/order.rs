@@ -8,7 +8,9 @@
 //! lowers the prediction error by more than its parameters cost.
 
 use super::ChooseError;
-use crate::identify::{IdentifyOptions, identify};
+use super::ModelStage;
+use super::start::subspace_start;
+use crate::identify::IdentifyOptions;
 use crate::numerics::select::{Criterion, best, relative_scores};
 use crate::refine::pem::{PemFit, PemOptions, refine};
 
@@ -59,9 +61,9 @@ pub fn choose_order(
     for &n in candidates {
         let mut o = opts.clone();
         o.order = Some(n);
-        let fit = identify(u, y, &o)
+        let fit = subspace_start(u, y, &o, ModelStage::Refined)
             .map_err(|e| e.to_string())
-            .and_then(|m| refine(u, y, &m, pem).map_err(|e| e.to_string()));
+            .and_then(|(m, _)| refine(u, y, &m, pem).map_err(|e| e.to_string()));
         match fit {
             Ok(f) => {
                 scores.push((
