@@ -9,6 +9,7 @@ use hsid_host::hysteresis::HysteresisModel;
 use hsid_host::hysteresis::simulate::simulate;
 use hsid_host::identify::HostModel;
 use hsid_host::io::{CsvOptions, write_columns_to};
+use hsid_host::model::{Interval, OutsideInterval, Syntax, first_outside, for_input};
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::NoiseModel;
 use hsid_host::simulate::{
@@ -60,10 +61,15 @@ pub struct SimulateArgs {
     /// Seed of the noise generator (with --plant: replaces the specification's seed).
     #[arg(long)]
     seed: Option<u64>,
-    /// Model only: inputs outside the model's [u_min, u_max] continue the end segments of both
-    /// borders linearly (default: an error).
-    #[arg(long, requires = "model")]
+    /// Model only: what a model does by default, kept for scripts that pass it: inputs outside
+    /// the model's [u_min, u_max] continue the end segments of the borders linearly.
+    #[arg(long, requires = "model", conflicts_with = "strict_interval")]
     extrapolate: bool,
+    /// Model only: refuse an input outside the model's [u_min, u_max] (naming its line and
+    /// value) instead of extending the borders linearly beyond it, which is the default and
+    /// is noted in a comment line `# note: …` before the columns.
+    #[arg(long, requires = "model")]
+    strict_interval: bool,
     /// Also write the noise-free output as a column `y_clean`.
     #[arg(long)]
     clean: bool,
@@ -152,7 +158,7 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         seed: a.seed.unwrap_or(1),
     });
     let opts = ModelOptions {
-        extrapolate: a.extrapolate,
+        strict_interval: a.strict_interval,
         noise,
         integrating: file.integrating,
     };
@@ -166,7 +172,7 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
         .clone()
         .map(|u| (UnitsOrigin::ModelFile(path.clone()), u));
     let units: Option<Units> = a.units.resolve_units(stored)?;
-    let out = match HysteresisModel::from_file(&file) {
+    let (out, outside) = match HysteresisModel::from_file(&file) {
         Some(h) => {
             element_run(&h, &input, &opts).map_err(|e| format!("{}: {e}", path.display()))?
         }
@@ -174,26 +180,32 @@ fn model_run(a: &SimulateArgs, path: &PathBuf, csv: &CsvOptions) -> Result<Run, 
             .map_err(|e| format!("{}: {e}", path.display()))?,
     };
     let units = units.as_ref();
-    let lines = header(
+    let mut lines = header(
         ts,
         units.map(|u| u.input.as_str()),
         units.map(|u| u.output.as_str()),
     );
+    lines.extend(outside.map(|o| format!("note: {}", o.note(Syntax::Cli))));
     Ok(((input, out), lines))
 }
 
-/// A model file with a play or relay element: the element itself on the borders, noise-free
-/// and inside the knots only.
+/// A model file with a play or relay element: the element itself on the borders, noise-free;
+/// beyond the knots the borders are extended linearly (refused with `--strict-interval`).
 fn element_run(
     h: &HysteresisModel,
     input: &InputRecord,
     opts: &ModelOptions,
-) -> Result<Output, String> {
-    if opts.noise.is_some() || opts.extrapolate {
-        return Err("a play or relay model (\"element\") is simulated noise-free inside its knots: drop the noise options and --extrapolate".to_string());
+) -> Result<(Output, Option<OutsideInterval>), String> {
+    if opts.noise.is_some() {
+        return Err(
+            "a play or relay model (\"element\") is simulated noise-free: drop the noise options"
+                .to_string(),
+        );
     }
-    let (lo, hi) = (h.knots[0], h.knots[h.knots.len() - 1]);
-    if let Some(i) = input.u.iter().position(|v| !(lo..=hi).contains(v)) {
+    let (lo, hi) = h.interval();
+    if opts.strict_interval
+        && let Some(i) = first_outside(&input.u, lo, hi)
+    {
         return Err(format!(
             "{} line {}: u = {} lies outside the model's interval [{lo}, {hi}]",
             input.source.display(),
@@ -201,7 +213,8 @@ fn element_run(
             input.u[i]
         ));
     }
-    Ok(Output::clean(simulate(h, &input.u)))
+    let (h, outside) = for_input(h, &input.u);
+    Ok((Output::clean(simulate(&h.model, &input.u)), outside))
 }
 
 /// The input record, with its time column when it has one (or it was named: then it must).

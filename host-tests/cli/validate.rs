@@ -1,7 +1,7 @@
 //! `hsid validate`: a model file simulated (and, with a noise model, predicted) on a record.
 
 use crate::failure::{Failure, outln};
-use hsid_host::model::Element;
+use hsid_host::model::{Element, Simulate, Syntax, first_outside, for_input};
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -52,6 +52,11 @@ pub struct ValidateArgs {
     /// command line) to this file.
     #[arg(long, value_name = "FILE")]
     html: Option<PathBuf>,
+    /// Refuse a record whose input leaves the model's [u_min, u_max] (naming its line and
+    /// value). By default the borders are extended linearly beyond it on the end segments'
+    /// lines, and a line `note: …` says how many samples lie outside.
+    #[arg(long)]
+    strict_interval: bool,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
@@ -94,11 +99,14 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         return Err(format!("--skip {skip} leaves no samples of {}", u.len()).into());
     }
     let (lo, hi) = (m.u_min(), m.u_max());
-    if let Some((i, v)) = u.iter().enumerate().find(|(_, v)| **v < lo || **v > hi) {
+    if a.strict_interval
+        && let Some(i) = first_outside(u, lo, hi)
+    {
         return Err(format!(
-            "{} line {}: u = {v} lies outside the model's interval [{lo}, {hi}]",
+            "{} line {}: u = {} lies outside the model's interval [{lo}, {hi}]",
             a.data.display(),
-            table.lines[i]
+            table.lines[i],
+            u[i]
         )
         .into());
     }
@@ -110,13 +118,23 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
                 .into(),
         );
     }
+    // Beyond the interval the borders continue on their end segments' lines: the model as it
+    // simulates and predicts the record (the reading, the two-path figures and the page keep
+    // the file's knots, which its standard deviations belong to).
+    let (extended, outside) = for_input(&m, u);
+    if let Some(o) = outside {
+        outln!("note: {}", o.note(Syntax::Cli))?;
+    }
+    let element = element.map(|h| for_input(&h, u).0.model);
     let sim = match &element {
         Some(h) => hysteresis::simulate::simulate(h, u),
-        None => m.simulate(u),
+        None => extended.simulate(u),
     };
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     if let Some(nm) = noise {
-        let pred = InnovationForm::new(&m, &nm).predict(u, y);
+        let mut predictor = InnovationForm::new(&extended.model, &nm);
+        predictor.u_start = extended.u_start;
+        let pred = predictor.predict(u, y);
         outln!(
             "{}",
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?

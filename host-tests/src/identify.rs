@@ -468,6 +468,13 @@ impl HostModel {
     /// Simulates the model for an input record, starting at rest at `u_min` (as after the
     /// identification hold): δ(t) from the input, `H = P_a(u)` or `P_d(u)`, then `G`.
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        self.simulate_from(u, self.knots_asc.first().copied().unwrap_or(0.0))
+    }
+
+    /// [`simulate`](Self::simulate) with the input before the record at `u_start` (which
+    /// decides the path of a first sample that does not move away from it): a model extended
+    /// beyond its interval starts where the model it extends starts.
+    pub fn simulate_from(&self, u: &[f64], u_start: f64) -> Vec<f64> {
         let n = self.order;
         // Rest state: x = (I − A)⁻¹ B μ0.
         let ia = DMatrix::<f64>::identity(n, n) - &self.a;
@@ -476,7 +483,6 @@ impl HostModel {
             .lu()
             .solve(&bvec)
             .unwrap_or_else(|| nalgebra::DVector::zeros(n));
-        let u_start = self.knots_asc.first().copied().unwrap_or(0.0);
         let mut out = Vec::with_capacity(u.len());
         for (&ui, dir) in u.iter().zip(directions(u, u_start)) {
             let h = match dir {

@@ -556,7 +556,32 @@ fn validate_names_an_input_outside_the_model_interval() {
     let mut u = e.u.clone();
     u[998] = -4.0; // file line 1000
     let data = dir.write_uy("other.csv", &u, &e.y);
-    validate(&model, &data).clean_error(&["other.csv", "line 1000", "-4", "interval"]);
+    let strict = hsid(&[
+        "validate",
+        "--model",
+        p(&model),
+        "--data",
+        p(&data),
+        "--skip",
+        "300",
+        "--strict-interval",
+    ]);
+    strict.clean_error(&["other.csv", "line 1000", "-4", "interval"]);
+    // By default the borders are extended beyond the interval, and a line says so.
+    let run = validate(&model, &data).success();
+    let note = run
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("note: "))
+        .unwrap_or_else(|| panic!("no note:\n{}", run.stdout));
+    assert!(
+        note.starts_with(&format!("note: 1 of {} samples", u.len()))
+            && note.contains("lies outside the model's interval")
+            && note.contains("lowest -4,")
+            && note.ends_with("(--strict-interval refuses instead)"),
+        "{note}"
+    );
+    assert!(run.stdout.contains("fit "), "{}", run.stdout);
 }
 
 #[test]

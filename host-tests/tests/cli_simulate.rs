@@ -270,7 +270,7 @@ fn bad_specifications_are_one_line_errors_naming_the_field() {
 }
 
 #[test]
-fn a_model_refuses_inputs_outside_its_interval_unless_told_to_extrapolate() {
+fn a_model_extends_its_borders_beyond_its_interval_unless_told_to_be_strict() {
     let s = Scratch::new("sim-range");
     let spec = s.write("switch.json", SWITCH);
     let u = hsid(&[
@@ -333,11 +333,24 @@ fn a_model_refuses_inputs_outside_its_interval_unless_told_to_extrapolate() {
         "{text}"
     );
     let wide = s.write("wide.csv", "u\n-1\n0.5\n1.5\n-1\n");
-    hsid(&["simulate", "--model", p(&model), "--input", p(&wide)]).clean_error(&[
-        "line 4",
-        "1.5",
-        "--extrapolate",
-    ]);
+    hsid(&[
+        "simulate",
+        "--model",
+        p(&model),
+        "--input",
+        p(&wide),
+        "--strict-interval",
+    ])
+    .clean_error(&["line 4", "1.5", "--extrapolate"]);
+    // By default (and with --extrapolate, which names the default) the borders are extended.
+    let default = hsid(&["simulate", "--model", p(&model), "--input", p(&wide)]).success();
+    assert!(
+        default
+            .stdout
+            .contains("# note: 1 of 4 samples (25.00 %) lies outside"),
+        "{}",
+        default.stdout
+    );
     let run = hsid(&[
         "simulate",
         "--model",
@@ -348,6 +361,21 @@ fn a_model_refuses_inputs_outside_its_interval_unless_told_to_extrapolate() {
     ])
     .success();
     assert_eq!(column(&run.stdout, "y").len(), 4);
+    assert_eq!(run.stdout, default.stdout);
+    let both = hsid(&[
+        "simulate",
+        "--model",
+        p(&model),
+        "--input",
+        p(&wide),
+        "--extrapolate",
+        "--strict-interval",
+    ]);
+    assert!(
+        !both.ok && both.stderr.contains("cannot be used with"),
+        "{}",
+        both.stderr
+    );
     let t = s.write("t.csv", "t,u\n0,-1\n0.01,0\n0.01,0.5\n");
     hsid(&["simulate", "--model", p(&model), "--input", p(&t)])
         .clean_error(&["t.csv line 4", "does not increase"]);

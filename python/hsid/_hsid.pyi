@@ -96,9 +96,14 @@ class Model:
     def gap_at(self, direction: Direction, u: FloatArray) -> npt.NDArray[np.float64]:
         """How far the input must travel back after a reversal at ``u`` on path
         ``direction`` before the element's output moves; NaN where undefined."""
-    def simulate(self, u: FloatArray) -> npt.NDArray[np.float64]:
-        """The model's output for the input ``u`` (inside [u_min, u_max]) from rest; for an
-        integrating model the plant's output (the increments summed from 0)."""
+    def simulate(
+        self, u: FloatArray, *, strict_interval: bool = False
+    ) -> npt.NDArray[np.float64]:
+        """The model's output for the input ``u`` from rest; for an integrating model the
+        plant's output (the increments summed from 0). Where ``u`` leaves [u_min, u_max] the
+        borders continue linearly on their end segments' lines, with a ``UserWarning``
+        saying how many samples lie outside; ``strict_interval=True`` raises ``DataError``
+        (kind ``input_out_of_range``) instead."""
     @property
     def integrating(self) -> bool:
         """True for the stable part of an integrating plant (one pole at z = 1)."""

@@ -1,10 +1,13 @@
 //! `hsid.Model`: an identified model, held as the model file (format hsid-model/1) it is.
 
+use std::ffi::CString;
+
 use hsid::Direction;
 use hsid_host::identify::HostModel;
-use hsid_host::model::{FileModel, Simulate};
+use hsid_host::model::{FileModel, Simulate, Syntax, for_input};
 use hsid_host::model_file::ModelFile;
 use numpy::{Complex64, PyArray1, PyArray2};
+use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyFloat;
 
@@ -242,17 +245,29 @@ impl Model {
         })
     }
 
-    /// The model's output for the input `u` (1-D float array inside [u_min, u_max]), from
-    /// rest at u_min. For an integrating model (`integrating` true) the plant's output: the
-    /// stable part's increments summed from 0.
+    /// The model's output for the input `u` (1-D float array), from rest at u_min. For an
+    /// integrating model (`integrating` true) the plant's output: the stable part's increments
+    /// summed from 0. Where `u` leaves [u_min, u_max] the borders continue linearly on their
+    /// end segments' lines (both borders; a play or relay keeps its gap), with a
+    /// `UserWarning` saying how many samples lie outside; `strict_interval=True` refuses such
+    /// an input instead (`DataError` of kind `input_out_of_range`).
+    #[pyo3(signature = (u, *, strict_interval = false))]
     fn simulate<'py>(
         &self,
         py: Python<'py>,
         u: &Bound<'py, PyAny>,
+        strict_interval: bool,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let v = vector("u", u)?;
-        self.check_u("u", &v)?;
-        Ok(out(py, self.simulated.simulate(&v)))
+        if strict_interval {
+            self.check_u("u", &v)?;
+        }
+        let (model, outside) = for_input(&self.simulated, &v);
+        if let Some(o) = outside {
+            let text = CString::new(o.note(Syntax::Python)).unwrap_or_default();
+            PyErr::warn(py, py.get_type::<PyUserWarning>().as_any(), &text, 1)?;
+        }
+        Ok(out(py, model.simulate(&v)))
     }
 
     /// True when the model is the stable part of an integrating plant (identified on the

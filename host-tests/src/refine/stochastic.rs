@@ -300,6 +300,9 @@ pub struct InnovationForm {
     pub k: Vec<f64>,
     /// `σ_e²`.
     pub sigma2: f64,
+    /// The input before the record, where δ starts: the plant's `u_min` (set it to the
+    /// original `u_min` for a plant extended beyond its interval).
+    pub u_start: f64,
 }
 
 impl InnovationForm {
@@ -326,6 +329,7 @@ impl InnovationForm {
             d: plant.d,
             k,
             sigma2: noise.sigma2,
+            u_start: plant.knots_asc.first().copied().unwrap_or(0.0),
         }
     }
 
@@ -334,11 +338,11 @@ impl InnovationForm {
         self.a.nrows()
     }
 
-    /// The nonlinearity output `H[u(t)]` of the model along `u` (δ from `u(−1) = u_min`).
+    /// The nonlinearity output `H[u(t)]` of the model along `u` (δ from `u(−1) = u_start`,
+    /// the plant's `u_min`).
     pub fn nonlinearity(&self, u: &[f64]) -> Vec<f64> {
-        let u_min = self.plant.knots_asc.first().copied().unwrap_or(0.0);
         u.iter()
-            .zip(directions(u, u_min))
+            .zip(directions(u, self.u_start))
             .map(|(&ut, dir)| match dir {
                 Direction::Ascending => self.plant.border_asc_at(ut),
                 Direction::Descending => self.plant.border_desc_at(ut),

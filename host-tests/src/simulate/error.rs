@@ -79,7 +79,8 @@ pub enum SimulateError {
         /// What is wrong.
         reason: String,
     },
-    /// An input value outside the model's interval, without `--extrapolate`.
+    /// An input value outside the model's interval, refused with `--strict-interval`
+    /// ([`ModelOptions::strict_interval`](super::ModelOptions::strict_interval)).
     #[error(
         "{file} line {line}: u = {value} lies outside the model's interval [{lo}, {hi}]; \
          keep the input inside it or pass --extrapolate"

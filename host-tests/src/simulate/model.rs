@@ -8,6 +8,7 @@ use super::noise::{Level, Noise, white};
 use super::output::Output;
 use super::plant::transfer;
 use crate::identify::HostModel;
+use crate::model::{OutsideInterval, Simulate, first_outside, for_input};
 use crate::refine::NoiseModel;
 
 /// The colour of the noise added to a model's output.
@@ -33,9 +34,10 @@ pub struct ModelNoise {
 /// How a model is simulated.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ModelOptions {
-    /// Inputs outside `[u_min, u_max]` continue the end segments of both borders linearly;
-    /// without it they are an error.
-    pub extrapolate: bool,
+    /// Inputs outside `[u_min, u_max]` are an error (the first one is named). Without it
+    /// (the default) the borders continue linearly beyond the interval on the end segments'
+    /// lines, and the samples outside are counted.
+    pub strict_interval: bool,
     /// Output noise; none when `None`.
     pub noise: Option<ModelNoise>,
     /// The model is the stable part of an integrating plant (the model file's
@@ -44,43 +46,10 @@ pub struct ModelOptions {
     pub integrating: bool,
 }
 
-/// Border value at `u` on the line through knots `i` and `j`.
-fn line_at(k: &[f64], v: &[f64], i: usize, j: usize, u: f64) -> f64 {
-    v[i] + (v[j] - v[i]) * (u - k[i]) / (k[j] - k[i])
-}
-
-impl HostModel {
-    /// The model with a knot added below `lo` and above `hi` where the input leaves its interval,
-    /// on the end segments' lines, so the borders extend linearly.
-    pub fn extended(&self, lo: f64, hi: f64) -> HostModel {
-        let mut m = self.clone();
-        for (k, v) in [
-            (&mut m.knots_asc, &mut m.border_asc),
-            (&mut m.knots_desc, &mut m.border_desc),
-        ] {
-            let n = k.len().min(v.len());
-            if n < 2 {
-                continue;
-            }
-            if hi > k[n - 1] {
-                let y = line_at(k, v, n - 2, n - 1, hi);
-                k.push(hi);
-                v.push(y);
-            }
-            if lo < k[0] {
-                let y = line_at(k, v, 0, 1, lo);
-                k.insert(0, lo);
-                v.insert(0, y);
-            }
-        }
-        m
-    }
-}
-
 /// The first input outside the model's interval, as an error.
 fn check_range(model: &HostModel, input: &InputRecord) -> Result<(), SimulateError> {
     let (lo, hi) = (model.u_min(), model.u_max());
-    match input.u.iter().position(|v| !(lo..=hi).contains(v)) {
+    match first_outside(&input.u, lo, hi) {
         Some(i) => Err(SimulateError::InputOutsideModel {
             file: input.source.clone(),
             line: input.lines[i],
@@ -94,28 +63,27 @@ fn check_range(model: &HostModel, input: &InputRecord) -> Result<(), SimulateErr
 
 /// Simulates `model` on the input record (see [`HostModel::simulate`]: the model starts at rest
 /// at μ0 with the previous input at its lowest knot), sums the output when the model
-/// integrates, and adds the requested noise.
+/// integrates, and adds the requested noise. An input outside the model's interval extends
+/// the borders to it (see [`for_input`]), and the samples outside are counted in the
+/// [`OutsideInterval`] returned; with [`ModelOptions::strict_interval`] it is an error.
 pub fn simulate_model(
     model: &HostModel,
     noise_model: Option<&NoiseModel>,
     input: &InputRecord,
     opts: &ModelOptions,
-) -> Result<Output, SimulateError> {
-    let y_clean = if opts.extrapolate {
-        let lo = input.u.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = input.u.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        model.extended(lo, hi).simulate(&input.u)
-    } else {
+) -> Result<(Output, Option<OutsideInterval>), SimulateError> {
+    if opts.strict_interval {
         check_range(model, input)?;
-        model.simulate(&input.u)
-    };
+    }
+    let (model, outside) = for_input(model, &input.u);
+    let y_clean = model.simulate(&input.u);
     let y_clean = if opts.integrating {
         crate::integrating::integrate(&y_clean, 0.0)
     } else {
         y_clean
     };
     let Some(n) = opts.noise else {
-        return Ok(Output::clean(y_clean));
+        return Ok((Output::clean(y_clean), outside));
     };
     let (filter, level) = match (n.colour, n.level) {
         (Colour::White, None) => return Err(SimulateError::NoNoiseLevel),
@@ -132,13 +100,14 @@ pub fn simulate_model(
         level,
         seed: n.seed,
     };
-    Output::noisy(y_clean, &noise)
+    Ok((Output::noisy(y_clean, &noise)?, outside))
 }
 
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::model::Interval;
 
     /// A first-order model (pole 0.5, unit gain) with a linear element `h(u) = u` on
     /// [-1, 1].
@@ -175,12 +144,12 @@ mod tests {
             u,
             t: None,
         };
-        let plain = simulate_model(&m, None, &input, &ModelOptions::default()).unwrap();
+        let (plain, _) = simulate_model(&m, None, &input, &ModelOptions::default()).unwrap();
         let opts = ModelOptions {
             integrating: true,
             ..ModelOptions::default()
         };
-        let summed = simulate_model(&m, None, &input, &opts).unwrap();
+        let (summed, _) = simulate_model(&m, None, &input, &opts).unwrap();
         let mut acc = 0.0;
         for (s, d) in summed.y.iter().zip(&plain.y) {
             acc += d;
