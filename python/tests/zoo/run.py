@@ -27,11 +27,13 @@ the noise floor (clipped NRMSEs are not counted as within).
 from __future__ import annotations
 
 import argparse
+import re
 import pathlib
 import sys
 import time
+from collections import Counter
 from dataclasses import dataclass
-from typing import Iterable, List, Optional, TextIO
+from typing import Iterable, List, Optional, TextIO, Tuple
 
 import numpy as np
 
@@ -66,6 +68,11 @@ class Row:
         """hsid's NRMSE over the OE peer's, for a model simulated on the validation input as
         it is."""
         return self.hsid / self.oe if self.outcome == "model" and self.hsid is not None else None
+
+    @property
+    def clipped_ratio(self) -> Optional[float]:
+        """The same with the validation input clipped to the interval ("out of range" only)."""
+        return self.hsid / self.oe if self.outcome == "out of range" and self.hsid is not None else None
 
 
 def head(error: BaseException, width: int = 90) -> str:
@@ -143,22 +150,40 @@ def hsid_cell(row: Row) -> str:
     return _num(row.hsid, row.order)
 
 
+def refusal_kinds(rows: List[Row]) -> List[Tuple[str, int]]:
+    """The refusals grouped by the class and the message's first clause, numbers and the
+    path's name dropped, most frequent first."""
+
+    def kind(detail: str) -> str:
+        text = re.sub(r"\b(ascending|descending) path: ", "", re.sub(r"\d+(\.\d+)?", "#", detail))
+        text = ": ".join(text.split(": ")[:2]).rstrip("…")
+        return text if len(text) <= 75 else text[: text.rfind(" ", 0, 75)] + " …"
+
+    kinds = Counter(kind(r.detail) for r in rows)
+    return sorted(kinds.items(), key=lambda kv: (-kv[1], kv[0]))
+
+
 def summary(rows: List[Row]) -> List[str]:
     """The summary lines."""
     n = len(rows)
     refused = [r for r in rows if r.outcome == "refused" and r.responds]
     out_of_range = [r for r in rows if r.outcome == "out of range"]
     ratios = [r.ratio for r in rows if r.ratio is not None]
+    clipped = [r.clipped_ratio for r in rows if r.clipped_ratio is not None]
     within = [r for r in rows if r.outcome == "model" and r.hsid <= 1.15 * r.floor]
+    within_clipped = [r for r in rows if r.outcome == "out of range" and r.hsid <= 1.15 * r.floor]
     oe_within = [r for r in rows if r.oe <= 1.15 * r.floor]
     n4_within = [r for r in rows if r.n4 is not None and r.n4 <= 1.15 * r.floor]
     lines = [
         f"- records: {n}; the output responds (SNR > 0 dB) on {sum(r.responds for r in rows)}",
         f"- hsid refused {len(refused)}/{n} records whose output responds",
+        *[f"  - {count}× {kind}" for kind, count in refusal_kinds(refused)],
         f"- hsid's model refused the validation input (outside [min(u), max(u)] of the estimation part): {len(out_of_range)}/{n}",
         f"- hsid/OE ratio ≤ 1.02: {sum(x <= 1.02 for x in ratios)}/{n}"
-        + (f" (median ratio {np.median(ratios):.3f} over the {len(ratios)} scored)" if ratios else ""),
-        f"- within 1.15× the noise floor: hsid {len(within)}/{n}, linear OE {len(oe_within)}/{n}, nfoursid {len(n4_within)}/{n}",
+        + f" (of the {len(ratios)} models simulated on the validation input as it is); with the input"
+        f" clipped: {sum(x <= 1.02 for x in clipped)}/{len(clipped)} more, not counted",
+        f"- within 1.15× the noise floor: hsid {len(within)}/{n} (clipped: {len(within_clipped)} more, not"
+        f" counted), linear OE {len(oe_within)}/{n}, nfoursid {len(n4_within)}/{n}",
     ]
     return lines
 
@@ -173,6 +198,8 @@ def table(rows: List[Row], base: int) -> str:
     ]
     for r in rows:
         ratio = "—" if r.ratio is None else f"{r.ratio:.3f}"
+        if r.clipped_ratio is not None:
+            ratio = f"clipped: {r.clipped_ratio:.3f}"
         out.append(
             f"| {r.name} | {hsid_cell(r)} | {_num(r.oe, r.oe_order)} | {_num(r.n4, r.n4_order)} "
             f"| {r.floor:.3f} | {ratio} |"
