@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The Python package: builds it into a virtual environment (target/py-venv; maturin, numpy,
-# pytest, dask[distributed], nfoursid and pandas from PyPI), builds the `hsid` command line and the
-# checkpoint maker its tests compare against, and runs the pytest suite. A run that collects
-# no test fails, and so does the peer comparison when nfoursid is missing (HSID_REQUIRE_PEERS).
+# pytest, dask[distributed], nfoursid, pandas and scipy from PyPI), builds the `hsid` command
+# line and the checkpoint maker its tests compare against, and runs the pytest suite. A run that
+# collects no test fails, and so do the peer comparisons when nfoursid or scipy is missing
+# (HSID_REQUIRE_PEERS).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -12,7 +13,7 @@ venv=$root/target/py-venv
 # Through the venv's interpreter and with VIRTUAL_ENV set here, never through its activate
 # script or its scripts' #! lines: those name the path the venv was made at, so a copied venv
 # would install into the original.
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check maturin numpy pytest "dask[distributed]" nfoursid pandas
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check maturin numpy pytest "dask[distributed]" nfoursid pandas scipy
 cargo build --release --quiet -p hsid-host --bin hsid
 cargo build --release --quiet -p hsid-py --example make_checkpoint
 export VIRTUAL_ENV=$venv PATH=$venv/bin:$PATH
