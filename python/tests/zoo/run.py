@@ -12,9 +12,11 @@ For each record:
   at rest at ``u_min``: a hold of ``PREFIX`` samples at the validation part's first input is
   put before it and its output dropped, so the model starts at rest at ``u[0]`` as the record
   does (an integrating model is simulated without the hold, from its rest at ``u_min``, since
-  a hold away from its balance point ramps). A validation input outside ``[umin, umax]`` that
-  `simulate` refuses is its own outcome (``out of range``); the NRMSE of the same model on the
-  validation input clipped to the interval is then given, labelled ``clipped``.
+  a hold away from its balance point ramps). A validation input outside ``[umin, umax]`` is
+  simulated as ``Model.simulate`` does by default, on the borders extended linearly beyond the
+  interval, and the count of such inputs is given beside the NRMSE; should ``simulate`` refuse
+  (``strict_interval``), that is its own outcome (``out of range``) and the NRMSE of the same
+  model on the validation input clipped to the interval is given, labelled ``clipped``.
 * the linear OE peer and nfoursid (peers.py), simulated from rest at ``u[0]``;
 * the noise floor: the NRMSE of the noise-free validation output against the noisy one.
 
@@ -31,6 +33,7 @@ import re
 import pathlib
 import sys
 import time
+import warnings
 from collections import Counter
 from dataclasses import dataclass
 from typing import Iterable, List, Optional, TextIO, Tuple
@@ -104,7 +107,13 @@ def score(rec: records.Record, with_nfoursid: bool = True,
     else:
         order = model.order
         try:
-            nr = peers.nrmse(yv, simulate_hsid(model, uv))
+            # Model.simulate extends the borders beyond the interval and warns; counted here.
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", UserWarning)
+                nr = peers.nrmse(yv, simulate_hsid(model, uv))
+            outside = int(np.sum((uv < umin) | (uv > umax)))
+            if outside:
+                detail = f"{outside} of {len(uv)} validation inputs outside the interval, borders extended"
         except hsid.DataError as error:
             outcome, detail = "out of range", head(error)
             nr = peers.nrmse(yv, simulate_hsid(model, np.clip(uv, umin, umax)))
@@ -145,6 +154,8 @@ def hsid_cell(row: Row) -> str:
     detail = row.detail.replace("|", "\\|")
     if row.outcome == "refused":
         return f"refused: {detail}"
+    if row.outcome == "model" and row.detail:
+        return f"{_num(row.hsid, row.order)} ({row.detail})"
     if row.outcome == "out of range":
         return f"simulate refused (validation input out of range); clipped: {_num(row.hsid, row.order)}"
     return _num(row.hsid, row.order)
