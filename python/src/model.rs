@@ -4,7 +4,7 @@ use std::ffi::CString;
 
 use hsid::Direction;
 use hsid_host::identify::HostModel;
-use hsid_host::model::{FileModel, Simulate, Syntax, for_input};
+use hsid_host::model::{FileModel, MemoryElement, Simulate, Syntax, for_input};
 use hsid_host::model_file::ModelFile;
 use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::exceptions::PyUserWarning;
@@ -279,15 +279,21 @@ impl Model {
 
     fn __repr__(&self) -> String {
         let kind = self.file.nonlinearity.map_or("two-path", |n| n.name());
+        // An element model (play or relay) is fitted by simulation error, not refined by the
+        // prediction-error method: say which, rather than `refined=False`.
+        let how = match self.file.element {
+            Some(MemoryElement::Play) => "element=play, fit=simulation-error".to_string(),
+            Some(MemoryElement::Relay) => "element=relay, fit=simulation-error".to_string(),
+            None => format!("refined={}", self.file.std.is_some()),
+        };
         format!(
-            "Model(order={}, nonlinearity={kind}, u=[{}, {}], segments={}/{}, mu0={:.6}, refined={})",
+            "Model(order={}, nonlinearity={kind}, u=[{}, {}], segments={}/{}, mu0={:.6}, {how})",
             self.file.order,
             self.file.u_min,
             self.file.u_max,
             self.file.knots_asc.len().saturating_sub(1),
             self.file.knots_desc.len().saturating_sub(1),
             self.file.mu0,
-            self.file.std.is_some()
         )
     }
 }

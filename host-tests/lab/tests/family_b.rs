@@ -4,8 +4,9 @@
 #![allow(clippy::panic)]
 
 use hsid_host::diagnose::{Check, Effect, Validation};
+use hsid_host::model;
 use hsid_host::validation::checks::feedback::feedback_test;
-use hsid_lab::family_b::element::{Borders, Element, Kind};
+use hsid_lab::family_b::element::{Borders, Element};
 use hsid_lab::family_b::input::InputKind;
 use hsid_lab::family_b::noise::{Colour, noise, variance};
 use hsid_lab::family_b::plant::{Plant, Section};
@@ -94,7 +95,10 @@ fn sampled_plants_match_closed_forms() {
 #[test]
 fn elements_follow_their_borders_under_table1_only() {
     let mut rng = Rng::new(7, 0);
-    for (kind, sign) in [(Kind::Backlash, -1.0), (Kind::Switch, 1.0)] {
+    for (kind, sign) in [
+        (model::Element::Backlash, -1.0),
+        (model::Element::Switch, 1.0),
+    ] {
         let b = Borders::random(&mut rng, (-2.0, 2.5), 8, true, sign);
         let u = InputKind::Table1.generate(&mut rng, (-2.0, 2.5), 10, 2000);
         let mut el = Element::new(kind, b.clone(), u[0]);
@@ -113,7 +117,7 @@ fn elements_follow_their_borders_under_table1_only() {
     }
     let b = Borders::random(&mut rng, (-2.0, 2.5), 8, true, -1.0);
     let u = InputKind::Smoothed.generate(&mut rng, (-2.0, 2.5), 10, 2000);
-    let mut el = Element::new(Kind::Backlash, b.clone(), u[0]);
+    let mut el = Element::new(model::Element::Backlash, b.clone(), u[0]);
     let off = u
         .iter()
         .filter(|&&v| {

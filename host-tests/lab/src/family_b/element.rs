@@ -3,6 +3,7 @@
 //! (the border of the input's last direction, the paper's δ).
 
 use super::rng::Rng;
+use hsid_host::model;
 
 /// Borders piecewise linear on `knots` (ascending), each non-decreasing.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,34 +97,11 @@ impl Borders {
     }
 }
 
-/// The element's kind.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// Memoryless: `w = H_a(u)`.
-    Static,
-    /// Play operator: `w(t) = min(H_d(u), max(H_a(u), w(t−1)))`.
-    Backlash,
-    /// Switch: `w = H_a(u)` after a rise of the input, `H_d(u)` after a fall (held input:
-    /// the last direction).
-    Switch,
-}
-
-impl Kind {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kind::Static => "static",
-            Kind::Backlash => "backlash",
-            Kind::Switch => "switch",
-        }
-    }
-}
-
 /// An element with its state.
 #[derive(Clone, Debug)]
 pub struct Element {
     /// Kind.
-    pub kind: Kind,
+    pub kind: model::Element,
     /// Borders.
     pub borders: Borders,
     last_u: Option<f64>,
@@ -134,7 +112,7 @@ pub struct Element {
 impl Element {
     /// An element at rest at `u0` (the play at the borders' common value there, the switch
     /// on the descending border, as δ starts at 0).
-    pub fn new(kind: Kind, borders: Borders, u0: f64) -> Self {
+    pub fn new(kind: model::Element, borders: Borders, u0: f64) -> Self {
         let w = borders.desc_at(u0);
         Self {
             kind,
@@ -157,10 +135,10 @@ impl Element {
         self.last_u = Some(u);
         let b = &self.borders;
         self.w = match self.kind {
-            Kind::Static => b.asc_at(u),
-            Kind::Backlash => self.w.max(b.asc_at(u)).min(b.desc_at(u)),
-            Kind::Switch if self.rising => b.asc_at(u),
-            Kind::Switch => b.desc_at(u),
+            model::Element::Static => b.asc_at(u),
+            model::Element::Backlash => self.w.max(b.asc_at(u)).min(b.desc_at(u)),
+            model::Element::Switch if self.rising => b.asc_at(u),
+            model::Element::Switch => b.desc_at(u),
         };
         self.w
     }

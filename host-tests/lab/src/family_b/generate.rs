@@ -6,11 +6,12 @@ use super::additions::{Additions, clip_level, curve_of};
 use super::class::Class;
 use super::clean::Clean;
 use super::closed_loop;
-use super::element::{Element, Kind};
+use super::element::Element;
 use super::noise::{Noise, noise, rms, sigma_for, snr_db, variance};
 use super::scenario::{Design, ESTIMATION, HOLD, SEGMENTS, Scenario, VALIDATION};
 use hsid_host::diagnose::{DiagnoseOptions, Validation};
 use hsid_host::identify::IdentifyOptions;
+use hsid_host::model;
 use hsid_host::model::{Element as ModelElement, Record};
 
 /// What the scenario really is.
@@ -142,8 +143,8 @@ pub fn options(t: &Truth) -> DiagnoseOptions {
     id.f = 12;
     id.p = 12;
     let kind = match d.kind {
-        Kind::Backlash if t.class != Class::StaticHysteresis => ModelElement::Backlash,
-        Kind::Switch if t.class != Class::StaticHysteresis => ModelElement::Switch,
+        model::Element::Backlash if t.class != Class::StaticHysteresis => ModelElement::Backlash,
+        model::Element::Switch if t.class != Class::StaticHysteresis => ModelElement::Switch,
         _ => ModelElement::Static,
     };
     DiagnoseOptions::new(id, kind)

@@ -3,11 +3,12 @@
 //! the class's own parameters.
 
 use super::class::Class;
-use super::element::{Borders, Kind};
+use super::element::Borders;
 use super::input::InputKind;
 use super::noise::Colour;
 use super::plant::{Plant, Section};
 use super::rng::Rng;
+use hsid_host::model;
 
 /// Sample times, s.
 pub const SAMPLE_TIMES: [f64; 3] = [0.05, 0.1, 0.2];
@@ -39,7 +40,7 @@ pub struct Design {
     /// Input range `[u_min, u_max]`.
     pub range: (f64, f64),
     /// The element.
-    pub kind: Kind,
+    pub kind: model::Element,
     /// Its borders.
     pub borders: Borders,
     /// The input.
@@ -80,14 +81,24 @@ impl Scenario {
         let input = self.input_kind();
         let kind = match (self.class, input) {
             (Class::StaticHysteresis, _) | (_, InputKind::Table1) if (s / 2).is_multiple_of(2) => {
-                Kind::Backlash
+                model::Element::Backlash
             }
-            (Class::StaticHysteresis, _) | (_, InputKind::Table1) => Kind::Switch,
-            _ => Kind::Static,
+            (Class::StaticHysteresis, _) | (_, InputKind::Table1) => model::Element::Switch,
+            _ => model::Element::Static,
         };
         let range = (rng.between(-3.0, -1.0), rng.between(1.0, 3.0));
-        let sign = if kind == Kind::Backlash { -1.0 } else { 1.0 };
-        let borders = Borders::random(&mut rng, range, SEGMENTS, kind != Kind::Static, sign);
+        let sign = if kind == model::Element::Backlash {
+            -1.0
+        } else {
+            1.0
+        };
+        let borders = Borders::random(
+            &mut rng,
+            range,
+            SEGMENTS,
+            kind != model::Element::Static,
+            sign,
+        );
         let plant = random_plant(&mut rng, order);
         let snr_db = rng.between(10.0, 40.0);
         let colour = match self.class {

@@ -7,8 +7,9 @@ use rand_core::SeedableRng;
 use rand_pcg::{Pcg32, Pcg64};
 
 use super::BenchError;
-use super::element::{Element, Kind, random_element};
+use super::element::{Element, random_element};
 use super::plant::{Plant, random_plant};
+use hsid_host::model::MemoryElement;
 use hsid_host::sim::{Lti, SimError, simulate};
 
 /// Samples of the initial hold at `u_min`.
@@ -67,7 +68,7 @@ pub struct Case {
 
 /// A simulated record.
 #[derive(Clone, Debug)]
-pub struct Record {
+pub struct SimulatedRecord {
     /// Input (hold included).
     pub u: Vec<f64>,
     /// Measured output.
@@ -84,9 +85,9 @@ impl Case {
         let mut rng = Pcg64::seed_from_u64(seed.wrapping_mul(1_000_003).wrapping_add(index as u64));
         let order = 1 + index % 4;
         let kind = if (index / 4).is_multiple_of(2) {
-            Kind::Backlash
+            MemoryElement::Play
         } else {
-            Kind::Switch
+            MemoryElement::Relay
         };
         let snr_db = [10.0, 20.0, 30.0, 40.0][(index / 8) % 4];
         let colour = match (index / 2) % 4 {
@@ -108,7 +109,7 @@ impl Case {
     }
 
     /// The estimation (`which = 0`) or validation (`which = 1`) record.
-    pub fn record(&self, which: u64) -> Result<Record, BenchError> {
+    pub fn record(&self, which: u64) -> Result<SimulatedRecord, BenchError> {
         let seed = self.seed.wrapping_add(which.wrapping_mul(0x9e37_79b9));
         let e = &self.element;
         let excitation =
@@ -128,7 +129,7 @@ impl Case {
             HOLD..len,
             &mut rng,
         )?;
-        Ok(Record {
+        Ok(SimulatedRecord {
             u,
             y: sim.y,
             y_clean: sim.y_clean,

@@ -3,22 +3,14 @@
 
 use rand::{Rng, RngExt};
 
+use hsid_host::model::MemoryElement;
 use hsid_host::sim::{Backlash, Nonlinearity, Switch};
-
-/// Which element.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// Play operator between two borders `m(u ∓ h)`.
-    Backlash,
-    /// Direction-dependent borders `m(u) ∓ o(u)` that meet at both ends.
-    Switch,
-}
 
 /// The parameters of a random element on `[u_min, u_max]`.
 #[derive(Clone, Copy, Debug)]
 pub struct Element {
     /// Backlash or switch.
-    pub kind: Kind,
+    pub kind: MemoryElement,
     /// Input interval.
     pub u_min: f64,
     /// Input interval.
@@ -45,7 +37,7 @@ impl Element {
     pub fn build(&self) -> Box<dyn Nonlinearity> {
         let e = *self;
         match self.kind {
-            Kind::Backlash => {
+            MemoryElement::Play => {
                 let w0 = e.centre(e.u_min + e.width);
                 Box::new(
                     Backlash::from_fns(
@@ -55,7 +47,7 @@ impl Element {
                     .with_initial_output(w0),
                 )
             }
-            Kind::Switch => {
+            MemoryElement::Relay => {
                 let lens = move |u: f64| {
                     e.width * (std::f64::consts::PI * (u - e.u_min) / (e.u_max - e.u_min)).sin()
                 };
@@ -70,15 +62,20 @@ impl Element {
     /// The true gap of a backlash (`2h`), 0 for a switch.
     pub fn gap(&self) -> f64 {
         match self.kind {
-            Kind::Backlash => 2.0 * self.width,
-            Kind::Switch => 0.0,
+            MemoryElement::Play => 2.0 * self.width,
+            MemoryElement::Relay => 0.0,
         }
     }
 }
 
 /// Draws an element on `[u_min, u_max]`: slope ±[0.5, 2], cubic `[0, 0.5]`, a play of
 /// 4–20 % of the interval (backlash) or a lens of 10–40 % of the centre line's range (switch).
-pub fn random_element<R: Rng + ?Sized>(rng: &mut R, kind: Kind, u_min: f64, u_max: f64) -> Element {
+pub fn random_element<R: Rng + ?Sized>(
+    rng: &mut R,
+    kind: MemoryElement,
+    u_min: f64,
+    u_max: f64,
+) -> Element {
     let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
     let slope = sign * rng.random_range(0.5..2.0);
     let cubic = rng.random_range(0.0..0.5);
@@ -92,8 +89,8 @@ pub fn random_element<R: Rng + ?Sized>(rng: &mut R, kind: Kind, u_min: f64, u_ma
         width: 0.0,
     };
     e.width = match kind {
-        Kind::Backlash => rng.random_range(0.02..0.10) * range,
-        Kind::Switch => {
+        MemoryElement::Play => rng.random_range(0.02..0.10) * range,
+        MemoryElement::Relay => {
             let span = (e.centre(u_max) - e.centre(u_min)).abs();
             rng.random_range(0.05..0.20) * span
         }

@@ -2,12 +2,11 @@
 
 use super::BenchError;
 use super::case::{Case, HOLD};
-use super::element::Kind;
 use super::score::{Estimate, Row, score};
 use hsid_host::choose::{Choices, best_model};
 use hsid_host::diagnose::{DiagnoseOptions, Validation, diagnose};
 use hsid_host::identify::{IdentifyOptions, identify};
-use hsid_host::model::{Element, Record};
+use hsid_host::model::Record;
 
 /// Samples of each record after the hold.
 pub const SAMPLES: usize = 6000;
@@ -47,11 +46,10 @@ pub fn default_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, S
 /// error): the model its steps start from and its "before" error is of.
 pub fn diagnose_estimate(case: &Case, u: &[f64], y: &[f64]) -> Result<Estimate, String> {
     let e = &case.element;
-    let kind = match e.kind {
-        Kind::Backlash => Element::Backlash,
-        Kind::Switch => Element::Switch,
-    };
-    let opts = DiagnoseOptions::new(IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD), kind);
+    let opts = DiagnoseOptions::new(
+        IdentifyOptions::uniform(e.u_min, e.u_max, 7, HOLD),
+        e.kind.element(),
+    );
     let record = Record::new(u.to_vec(), y.to_vec()).map_err(|e| e.to_string())?;
     // The base model is fitted on the estimation record alone; the validation given here only
     // sets what diagnose reports as its error, which the benchmark does not use.

@@ -11,8 +11,8 @@ mod score;
 
 use std::fmt;
 
-pub use case::{Case, Colour, HOLD, Record};
-pub use element::{Element, Kind, random_element};
+pub use case::{Case, Colour, HOLD, SimulatedRecord};
+pub use element::{Element, random_element};
 pub use estimators::{
     Estimator, SAMPLES, default_estimate, diagnose_estimate, paper_estimate, run_case,
 };

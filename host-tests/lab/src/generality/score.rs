@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::case::{Case, HOLD, Record};
+use super::case::{Case, HOLD, SimulatedRecord};
 use hsid_host::identify::HostModel;
 use hsid_host::report::fit;
 
@@ -42,7 +42,7 @@ impl Score {
 }
 
 /// Scores `estimate` (a model from the estimation record, or an error) on the validation record.
-pub fn score(validation: &Record, estimate: Result<Estimate, String>) -> Score {
+pub fn score(validation: &SimulatedRecord, estimate: Result<Estimate, String>) -> Score {
     let floor = fit(&validation.y[HOLD..], &validation.y_clean[HOLD..]).nrmse;
     match estimate {
         Ok(e) => {
