@@ -15,7 +15,7 @@ pub use horizons::{
 };
 pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
 pub use order::{OrderChoice, choose_order, neighbours};
-pub use start::{MAX_START_RADIUS, StableStart, stabilised};
+pub use start::{MAX_START_RADIUS, MIN_REDUCED_HORIZON, ReducedHorizons, StableStart, stabilised};
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, relative_scores};
@@ -144,6 +144,8 @@ pub struct Best {
     pub knots: Option<KnotSupport>,
     /// The stable start of the refinement, when the subspace model was not stable.
     pub start: Option<StableStart>,
+    /// The horizons shortened, when the input Hankel Gram was rank deficient at those asked.
+    pub reduced: Option<ReducedHorizons>,
     /// The refinement, when refined.
     pub fit: Option<PemFit>,
     /// The segments' choice, when from the data: `(segments, score)` of every candidate.
@@ -163,6 +165,9 @@ impl Best {
         }
         if let Some(k) = &self.knots {
             lines.push(k.report());
+        }
+        if let Some(r) = &self.reduced {
+            lines.push(r.report());
         }
         if let Some(s) = &self.start {
             lines.push(s.report());
@@ -293,11 +298,18 @@ fn at_knots(
         }
     }
     let mut horizons = None;
+    let free = choices.horizons == Horizons::FromData;
+    let mut reduced = None;
     let (model, start) = loop {
-        let (model, start) = subspace_start(u, y, &opts, choices.estimator)?;
-        if choices.horizons != Horizons::FromData || horizons.is_some() {
-            break (model, start);
+        let s = subspace_start(u, y, &mut opts, choices.estimator, free)?;
+        // Horizons the input could not support stay shortened: the plant's memory is not
+        // read from a model at horizons the data do not allow.
+        let done = !free || horizons.is_some() || s.reduced.is_some();
+        reduced = s.reduced.or(reduced);
+        if done {
+            break (s.model, s.stable);
         }
+        let (model, start) = (s.model, s.stable);
         let h = choose_horizons(&model, &opts, u.len().saturating_sub(opts.hold));
         let same = (h.f, h.p) == (opts.f, opts.p);
         (opts.f, opts.p) = (h.f, h.p);
@@ -312,6 +324,7 @@ fn at_knots(
             options: opts,
             knots,
             start,
+            reduced,
             fit: None,
             segments: None,
             horizons,
@@ -328,6 +341,7 @@ fn at_knots(
         options: opts,
         knots,
         start,
+        reduced,
         fit: Some(fit),
         segments: None,
         horizons,

@@ -61,9 +61,9 @@ pub fn choose_order(
     for &n in candidates {
         let mut o = opts.clone();
         o.order = Some(n);
-        let fit = subspace_start(u, y, &o, ModelStage::Refined)
+        let fit = subspace_start(u, y, &mut o, ModelStage::Refined, false)
             .map_err(|e| e.to_string())
-            .and_then(|(m, _)| refine(u, y, &m, pem).map_err(|e| e.to_string()));
+            .and_then(|s| refine(u, y, &s.model, pem).map_err(|e| e.to_string()));
         match fit {
             Ok(f) => {
                 scores.push((

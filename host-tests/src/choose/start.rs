@@ -1,4 +1,12 @@
-//! A stable start for the refinement when the subspace model is not stable.
+//! The subspace start on a record the method was not designed for: horizons the input can
+//! support, and a stable start for the refinement when the subspace model is not stable.
+//!
+//! A band-limited input (a multisine, filtered noise, a smooth command, quantised levels)
+//! excites fewer directions than the input Hankel Gram `[Z_f; Z_p]` has rows at the horizons
+//! the plant's memory asks for, and the Gram is then numerically singular. When the horizons
+//! are the desktop's own choice (not given), they are shortened, `f = p` by a third at a
+//! time down to [`MIN_REDUCED_HORIZON`], until the Gram is of full rank; a line says so. Given
+//! horizons are kept and the refusal stands.
 //!
 //! On the paper's experiment the subspace estimate is stable. On a slow plant, a plant in
 //! closed loop or a record shorter than the plant's memory it can put a pole just outside the
@@ -41,9 +49,82 @@ impl StableStart {
     }
 }
 
+/// The shortest horizon tried when the input Hankel Gram is rank deficient.
+pub const MIN_REDUCED_HORIZON: usize = 3;
+
+/// Horizons shortened because the input Hankel Gram was rank deficient.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ReducedHorizons {
+    /// `f = p` asked for.
+    pub from: usize,
+    /// `f = p` at which the Gram was of full rank.
+    pub to: usize,
+}
+
+impl ReducedHorizons {
+    /// One line for a report.
+    pub fn report(&self) -> String {
+        format!(
+            "horizons reduced to f = p = {}: the input Hankel Gram [Z_f; Z_p] was rank deficient \
+             at f = p = {} (the input excites fewer directions than those horizons ask for: a \
+             band-limited, smooth or quantised input)",
+            self.to, self.from
+        )
+    }
+}
+
+/// The start of the refinement, or the paper's model: the subspace model, what was done to
+/// get it.
+pub(crate) struct SubspaceStart {
+    /// The model.
+    pub model: HostModel,
+    /// Its poles moved inside the unit circle.
+    pub stable: Option<StableStart>,
+    /// Its horizons shortened.
+    pub reduced: Option<ReducedHorizons>,
+}
+
+/// The subspace model of `(u, y)` with `opts`: with `reduce`, at horizons shortened until the
+/// input Hankel Gram is of full rank (`opts.f`, `opts.p` set to them); when it is not stable
+/// and `stage` refines it, the model with stable poles ([`stabilised`]) to start the
+/// refinement from.
+pub(crate) fn subspace_start(
+    u: &[f64],
+    y: &[f64],
+    opts: &mut IdentifyOptions,
+    stage: ModelStage,
+    reduce: bool,
+) -> Result<SubspaceStart, IdentifyError> {
+    let from = opts.f.min(opts.p);
+    let mut first_error = None;
+    loop {
+        match stable_start(u, y, opts, stage) {
+            Ok((model, stable)) => {
+                let reduced = (opts.f.min(opts.p) < from).then(|| ReducedHorizons {
+                    from,
+                    to: opts.f.min(opts.p),
+                });
+                return Ok(SubspaceStart {
+                    model,
+                    stable,
+                    reduced,
+                });
+            }
+            Err(e @ IdentifyError::Core(hsid::Error::RankDeficient { .. }))
+                if reduce && opts.f.min(opts.p) > MIN_REDUCED_HORIZON =>
+            {
+                first_error.get_or_insert(e);
+                let h = (opts.f.min(opts.p) * 2 / 3).max(MIN_REDUCED_HORIZON);
+                (opts.f, opts.p) = (h, h);
+            }
+            Err(e) => return Err(first_error.unwrap_or(e)),
+        }
+    }
+}
+
 /// The subspace model of `(u, y)` with `opts`, and, when it is not stable and `stage` refines
 /// it, the model with stable poles ([`stabilised`]) to start the refinement from.
-pub(crate) fn subspace_start(
+fn stable_start(
     u: &[f64],
     y: &[f64],
     opts: &IdentifyOptions,
