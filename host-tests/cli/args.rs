@@ -85,8 +85,9 @@ impl HoldArgs {
 /// The horizons of the Hankel matrices.
 #[derive(Args, Clone, Debug)]
 pub struct Horizons {
-    /// Future horizon f (default: from the data for `identify`, 10 for `diagnose`; with only
-    /// one of --f and --p given, the other equals it).
+    /// Future horizon f (default: from the data for `identify`, shortened where the input's
+    /// Hankel Gram is rank deficient, 10 for `diagnose`; with only one of --f and --p given,
+    /// the other equals it).
     #[arg(long)]
     pub f: Option<usize>,
     /// Past horizon p.
