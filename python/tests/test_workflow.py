@@ -69,7 +69,7 @@ def test_the_element_fit_route_is_the_same_in_python(inner_loops, cli, tmp_path)
     assert nrmse < 0.15, nrmse
     none = hsid.identify(u, y, -1.0, 1.0, fit="none")
     assert '"element"' not in none.to_json()
-    assert "refined=True" in repr(none), repr(none)
+    assert "refined=true" in repr(none), repr(none)
     with pytest.raises(hsid.SettingsError) as e:
         hsid.identify(u, y, -1.0, 1.0, fit="sometimes")
     assert e.value.kind == "fit"
