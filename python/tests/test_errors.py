@@ -89,7 +89,10 @@ def test_constant_output_fails_the_identification(uy):
 def test_model_inputs_are_checked(record):
     _, u, y = record
     m = hsid.identify(u, y, -1.0, 1.0, **PAPER)
-    raises(hsid.DataError, "input_out_of_range", m.simulate, u * 2)
+    raises(hsid.DataError, "input_out_of_range", m.simulate, u * 2, strict_interval=True)
+    # By default the borders are extended beyond the interval, with a warning.
+    with pytest.warns(UserWarning, match="outside the model's interval"):
+        m.simulate(u * 2)
     raises(hsid.DataError, "input_out_of_range", m.border, "ascending", 1.5)
     raises(hsid.SettingsError, "direction", m.gap_at, "up", 0.0)
 
