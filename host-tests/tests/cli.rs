@@ -413,7 +413,8 @@ fn identify_rejects_too_few_samples() {
     // 200 samples: shorter than the hold itself.
     let data = dir.write_uy("short.csv", &e.u[..200], &e.y[..200]);
     identify(&data, &[]).clean_error(&["short.csv", "200 samples", "inside the hold of 300"]);
-    // 500 samples: 200 after the hold, 310 needed for f = p = 10 and the 14 segments given.
+    // 500 samples: 200 after the hold, 590 needed for f = p = 10 and the 14 segments given on
+    // each path.
     let data = dir.write_uy("short2.csv", &e.u[..500], &e.y[..500]);
     let knots: Vec<String> = (0..=14)
         .map(|i| format!("{}", -3.0 + 6.0 * i as f64 / 14.0))
@@ -422,7 +423,7 @@ fn identify_rejects_too_few_samples() {
     identify(&data, &["--knots-asc", &knots, "--knots-desc", &knots]).clean_error(&[
         "short2.csv",
         "200 samples after the hold",
-        "310 needed",
+        "590 needed",
     ]);
     // By default the segments the few samples do not support are merged: fewer channels, a
     // model, and a line that says so.
