@@ -7,6 +7,9 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
+use common::nrmse;
 use hsid_host::model::{FileModel, Record, Simulate};
 use hsid_host::workflow::{IdentifyRequest, Syntax, WorkflowError, identify_record};
 use rand_core::SeedableRng;
@@ -56,13 +59,6 @@ fn range(u: &[f64]) -> (f64, f64) {
     let lo = u.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = u.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     (lo, hi)
-}
-
-fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
-    let mean = y.iter().sum::<f64>() / y.len() as f64;
-    let e: f64 = y.iter().zip(yhat).map(|(a, b)| (a - b).powi(2)).sum();
-    let d: f64 = y.iter().map(|a| (a - mean).powi(2)).sum();
-    (e / d).sqrt()
 }
 
 #[test]

@@ -7,6 +7,9 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
+use common::nrmse;
 use hsid_host::io::read_columns;
 use hsid_host::model::Record;
 use hsid_host::numerics::poly::{spectral_radius, tf_from_ss};
@@ -20,13 +23,6 @@ const TEST: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../shared/data/emps/emps_test_pulses.csv"
 );
-
-fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
-    let mean = y.iter().sum::<f64>() / y.len() as f64;
-    let e: f64 = y.iter().zip(yhat).map(|(a, b)| (a - b).powi(2)).sum();
-    let d: f64 = y.iter().map(|a| (a - mean).powi(2)).sum();
-    (e / d).sqrt()
-}
 
 #[test]
 fn emps_increments_get_a_stable_model_from_a_reflected_start() {

@@ -193,3 +193,11 @@ pub fn has(path: &Path, expected: &[&str]) {
         );
     }
 }
+
+/// `‖y − ŷ‖ / ‖y − mean(y)‖`: the simulation error normalised by the output's spread.
+pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let e: f64 = y.iter().zip(yhat).map(|(a, b)| (a - b).powi(2)).sum();
+    let d: f64 = y.iter().map(|a| (a - mean).powi(2)).sum();
+    (e / d).sqrt()
+}
