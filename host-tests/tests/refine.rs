@@ -389,6 +389,32 @@ fn typed_errors_for_bad_starts_and_bad_data() {
         minimise(&p, th, 1, 1e-300),
         Err(RefineError::NoConvergence { iterations: 1, .. })
     ));
+    // `refine` keeps the last iterate at the limit and says so; its cost is below the start's.
+    let short = PemOptions {
+        max_iter: 1,
+        noise_order: NoiseOrder::Fixed(0),
+        feedthrough: Feedthrough::Zero,
+        ..PemOptions::for_identify(&opts)
+    };
+    let stopped = refine(&e.u, &e.y, &init, &short).unwrap();
+    assert_eq!(stopped.iterations, 1);
+    let decrease = stopped.unconverged.unwrap();
+    assert!(
+        decrease > 0.0 && stopped.cost < stopped.initial_cost,
+        "{decrease}"
+    );
+    let converged = refine(
+        &e.u,
+        &e.y,
+        &init,
+        &PemOptions {
+            max_iter: 100,
+            ..short
+        },
+    )
+    .unwrap();
+    assert_eq!(converged.unconverged, None);
+    assert!(converged.cost <= stopped.cost);
     // Data errors.
     assert!(matches!(
         refine(&e.u[..100], &e.y, &init, &PemOptions::default()),

@@ -34,7 +34,11 @@ pub fn write_identified(
         None => {
             let best = &id.best;
             let model = best.fit.as_ref().map_or(&best.model, |f| &f.model);
-            let uncertainty = best.fit.as_ref().map(UncertaintySource::Refined);
+            let uncertainty = best
+                .fit
+                .as_ref()
+                .filter(|f| !f.singular)
+                .map(UncertaintySource::Refined);
             write_figures(dir, model, &view, uncertainty, settings)
         }
     }

@@ -229,6 +229,10 @@ pub struct Minimum {
     pub residual: Vec<f64>,
     /// Iterations begun (Jacobians asked for).
     pub iterations: usize,
+    /// The relative decrease of `‖r‖²` by the last accepted step when the iteration budget
+    /// ended before the gain test passed ([`Exhausted::ReturnBest`]); `None` when it stopped
+    /// on its own.
+    pub unconverged: Option<f64>,
 }
 
 /// The Jacobian at `theta` with residual `r`; `Err(Some(j))` if the difference step of
@@ -283,6 +287,7 @@ pub fn minimise(
                         theta,
                         residual: r,
                         iterations: it,
+                        unconverged: None,
                     });
                 }
                 JacobianFailure::Fail => {
@@ -336,6 +341,7 @@ pub fn minimise(
                 theta,
                 residual: r,
                 iterations: it,
+                unconverged: None,
             });
         }
     }
@@ -344,6 +350,7 @@ pub fn minimise(
             theta,
             residual: r,
             iterations: settings.iterations,
+            unconverged: Some(last_gain),
         }),
         Exhausted::Fail => Err(LmFailure::NoConvergence {
             iterations: settings.iterations,

@@ -23,7 +23,8 @@
 //! `∂ε/∂c_i = −(q⁻ⁱ/C) ε`). The cost `Σ ε²` is minimised by Levenberg–Marquardt with
 //! Marquardt's diagonal scaling; a trial step that makes `F` or `C` unstable is rejected like
 //! one that increases the cost. The iteration count is bounded; a non-finite cost or exploding
-//! parameters give [`RefineError::Diverged`], the limit [`RefineError::NoConvergence`].
+//! parameters give [`RefineError::Diverged`]; at the limit [`refine`] keeps the last iterate
+//! and says so ([`PemFit::unconverged`]), [`minimise`] gives [`RefineError::NoConvergence`].
 //!
 //! At the optimum, `σ̂² = Σε²/(N − d)` and the asymptotic covariance of the parameters is
 //! `σ̂² (JᵀJ)⁻¹` ([`PemFit::covariance`]), from which [`uncertainty`](super::uncertainty)
@@ -39,7 +40,7 @@ use super::signal::{HatRegressors, delay, filter};
 use super::stochastic::{NoiseModel, fit_noise};
 use super::{RefineError, Unstable};
 use crate::identify::{HostModel, IdentifyOptions, identify};
-use crate::numerics::lm::{self, Jacobian, LmFailure, Settings};
+use crate::numerics::lm::{self, Exhausted, Jacobian, LmFailure, Settings};
 
 pub use super::stochastic::NoiseOrder;
 
@@ -252,6 +253,19 @@ pub struct PemStructure {
 /// beyond `σ² (JᵀJ)⁻¹`; 50 samples let a noise numerator with roots up to 0.87 in modulus
 /// forget its initial state to 10⁻³.
 pub const BURN_IN: usize = 50;
+
+/// The leading prediction errors left out of the cost: [`BURN_IN`] for a plant at rest at the
+/// start, none when the initial state is estimated. The first samples are the ones that
+/// determine the initial state: its free response may have decayed by the end of a burn-in,
+/// leaving the state's parameters undetermined (a singular information matrix, parameters
+/// that run away); the predictor's own transient is then part of the cost, as in a toolbox's
+/// prediction-error fit with the initial state estimated.
+pub fn burn_in(initial: PemInitialState) -> usize {
+    match initial {
+        PemInitialState::Estimate => 0,
+        PemInitialState::Rest => BURN_IN,
+    }
+}
 
 /// A prediction-error problem: the data and the structure, without the parameters.
 #[derive(Clone, Debug)]
@@ -571,10 +585,17 @@ pub struct PemFit {
     pub theta: Vec<f64>,
     /// Where the parameter groups sit in `θ`.
     pub layout: ParamLayout,
-    /// Asymptotic covariance `σ̂² (JᵀJ)⁻¹` of `θ`.
+    /// Asymptotic covariance `σ̂² (JᵀJ)⁻¹` of `θ` (zero when [`singular`](Self::singular)).
     pub covariance: DMatrix<f64>,
+    /// The information matrix `JᵀJ` at the optimum is singular: the data do not determine
+    /// every parameter, the estimate stands but has no covariance (no standard deviations are
+    /// reported from it).
+    pub singular: bool,
     /// Iterations done.
     pub iterations: usize,
+    /// The relative cost decrease of the last step when the iteration limit stopped the
+    /// refinement before it converged (the model is the last iterate); `None` when converged.
+    pub unconverged: Option<f64>,
     /// Mean squared prediction error `Σε²/N`.
     pub mse: f64,
     /// Samples in the cost.
@@ -605,7 +626,8 @@ impl PemFit {
 
 /// Minimises the prediction-error cost of `problem` from `theta0` by
 /// [`numerics::lm`](crate::numerics::lm) with the analytic Jacobian and
-/// [`Settings::prediction_error`].
+/// [`Settings::prediction_error`]; the iteration limit is an error
+/// ([`RefineError::NoConvergence`]).
 ///
 /// Returns `(θ, evaluation at θ, iterations)`.
 pub fn minimise(
@@ -614,6 +636,39 @@ pub fn minimise(
     max_iter: usize,
     tol: f64,
 ) -> Result<(Vec<f64>, PemEvaluation, usize), RefineError> {
+    let m = minimise_to_limit(problem, theta0, max_iter, tol)?;
+    match m.unconverged {
+        Some(last_decrease) => Err(RefineError::NoConvergence {
+            iterations: m.iterations,
+            last_decrease,
+        }),
+        None => Ok((m.theta, m.evaluation, m.iterations)),
+    }
+}
+
+/// What [`minimise_to_limit`] gives.
+#[derive(Clone, Debug)]
+pub struct PemMinimum {
+    /// The parameters of the smallest cost reached.
+    pub theta: Vec<f64>,
+    /// The evaluation at `theta`.
+    pub evaluation: PemEvaluation,
+    /// Iterations done.
+    pub iterations: usize,
+    /// The relative cost decrease of the last accepted step when the iteration limit ended
+    /// the minimisation before the convergence test passed; `None` when it converged.
+    pub unconverged: Option<f64>,
+}
+
+/// [`minimise`] that keeps the last iterate at the iteration limit, as a prediction-error
+/// estimator in a toolbox does (the cost only decreased on the way): the limit is reported in
+/// [`PemMinimum::unconverged`], not as an error.
+pub fn minimise_to_limit(
+    problem: &PemProblem,
+    theta0: Vec<f64>,
+    max_iter: usize,
+    tol: f64,
+) -> Result<PemMinimum, RefineError> {
     problem.check_stable(&theta0)?;
     // The last evaluation, kept for the result when it is at the optimum.
     let last: RefCell<Option<(Vec<f64>, PemEvaluation)>> = RefCell::new(None);
@@ -634,29 +689,33 @@ pub fn minimise(
     if !cost0.is_finite() {
         return Err(RefineError::Diverged { iteration: 0 });
     }
-    let settings = Settings::prediction_error(max_iter, tol);
+    let settings = Settings {
+        exhausted: Exhausted::ReturnBest,
+        ..Settings::prediction_error(max_iter, tol)
+    };
     let min = match lm::minimise(&lm, &theta0, &settings) {
         Ok(min) => min,
         Err(LmFailure::Diverged { iteration }) => return Err(RefineError::Diverged { iteration }),
-        Err(LmFailure::NoConvergence {
-            iterations,
-            last_gain,
-        }) => {
-            return Err(RefineError::NoConvergence {
-                iterations,
-                last_decrease: last_gain,
-            });
-        }
-        // Every prediction error is computed, and the Jacobian is analytic.
-        Err(LmFailure::StartDoesNotSimulate | LmFailure::DifferenceStepFailed { .. }) => {
+        // Every prediction error is computed, the Jacobian is analytic, and the budget's end
+        // returns the last iterate.
+        Err(
+            LmFailure::StartDoesNotSimulate
+            | LmFailure::DifferenceStepFailed { .. }
+            | LmFailure::NoConvergence { .. },
+        ) => {
             return Err(RefineError::Diverged { iteration: 0 });
         }
     };
-    let ev = match last.into_inner() {
+    let evaluation = match last.into_inner() {
         Some((th, ev)) if th == min.theta => ev,
         _ => problem.evaluate(&min.theta),
     };
-    Ok((min.theta, ev, min.iterations))
+    Ok(PemMinimum {
+        theta: min.theta,
+        evaluation,
+        iterations: min.iterations,
+        unconverged: min.unconverged,
+    })
 }
 
 /// `σ̂² (JᵀJ)⁻¹` at an evaluation.
@@ -810,13 +869,28 @@ fn refine_from(
             start,
             feedthrough,
             shared: opts.static_nonlinearity,
-            burn: BURN_IN,
+            burn: burn_in(opts.initial),
         },
     )?;
     let th0 = problem.theta_from(init, noise)?;
     let initial_cost = problem.errors(&th0).iter().map(|e| e * e).sum::<f64>();
-    let (th, ev, iterations) = minimise(&problem, th0, opts.max_iter, opts.tol)?;
-    let (cov, sigma2) = covariance(&ev)?;
+    let PemMinimum {
+        theta: th,
+        evaluation: ev,
+        iterations,
+        unconverged,
+    } = minimise_to_limit(&problem, th0, opts.max_iter, opts.tol)?;
+    let (cov, sigma2, singular) = match covariance(&ev) {
+        Ok((cov, sigma2)) => (cov, sigma2, false),
+        // The data do not determine every parameter (a pole cancelled by a zero, an initial
+        // state the record hardly excites): the estimate stands, its covariance does not.
+        Err(RefineError::Singular(_)) => {
+            let (n, d) = ev.jac.shape();
+            let sigma2 = ev.cost / (n.saturating_sub(d)).max(1) as f64;
+            (DMatrix::zeros(d, d), sigma2, true)
+        }
+        Err(e) => return Err(e),
+    };
     let model = problem.model_of(&th, init, u.len());
     let noise = problem.noise_of(&th, sigma2);
     let raw: Vec<f64> = y[start..]
@@ -830,6 +904,8 @@ fn refine_from(
         layout: problem.layout(),
         covariance: cov,
         iterations,
+        unconverged,
+        singular,
         mse: ev.cost / problem.samples() as f64,
         samples: problem.samples(),
         start,
@@ -840,6 +916,32 @@ fn refine_from(
         seconds: 0.0,
     };
     Ok((fit, raw))
+}
+
+/// The deterministic output `ŷ_det` of `fit` on the record `(u, y)` over `fit.start..`, its
+/// initial state (when estimated) and borders as fitted: the fit's simulation carried on past
+/// the samples it was fitted on (`u` may be longer than those).
+pub fn simulate_fit(u: &[f64], y: &[f64], fit: &PemFit) -> Result<Vec<f64>, RefineError> {
+    let l = fit.layout;
+    let problem = PemProblem::new(
+        u,
+        y,
+        &fit.model.knots_asc,
+        &fit.model.knots_desc,
+        PemStructure {
+            n: l.n,
+            nv: l.nv,
+            initial: match l.init {
+                true => PemInitialState::Estimate,
+                false => PemInitialState::Rest,
+            },
+            start: fit.start,
+            feedthrough: l.feedthrough,
+            shared: l.shared,
+            burn: BURN_IN,
+        },
+    )?;
+    Ok(problem.simulate(&fit.theta))
 }
 
 /// Subspace identification (the method in `opts`) followed by [`refine`] with

@@ -28,8 +28,15 @@ pub struct Estimate {
 pub fn estimate(best: &Best, record: &Record, request: &IdentifyRequest) -> (Estimate, Lines) {
     let mut notes = Vec::new();
     if let Some(fit) = &best.fit {
+        let stopped = match fit.unconverged {
+            Some(d) => format!(
+                " (stopped at the iteration limit before converging, last relative decrease \
+                 {d:.1e}: the model is the last iterate)"
+            ),
+            None => String::new(),
+        };
         let estimator = format!(
-            "refined by the prediction-error method: {} iterations, {} parameters, D {}",
+            "refined by the prediction-error method: {} iterations{stopped}, {} parameters, D {}",
             fit.iterations,
             fit.parameters(),
             if fit.layout.feedthrough {
@@ -39,11 +46,17 @@ pub fn estimate(best: &Best, record: &Record, request: &IdentifyRequest) -> (Est
             }
         );
         notes.push(estimator.clone());
-        let (std, cov) = model_std(fit);
+        if fit.singular {
+            notes.push(
+                "no standard deviations: the information matrix JᵀJ of the refined model is \
+                 singular (the data do not determine every parameter)"
+                    .to_string(),
+            );
+        }
         let estimate = Estimate {
             model: fit.model.clone(),
             noise: Some(fit.noise.clone()),
-            std: Some((std, cov)),
+            std: (!fit.singular).then(|| model_std(fit)),
             estimator,
         };
         return (estimate, notes);
