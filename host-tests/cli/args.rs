@@ -31,6 +31,15 @@ impl CsvArgs {
     }
 }
 
+/// An answer to a yes-or-no flag that may also be left out (then the data decide).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum YesNo {
+    /// Yes.
+    Yes,
+    /// No.
+    No,
+}
+
 /// A CSV field delimiter.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum DelimiterArg {

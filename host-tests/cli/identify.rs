@@ -15,7 +15,9 @@ use clap::Args;
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
-use crate::args::{BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs};
+use crate::args::{
+    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs, YesNo,
+};
 use prepare::{read_records, refuse_bad_flags};
 
 /// Arguments of `hsid identify`.
@@ -76,9 +78,18 @@ pub struct IdentifyArgs {
     /// the stable part G₀ is identified on the output's increments y(t) − y(t − 1) of each
     /// record (its first sample has none, and the hold loses one sample). G₀(1) = 1: μ0, the
     /// borders and the fits printed are in output units per sample; the gap, in input units,
-    /// is the element's. The model file records it (`"integrating": true`).
-    #[arg(long, conflicts_with = "detrend")]
-    integrating: bool,
+    /// is the element's. The model file records it (`"integrating": true`). Without the flag
+    /// the record is tested for an output that integrates (a unit root that a Dickey–Fuller
+    /// test with the input as covariate does not reject at 1 %) and identified so when it
+    /// does, with a note; `--integrating no` identifies it as it is.
+    #[arg(
+        long,
+        value_name = "yes|no",
+        num_args = 0..=1,
+        default_missing_value = "yes",
+        conflicts_with = "detrend"
+    )]
+    integrating: Option<YesNo>,
     #[command(flatten)]
     units: UnitArgs,
     /// Keep the subspace model as it is (the paper's estimator; with `--f 10 --p 10`, exactly
@@ -140,7 +151,8 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
     r.basis = a.basis.into();
     r.mu0 = a.mu0;
     r.detrend = a.detrend;
-    r.integrating = a.integrating;
+    r.integrating = a.integrating == Some(YesNo::Yes);
+    r.detect_integrating = a.integrating.is_none();
     r.refine = !a.no_refine;
     r.fit = a.fit.into();
     r.reference = a.reference_column.clone();

@@ -134,7 +134,7 @@ def identify(
     ts: Optional[float] = None,
     units: Optional[dict[str, str]] = None,
     refine: bool = True,
-    integrating: bool = False,
+    integrating: Optional[bool] = None,
     detrend: bool = False,
     mu0: Optional[float] = None,
     fit: Literal["auto", "none", "simulation"] = "auto",
@@ -146,8 +146,11 @@ def identify(
     workflow): segments, horizons and order from the data and refined by default (segments
     with fewer than 10 samples of their path merged into a neighbour unless knots are given), the element
     itself fitted by simulation error when the input reverses inside the range (``fit``), the
-    closed-loop estimate with ``reference``; ``refine=False, segments=7, f=10, p=10`` is the
-    paper's estimator. ``Model.notes`` says what was chosen and done."""
+    closed-loop estimate with ``reference``; the linear model (one segment, output error)
+    reported instead when it simulates the held-out last quarter of the record better or when
+    the element's model cannot be identified; a record whose output keeps a unit root
+    identified as integrating unless ``integrating`` is given. ``refine=False, segments=7,
+    f=10, p=10`` is the paper's estimator. ``Model.notes`` says what was chosen and done."""
 
 def regressor(
     u: FloatArray,

@@ -51,13 +51,15 @@ pub fn record(
 /// simulation error when the input reverses inside the range. The paper's estimator is
 /// `refine=False, segments=7, f=10, p=10`. `knots` (one array for both paths or a pair)
 /// replaces uniform segments; `reference` (an array, one value per sample) gives the
-/// closed-loop estimate; `integrating=True` fixes a pole at z = 1; `detrend=True` subtracts the
+/// closed-loop estimate; `integrating=True` fixes a pole at z = 1 (left out, the record is
+/// tested for an output that integrates and identified so when it does, with a note;
+/// `integrating=False` keeps it as given); `detrend=True` subtracts the
 /// mean output (no hold); `mu0` is a known H(umin) without a hold; `ts` (seconds) and `units`
 /// ({"input", "output"}) are recorded in the model file. What was chosen and done is in
 /// `Model.notes`. The GIL is released while identifying.
 #[pyfunction]
 #[pyo3(signature = (u, y, umin, umax, *, segments=None, knots=None, nonlinearity="backlash",
-    f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true, integrating=false,
+    f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true, integrating=None,
     detrend=false, mu0=None, fit="auto", reference=None, basis="hat", settle=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
@@ -76,7 +78,7 @@ pub fn identify(
     ts: Option<f64>,
     units: Option<&Bound<'_, PyAny>>,
     refine: bool,
-    integrating: bool,
+    integrating: Option<bool>,
     detrend: bool,
     mu0: Option<f64>,
     fit: &str,
@@ -104,7 +106,8 @@ pub fn identify(
         order,
         refine,
     );
-    request.integrating = integrating;
+    request.integrating = integrating == Some(true);
+    request.detect_integrating = integrating.is_none();
     request.detrend = detrend;
     request.mu0 = mu0;
     request.settle = settle;

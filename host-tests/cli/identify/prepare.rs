@@ -11,7 +11,7 @@ use crate::failure::Failure;
 /// Refuses flags that contradict each other or cannot describe a record: the library's
 /// request check, and `--stream`'s own limits.
 pub fn refuse_bad_flags(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
-    let hold = match a.integrating {
+    let hold = match request.integrating {
         true => a.hold.hold.saturating_sub(1),
         false => a.hold.hold,
     };

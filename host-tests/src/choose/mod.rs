@@ -3,8 +3,10 @@
 //! The paper's estimator (PI-MOESP at the given horizons, no refinement) stays one setting away.
 
 mod file;
+pub mod holdout;
 mod horizons;
 mod knots;
+mod linear;
 mod order;
 mod start;
 
@@ -14,13 +16,14 @@ pub use horizons::{
     COLUMNS_PER_ROW, HorizonChoice, MAX_HORIZON, MEMORY_LEVEL, MIN_HORIZON, choose_horizons,
 };
 pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
+pub use linear::{LINEAR_MAX_ORDER, is_linear, linear_model, linear_options};
 pub use order::{OrderChoice, choose_order, neighbours};
 pub use start::{MAX_START_RADIUS, MIN_REDUCED_HORIZON, ReducedHorizons, StableStart, stabilised};
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
-use crate::refine::pem::PemFit;
+use crate::refine::pem::{NoiseOrder, PemFit};
 use start::subspace_start;
 
 /// `order 2: why; order 3: why`.
@@ -103,6 +106,21 @@ pub struct Choices {
     pub estimator: ModelStage,
     /// The criterion of the order choice.
     pub criterion: Criterion,
+    /// The noise model of the refinement: ARMA with the order by BIC (the default), or white
+    /// (`NoiseOrder::Fixed(0)`: output error, the simulation error minimised).
+    pub noise: NoiseOrder,
+    /// The candidate orders of the refinement when the order is not given.
+    pub orders: OrderCandidates,
+}
+
+/// The orders refined when the order is not given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OrderCandidates {
+    /// The subspace order and its neighbours ([`neighbours`]).
+    Neighbours,
+    /// Every order from 1 to this one (below the future horizon), as a linear output-error
+    /// fit by BIC over orders does.
+    UpTo(usize),
 }
 
 impl Default for Choices {
@@ -115,6 +133,8 @@ impl Default for Choices {
             horizons: Horizons::FromData,
             estimator: ModelStage::Refined,
             criterion: Criterion::Bic,
+            noise: NoiseOrder::default(),
+            orders: OrderCandidates::Neighbours,
         }
     }
 }
@@ -128,6 +148,8 @@ impl Choices {
             horizons: Horizons::Given,
             estimator: ModelStage::Subspace,
             criterion: Criterion::Bic,
+            noise: NoiseOrder::default(),
+            orders: OrderCandidates::Neighbours,
         }
     }
 }
@@ -331,11 +353,12 @@ fn at_knots(
             order: None,
         });
     }
-    let candidates = match base.order {
-        Some(n) => vec![n],
-        None => neighbours(model.order, opts.f),
+    let candidates = match (base.order, choices.orders) {
+        (Some(n), _) => vec![n],
+        (None, OrderCandidates::Neighbours) => neighbours(model.order, opts.f),
+        (None, OrderCandidates::UpTo(max)) => (1..=max.min(opts.f.saturating_sub(1))).collect(),
     };
-    let (fit, order) = choose_order(u, y, &opts, model.order, &candidates, choices.criterion)?;
+    let (fit, order) = choose_order(u, y, &opts, model.order, &candidates, choices)?;
     Ok(Best {
         model: fit.model.clone(),
         options: opts,

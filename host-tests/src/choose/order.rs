@@ -5,11 +5,12 @@
 //! sit above it. So the neighbours of the subspace order are refined too, each from its own
 //! subspace model, and the order whose refined model has the smallest BIC
 //! (`N ln(Σε²/N) + d ln N` on the prediction errors) is kept: a state is kept only when it
-//! lowers the prediction error by more than its parameters cost.
+//! lowers the prediction error by more than its parameters cost. A refined model the data do
+//! not determine ([`determined`]) is kept only when no candidate order is determined.
 
-use super::ChooseError;
 use super::ModelStage;
 use super::start::subspace_start;
+use super::{Choices, ChooseError};
 use crate::identify::IdentifyOptions;
 use crate::numerics::select::{Criterion, best, relative_scores};
 use crate::refine::pem::{PemFit, PemOptions, refine};
@@ -27,6 +28,8 @@ pub struct OrderChoice {
     pub scores: Vec<(usize, f64)>,
     /// `(order, reason)` of the candidates that failed.
     pub failures: Vec<(usize, String)>,
+    /// The candidates refined to a singular information matrix (not determined by the data).
+    pub undetermined: Vec<usize>,
 }
 
 impl OrderChoice {
@@ -39,12 +42,23 @@ impl OrderChoice {
             self.subspace,
             self.criterion.name(),
             relative_scores(&self.scores, self.order)
-        )
+        ) + &match self.undetermined.as_slice() {
+            [] => String::new(),
+            u => format!(
+                "; not determined by the data (a singular JᵀJ or a pole slower than the record), \
+                 kept only when no order is: {}",
+                u.iter()
+                    .map(|n| n.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
     }
 }
 
 /// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order,
-/// refined with [`PemOptions::for_identify`]) and keeps the best by `criterion`; the fit of
+/// refined with [`PemOptions::for_identify`] and the noise model of `choices`) and keeps the
+/// best by `choices.criterion`; the fit of
 /// the kept order is returned with the choice.
 pub fn choose_order(
     u: &[f64],
@@ -52,9 +66,13 @@ pub fn choose_order(
     opts: &IdentifyOptions,
     subspace: usize,
     candidates: &[usize],
-    criterion: Criterion,
+    choices: &Choices,
 ) -> Result<(PemFit, OrderChoice), ChooseError> {
-    let pem = &PemOptions::for_identify(opts);
+    let criterion = choices.criterion;
+    let pem = &PemOptions {
+        noise_order: choices.noise,
+        ..PemOptions::for_identify(opts)
+    };
     let mut fits = Vec::new();
     let mut scores = Vec::new();
     let mut failures = Vec::new();
@@ -75,7 +93,24 @@ pub fn choose_order(
             Err(e) => failures.push((n, e)),
         }
     }
-    let kept = best(&scores).and_then(|order| fits.into_iter().find(|(n, _)| *n == order));
+    // A fit the data do not determine (a singular information matrix, or a pole slower than
+    // the record is long, whose gain the record cannot tell from a drift) has a parameter too
+    // many: it is kept only when no candidate is determined.
+    let undetermined: Vec<usize> = fits
+        .iter()
+        .filter(|(_, f)| !determined(f))
+        .map(|(n, _)| *n)
+        .collect();
+    let determined: Vec<(usize, f64)> = scores
+        .iter()
+        .copied()
+        .filter(|(n, _)| !undetermined.contains(n))
+        .collect();
+    let order = match determined.is_empty() {
+        true => best(&scores),
+        false => best(&determined),
+    };
+    let kept = order.and_then(|order| fits.into_iter().find(|(n, _)| *n == order));
     let Some((order, fit)) = kept else {
         return Err(match candidates {
             [] => ChooseError::NoCandidate,
@@ -90,8 +125,23 @@ pub fn choose_order(
             criterion,
             scores,
             failures,
+            undetermined,
         },
     ))
+}
+
+/// Whether the record determines `fit`: its information matrix is regular and its slowest
+/// pole's time constant `−1/ln|p|` is shorter than the samples in its cost (a slower pole's
+/// static gain cannot be told from a drift or an offset on that record).
+pub fn determined(fit: &PemFit) -> bool {
+    let slowest = fit
+        .model
+        .poles()
+        .iter()
+        .map(|(a, b)| a.hypot(*b))
+        .fold(0.0, f64::max);
+    let tau = -1.0 / slowest.ln();
+    !fit.singular && tau < fit.samples as f64
 }
 
 /// The candidate orders around the subspace order `n`: `n − 1, n, n + 1`, at least 1 and below

@@ -28,7 +28,7 @@ pub fn identified_page(
         let in_units = id.in_units();
         let run = ModelRun {
             title,
-            element: id.request.element.into(),
+            element: id.model_element().into(),
             model: &id.estimate.model,
             memory: None,
             units: &in_units,
@@ -43,7 +43,7 @@ pub fn identified_page(
     let in_units = id.element_in_units().unwrap_or_else(|| id.in_units());
     let estimator = format!(
         "simulation-error fit of the element from the {} model: {} iterations, Σe² {:.6} -> {:.6}",
-        if id.request.element == Element::Static {
+        if id.model_element() == Element::Static {
             "static"
         } else {
             "two-path"

@@ -3,30 +3,37 @@
 //! [`Record`], call [`identify_record`], and print or return what it
 //! gives ([`Identified`]).
 //!
-//! The steps, in order: the request is checked ([`IdentifyRequest::validate`]); an
-//! integrating plant's record becomes the record of its increments and a detrended record
+//! The steps, in order: the request is checked ([`IdentifyRequest::validate`]); a record
+//! whose output keeps a unit root is routed to the integrating identification when the
+//! request leaves that open ([`detect`]); an integrating plant's record becomes the record of
+//! its increments and a detrended record
 //! loses its mean output; segments, horizons and order are chosen and the model refined
 //! ([`best_model`]); a closed-loop record's model is replaced by the estimate with instruments
 //! from the reference ([`closed_loop`]); the noise model and standard deviations are taken
-//! from the refinement or fitted to the subspace model's residual ([`estimate`]); and the
+//! from the refinement or fitted to the subspace model's residual ([`estimate`]); the
 //! element itself is fitted by simulation error when the input reverses inside the range
-//! ([`element_fit`]).
+//! ([`element_fit`]); and the linear baseline, identified beside it, is reported instead when
+//! it simulates the inner hold-out of the record better or when the model with the element
+//! cannot be identified ([`baseline`]).
 
+pub mod baseline;
 pub mod closed_loop;
+pub mod detect;
 pub mod element_fit;
 pub mod estimate;
 pub mod report;
 mod request;
 
+pub use baseline::{Baseline, Comparison, Reported, ScoredOn};
 pub use estimate::Estimate;
 pub use request::{ElementFit, Field, IdentifyRequest, Plan, RequestError, Syntax};
 
 use crate::choose::noise_file;
-use crate::choose::{Best, ChooseError, best_model};
+use crate::choose::{Best, ChooseError, best_model, linear_model};
 use crate::closed_loop::ReferenceError;
 use crate::hysteresis::{HysteresisError, HysteresisFit};
 use crate::identify::IdentifyError;
-use crate::model::Record;
+use crate::model::{Element, Record};
 use crate::model_file::ModelFile;
 
 /// Lines of text for the user, in order (notes, a report).
@@ -85,18 +92,30 @@ pub struct Identified {
     pub element_note: Option<String>,
     /// The element fitted by simulation error, when it was.
     pub element: Option<HysteresisFit>,
+    /// The linear baseline beside the model, when it was fitted; when it is reported
+    /// ([`Baseline::reports_linear`]), `best` and `estimate` are the linear model's.
+    pub baseline: Option<Baseline>,
     /// The request.
     pub request: IdentifyRequest,
 }
 
 impl Identified {
+    /// The element of the reported model: the request's, or static when the linear baseline
+    /// is reported.
+    pub fn model_element(&self) -> Element {
+        match self.baseline.as_ref().is_some_and(Baseline::reports_linear) {
+            true => Element::Static,
+            false => self.request.element,
+        }
+    }
+
     /// The model file: the fitted element's when it was fitted, else the model with its noise
     /// model and standard deviations; with the record's sample time and units.
     pub fn model_file(&self) -> ModelFile {
         let mut file = match &self.element {
             Some(fit) => fit.model.to_file(self.record.len()),
             None => {
-                let mut file = self.estimate.model.to_json(Some(self.request.element));
+                let mut file = self.estimate.model.to_json(Some(self.model_element()));
                 file.noise = self.estimate.noise.as_ref().map(noise_file);
                 file.std = self.estimate.std.as_ref().map(|(s, _)| s.clone());
                 file.integrating = self.request.integrating;
@@ -115,6 +134,18 @@ pub fn identify_record(
     request: &IdentifyRequest,
 ) -> Result<Identified, WorkflowError> {
     request.check_record(record)?;
+    if detect::asks(request, record)
+        && let Some(t) = detect::test(record, request.umin, request.umax)
+        && !t.rejected()
+    {
+        let routed = IdentifyRequest {
+            integrating: true,
+            ..request.clone()
+        };
+        let mut id = identify_record(record, &routed)?;
+        id.notes.insert(0, detect::note(&t, request.syntax));
+        return Ok(id);
+    }
     let mut notes = Vec::new();
     let source = record;
     let mut record = record.clone();
@@ -138,7 +169,7 @@ pub fn identify_record(
             "detrended: subtracted the mean output {mean:.6} from y"
         ));
     }
-    let mut best =
+    let model =
         best_model(&record.u, &record.y, &plan.options, &plan.choices).map_err(|e| match e {
             ChooseError::Identify(error) => {
                 let index = sample_index(&error).unwrap_or(0);
@@ -149,7 +180,20 @@ pub fn identify_record(
                 WorkflowError::Sample { error, index }
             }
             e => WorkflowError::Choose(e),
-        })?;
+        });
+    let linear = baseline::wanted(request, &plan)
+        .then(|| linear_model(&record.u, &record.y, &plan.options, &plan.choices));
+    let (mut best, linear) = match (model, linear) {
+        (Ok(best), linear) => (best, linear),
+        // The model with the element failed where the data chose its structure: the linear
+        // model, when there is one, is the answer (a record whose output responds gives a
+        // model). A structure the user gave (knots, segments, horizons) keeps its refusal.
+        (Err(e), Some(Ok(linear))) if !request.structure_given() => {
+            let why = Baseline::Alone(e.to_string());
+            return Ok(linear_identified(record, request, linear, notes, why));
+        }
+        (Err(e), _) => return Err(e),
+    };
     notes.extend(best.report());
     if let Some(name) = &request.reference {
         notes.push(closed_loop::replace(&mut best, &record, name)?);
@@ -161,6 +205,23 @@ pub fn identify_record(
         true => Some(element_fit::fit(request, &record, &estimate.model)?),
         false => None,
     };
+    let baseline = match linear {
+        None => None,
+        Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
+        Some(Ok(linear)) => {
+            match baseline::compare(&record, request, &best, element.as_ref(), &linear) {
+                Some(c) if c.reported == Reported::Linear => {
+                    let why = Baseline::Compared(c);
+                    return Ok(linear_identified(record, request, linear, notes, why));
+                }
+                Some(c) => Some(Baseline::Compared(c)),
+                None => Some(Baseline::Failed(
+                    "the candidates could not be simulated on the record".to_string(),
+                )),
+            }
+        }
+    };
+    notes.extend(baseline.as_ref().map(|b| b.report(request.element)));
     Ok(Identified {
         record,
         best,
@@ -168,8 +229,39 @@ pub fn identify_record(
         notes,
         element_note: decision.note,
         element,
+        baseline,
         request: request.clone(),
     })
+}
+
+/// The identification that reports the linear baseline `linear` (static element, one
+/// segment) on `record`, after `notes`, with `why` it is reported.
+fn linear_identified(
+    record: Record,
+    request: &IdentifyRequest,
+    linear: Best,
+    mut notes: Lines,
+    why: Baseline,
+) -> Identified {
+    notes.push(why.report(request.element));
+    notes.extend(
+        linear
+            .report()
+            .into_iter()
+            .map(|l| format!("linear model: {l}")),
+    );
+    let (estimate, estimate_notes) = estimate::estimate(&linear, &record, request);
+    notes.extend(estimate_notes);
+    Identified {
+        record,
+        best: linear,
+        estimate,
+        notes,
+        element_note: None,
+        element: None,
+        baseline: Some(why),
+        request: request.clone(),
+    }
 }
 
 /// The sample a core error names, if any.

@@ -16,7 +16,7 @@ impl Identified {
     pub fn in_units(&self) -> UnitReport {
         let r = &self.record;
         let cov = self.estimate.std.as_ref().map(|(_, c)| c.as_slice());
-        let two_path = self.request.element.two_path();
+        let two_path = self.model_element().two_path();
         self.estimate
             .model
             .unit_report(r.ts, r.units.clone(), cov, two_path)

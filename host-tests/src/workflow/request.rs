@@ -192,6 +192,10 @@ pub struct IdentifyRequest {
     pub detrend: bool,
     /// The plant integrates: one pole at z = 1, the stable part identified on increments.
     pub integrating: bool,
+    /// When `integrating` is false, test the record for an integrating output first and
+    /// identify it as integrating when the unit root stands ([`detect`](super::detect); the
+    /// default); false: identify it as given.
+    pub detect_integrating: bool,
     /// Refine by the prediction-error method (the default).
     pub refine: bool,
     /// The element's simulation-error fit.
@@ -231,12 +235,22 @@ impl IdentifyRequest {
             mu0: None,
             detrend: false,
             integrating: false,
+            detect_integrating: true,
             refine: true,
             fit: ElementFit::Auto,
             reference: None,
             settle: None,
             syntax,
         }
+    }
+
+    /// Whether the user gave the model's structure: knots, a segment count or horizons (the
+    /// linear baseline then does not replace the model, and a refusal stands).
+    pub fn structure_given(&self) -> bool {
+        self.knots_asc.is_some()
+            || self.knots_desc.is_some()
+            || matches!(self.segments, Some(SegmentCount::Fixed(_)))
+            || self.horizons.is_some()
     }
 
     /// Checks the settings that do not depend on the record and gives the options for a

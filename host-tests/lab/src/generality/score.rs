@@ -92,9 +92,9 @@ pub fn table(rows: &[Row], names: &[&str]) -> String {
         let c = &r.case;
         let _ = write!(
             s,
-            "| {} | {:?} | {} | {:.3} | {} dB | {} |",
+            "| {} | {} | {} | {:.3} | {} dB | {} |",
             c.index,
-            c.element.kind,
+            c.element.kind.element(),
             c.plant.order(),
             c.plant.slowest(),
             c.snr_db,

@@ -1,0 +1,53 @@
+//! An integrating record found in the data: when the request leaves the question open
+//! ([`IdentifyRequest::detect_integrating`]), the record is tested for a unit root in its
+//! output ([`unit_root`], the augmented Dickey–Fuller test with the input's regressor
+//! channels as covariates) before anything is identified. A unit root that the test does not
+//! reject at 1 % routes the record to the integrating identification (one pole fixed at
+//! `z = 1`, the stable part on the output's increments), with a note; a stable plant's record
+//! rejects it and is identified as it is.
+//!
+//! Only the desktop's refined identification of one open-loop record asks: the paper's
+//! estimator, a closed-loop estimate, several experiments and the element's simulation fit
+//! (which the integrating route cannot run) keep the record as given.
+
+use super::{ElementFit, IdentifyRequest, Syntax};
+use crate::model::Record;
+use crate::validation::residual::regressor;
+use crate::validation::unit_root::{CRITICAL_1PCT, UnitRoot, unit_root};
+
+/// Input lags of the test's covariates (`0 … LAGS`).
+pub const LAGS: usize = 4;
+
+/// Whether `request` on `record` asks for the test.
+pub(crate) fn asks(request: &IdentifyRequest, record: &Record) -> bool {
+    request.detect_integrating
+        && !request.integrating
+        && request.refine
+        && request.reference.is_none()
+        && request.fit != ElementFit::Simulation
+        && record.starts.len() <= 1
+}
+
+/// The unit-root test of `record` (after its hold) on the one-segment regressor of
+/// `[umin, umax]`; `None` when the record is too short for it.
+pub fn test(record: &Record, umin: f64, umax: f64) -> Option<UnitRoot> {
+    let from = record.hold.min(record.len());
+    let knots = [umin, umax];
+    let (_, z, _, _) = regressor(&record.u[from..], &knots, &knots, true);
+    unit_root(&z, &record.y[from..], &record.time[from..], LAGS)
+}
+
+/// The note of a record routed to the integrating identification.
+pub(crate) fn note(t: &UnitRoot, syntax: Syntax) -> String {
+    let (on, off) = match syntax {
+        Syntax::Cli => ("--integrating", "--integrating no"),
+        Syntax::Python => ("integrating=True", "integrating=False"),
+    };
+    format!(
+        "the output integrates: an ARX model of it on the input ({} output lags) keeps a unit \
+         root (Dickey–Fuller τ = {:.2}, not below the 1 % critical value {CRITICAL_1PCT}; \
+         Σaᵢ − 1 = {:+.4}), so the record is identified as integrating ({on}); {off} \
+         identifies it as it is",
+        t.ar_order, t.tau, t.rho
+    )
+}
