@@ -122,12 +122,29 @@ fn validate(file: &ModelFile, v: &[Vec<f64>; 3]) -> (f64, f64) {
     (nrmse(&v[1], &sim[PREFIX..]), nrmse(&v[1], &v[2]))
 }
 
+/// A record `Spec` of the family: seed, length, two levels or low-pass noise, play half-width,
+/// noise standard deviation.
+struct Spec(u64, usize, bool, f64, f64);
+
+/// The identification of an estimation record of `spec` and the validation NRMSE of the
+/// model reported over its noise floor `(fit, floor)` on a second realisation.
+fn identified(spec: Spec) -> (hsid_host::workflow::Identified, (f64, f64)) {
+    let Spec(seed, n, two_level, h, sd) = spec;
+    let mut rng = Rng(seed);
+    let est = record(&mut rng, n, two_level, h, sd);
+    let val = record(&mut rng, n, two_level, h, sd);
+    let id = identify(&est[0], &est[1]);
+    let scores = validate(&id.model_file(), &val);
+    eprintln!(
+        "{:?}: NRMSE {:.4}, floor {:.4}",
+        id.baseline, scores.0, scores.1
+    );
+    (id, scores)
+}
+
 #[test]
 fn a_two_level_record_gives_the_linear_model_at_the_noise_floor() {
-    let mut rng = Rng(0x5eed_0001);
-    let est = record(&mut rng, 3000, true, 0.0, 0.05);
-    let val = record(&mut rng, 3000, true, 0.0, 0.05);
-    let id = identify(&est[0], &est[1]);
+    let (id, (fit, floor)) = identified(Spec(0x5eed_0001, 3000, true, 0.0, 0.05));
     match &id.baseline {
         Some(b @ Baseline::Alone(why)) => {
             assert!(why.contains("never excited"), "{why}");
@@ -136,19 +153,13 @@ fn a_two_level_record_gives_the_linear_model_at_the_noise_floor() {
         other => panic!("expected the linear model alone, got {other:?}"),
     }
     assert_eq!(id.model_element(), Element::Static);
-    let file = id.model_file();
-    assert_eq!(file.nonlinearity, Some(Element::Static));
-    let (fit, floor) = validate(&id.model_file(), &val);
-    eprintln!("two-level linear record: NRMSE {fit:.4}, floor {floor:.4}");
+    assert_eq!(id.model_file().nonlinearity, Some(Element::Static));
     assert!(fit < 1.05 * floor, "NRMSE {fit:.4} floor {floor:.4}");
 }
 
 #[test]
 fn a_backlash_record_keeps_the_backlash_model_and_says_both_fits() {
-    let mut rng = Rng(0x5eed_0002);
-    let est = record(&mut rng, 4000, false, 0.15, 0.02);
-    let val = record(&mut rng, 4000, false, 0.15, 0.02);
-    let id = identify(&est[0], &est[1]);
+    let (id, (fit, floor)) = identified(Spec(0x5eed_0002, 4000, false, 0.15, 0.02));
     let Some(Baseline::Compared(c)) = &id.baseline else {
         panic!("expected a comparison, got {:?}", id.baseline);
     };
@@ -161,22 +172,17 @@ fn a_backlash_record_keeps_the_backlash_model_and_says_both_fits() {
         id.notes
     );
     assert_eq!(id.model_element(), Element::Backlash);
-    let (fit, floor) = validate(&id.model_file(), &val);
-    eprintln!("backlash record: NRMSE {fit:.4}, floor {floor:.4}");
     assert!(fit < 1.5 * floor, "NRMSE {fit:.4} floor {floor:.4}");
 }
 
 #[test]
 fn a_linear_record_is_never_worse_than_its_linear_baseline() {
-    let mut rng = Rng(0x5eed_0003);
-    let est = record(&mut rng, 3000, false, 0.0, 0.05);
-    let val = record(&mut rng, 3000, false, 0.0, 0.05);
-    let id = identify(&est[0], &est[1]);
-    let Some(Baseline::Compared(c)) = &id.baseline else {
-        panic!("expected a comparison, got {:?}", id.baseline);
-    };
-    let (fit, floor) = validate(&id.model_file(), &val);
-    eprintln!("linear record: {c:?}; validation NRMSE {fit:.4}, floor {floor:.4}");
+    let (id, (fit, floor)) = identified(Spec(0x5eed_0003, 3000, false, 0.0, 0.05));
+    assert!(
+        matches!(id.baseline, Some(Baseline::Compared(_))),
+        "{:?}",
+        id.baseline
+    );
     // Both candidates describe a linear plant; whichever is reported is at the floor.
     assert!(fit < 1.05 * floor, "NRMSE {fit:.4} floor {floor:.4}");
 }
