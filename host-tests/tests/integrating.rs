@@ -396,3 +396,49 @@ fn diagnose_integrating_diagnoses_the_stable_part() {
     };
     assert!(file.integrating);
 }
+
+/// Without `--integrating`, the record is tested for a unit root first: the motor position is
+/// found to integrate and identified as with the flag, with a line that says why; `--integrating
+/// no` identifies it as given (the paper's normalisation then fails on it, as above). A stable
+/// plant's record (the same servo's increments) is not routed.
+#[test]
+fn identify_finds_an_integrating_record_without_the_flag() {
+    let dir = Scratch::new("integrating-found");
+    let (u, y, _) = record(1);
+    let data = dir.write_uy("servo.csv", &u, &y);
+    let args = ["--segments", "8", "--order", "2"];
+    let found = common::identify(&data, &args).success();
+    let line = found.stdout.lines().next().unwrap_or_default().to_string();
+    assert!(
+        line.starts_with("the output integrates") && line.contains("--integrating no"),
+        "{}",
+        found.stdout
+    );
+    let flagged = common::identify(&data, &[&args[..], &["--integrating"]].concat()).success();
+    let model = |out: &str| -> Vec<String> {
+        out.lines()
+            .filter(|l| l.starts_with("poles:") || l.starts_with("mu0 ="))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(model(&found.stdout), model(&flagged.stdout));
+    assert!(!model(&found.stdout).is_empty());
+    let given = common::identify(&data, &[&args[..], &["--integrating", "no"]].concat());
+    assert!(
+        !given.stdout.contains("the output integrates"),
+        "{}",
+        given.stdout
+    );
+    // The increments of the same record are a stable plant's output: not routed.
+    let dy: Vec<f64> = integrating::difference(&y);
+    let stable = dir.write_uy("increments.csv", &u[1..], &dy);
+    let run = common::identify(
+        &stable,
+        &["--segments", "8", "--order", "2", "--hold", "299"],
+    );
+    assert!(
+        !run.stdout.contains("the output integrates"),
+        "{}",
+        run.stdout
+    );
+}
