@@ -8,7 +8,7 @@
 //! horizons) is kept: its model is reported, or its refusal stands, and the line still says
 //! which simulates the hold-out better.
 
-use super::{IdentifyRequest, Plan, element_fit};
+use super::{IdentifyRequest, Plan};
 use crate::choose::holdout::{FIT_FRACTION, element_holdout, nrmse, pem_holdout};
 use crate::choose::{Best, ModelStage, is_linear};
 use crate::hysteresis::{ElementFitOptions, HysteresisFit};
@@ -135,10 +135,13 @@ pub(crate) fn compare(
     let linear_fit = linear.fit.as_ref()?;
     let model_fit = model.fit.as_ref()?;
     let model_score = match element {
-        Some(_) => {
-            let (kind, from) = element_fit::element(request.element);
-            element_holdout(u, y, &model_fit.model, from, &ElementFitOptions::new(kind))
-        }
+        Some(e) => element_holdout(
+            u,
+            y,
+            &model_fit.model,
+            e.start,
+            &ElementFitOptions::new(e.model.kind),
+        ),
         None => pem_holdout(u, y, model_fit, &model.options),
     };
     let linear_score = pem_holdout(u, y, linear_fit, &linear.options);

@@ -19,7 +19,7 @@ use crate::validation::unit_root::{CRITICAL_1PCT, UnitRoot, unit_root};
 pub const LAGS: usize = 4;
 
 /// Whether `request` on `record` asks for the test.
-pub(crate) fn asks(request: &IdentifyRequest, record: &Record) -> bool {
+fn asks(request: &IdentifyRequest, record: &Record) -> bool {
     request.detect_integrating
         && !request.integrating
         && request.refine
@@ -37,8 +37,31 @@ pub fn test(record: &Record, umin: f64, umax: f64) -> Option<UnitRoot> {
     unit_root(&z, &record.y[from..], &record.time[from..], LAGS)
 }
 
+/// `request` as carried out on `record`: routed to the integrating identification, with the
+/// note that says why, when it asks for the test ([`asks`]) and the unit root stands; else as
+/// it is.
+pub(crate) fn route(
+    request: &IdentifyRequest,
+    record: &Record,
+) -> (IdentifyRequest, Option<String>) {
+    let found = asks(request, record)
+        .then(|| test(record, request.umin, request.umax))
+        .flatten()
+        .filter(|t| !t.rejected());
+    match found {
+        Some(t) => (
+            IdentifyRequest {
+                integrating: true,
+                ..request.clone()
+            },
+            Some(note(&t, request.syntax)),
+        ),
+        None => (request.clone(), None),
+    }
+}
+
 /// The note of a record routed to the integrating identification.
-pub(crate) fn note(t: &UnitRoot, syntax: Syntax) -> String {
+fn note(t: &UnitRoot, syntax: Syntax) -> String {
     let (on, off) = match syntax {
         Syntax::Cli => ("--integrating", "--integrating no"),
         Syntax::Python => ("integrating=True", "integrating=False"),

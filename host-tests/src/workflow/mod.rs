@@ -134,19 +134,9 @@ pub fn identify_record(
     request: &IdentifyRequest,
 ) -> Result<Identified, WorkflowError> {
     request.check_record(record)?;
-    if detect::asks(request, record)
-        && let Some(t) = detect::test(record, request.umin, request.umax)
-        && !t.rejected()
-    {
-        let routed = IdentifyRequest {
-            integrating: true,
-            ..request.clone()
-        };
-        let mut id = identify_record(record, &routed)?;
-        id.notes.insert(0, detect::note(&t, request.syntax));
-        return Ok(id);
-    }
-    let mut notes = Vec::new();
+    let (routed, route_note) = detect::route(request, record);
+    let request = &routed;
+    let mut notes: Lines = route_note.into_iter().collect();
     let source = record;
     let mut record = record.clone();
     if request.integrating {
