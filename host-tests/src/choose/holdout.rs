@@ -10,9 +10,24 @@
 //! refitted with the held-out samples left out of its error ([`fit_hysteresis_skipping`]),
 //! the whole input driving the element's state.
 
-use crate::hysteresis::{ElementFitOptions, Start, fit_hysteresis_skipping};
+use crate::hysteresis::{ElementFitOptions, HysteresisError, Start, fit_hysteresis_skipping};
 use crate::identify::{HostModel, IdentifyOptions};
+use crate::refine::RefineError;
 use crate::refine::pem::{Feedthrough, NoiseOrder, PemFit, PemOptions, refine, simulate_fit};
+
+/// Why a candidate has no hold-out score.
+#[derive(Debug, thiserror::Error)]
+pub enum HoldOutError {
+    /// The prediction-error refit or its simulation failed.
+    #[error("the hold-out refit failed: {0}")]
+    Refine(#[from] RefineError),
+    /// The element's refit failed.
+    #[error("the element's hold-out refit failed: {0}")]
+    Element(#[from] HysteresisError),
+    /// The held-out output does not vary: no NRMSE.
+    #[error("the held-out output is constant")]
+    Constant,
+}
 
 /// The share of the record (after its start) the candidates are refitted on.
 pub const FIT_FRACTION: f64 = 0.75;
@@ -46,7 +61,7 @@ pub fn pem_holdout(
     y: &[f64],
     fit: &PemFit,
     opts: &IdentifyOptions,
-) -> Result<f64, String> {
+) -> Result<f64, HoldOutError> {
     let k = holdout_start(u.len(), fit.start);
     let pem = PemOptions {
         noise_order: NoiseOrder::Fixed(fit.layout.nv),
@@ -56,11 +71,10 @@ pub fn pem_holdout(
         },
         ..PemOptions::for_identify(opts)
     };
-    let part = refine(&u[..k], &y[..k], &fit.model, &pem).map_err(|e| e.to_string())?;
-    let sim = simulate_fit(u, y, &part).map_err(|e| e.to_string())?;
+    let part = refine(&u[..k], &y[..k], &fit.model, &pem)?;
+    let sim = simulate_fit(u, y, &part)?;
     let from = k - part.start;
-    nrmse(&y[k..], sim.get(from..).unwrap_or(&[]))
-        .ok_or_else(|| "the held-out output is constant".to_string())
+    nrmse(&y[k..], sim.get(from..).unwrap_or(&[])).ok_or(HoldOutError::Constant)
 }
 
 /// The hold-out NRMSE of the element fitted by simulation error from `init` (`start`: which
@@ -71,10 +85,10 @@ pub fn element_holdout(
     init: &HostModel,
     start: Start,
     opts: &ElementFitOptions,
-) -> Result<f64, String> {
+) -> Result<f64, HoldOutError> {
     let k = holdout_start(u.len(), 0);
     let skip: Vec<bool> = (0..u.len()).map(|t| t >= k).collect();
-    let fit = fit_hysteresis_skipping(u, y, &skip, init, start, opts).map_err(|e| e.to_string())?;
+    let fit = fit_hysteresis_skipping(u, y, &skip, init, start, opts)?;
     let sim = fit.simulate(u);
-    nrmse(&y[k..], &sim[k..]).ok_or_else(|| "the held-out output is constant".to_string())
+    nrmse(&y[k..], &sim[k..]).ok_or(HoldOutError::Constant)
 }

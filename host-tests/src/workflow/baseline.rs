@@ -151,6 +151,7 @@ pub(crate) fn compare(
             let why = [m.err(), l.err()]
                 .into_iter()
                 .flatten()
+                .map(|e| e.to_string())
                 .collect::<Vec<_>>()
                 .join("; ");
             let whole_pem = |fit| {
