@@ -14,6 +14,7 @@ use crate::hysteresis::{ElementFitOptions, HysteresisError, Start, fit_hysteresi
 use crate::identify::{HostModel, IdentifyOptions};
 use crate::refine::RefineError;
 use crate::refine::pem::{Feedthrough, NoiseOrder, PemFit, PemOptions, refine, simulate_fit};
+use crate::report;
 
 /// Why a candidate has no hold-out score.
 #[derive(Debug, thiserror::Error)]
@@ -38,20 +39,10 @@ pub fn holdout_start(len: usize, start: usize) -> usize {
     start + (FIT_FRACTION * used).round() as usize
 }
 
-/// `‖y − ŷ‖ / ‖y − ȳ‖` (`None` for a constant or empty `y`).
+/// `‖y − ŷ‖ / ‖y − ȳ‖` ([`report::fit`]); `None` where it is undefined (a constant or empty
+/// `y`).
 pub fn nrmse(y: &[f64], y_hat: &[f64]) -> Option<f64> {
-    let n = y.len().min(y_hat.len());
-    if n == 0 {
-        return None;
-    }
-    let mean = y[..n].iter().sum::<f64>() / n as f64;
-    let err = y
-        .iter()
-        .zip(y_hat)
-        .map(|(a, b)| (a - b).powi(2))
-        .sum::<f64>();
-    let var = y[..n].iter().map(|a| (a - mean).powi(2)).sum::<f64>();
-    (var > 0.0 && err.is_finite()).then(|| (err / var).sqrt())
+    Some(report::fit(y, y_hat).nrmse).filter(|v| v.is_finite())
 }
 
 /// The hold-out NRMSE of a prediction-error fit on `(u, y)` (`opts`: its identification
