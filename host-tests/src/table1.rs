@@ -12,6 +12,18 @@ pub struct Runs {
     pub inside: usize,
 }
 
+impl Runs {
+    /// The runs in words: how many of them start inside `[umin, umax]`, against the Table I
+    /// excitation that starts each at an end (why the element's fit is wanted).
+    pub fn described(&self, umin: f64, umax: f64) -> String {
+        format!(
+            "{} of {} monotone input runs start inside [{umin}, {umax}] (the Table I excitation \
+             starts each at u_min or u_max)",
+            self.inside, self.runs
+        )
+    }
+}
+
 /// Counts the monotone runs of `u` and those that start inside `[u_min, u_max]`; `tol` is the
 /// distance within which a sample is "at" an end. Give the record from the last sample of the
 /// hold on (the whole record without a hold), so that the first run's start is a sample.

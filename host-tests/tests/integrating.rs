@@ -429,6 +429,16 @@ fn identify_finds_an_integrating_record_without_the_flag() {
         "{}",
         given.stdout
     );
+    // A detrended request keeps the record as given: detrending and the integrating route
+    // exclude each other, so the route must not make the request contradict itself.
+    let detrended = common::identify(&data, &[&args[..], &["--hold", "0", "--detrend"]].concat());
+    assert!(
+        !detrended.stdout.contains("the output integrates")
+            && !detrended.stderr.contains("integrating plant"),
+        "{}\n{}",
+        detrended.stdout,
+        detrended.stderr
+    );
     // The increments of the same record are a stable plant's output: not routed.
     let dy: Vec<f64> = integrating::difference(&y);
     let stable = dir.write_uy("increments.csv", &u[1..], &dy);

@@ -14,7 +14,7 @@ use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
 use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::workflow::IdentifyRequest;
-use hsid_host::workflow::element_fit::{applies, why};
+use hsid_host::workflow::element_fit::applies;
 
 use hsid_host::table1::{RunCounter, end_tolerance};
 
@@ -64,7 +64,7 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
     if applies(request) && runs.runs().breaks_table1() {
         outln!(
             "--fit auto: {}; the element's fit needs the whole record, not --stream: not run, the model is the two-path one",
-            why(runs.runs(), a.umin, a.umax)
+            runs.runs().described(a.umin, a.umax)
         )?;
     }
     if let Some(out) = &a.out.json {

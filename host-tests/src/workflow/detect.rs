@@ -7,8 +7,9 @@
 //! rejects it and is identified as it is.
 //!
 //! Only the desktop's refined identification of one open-loop record asks: the paper's
-//! estimator, a closed-loop estimate, several experiments and the element's simulation fit
-//! (which the integrating route cannot run) keep the record as given.
+//! estimator, a closed-loop estimate, several experiments, a detrended record and the
+//! element's simulation fit (which the integrating route cannot run) keep the record as
+//! given.
 
 use super::{ElementFit, IdentifyRequest, Syntax};
 use crate::model::Record;
@@ -23,6 +24,7 @@ fn asks(request: &IdentifyRequest, record: &Record) -> bool {
     request.detect_integrating
         && !request.integrating
         && request.refine
+        && !request.detrend
         && request.reference.is_none()
         && request.fit != ElementFit::Simulation
         && record.starts.len() <= 1
@@ -44,6 +46,10 @@ pub(crate) fn route(
     request: &IdentifyRequest,
     record: &Record,
 ) -> (IdentifyRequest, Option<String>) {
+    let (on, off) = match request.syntax {
+        Syntax::Cli => ("--integrating", "--integrating no"),
+        Syntax::Python => ("integrating=True", "integrating=False"),
+    };
     let found = asks(request, record)
         .then(|| test(record, request.umin, request.umax))
         .flatten()
@@ -54,23 +60,14 @@ pub(crate) fn route(
                 integrating: true,
                 ..request.clone()
             },
-            Some(note(&t, request.syntax)),
+            Some(format!(
+                "the output integrates: an ARX model of it on the input ({} output lags) keeps \
+                 a unit root (Dickey–Fuller τ = {:.2}, not below the 1 % critical value \
+                 {CRITICAL_1PCT}; Σaᵢ − 1 = {:+.4}), so the record is identified as \
+                 integrating ({on}); {off} identifies it as it is",
+                t.ar_order, t.tau, t.rho
+            )),
         ),
         None => (request.clone(), None),
     }
-}
-
-/// The note of a record routed to the integrating identification.
-fn note(t: &UnitRoot, syntax: Syntax) -> String {
-    let (on, off) = match syntax {
-        Syntax::Cli => ("--integrating", "--integrating no"),
-        Syntax::Python => ("integrating=True", "integrating=False"),
-    };
-    format!(
-        "the output integrates: an ARX model of it on the input ({} output lags) keeps a unit \
-         root (Dickey–Fuller τ = {:.2}, not below the 1 % critical value {CRITICAL_1PCT}; \
-         Σaᵢ − 1 = {:+.4}), so the record is identified as integrating ({on}); {off} \
-         identifies it as it is",
-        t.ar_order, t.tau, t.rho
-    )
 }

@@ -4,7 +4,7 @@
 //! do not describe the element.
 //!
 //! [`ElementFit::Auto`] (the default) runs it when the record's input breaks the Table I
-//! structure ([`Runs::breaks_table1`]: more than one, and more than a tenth, of the monotone
+//! structure ([`Runs::breaks_table1`](crate::table1::Runs::breaks_table1): more than one, and more than a tenth, of the monotone
 //! runs start inside the range), with a note that says why and how to turn it off; where the
 //! fit cannot run (several experiments, an integrating plant) the note says it was not run.
 
@@ -14,7 +14,7 @@ use crate::identify::HostModel;
 use crate::model::Element;
 use crate::model::MemoryElement;
 use crate::model::Record;
-use crate::table1::{Runs, count_runs, end_tolerance};
+use crate::table1::{count_runs, end_tolerance};
 
 /// Whether to fit the element, and the note that says why.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -23,15 +23,6 @@ pub(crate) struct Decision {
     pub run: bool,
     /// Why, when the input asked for it.
     pub note: Option<String>,
-}
-
-/// Why the fit is wanted: the count of runs that start inside the range, in words.
-pub fn why(runs: Runs, umin: f64, umax: f64) -> String {
-    format!(
-        "{} of {} monotone input runs start inside [{umin}, {umax}] (the Table I excitation \
-         starts each at u_min or u_max)",
-        runs.inside, runs.runs
-    )
 }
 
 /// Whether [`ElementFit::Auto`] looks at the input at all: backlash and switch only (a
@@ -64,7 +55,7 @@ pub(crate) fn decide(request: &IdentifyRequest, record: &Record) -> Decision {
         return none;
     }
     let s = request.syntax;
-    let why = why(runs, umin, umax);
+    let why = runs.described(umin, umax);
     let fit_auto = s.set(Field::Fit, s.text("auto"));
     let blocked = if record.starts.len() > 1 {
         Some(match s {

@@ -133,7 +133,7 @@ pub fn identify_record(
     record: &Record,
     request: &IdentifyRequest,
 ) -> Result<Identified, WorkflowError> {
-    request.check_record(record)?;
+    let mut plan = request.plan_for(record)?;
     let (routed, route_note) = detect::route(request, record);
     let request = &routed;
     let mut notes: Lines = route_note.into_iter().collect();
@@ -141,16 +141,13 @@ pub fn identify_record(
     let mut record = record.clone();
     if request.integrating {
         record = record.increments();
+        plan.options = crate::integrating::increments_options(&plan.options);
         notes.push(
             "integrating: one pole fixed at z = 1; the stable part G₀ is identified on the \
              output's increments y(t) − y(t − 1) (G₀(1) = 1: μ0, the borders and the fits \
              below are in output units per sample)"
                 .to_string(),
         );
-    }
-    let mut plan = request.validate(source.hold)?;
-    if request.integrating {
-        plan.options = crate::integrating::increments_options(&plan.options);
     }
     if request.detrend {
         let mean;
@@ -173,36 +170,94 @@ pub fn identify_record(
         });
     let linear = baseline::wanted(request, &plan)
         .then(|| linear_model(&record.u, &record.y, &plan.options, &plan.choices));
-    let (mut best, linear) = match (model, linear) {
-        (Ok(best), linear) => (best, linear),
+    let settled = match (model, linear) {
+        (Ok(best), linear) => with_element(&record, request, best, linear, &mut notes)?,
         // The model with the element failed where the data chose its structure: the linear
         // model, when there is one, is the answer (a record whose output responds gives a
         // model). A structure the user gave (knots, segments, horizons) keeps its refusal.
         (Err(e), Some(Ok(linear))) if !request.structure_given() => {
-            let why = Baseline::Alone(e.to_string());
-            return Ok(linear_identified(record, request, linear, notes, why));
+            Settled::Linear(Box::new((linear, Baseline::Alone(e.to_string()))))
         }
         (Err(e), _) => return Err(e),
     };
+    let (best, estimate, element_note, element, baseline) = match settled {
+        Settled::Element(parts) => {
+            let m = *parts;
+            (m.best, m.estimate, m.element_note, m.element, m.baseline)
+        }
+        Settled::Linear(parts) => {
+            let (linear, why) = *parts;
+            notes.push(why.report(request.element));
+            notes.extend(
+                linear
+                    .report()
+                    .into_iter()
+                    .map(|l| format!("linear model: {l}")),
+            );
+            let (estimate, estimate_notes) = estimate::estimate(&linear, &record, request);
+            notes.extend(estimate_notes);
+            (linear, estimate, None, None, Some(why))
+        }
+    };
+    Ok(Identified {
+        record,
+        best,
+        estimate,
+        notes,
+        element_note,
+        element,
+        baseline,
+        request: request.clone(),
+    })
+}
+
+/// The model with the element, with what was found beside it.
+struct ElementModel {
+    best: Best,
+    estimate: Estimate,
+    element_note: Option<String>,
+    element: Option<HysteresisFit>,
+    baseline: Option<Baseline>,
+}
+
+/// Which model the record gets.
+enum Settled {
+    /// The model with the element.
+    Element(Box<ElementModel>),
+    /// The linear baseline, and why it is reported.
+    Linear(Box<(Best, Baseline)>),
+}
+
+/// The model with the element from the subspace model `best` on `record`: the closed-loop
+/// estimate replaces it for a closed-loop record, the noise model and standard deviations
+/// are estimated, the element is fitted when the input asks for it, and the linear baseline
+/// `linear` (when it was fitted) is compared with it on the inner hold-out; the linear model
+/// when it simulates that better. Notes are added to `notes`.
+fn with_element(
+    record: &Record,
+    request: &IdentifyRequest,
+    mut best: Best,
+    linear: Option<Result<Best, ChooseError>>,
+    notes: &mut Lines,
+) -> Result<Settled, WorkflowError> {
     notes.extend(best.report());
     if let Some(name) = &request.reference {
-        notes.push(closed_loop::replace(&mut best, &record, name)?);
+        notes.push(closed_loop::replace(&mut best, record, name)?);
     }
-    let (estimate, estimate_notes) = estimate::estimate(&best, &record, request);
+    let (estimate, estimate_notes) = estimate::estimate(&best, record, request);
     notes.extend(estimate_notes);
-    let decision = element_fit::decide(request, &record);
+    let decision = element_fit::decide(request, record);
     let element = match decision.run {
-        true => Some(element_fit::fit(request, &record, &estimate.model)?),
+        true => Some(element_fit::fit(request, record, &estimate.model)?),
         false => None,
     };
     let baseline = match linear {
         None => None,
         Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
         Some(Ok(linear)) => {
-            match baseline::compare(&record, request, &best, element.as_ref(), &linear) {
+            match baseline::compare(record, request, &best, element.as_ref(), &linear) {
                 Some(c) if c.reported == Reported::Linear => {
-                    let why = Baseline::Compared(c);
-                    return Ok(linear_identified(record, request, linear, notes, why));
+                    return Ok(Settled::Linear(Box::new((linear, Baseline::Compared(c)))));
                 }
                 Some(c) => Some(Baseline::Compared(c)),
                 None => Some(Baseline::Failed(
@@ -212,46 +267,13 @@ pub fn identify_record(
         }
     };
     notes.extend(baseline.as_ref().map(|b| b.report(request.element)));
-    Ok(Identified {
-        record,
+    Ok(Settled::Element(Box::new(ElementModel {
         best,
         estimate,
-        notes,
         element_note: decision.note,
         element,
         baseline,
-        request: request.clone(),
-    })
-}
-
-/// The identification that reports the linear baseline `linear` (static element, one
-/// segment) on `record`, after `notes`, with `why` it is reported.
-fn linear_identified(
-    record: Record,
-    request: &IdentifyRequest,
-    linear: Best,
-    mut notes: Lines,
-    why: Baseline,
-) -> Identified {
-    notes.push(why.report(request.element));
-    notes.extend(
-        linear
-            .report()
-            .into_iter()
-            .map(|l| format!("linear model: {l}")),
-    );
-    let (estimate, estimate_notes) = estimate::estimate(&linear, &record, request);
-    notes.extend(estimate_notes);
-    Identified {
-        record,
-        best: linear,
-        estimate,
-        notes,
-        element_note: None,
-        element: None,
-        baseline: Some(why),
-        request: request.clone(),
-    }
+    })))
 }
 
 /// The sample a core error names, if any.

@@ -405,6 +405,13 @@ impl IdentifyRequest {
         Ok(Plan { options, choices })
     }
 
+    /// Checks the request against `record` ([`validate`](Self::validate) and what depends on
+    /// the record) and gives the plan for it.
+    pub(crate) fn plan_for(&self, record: &crate::model::Record) -> Result<Plan, RequestError> {
+        self.check_record(record)?;
+        self.validate(record.hold)
+    }
+
     /// Checks what depends on the record: the element's fit and the closed-loop estimate on
     /// one experiment, the reference present, the first experiment longer than the hold.
     pub(crate) fn check_record(&self, record: &crate::model::Record) -> Result<(), RequestError> {
