@@ -15,6 +15,7 @@ use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::integrating::increments_options;
+use hsid_host::io::StagedDir;
 use hsid_host::model_file::Units;
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
@@ -128,8 +129,9 @@ pub struct DiagnoseArgs {
     /// Folder for the figures.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// File name prefix of the figures.
-    #[arg(long, default_value = "")]
+    /// File name prefix of the figures (a name, not a path: no `/`, `\\` or control
+    /// characters, so the figures stay in --out).
+    #[arg(long, default_value = "", value_parser = file_prefix)]
     pub prefix: String,
     /// Title of the figures.
     #[arg(long, default_value = "diagnosis")]
@@ -397,14 +399,20 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     let d = diagnose(&est, &validation, &opts).map_err(|e| format!("{}: {e}", a.data.display()))?;
     outln!("{}", report::text(&d))?;
     if let Some(dir) = &a.out {
-        for f in figures::write_figures(&d, dir, &a.prefix, &a.title).map_err(|e| e.to_string())? {
+        // Written together: a run that fails or is stopped leaves the previous figures.
+        let at = |e: std::io::Error| format!("{}: {e}", dir.display());
+        let stage = StagedDir::create(dir).map_err(at)?;
+        let inside = stage.path().display().to_string();
+        let files = figures::write_figures(&d, stage.path(), &a.prefix, &a.title)
+            .map_err(|e| e.to_string().replace(&inside, &dir.display().to_string()))?;
+        for f in stage.commit(&files).map_err(at)? {
             outln!("wrote {}", f.display())?;
         }
     }
     if let Some(path) = &a.json {
         let text = serde_json::to_string_pretty(&report::to_json(&d))
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        hsid_host::io::write_atomic(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
         outln!("wrote {}", path.display())?;
     }
     if let Some(path) = &a.html {
@@ -440,4 +448,16 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// `--prefix`: the start of a file name, so that no figure is written outside `--out`.
+fn file_prefix(s: &str) -> Result<String, String> {
+    match s.chars().find(|&c| c == '/' || c == '\\' || c.is_control()) {
+        Some(c) => Err(format!(
+            "{:?} is not a file-name prefix: it holds {:?} (figures are written inside --out; \
+             give a name such as \"run1-\")",
+            s, c
+        )),
+        None => Ok(s.to_string()),
+    }
 }

@@ -69,11 +69,64 @@ macro_rules! message_from {
 }
 message_from!(UndefinedFit, NoiseFileError, PlotError);
 
-/// `println!` that returns the write's result instead of panicking when the pipe is closed.
+/// `message` as one line for the terminal: control characters (a line break, ESC, BEL, NUL
+/// from a field, a header or a unit quoted in the message) are written as escapes (`\n`,
+/// `\u{1b}`), so an input cannot add a line or drive the terminal.
+pub fn one_line(message: &str) -> String {
+    let mut line = String::with_capacity(message.len());
+    for c in message.chars() {
+        match c.is_control() {
+            true => line.extend(c.escape_default()),
+            false => line.push(c),
+        }
+    }
+    line
+}
+
+/// Set once standard output's reader went away: later lines are not written, and the command
+/// ends quietly (exit code 0) once its files are written.
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether standard output's reader went away during the run.
+pub fn stdout_closed() -> bool {
+    STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// A line for standard output: written unless its reader went away. A closed pipe (`hsid
+/// identify … --json m.json | head -1`) does not stop the command: the files it was asked for
+/// are still written, whole ([`hsid_host::io::write_atomic`]); any other write error is the
+/// command's failure.
+pub fn out_line(line: std::fmt::Arguments<'_>) -> Result<(), Failure> {
+    use std::io::Write as _;
+    if stdout_closed() {
+        return Ok(());
+    }
+    match writeln!(io::stdout().lock(), "{line}") {
+        Err(e) if e.kind() == ErrorKind::BrokenPipe => {
+            STDOUT_CLOSED.store(true, std::sync::atomic::Ordering::Relaxed);
+            Ok(())
+        }
+        r => r.map_err(Failure::from),
+    }
+}
+
+/// `println!` that does not panic when the pipe is closed ([`out_line`]).
 macro_rules! outln {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        writeln!(std::io::stdout().lock(), $($arg)*)
-    }};
+    ($($arg:tt)*) => {
+        $crate::failure::out_line(format_args!($($arg)*))
+    };
 }
 pub(crate) use outln;
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+
+    #[test]
+    fn control_characters_are_escaped_and_the_rest_kept() {
+        assert_eq!(
+            one_line("bad \"V\nhsid: injected\" at ä\u{1b}[31m\u{7}\0"),
+            "bad \"V\\nhsid: injected\" at ä\\u{1b}[31m\\u{7}\\u{0}"
+        );
+    }
+}

@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use hsid_host::figures::{
-    FigureSettings, RecordView, TrueBorders, UncertaintySource, Written, write_figures,
-    write_identified,
+    FigureError, FigureSettings, RecordView, TrueBorders, UncertaintySource, Written,
+    write_figures, write_identified,
 };
 use hsid_host::identify::HostModel;
+use hsid_host::io::StagedDir;
 use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::simulate::{PlantSpec, true_loop};
 use hsid_host::workflow::Identified;
@@ -80,7 +81,7 @@ pub fn identified(
     let Some(dir) = &a.out else {
         return Ok(Vec::new());
     };
-    lines(dir, write_identified(dir, id, settings))
+    staged(dir, |stage| write_identified(stage, id, settings))
 }
 
 /// The figures of a model file on a validation record; `skip` samples at the start are left
@@ -99,25 +100,41 @@ pub fn validate(
     };
     let settings = settings(a, file.sample_time, file.units.as_ref(), model)?;
     let record = RecordView { u, y, skip };
-    let written = write_figures(
-        dir,
-        model,
-        &record,
-        UncertaintySource::from_file(file),
-        &settings,
-    );
-    for line in lines(dir, written)? {
+    let uncertainty = UncertaintySource::from_file(file);
+    let written = staged(dir, |stage| {
+        write_figures(stage, model, &record, uncertainty, &settings)
+    })?;
+    for line in written {
         outln!("{line}")?;
     }
     Ok(())
 }
 
-/// What was written, as lines: the notes, then the count and the directory.
-fn lines(
+/// The figures that `write` writes into a folder, moved into `dir` together once all are
+/// written ([`StagedDir`]: a run that fails or is stopped leaves `dir`'s previous figures as
+/// they were); the lines that say what was written.
+pub fn staged(
     dir: &Path,
-    written: Result<Written, hsid_host::figures::FigureError>,
+    write: impl FnOnce(&Path) -> Result<Written, FigureError>,
 ) -> Result<Vec<String>, Failure> {
-    let written = written.map_err(|e| e.to_string())?;
+    let at = |e: std::io::Error| format!("{}: {e}", dir.display());
+    let stage = StagedDir::create(dir).map_err(|source| {
+        FigureError::CreateDir {
+            path: dir.to_path_buf(),
+            source,
+        }
+        .to_string()
+    })?;
+    // Errors name the folder asked for, not the staging folder inside it.
+    let inside = stage.path().display().to_string();
+    let mut written = write(stage.path())
+        .map_err(|e| e.to_string().replace(&inside, &dir.display().to_string()))?;
+    written.files = stage.commit(&written.files).map_err(at)?;
+    Ok(lines(dir, &written))
+}
+
+/// What was written, as lines: the notes, then the count and the directory.
+fn lines(dir: &Path, written: &Written) -> Vec<String> {
     let mut out: Vec<String> = written
         .notes
         .iter()
@@ -128,5 +145,5 @@ fn lines(
         written.files.len(),
         dir.display()
     ));
-    Ok(out)
+    out
 }

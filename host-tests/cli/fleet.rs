@@ -1,7 +1,7 @@
 //! `hsid fleet`: many devices' checkpoints solved across cores into one JSON line per device;
 //! `hsid fleet simulate` writes a simulated fleet, `hsid fleet report` its wear report.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -10,6 +10,7 @@ use hsid_host::fleet::simulate::FleetSpec;
 use hsid_host::fleet::solve::{FleetError, FleetSettings, solve_dir_each, solve_one};
 use hsid_host::fleet::wear::{ReportOptions, wear_report};
 use hsid_host::fleet::write::write_fleet;
+use hsid_host::io::AtomicFile;
 
 use crate::failure::{Failure, outln};
 
@@ -129,11 +130,13 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
     let start = Instant::now();
     // The output is created with the first result, after the directory was listed: a batch
     // that cannot start leaves no file behind.
-    let mut w: Option<BufWriter<std::fs::File>> = None;
+    // It is written beside `out` and renamed over it once every line is in: an interrupted
+    // batch leaves the previous file as it was.
+    let mut w: Option<AtomicFile> = None;
     let count = solve_dir_each(states, fleet.as_ref(), a.threads, &mut |r| {
         let w = match &mut w {
             Some(w) => w,
-            None => w.insert(BufWriter::new(std::fs::File::create(out)?)),
+            None => w.insert(AtomicFile::create(out)?),
         };
         writeln!(w, "{}", r.to_json())
     })
@@ -142,8 +145,8 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
         e => e.to_string(),
     })?;
     match w {
-        Some(mut w) => w.flush(),
-        None => std::fs::File::create(out).map(drop),
+        Some(w) => w.commit(),
+        None => AtomicFile::create(out).and_then(AtomicFile::commit),
     }
     .map_err(|e| format!("{}: {e}", out.display()))?;
     let secs = start.elapsed().as_secs_f64();

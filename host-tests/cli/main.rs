@@ -71,7 +71,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,
         Err(failure::Failure::Message(e)) => {
-            eprintln!("hsid: {e}");
+            eprintln!("hsid: {}", failure::one_line(&e));
             ExitCode::FAILURE
         }
     }

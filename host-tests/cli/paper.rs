@@ -9,6 +9,7 @@ use hsid_host::html::figures::captioned;
 use hsid_host::html::paper_captions::paper_caption;
 use hsid_host::html::paper_page::PaperRun;
 use hsid_host::html::reproduce::InputFile;
+use hsid_host::io::StagedDir;
 use hsid_host::paper::method_figures::write_method_figures;
 use hsid_host::paper::methods::{Method, methods_json, methods_table, run_methods};
 use hsid_host::paper::{Case, PaperConfig, paper_table, run_case, write_figures};
@@ -119,8 +120,11 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
         CaseArg::Backlash => vec![Case::Backlash],
         CaseArg::Both => vec![Case::Switch, Case::Backlash],
     };
-    let out = &a.out;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    // The figures and the summary are written into a staging folder inside --out and moved
+    // into place together at the end: a run that fails or is stopped leaves the previous ones.
+    let at = |e: std::io::Error| format!("{}: {e}", a.out.display());
+    let stage = StagedDir::create(&a.out).map_err(at)?;
+    let out = stage.path();
     let bar = progress(a.runs * cases.len(), "runs")?;
     let mut results = Vec::new();
     for &c in &cases {
@@ -164,9 +168,12 @@ pub fn run(a: &PaperArgs) -> Result<(), Failure> {
             }
         }
     }
-    let path = out.join("summary.json");
+    let staged = out.join("summary.json");
     let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    hsid_host::io::write_atomic(&staged, text).map_err(at)?;
+    files.push(staged);
+    let mut files = stage.commit(&files).map_err(at)?;
+    let path = files.pop().unwrap_or_default();
     outln!("wrote {}", path.display())?;
     for f in &files {
         outln!("wrote {}", f.display())?;

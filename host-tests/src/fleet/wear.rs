@@ -223,9 +223,11 @@ pub fn wear_report(
         out.push_str(&score(&devices, t)?);
     }
     if let Some(path) = csv {
-        std::fs::write(path, device_csv(&devices)).map_err(|source| WearError::WriteCsv {
-            path: path.to_path_buf(),
-            source,
+        crate::io::write_atomic(path, device_csv(&devices)).map_err(|source| {
+            WearError::WriteCsv {
+                path: path.to_path_buf(),
+                source,
+            }
         })?;
         let _ = writeln!(out, "wrote {}", path.display());
     }

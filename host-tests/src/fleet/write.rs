@@ -1,7 +1,6 @@
 //! A simulated fleet written to a directory: one checkpoint file per device and week, and the
 //! truth table `truth.csv` beside it (outside the checkpoints' directory).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
@@ -53,7 +52,7 @@ pub fn write_fleet(
         jobs.par_iter().try_for_each(|&(d, w)| {
             let bytes = device_week(spec, &truths[d], w).map_err(WriteFleetError::Core)?;
             let path = states.join(file_name(d, w));
-            std::fs::write(&path, bytes).map_err(io(&path))
+            crate::io::write_atomic(&path, bytes).map_err(io(&path))
         })
     })?;
     write_truth(&truths, truth_csv)?;
@@ -77,6 +76,5 @@ fn write_truth(truths: &[DeviceTruth], path: &Path) -> Result<(), WriteFleetErro
             ));
         }
     }
-    let mut file = std::fs::File::create(path).map_err(io(path))?;
-    file.write_all(text.as_bytes()).map_err(io(path))
+    crate::io::write_atomic(path, text).map_err(io(path))
 }

@@ -85,7 +85,7 @@ impl Page {
 
     /// Writes the page to `path`.
     pub fn write(&self, path: &Path) -> Result<(), HtmlError> {
-        std::fs::write(path, self.render()).map_err(|source| HtmlError::Write {
+        crate::io::write_atomic(path, self.render()).map_err(|source| HtmlError::Write {
             path: path.to_path_buf(),
             source,
         })

@@ -19,6 +19,7 @@
 //! A blank line *between* data rows is an error, because it usually means two files were
 //! concatenated or a row was lost.
 
+mod atomic;
 mod error;
 mod file_error;
 mod limited;
@@ -26,6 +27,7 @@ mod read;
 mod stream;
 mod write;
 
+pub use atomic::{AtomicFile, StagedDir, write_atomic};
 pub use error::IoError;
 pub use file_error::{FileAction, FileError};
 pub use limited::{LimitedReadError, TooLarge, read_limited, read_to_string_limited};

@@ -1,6 +1,5 @@
 //! CSV columns out: the shortest text that reads back to the same numbers.
 
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 
@@ -21,7 +20,7 @@ pub fn write_columns<C: AsRef<[f64]>>(
     let path = path.as_ref();
     let mut text = Vec::new();
     write_columns_to(path, &mut text, names, columns)?;
-    fs::write(path, text).map_err(|source| FileError::write(path, source).into())
+    super::write_atomic(path, text).map_err(|source| FileError::write(path, source).into())
 }
 
 /// Same as [`write_columns`] but into any writer; `source` is only used in error messages.

@@ -17,7 +17,6 @@ mod check;
 mod error;
 mod parts;
 
-use std::fs;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
@@ -164,7 +163,7 @@ impl ModelFile {
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), ModelFileError> {
         let path = path.as_ref();
         let text = self.to_json_string(path)?;
-        fs::write(path, text).map_err(|source| FileError::write(path, source).into())
+        crate::io::write_atomic(path, text).map_err(|source| FileError::write(path, source).into())
     }
 
     /// Reads a model file ([`from_json_str`](Self::from_json_str)); a file larger than

@@ -119,7 +119,7 @@ impl Figure {
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), PlotError> {
         let path = path.as_ref();
         let svg = self.to_svg()?;
-        std::fs::write(path, svg).map_err(|source| PlotError::Io {
+        crate::io::write_atomic(path, svg).map_err(|source| PlotError::Io {
             path: path.to_path_buf(),
             source,
         })

@@ -121,7 +121,7 @@ impl NoiseModel {
     /// Writes the noise model as JSON (the file `hsid validate --noise` reads).
     pub fn save(&self, path: &Path) -> Result<(), NoiseFileError> {
         let text = serde_json::to_string_pretty(self).map_err(NoiseFileError::Encode)?;
-        std::fs::write(path, text + "\n").map_err(|source| NoiseFileError::Write {
+        crate::io::write_atomic(path, text + "\n").map_err(|source| NoiseFileError::Write {
             path: path.to_path_buf(),
             source,
         })
