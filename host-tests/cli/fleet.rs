@@ -7,10 +7,11 @@ use std::time::Instant;
 
 use clap::{Args, Subcommand};
 use hsid_host::fleet::simulate::FleetSpec;
+use hsid_host::fleet::solve::MAX_CHECKPOINT_BYTES;
 use hsid_host::fleet::solve::{FleetError, FleetSettings, solve_dir_each, solve_one};
 use hsid_host::fleet::wear::{ReportOptions, wear_report};
 use hsid_host::fleet::write::write_fleet;
-use hsid_host::io::AtomicFile;
+use hsid_host::io::{AtomicFile, read_file_limited};
 
 use crate::failure::{Failure, outln};
 
@@ -118,7 +119,8 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
     };
     let fleet = match &a.like {
         Some(path) => {
-            let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let bytes = read_file_limited(path, MAX_CHECKPOINT_BYTES as u64)
+                .map_err(|e| format!("{e} (the reference of --like)"))?;
             let r = solve_one("reference", &bytes, None);
             let solved = r
                 .outcome

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 use hsid::{CheckpointError, Error};
+use hsid_host::fleet::solve::MAX_CHECKPOINT_BYTES;
 use hsid_host::identify::{IdentifyError, Solver, solve_checkpoint_with};
+use hsid_host::io::read_file_limited;
 
 use crate::args::ModelOut;
 
@@ -47,7 +49,7 @@ impl SolverArg {
 /// `hsid solve --state FILE [--solver dense|structured] [--json OUT]`.
 pub fn run(a: &SolveArgs) -> Result<(), Failure> {
     let state = &a.state;
-    let bytes = std::fs::read(state).map_err(|e| format!("{}: {e}", state.display()))?;
+    let bytes = read_file_limited(state, MAX_CHECKPOINT_BYTES as u64).map_err(|e| e.to_string())?;
     let solver = a.solver.solver();
     let solved = solve_checkpoint_with(&bytes, solver).map_err(|e| {
         let hint = match e {

@@ -5,7 +5,9 @@ use std::fmt::Write as _;
 use std::num::{ParseFloatError, ParseIntError};
 use std::path::{Path, PathBuf};
 
+use super::MAX_TABLE_BYTES;
 use super::device_wear::{DeviceWear, split_id};
+use crate::io::read_text_bounded;
 
 /// Why the truth table could not be read or does not fit the report.
 #[derive(Debug, thiserror::Error)]
@@ -68,7 +70,7 @@ struct Truth {
 }
 
 fn read_truth(path: &Path) -> Result<BTreeMap<String, Truth>, ScoreError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ScoreError::Read {
+    let text = read_text_bounded(path, MAX_TABLE_BYTES).map_err(|source| ScoreError::Read {
         path: path.to_path_buf(),
         source,
     })?;

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::device::{DeviceError, DeviceResult};
 use crate::identify::{CheckpointSolve, MAX_BLOCK_ROWS, MAX_CHANNELS, solve_checkpoint};
-use crate::io::{LimitedReadError, read_limited};
+use crate::io::{LimitedReadError, open_regular, read_limited};
 
 /// The settings every checkpoint of a fleet must have been written with: knots and horizons.
 /// A checkpoint with others is reported as [`DeviceError::ForeignSettings`].
@@ -177,10 +177,10 @@ const CHUNK_PER_THREAD: usize = 64;
 /// [`MAX_CHECKPOINT_BYTES`] is refused unread (its size is checked before and while reading).
 fn read_checkpoint(path: &Path) -> Result<Vec<u8>, DeviceError> {
     let unreadable = |e: std::io::Error| DeviceError::Unreadable(e.to_string());
-    let file = std::fs::File::open(path).map_err(unreadable)?;
-    let meta = file.metadata().map_err(unreadable)?;
+    // Not a regular file (a FIFO would block the batch, a device never ends): refused unopened.
+    let (file, len) = open_regular(path).map_err(unreadable)?;
     let limit = MAX_CHECKPOINT_BYTES as u64;
-    read_limited(path, file, meta.is_file().then_some(meta.len()), limit).map_err(|e| match e {
+    read_limited(path, file, Some(len), limit).map_err(|e| match e {
         // A file that grew past the limit while it was read: the bytes read, `limit + 1`.
         LimitedReadError::TooLarge(t) => DeviceError::FileTooLarge {
             bytes: t.bytes.unwrap_or(limit + 1),

@@ -16,10 +16,12 @@ use std::path::{Path, PathBuf};
 use hsid::Direction;
 use serde_json::Value;
 
+use super::MAX_TABLE_BYTES;
 use super::device_wear::{DeviceWear, device_csv, split_id};
 use super::score::{ScoreError, score};
 use super::trend::fit;
 use crate::identify::HostModel;
+use crate::io::read_text_bounded;
 use crate::model_file::{ModelFile, ModelFileError};
 
 /// The flags' thresholds.
@@ -137,7 +139,7 @@ fn parse_line(line: &str, at: usize) -> Result<Line, LineError> {
 pub(crate) fn read_models(
     path: &Path,
 ) -> Result<(Vec<DeviceWear>, BTreeMap<String, usize>), WearError> {
-    let text = std::fs::read_to_string(path).map_err(|source| WearError::Read {
+    let text = read_text_bounded(path, MAX_TABLE_BYTES).map_err(|source| WearError::Read {
         path: path.to_path_buf(),
         source,
     })?;

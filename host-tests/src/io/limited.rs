@@ -30,22 +30,77 @@ fn size_text(bytes: Option<u64>) -> String {
 }
 
 /// Why [`read_to_string_limited`] failed.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum LimitedReadError {
     /// The file could not be opened or read, or is not UTF-8.
+    #[error(transparent)]
     File(FileError),
     /// The file is larger than the limit; nothing of it was kept.
+    #[error(transparent)]
     TooLarge(TooLarge),
 }
 
-/// The whole text of `path` if it holds at most `limit` bytes. The size is checked before
-/// reading (from the file's metadata) and again while reading, so memory stays within
+/// [`read_to_string_limited`] with its failure as one I/O error, for readers whose error
+/// keeps the path beside an I/O cause: a file larger than `limit` is
+/// [`FileTooLarge`](std::io::ErrorKind::FileTooLarge), saying its size and the limit.
+pub fn read_text_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
+    read_to_string_limited(path, limit).map_err(|e| match e {
+        LimitedReadError::File(f) => f.source,
+        LimitedReadError::TooLarge(t) => std::io::Error::new(
+            std::io::ErrorKind::FileTooLarge,
+            format!("{} the {} bytes accepted", size_text(t.bytes), t.limit),
+        ),
+    })
+}
+
+/// `path` opened for reading if it is a regular file (through a symbolic link); a folder, a
+/// FIFO, a socket or a device is refused before it is opened (opening a FIFO would wait for a
+/// writer; a device such as `/dev/zero` never ends), with an error that says what it is.
+pub fn open_regular(path: &Path) -> std::io::Result<(fs::File, u64)> {
+    let meta = fs::metadata(path)?;
+    if !meta.is_file() {
+        #[cfg(unix)]
+        let what = {
+            use std::os::unix::fs::FileTypeExt;
+            let t = meta.file_type();
+            match () {
+                _ if t.is_dir() => "a folder",
+                _ if t.is_fifo() => "a FIFO (named pipe)",
+                _ if t.is_socket() => "a socket",
+                _ if t.is_char_device() || t.is_block_device() => "a device",
+                _ => "not a regular file",
+            }
+        };
+        #[cfg(not(unix))]
+        let what = match meta.is_dir() {
+            true => "a folder",
+            false => "not a regular file",
+        };
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("it is {what}: give the path of a file"),
+        ));
+    }
+    let file = fs::File::open(path)?;
+    let len = file.metadata()?.len();
+    Ok((file, len))
+}
+
+/// The bytes of the regular file `path` ([`open_regular`]) if it holds at most `limit` bytes,
+/// checked before reading (from the file's size) and again while reading: memory stays within
 /// `limit + 1` bytes whatever the file is.
+pub fn read_file_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LimitedReadError> {
+    let (file, len) =
+        open_regular(path).map_err(|e| LimitedReadError::File(FileError::read(path, e)))?;
+    read_limited(path, file, Some(len), limit)
+}
+
+/// The whole text of the regular file `path` ([`open_regular`]) if it holds at most `limit`
+/// bytes. The size is checked before reading (from the file's metadata) and again while
+/// reading, so memory stays within `limit + 1` bytes whatever the file is.
 pub fn read_to_string_limited(path: &Path, limit: u64) -> Result<String, LimitedReadError> {
     let read_err = |e| LimitedReadError::File(FileError::read(path, e));
-    let file = fs::File::open(path).map_err(read_err)?;
-    let meta = file.metadata().map_err(read_err)?;
-    let bytes = read_limited(path, file, meta.is_file().then_some(meta.len()), limit)?;
+    let bytes = read_file_limited(path, limit)?;
     String::from_utf8(bytes).map_err(|e| {
         read_err(std::io::Error::new(
             std::io::ErrorKind::InvalidData,

@@ -30,7 +30,10 @@ mod write;
 pub use atomic::{AtomicFile, StagedDir, write_atomic};
 pub use error::IoError;
 pub use file_error::{FileAction, FileError};
-pub use limited::{LimitedReadError, TooLarge, read_limited, read_to_string_limited};
+pub use limited::{
+    LimitedReadError, TooLarge, open_regular, read_file_limited, read_limited, read_text_bounded,
+    read_to_string_limited,
+};
 pub use read::{
     CsvOptions, Delimiter, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table, parse_columns,
     parse_table, read_columns, read_source, read_table, read_table_from,

@@ -29,6 +29,10 @@ use crate::numerics::lstsq::{Scaling, lstsq};
 use crate::numerics::select::{Criterion, best};
 use crate::report::UndefinedFit;
 
+/// The largest noise model file read, in bytes (1 MiB; a noise model of the largest order is
+/// a few kilobytes): a larger file is refused before it is read.
+pub const MAX_NOISE_FILE_BYTES: u64 = 1 << 20;
+
 /// Why a noise model file could not be written or read.
 #[derive(Debug, thiserror::Error)]
 pub enum NoiseFileError {
@@ -129,9 +133,11 @@ impl NoiseModel {
 
     /// Reads a noise model JSON written by [`save`](Self::save) and checks it.
     pub fn load(path: &Path) -> Result<Self, NoiseFileError> {
-        let text = std::fs::read_to_string(path).map_err(|source| NoiseFileError::Read {
-            path: path.to_path_buf(),
-            source,
+        let text = crate::io::read_text_bounded(path, MAX_NOISE_FILE_BYTES).map_err(|source| {
+            NoiseFileError::Read {
+                path: path.to_path_buf(),
+                source,
+            }
         })?;
         let m: NoiseModel = serde_json::from_str(&text).map_err(|source| NoiseFileError::Json {
             path: path.to_path_buf(),

@@ -1,0 +1,190 @@
+//! Every input path read whole is bounded: a device that never ends, a FIFO that would wait for
+//! a writer and a folder are refused before they are opened, and a file larger than its kind
+//! can be is refused before it is read; in a fleet's folder such an entry costs that entry.
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::{Scratch, hsid, p};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// A small fleet of `devices` × 1 week in `dir`: the states folder and the truth table.
+fn fleet(dir: &Scratch, devices: usize) -> (PathBuf, PathBuf) {
+    let states = dir.join("states");
+    let truth = dir.join("truth.csv");
+    hsid(&[
+        "fleet",
+        "simulate",
+        "--devices",
+        &devices.to_string(),
+        "--weeks",
+        "1",
+        "--samples",
+        "2000",
+        "--out",
+        p(&states),
+        "--truth",
+        p(&truth),
+    ])
+    .success();
+    (states, truth)
+}
+
+/// A model file of the servo record.
+fn model(dir: &Scratch) -> PathBuf {
+    let json = dir.join("m.json");
+    let servo = repo().join("examples/data/servo.csv");
+    hsid(&[
+        "identify",
+        "--data",
+        p(&servo),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--no-refine",
+        "--json",
+        p(&json),
+    ])
+    .success();
+    json
+}
+
+#[cfg(unix)]
+#[test]
+fn a_device_or_folder_is_refused_on_every_input_path() {
+    let dir = Scratch::new("bounded-devices");
+    let (states, truth) = fleet(&dir, 3);
+    let models = dir.join("models.jsonl");
+    hsid(&["fleet", "--states", p(&states), "--out", p(&models)]).success();
+    let json = model(&dir);
+    let servo = repo().join("examples/data/servo.csv");
+    let folder = dir.join("");
+    let cases: Vec<(&str, Vec<&str>)> = vec![
+        ("solve --state", vec!["solve", "--state", "/dev/zero"]),
+        (
+            "fleet --like",
+            vec![
+                "fleet",
+                "--states",
+                p(&states),
+                "--out",
+                "/dev/null",
+                "--like",
+                "/dev/zero",
+            ],
+        ),
+        (
+            "fleet report --models",
+            vec![
+                "fleet",
+                "report",
+                "--models",
+                "/dev/zero",
+                "--truth",
+                p(&truth),
+            ],
+        ),
+        (
+            "fleet report --truth",
+            vec![
+                "fleet",
+                "report",
+                "--models",
+                p(&models),
+                "--truth",
+                "/dev/zero",
+            ],
+        ),
+        (
+            "validate --noise",
+            vec![
+                "validate",
+                "--model",
+                p(&json),
+                "--data",
+                p(&servo),
+                "--noise",
+                "/dev/zero",
+            ],
+        ),
+        (
+            "validate --model",
+            vec!["validate", "--model", "/dev/zero", "--data", p(&servo)],
+        ),
+        (
+            "simulate --plant",
+            vec!["simulate", "--plant", "/dev/zero", "--input", p(&servo)],
+        ),
+        (
+            "solve --state (a folder)",
+            vec!["solve", "--state", p(&folder)],
+        ),
+    ];
+    for (name, args) in cases {
+        let run = hsid(&args);
+        assert_eq!(run.code, Some(1), "{name}: {}", run.stderr);
+        assert_eq!(run.stderr.lines().count(), 1, "{name}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("it is a device") || run.stderr.contains("it is a folder"),
+            "{name}: {}",
+            run.stderr
+        );
+    }
+}
+
+/// A sparse 2 GiB file is refused by its size, before a byte of it is read.
+#[test]
+fn a_file_larger_than_any_checkpoint_is_refused_unread() {
+    let dir = Scratch::new("bounded-size");
+    let big = dir.join("big.bin");
+    fs::File::create(&big).unwrap().set_len(2 << 30).unwrap();
+    let run = hsid(&["solve", "--state", p(&big)]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("2147483648 bytes, larger than the"),
+        "{}",
+        run.stderr
+    );
+}
+
+/// A FIFO among the checkpoints is that device's error: the batch does not wait for a writer,
+/// and every good checkpoint gets its model.
+#[cfg(unix)]
+#[test]
+fn a_fifo_in_a_fleet_costs_that_entry() {
+    let dir = Scratch::new("bounded-fifo");
+    let (states, _) = fleet(&dir, 4);
+    let fifo = states.join("zz-fifo.bin");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let out = dir.join("models.jsonl");
+    let run = hsid(&["fleet", "--states", p(&states), "--out", p(&out)]).success();
+    assert!(run.stdout.contains("4 models, 1 errors"), "{}", run.stdout);
+    let text = fs::read_to_string(&out).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 5);
+    let bad = &lines[4];
+    assert_eq!(bad["device"], "zz-fifo.bin");
+    assert!(
+        bad["error"]["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("FIFO")),
+        "{bad}"
+    );
+}
