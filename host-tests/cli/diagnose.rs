@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 use hsid_host::diagnose::report::ModelSummary;
 use hsid_host::diagnose::{
-    DiagnoseOptions, Effect, InitialState, PoleRefinement, Validation, diagnose, figures, report,
+    DiagnoseError, DiagnoseOptions, Effect, InitialState, PoleRefinement, Validation, diagnose,
+    figures, report,
 };
 use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
@@ -284,12 +285,6 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
     opts.inner_fraction = a.inner_fraction;
     if let Some(r) = &a.select_segments {
         let r = parse_range(r).map_err(|e| e.replace("--holdout", "--select-segments"))?;
-        if r.start == 0 || r.end < r.start {
-            return Err(format!(
-                "--select-segments {}..{}: need 1 <= MIN <= MAX",
-                r.start, r.end
-            ));
-        }
         opts.select_segments = Some(r.start..=r.end);
     }
     opts.refine_poles = match a.refine_poles {
@@ -297,6 +292,13 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
         RefineArg::Final => PoleRefinement::Final,
         RefineArg::Always => PoleRefinement::Always,
     };
+    // The library's bounds, before the record is diagnosed, in the command line's words.
+    opts.check().map_err(|e| match e {
+        DiagnoseError::Setting { name, value, why } => {
+            format!("--{} {value}: {why}", name.replace('_', "-"))
+        }
+        e => e.to_string(),
+    })?;
     Ok(opts)
 }
 

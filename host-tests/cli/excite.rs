@@ -3,9 +3,10 @@
 use crate::failure::Failure;
 use clap::Args;
 use hsid::Excitation;
-use hsid_host::io::write_columns_to;
+use hsid_host::io::format_f64;
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
+use std::io::{BufWriter, Write};
 
 /// Arguments of `hsid excite`.
 #[derive(Args)]
@@ -27,12 +28,16 @@ pub struct ExciteArgs {
     seed: u64,
 }
 
-/// Prints `samples` values of the excitation in a column `u`.
+/// Prints `samples` values of the excitation in a column `u`, each as it is generated:
+/// memory does not grow with `samples`, and a reader that stops (`| head`) stops the run.
 pub fn run(a: &ExciteArgs) -> Result<(), Failure> {
-    let u: Vec<f64> = Excitation::new(a.umin, a.umax, a.hold, Pcg32::seed_from_u64(a.seed))
-        .map_err(|e| e.to_string())?
-        .take(a.samples)
-        .collect();
-    let stdout = std::io::stdout();
-    Ok(write_columns_to("<stdout>", stdout.lock(), &["u"], &[u])?)
+    let excitation = Excitation::new(a.umin, a.umax, a.hold, Pcg32::seed_from_u64(a.seed))
+        .map_err(|e| e.to_string())?;
+    let mut out = BufWriter::new(std::io::stdout().lock());
+    writeln!(out, "u")?;
+    for v in excitation.take(a.samples) {
+        writeln!(out, "{}", format_f64(v))?;
+    }
+    out.flush()?;
+    Ok(())
 }

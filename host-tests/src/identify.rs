@@ -45,6 +45,18 @@ pub struct IdentifyOptions {
 }
 
 impl IdentifyOptions {
+    /// The channel capacity these options need: the segments of both paths, or for a static
+    /// element (one shared knot vector, stored with its n + 1 knots) one more than its
+    /// segments. At most [`MAX_CHANNELS`] fit.
+    pub fn channels(&self) -> usize {
+        match self.static_nonlinearity {
+            true => self.knots_asc.len(),
+            false => {
+                self.knots_asc.len().saturating_sub(1) + self.knots_desc.len().saturating_sub(1)
+            }
+        }
+    }
+
     /// Uniform knots with `segments` segments per path on `[u_min, u_max]`, `f = p = 10`,
     /// automatic order, a hold of `hold` samples of which the first half settles.
     pub fn uniform(u_min: f64, u_max: f64, segments: usize, hold: usize) -> Self {
@@ -171,6 +183,15 @@ pub const CAPACITIES: [Capacity; 3] = [PAPER, MEDIUM, LARGE];
 
 /// Largest channel capacity (segments of both paths together) the desktop front end accepts.
 pub const MAX_CHANNELS: usize = LARGE.channels;
+
+/// The most segments per path that fit [`MAX_CHANNELS`]: half of it for a two-path element,
+/// one less than it for a static one ([`IdentifyOptions::channels`]).
+pub const fn max_segments(static_nonlinearity: bool) -> usize {
+    match static_nonlinearity {
+        true => MAX_CHANNELS - 1,
+        false => MAX_CHANNELS / 2,
+    }
+}
 /// Largest `f + p` the desktop front end accepts.
 pub(crate) const MAX_BLOCK_ROWS: usize = LARGE.block_rows;
 
@@ -293,12 +314,7 @@ pub fn identify_stream(
     next: &mut (dyn FnMut() -> Option<(f64, f64)> + Send),
     opts: &IdentifyOptions,
 ) -> Result<HostModel, IdentifyError> {
-    // Capacity needed: channels, plus one for a shared knot vector (it stores n + 1 knots).
-    let channels = if opts.static_nonlinearity {
-        opts.knots_asc.len()
-    } else {
-        opts.knots_asc.len().saturating_sub(1) + opts.knots_desc.len().saturating_sub(1)
-    };
+    let channels = opts.channels();
     let block_rows = opts.f.saturating_add(opts.p);
     let too_large = IdentifyError::TooLarge {
         channels,

@@ -188,3 +188,135 @@ fn a_fifo_in_a_fleet_costs_that_entry() {
         "{bad}"
     );
 }
+
+/// Sizes are checked before any work, with the same check for identify and diagnose: a
+/// segment count beyond the largest capacity, a delay, a step count, a thread count.
+#[test]
+fn sizes_beyond_the_bounds_are_refused_before_work() {
+    let servo = repo().join("examples/data/servo.csv");
+    let data = ["--data", p(&servo), "--umin", "-1", "--umax", "1"];
+    let cases: [(&[&str], &str); 7] = [
+        (
+            &["identify", "--segments", "100000"],
+            "--segments 100000: at most 1024 segments per path",
+        ),
+        (
+            &["diagnose", "--segments", "100000"],
+            "--segments 100000: at most 1024 segments per path",
+        ),
+        (
+            &["identify", "--nonlinearity", "static", "--segments", "2000"],
+            "--segments 2000: at most 1024 segments per path",
+        ),
+        (
+            &["diagnose", "--segments", "100"],
+            "--segments 100: at most 32",
+        ),
+        (
+            &["diagnose", "--max-delay", "10000"],
+            "--max-delay 10000: at most 50",
+        ),
+        (
+            &["diagnose", "--max-steps", "1000"],
+            "--max-steps 1000: at most 16",
+        ),
+        (
+            &["diagnose", "--select-segments", "2..100"],
+            "--select-segments 2..100",
+        ),
+    ];
+    for (args, expected) in cases {
+        let run = hsid(&[&args[..1], &data[..], &args[1..]].concat());
+        assert_eq!(run.code, Some(1), "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(expected), "{args:?}: {}", run.stderr);
+    }
+    let dir = Scratch::new("bounded-threads");
+    let (states, _) = fleet(&dir, 2);
+    let out = dir.join("models.jsonl");
+    let run = hsid(&[
+        "fleet",
+        "--states",
+        p(&states),
+        "--out",
+        p(&out),
+        "--threads",
+        "10000",
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr.contains("at most 512 worker threads"),
+        "{}",
+        run.stderr
+    );
+    assert!(!out.exists());
+}
+
+/// `excite` streams: the largest sample count prints its first rows at once and stops when
+/// the reader does, in memory that does not grow.
+#[test]
+fn excite_streams_and_stops_with_its_reader() {
+    use std::io::{BufRead, BufReader};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hsid"))
+        .args([
+            "excite",
+            "--umin",
+            "-1",
+            "--umax",
+            "1",
+            "--samples",
+            "18446744073709551615",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let first: Vec<String> = lines.by_ref().take(3).map(Result::unwrap).collect();
+    assert_eq!(first, ["u", "-1", "-1"]);
+    drop(lines);
+    // The run ends on the closed pipe (a hang here is the failure; 60 s is far beyond it).
+    let mut status = None;
+    for _ in 0..600 {
+        if let Some(s) = child.try_wait().unwrap() {
+            status = Some(s);
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let Some(status) = status else {
+        child.kill().unwrap();
+        panic!("excite kept running after its reader closed the pipe");
+    };
+    assert!(status.success(), "{status}");
+}
+
+/// A header of 100,000 columns is refused before its names are copied.
+#[test]
+fn a_header_wider_than_the_limit_is_refused() {
+    let dir = Scratch::new("bounded-columns");
+    let names: Vec<String> = (0..100_000).map(|i| format!("c{i}")).collect();
+    let ones = vec!["1"; 100_000];
+    let data = dir.write(
+        "wide.csv",
+        &format!("{}\n{}\n", names.join(","), ones.join(",")),
+    );
+    let run = hsid(&[
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--input-column",
+        "c0",
+        "--output-column",
+        "c1",
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("line 1: the header has 100000 columns, more than the 65536 read"),
+        "{}",
+        run.stderr
+    );
+}

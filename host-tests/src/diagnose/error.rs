@@ -83,6 +83,17 @@ pub enum DiagnoseError {
     /// A figure or report could not be written.
     #[error("{0}")]
     Output(String),
+    /// A setting beyond what the diagnosis takes, refused before any work
+    /// ([`DiagnoseOptions::check`](super::DiagnoseOptions::check)).
+    #[error("{name} = {value}: {why}")]
+    Setting {
+        /// The setting, as the options name it.
+        name: &'static str,
+        /// Its value.
+        value: String,
+        /// What it must be.
+        why: String,
+    },
 }
 
 /// A record that could not be made, as the diagnosis reports the same fault in a record it is

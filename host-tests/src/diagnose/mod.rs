@@ -101,6 +101,7 @@ fn diagnose_inner(
     validation: &Validation,
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
+    opts.check()?;
     let mut id = opts.identify.clone();
     id.static_nonlinearity = opts.nonlinearity == Element::Static;
     if id.static_nonlinearity {

@@ -5,8 +5,9 @@ use std::ops::Range;
 
 use serde::Serialize;
 
+use super::DiagnoseError;
 use super::model::InitialState;
-use crate::identify::IdentifyOptions;
+use crate::identify::{IdentifyOptions, MAX_CHANNELS, max_segments};
 use crate::model::Element;
 use crate::model::Record;
 
@@ -88,7 +89,93 @@ pub enum PoleRefinement {
     Always,
 }
 
+/// The largest extra input delay the diagnosis tries, in samples: each delay is a refit of
+/// the model, and the cost grows faster than the delay (50 takes about a minute on a record of
+/// 6,000 samples).
+pub const MAX_DELAY: usize = 50;
+
+/// The most effects a diagnosis adds.
+pub const MAX_STEPS: usize = 16;
+
 impl DiagnoseOptions {
+    /// Checks the settings before any work: the delay, the steps, the segment range, the
+    /// fractions and thresholds (finite, in range).
+    pub fn check(&self) -> Result<(), DiagnoseError> {
+        let setting =
+            |name, value: String, why: String| Err(DiagnoseError::Setting { name, value, why });
+        if self.max_delay > MAX_DELAY {
+            return setting(
+                "max_delay",
+                self.max_delay.to_string(),
+                format!("at most {MAX_DELAY} samples are tried (each is a refit of the model)"),
+            );
+        }
+        if self.max_steps > MAX_STEPS {
+            return setting(
+                "max_steps",
+                self.max_steps.to_string(),
+                format!("at most {MAX_STEPS} effects are added"),
+            );
+        }
+        let shared = self.nonlinearity == Element::Static;
+        let most = max_segments(shared);
+        let mut id = self.identify.clone();
+        id.static_nonlinearity = shared;
+        if shared {
+            id.knots_desc = id.knots_asc.clone();
+        }
+        if id.channels() > MAX_CHANNELS {
+            return setting(
+                "segments",
+                id.knots_asc.len().saturating_sub(1).to_string(),
+                format!(
+                    "at most {most} segments per path fit the largest capacity of \
+                     {MAX_CHANNELS} channels (the diagnosis keeps the segments it is given)"
+                ),
+            );
+        }
+        if let Some(r) = &self.select_segments
+            && (*r.start() < 1 || r.start() > r.end() || *r.end() > most)
+        {
+            return setting(
+                "select_segments",
+                format!("{}..{}", r.start(), r.end()),
+                format!("need 1 <= MIN <= MAX <= {most} segments per path (the largest capacity)"),
+            );
+        }
+        for (name, value, ok, why) in [
+            (
+                "min_gain",
+                self.min_gain,
+                (0.0..1.0).contains(&self.min_gain),
+                "a relative reduction in [0, 1)",
+            ),
+            (
+                "tie",
+                self.tie,
+                (0.0..1.0).contains(&self.tie),
+                "a relative difference in [0, 1)",
+            ),
+            (
+                "inner_fraction",
+                self.inner_fraction,
+                self.inner_fraction > 0.0 && self.inner_fraction < 1.0,
+                "a fraction strictly between 0 and 1",
+            ),
+            (
+                "outlier_k",
+                self.outlier_k,
+                self.outlier_k.is_finite() && self.outlier_k > 0.0,
+                "a positive, finite number of robust standard deviations",
+            ),
+        ] {
+            if !ok {
+                return setting(name, value.to_string(), why.to_string());
+            }
+        }
+        Ok(())
+    }
+
     /// Defaults around the given identification options.
     pub fn new(identify: IdentifyOptions, nonlinearity: Element) -> Self {
         Self {

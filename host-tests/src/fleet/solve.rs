@@ -71,6 +71,11 @@ pub enum FleetError {
     /// Zero threads were asked for.
     #[error("threads = 0: give at least one thread")]
     ZeroThreads,
+    /// More threads than [`MAX_THREADS`] were asked for.
+    #[error(
+        "threads = {0}: at most {MAX_THREADS} worker threads are started (give the cores to use)"
+    )]
+    TooManyThreads(usize),
     /// The thread pool could not be built (the operating system's reason).
     #[error("cannot start the worker threads: {0}")]
     Pool(String),
@@ -123,11 +128,17 @@ pub fn solve_many(
     }))
 }
 
-/// A pool of `threads` workers (`None`: rayon's default, one per core).
+/// The most worker threads a batch starts: each holds a checkpoint and its solve, and a
+/// thread per core is the fastest.
+pub const MAX_THREADS: usize = 512;
+
+/// A pool of `threads` workers (`None`: rayon's default, one per core); more than
+/// [`MAX_THREADS`] are refused before any starts.
 pub(crate) fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetError> {
     let mut b = rayon::ThreadPoolBuilder::new();
     match threads {
         Some(0) => return Err(FleetError::ZeroThreads),
+        Some(n) if n > MAX_THREADS => return Err(FleetError::TooManyThreads(n)),
         Some(n) => b = b.num_threads(n),
         None => {}
     }

@@ -65,6 +65,21 @@ pub enum IoError {
         /// The column names the header does have.
         available: Vec<String>,
     },
+    /// The header has more columns than [`MAX_COLUMNS`](super::MAX_COLUMNS).
+    #[error(
+        "{path} line {line}: the header has {columns} columns, more than the {limit} read: \
+         give a file of the columns needed (e.g. cut -d, -f …)"
+    )]
+    TooManyColumns {
+        /// File that was being read.
+        path: PathBuf,
+        /// 1-based line of the header.
+        line: usize,
+        /// Columns of the header.
+        columns: usize,
+        /// The most read.
+        limit: usize,
+    },
     /// A requested column name appears more than once in the header.
     #[error("{path} line {line}: column \"{column}\" appears more than once")]
     DuplicateColumn {

@@ -35,8 +35,8 @@ pub use limited::{
     read_to_string_limited,
 };
 pub use read::{
-    CsvOptions, Delimiter, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table, parse_columns,
-    parse_table, read_columns, read_source, read_table, read_table_from,
+    CsvOptions, Delimiter, MAX_COLUMNS, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table,
+    parse_columns, parse_table, read_columns, read_source, read_table, read_table_from,
 };
 pub use stream::{CsvStream, MAX_LINE_BYTES};
-pub use write::{write_columns, write_columns_to};
+pub use write::{format_f64, write_columns, write_columns_to};

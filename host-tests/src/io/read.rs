@@ -13,6 +13,10 @@ use super::{FileError, IoError, LimitedReadError};
 /// [`IoError::TooLarge`]; [`CsvStream`](super::CsvStream) reads any length row by row.
 pub const MAX_RECORD_BYTES: u64 = 256 << 20;
 
+/// The most columns a CSV header may have (65,536): measurement logs hold tens or hundreds;
+/// a wider header is refused before its names are copied.
+pub const MAX_COLUMNS: usize = 1 << 16;
+
 /// A CSV field delimiter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Delimiter {
@@ -254,6 +258,15 @@ pub fn parse_table(
             path: path.to_path_buf(),
         });
     };
+    // Checked before the names are copied: a header of millions of columns is no record.
+    if rows.record.len() > MAX_COLUMNS {
+        return Err(IoError::TooManyColumns {
+            path: path.to_path_buf(),
+            line: header_line,
+            columns: rows.record.len(),
+            limit: MAX_COLUMNS,
+        });
+    }
     let mut header: Vec<String> = rows.record.iter().map(|f| clean(f).to_string()).collect();
     while header.last().is_some_and(|h| h.is_empty()) {
         header.pop();

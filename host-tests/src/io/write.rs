@@ -105,8 +105,9 @@ pub fn write_columns_to<W: Write, C: AsRef<[f64]>>(
         .map_err(|source| FileError::write(path, source).into())
 }
 
-/// Shortest round-tripping text of a finite `f64`, with an exponent for extreme magnitudes.
-fn format_f64(v: f64) -> String {
+/// Shortest round-tripping text of a finite `f64`, with an exponent for extreme magnitudes
+/// (the text [`write_columns`] writes; for writers that stream rows).
+pub fn format_f64(v: f64) -> String {
     let a = v.abs();
     if a != 0.0 && !(1e-5..1e16).contains(&a) {
         format!("{v:e}")

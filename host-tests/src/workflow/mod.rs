@@ -26,7 +26,9 @@ mod request;
 
 pub use baseline::{Baseline, Comparison, Reported, ScoredOn};
 pub use estimate::Estimate;
-pub use request::{ElementFit, Field, IdentifyRequest, Plan, RequestError, Syntax};
+pub use request::{
+    ElementFit, Field, IdentifyRequest, MAX_SEGMENT_COUNT, Plan, RequestError, Syntax,
+};
 
 use crate::choose::noise_file;
 use crate::choose::{Best, ChooseError, best_model, linear_model};

@@ -7,7 +7,7 @@ use crate::model::Element;
 use hsid::Basis;
 
 use crate::choose::{self, Choices, ModelStage, SEGMENT_CANDIDATES, Segments};
-use crate::identify::IdentifyOptions;
+use crate::identify::{IdentifyOptions, MAX_CHANNELS, max_segments};
 use crate::refine::knots::{AUTO_CANDIDATES, SegmentCount};
 
 /// Whether the element itself is fitted by simulation error after the identification.
@@ -67,6 +67,11 @@ pub enum Field {
     /// The record itself.
     Data,
 }
+
+/// The most segments per path a count may ask for: those the record does not support are
+/// merged into neighbours first, so a count beyond the capacity can fit a short record; a
+/// larger count is refused before any work (merging it would cost more than it could give).
+pub const MAX_SEGMENT_COUNT: usize = 1024;
 
 /// How a front end spells its settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -279,6 +284,23 @@ impl IdentifyRequest {
                 ),
             ));
         }
+        let most = max_segments(self.element == Element::Static);
+        if let Some(SegmentCount::Fixed(n)) = self
+            .segments
+            .filter(|_| self.knots_asc.is_none() && self.knots_desc.is_none())
+            && n > MAX_SEGMENT_COUNT
+        {
+            return Err(RequestError::new(
+                Field::Segments,
+                "segments_capacity",
+                format!(
+                    "{}: at most {MAX_SEGMENT_COUNT} segments per path are asked for (those the \
+                     record does not support are merged, and at most {most} per path fit the \
+                     largest capacity of {MAX_CHANNELS} channels): give fewer",
+                    s.set(Field::Segments, n)
+                ),
+            ));
+        }
         if self.detrend && hold > 0 {
             return Err(RequestError::new(
                 Field::Detrend,
@@ -375,11 +397,29 @@ impl IdentifyRequest {
                 ));
             }
         }
+        let knots_given = self.knots_asc.is_some() || self.knots_desc.is_some();
+        if knots_given && options.channels() > MAX_CHANNELS {
+            let field = match (&self.knots_asc, &self.knots_desc) {
+                (None, Some(_)) => Field::KnotsDesc,
+                _ => Field::KnotsAsc,
+            };
+            return Err(RequestError::new(
+                field,
+                "knots_capacity",
+                format!(
+                    "{} knots ascending and {} descending need {} channels: the largest \
+                     capacity holds at most {MAX_CHANNELS} channels (at most {most} segments per \
+                     path): give fewer knots",
+                    options.knots_asc.len(),
+                    options.knots_desc.len(),
+                    options.channels()
+                ),
+            ));
+        }
         (options.f, options.p) = self.horizons.unwrap_or((10, 10));
         options.order = self.order;
         options.basis = self.basis;
         options.settle = self.settle.unwrap_or(hold / 2);
-        let knots_given = self.knots_asc.is_some() || self.knots_desc.is_some();
         let choices = Choices {
             segments: match self.segments {
                 _ if knots_given => Segments::Given,
