@@ -221,6 +221,7 @@ impl From<DiagnoseError> for Failure {
             DiagnoseError::Dynamics(_) => (Class::Identification, "dynamics"),
             DiagnoseError::Reference(_) => (Class::Data, "reference"),
             DiagnoseError::Output(_) => (Class::Identification, "output"),
+            DiagnoseError::Setting { .. } => (Class::Settings, "setting"),
         };
         Failure::new(class, kind, e.to_string())
     }
