@@ -451,14 +451,17 @@ impl IdentifyRequest {
                 ),
             ));
         }
-        // The first experiment must outlast the hold (of the increments, which lose one
-        // sample of each, for an integrating plant).
+        self.check_hold(record.first_len(), record.hold)
+    }
+
+    /// Checks that a first experiment of `samples` samples outlasts a hold of `hold` samples
+    /// (of the increments, which lose one sample of each, for an integrating plant): with
+    /// every sample inside the hold there is nothing to identify from.
+    pub fn check_hold(&self, samples: usize, hold: usize) -> Result<(), RequestError> {
+        let s = self.syntax;
         let (hold, first) = match self.integrating {
-            true => (
-                record.hold.saturating_sub(1),
-                record.first_len().saturating_sub(1),
-            ),
-            false => (record.hold, record.first_len()),
+            true => (hold.saturating_sub(1), samples.saturating_sub(1)),
+            false => (hold, samples),
         };
         if hold < first {
             return Ok(());

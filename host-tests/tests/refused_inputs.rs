@@ -1,0 +1,153 @@
+//! Input the command line used to accept although it is wrong, or panicked on: each is now
+//! refused with one line that says what was wrong and what to do (a clap error at the flag
+//! for a number that is not finite), before any work, and never with a panic or a message that
+//! blames something else.
+#![allow(clippy::unwrap_used, clippy::panic)]
+
+mod common;
+
+use std::path::PathBuf;
+
+use common::{Run, Scratch, hsid, p};
+
+/// The repository's servo record (`examples/data/servo.csv`).
+fn servo() -> PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
+}
+
+/// A clap refusal of a flag's value: exit code 2, the flag and the value named, no panic.
+fn refused_at_flag(run: &Run, flag: &str, value: &str) {
+    let ctx = format!("hsid {}\nstderr:\n{}", run.args, run.stderr);
+    assert_eq!(run.code, Some(2), "{ctx}");
+    assert!(!run.stderr.contains("panicked"), "{ctx}");
+    let first = run.stderr.lines().next().unwrap_or_default();
+    assert!(
+        first.contains(&format!("invalid value '{value}' for '{flag}"))
+            && first.contains("not a finite number"),
+        "{ctx}"
+    );
+}
+
+#[test]
+fn a_hold_longer_than_the_record_is_refused_by_diagnose_as_by_identify() {
+    let data = servo();
+    let hold = usize::MAX.to_string();
+    let diagnose = hsid(&[
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        &hold,
+    ]);
+    let line = diagnose.clean_error(&["servo.csv", "all inside the hold", "(--hold)", &hold]);
+    let identify = hsid(&[
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        &hold,
+    ]);
+    assert_eq!(
+        identify.clean_error(&[]),
+        line,
+        "the same check, the same line"
+    );
+}
+
+#[test]
+fn horizons_and_delays_near_the_largest_count_are_refused_not_overflowed() {
+    let data = servo();
+    let huge = usize::MAX.to_string();
+    let base = [
+        "diagnose",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+    ];
+    let f = hsid(&[&base[..], &["--f", &huge]].concat());
+    f.clean_error(&["samples are too few"]);
+    let delay = hsid(&[&base[..], &["--max-delay", &huge]].concat());
+    delay.clean_error(&["--max-delay", &huge]);
+}
+
+#[test]
+fn a_number_flag_that_is_not_finite_is_refused_at_the_flag() {
+    let dir = Scratch::new("nan-flags");
+    let data = servo();
+    let out = dir.join("states");
+    let truth = dir.join("truth.csv");
+    let fleet = hsid(&[
+        "fleet",
+        "simulate",
+        "--devices",
+        "1",
+        "--weeks",
+        "1",
+        "--noise",
+        "NaN",
+        "--out",
+        p(&out),
+        "--truth",
+        p(&truth),
+    ]);
+    refused_at_flag(&fleet, "--noise", "NaN");
+    assert!(!out.exists(), "nothing is written");
+    let diagnose = hsid(&["diagnose", "--data", p(&data), "--min-gain", "NaN"]);
+    refused_at_flag(&diagnose, "--min-gain", "NaN");
+    let mu0 = hsid(&[
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--mu0",
+        "inf",
+    ]);
+    refused_at_flag(&mu0, "--mu0", "inf");
+    let knots = hsid(&["diagnose", "--data", p(&data), "--knots=-1,NaN,1"]);
+    refused_at_flag(&knots, "--knots", "NaN");
+
+    // A model and an input for `simulate`: --noise-snr NaN is the flag's fault, not the
+    // output's.
+    let model = dir.join("m.json");
+    hsid(&[
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--no-refine",
+        "--segments",
+        "3",
+        "--json",
+        p(&model),
+    ])
+    .success();
+    let input = dir.write("u.csv", "u\n0\n0.5\n1\n");
+    let snr = hsid(&[
+        "simulate",
+        "--model",
+        p(&model),
+        "--input",
+        p(&input),
+        "--noise-snr",
+        "NaN",
+    ]);
+    refused_at_flag(&snr, "--noise-snr", "NaN");
+    assert!(!snr.stderr.contains("<stdout>"), "{}", snr.stderr);
+}
