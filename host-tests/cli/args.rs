@@ -7,8 +7,8 @@ use hsid::Basis;
 use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
 use hsid_host::model_file::Units;
 use hsid_host::units::{
-    Origin, UnitsOrigin, checked_ts, resolve_units, ts_from_column, ts_from_comments,
-    units_from_comments,
+    Origin, UnitsOrigin, check_unit_text, checked_ts, resolve_units, ts_from_column,
+    ts_from_comments, units_from_comments,
 };
 
 /// The value parser of every number flag: a number that is finite. `NaN` and the infinities
@@ -192,7 +192,8 @@ impl UnitArgs {
             .map_err(|e| e.to_string())
     }
 
-    /// `--input-unit` and `--output-unit`, checked non-empty.
+    /// `--input-unit` and `--output-unit`, checked non-empty and free of the characters a unit
+    /// may not hold (double quotes, control characters: [`check_unit_text`]).
     pub fn units(&self) -> Result<Option<Units>, String> {
         let (Some(input), Some(output)) = (&self.input_unit, &self.output_unit) else {
             return Ok(None);
@@ -203,6 +204,7 @@ impl UnitArgs {
                     "{flag} is empty: give the unit's name, e.g. V or deg"
                 ));
             }
+            check_unit_text(v).map_err(|e| format!("{flag} {v:?}: {e}"))?;
         }
         Ok(Some(Units {
             input: input.trim().to_string(),

@@ -151,3 +151,48 @@ fn a_number_flag_that_is_not_finite_is_refused_at_the_flag() {
     refused_at_flag(&snr, "--noise-snr", "NaN");
     assert!(!snr.stderr.contains("<stdout>"), "{}", snr.stderr);
 }
+
+#[test]
+fn a_unit_with_a_double_quote_or_a_control_character_is_refused_before_any_work() {
+    let dir = Scratch::new("unit-chars");
+    let data = servo();
+    let html = dir.join("r.html");
+    let base = [
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--html",
+        p(&html),
+    ];
+    let quote = hsid(&[&base[..], &["--input-unit", "V\"", "--output-unit", "deg"]].concat());
+    quote.clean_error(&["--input-unit", "double quote"]);
+    assert!(
+        quote.stdout.is_empty(),
+        "no work before the refusal: {}",
+        quote.stdout
+    );
+    assert!(!html.exists());
+    let newline = hsid(&[&base[..], &["--input-unit", "V", "--output-unit", "de\ng"]].concat());
+    newline.clean_error(&["--output-unit", "U+000A"]);
+
+    // The same characters in a record's unit comment: the record is named.
+    let text = std::fs::read_to_string(&data).unwrap();
+    let commented = dir.write(
+        "commented.csv",
+        &format!("# input unit = V\n# output unit = d\"eg\n{text}"),
+    );
+    let comment = hsid(&[
+        "identify",
+        "--data",
+        p(&commented),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+    ]);
+    comment.clean_error(&["commented.csv line 2", "output unit", "double quote"]);
+}

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use super::{ModelFile, ModelFileError};
+use crate::units::check_unit_text;
 
 type Checked = Result<(), ModelFileError>;
 
@@ -21,13 +22,17 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
     {
         return Err(bad("sample_time", format!("{t} is not a positive number")));
     }
-    if let Some(u) = &m.units
-        && (u.input.trim().is_empty() || u.output.trim().is_empty())
-    {
-        return Err(bad(
-            "units",
-            "an empty unit name; give both (e.g. \"V\") or null".to_string(),
-        ));
+    if let Some(u) = &m.units {
+        if u.input.trim().is_empty() || u.output.trim().is_empty() {
+            return Err(bad(
+                "units",
+                "an empty unit name; give both (e.g. \"V\") or null".to_string(),
+            ));
+        }
+        for (signal, unit) in [("input", &u.input), ("output", &u.output)] {
+            check_unit_text(unit)
+                .map_err(|e| bad("units", format!("the {signal} unit {unit:?}: {e}")))?;
+        }
     }
     noise(m, &bad)?;
     element(m, &bad)?;
