@@ -29,7 +29,7 @@ pub enum DiagnoseError {
     },
     /// Every sample of the estimation record lies inside the hold.
     #[error(
-        "{samples} samples, all inside the hold of {hold} (--hold): nothing left to identify from"
+        "{samples} samples, all inside the hold of {hold}: nothing left to identify from; give a shorter hold"
     )]
     AllHold {
         /// Samples of the record.
