@@ -15,6 +15,58 @@ fn servo() -> PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
 }
 
+/// A model of the servo record written by `hsid identify --json` (with units), in `dir`.
+fn identified(dir: &Scratch) -> PathBuf {
+    let model = dir.join("m.json");
+    let data = servo();
+    hsid(&[
+        "identify",
+        "--data",
+        p(&data),
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--no-refine",
+        "--segments",
+        "3",
+        "--input-unit",
+        "V",
+        "--output-unit",
+        "deg",
+        "--json",
+        p(&model),
+    ])
+    .success();
+    model
+}
+
+/// `hsid validate` of the model file `name` (`text`, written to `dir`) on the servo record.
+fn validate_text(dir: &Scratch, name: &str, text: &str) -> Run {
+    let model = dir.write(name, text);
+    let data = servo();
+    hsid(&["validate", "--model", p(&model), "--data", p(&data)])
+}
+
+/// The model file `text` with `edit` applied to its JSON object.
+fn edited(text: &str, edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let mut v: serde_json::Value = serde_json::from_str(text).unwrap();
+    edit(&mut v);
+    serde_json::to_string_pretty(&v).unwrap()
+}
+
+/// The file's plant replaced by a first-order one `x+ = a x + b v, y = c x`, its poles
+/// `poles` (its standard deviations dropped).
+fn first_order(v: &mut serde_json::Value, a: f64, b: f64, poles: &[f64]) {
+    v["order"] = serde_json::json!(1);
+    v["A"] = serde_json::json!([[a]]);
+    v["B"] = serde_json::json!([b]);
+    v["C"] = serde_json::json!([1.0 - a]);
+    v["D"] = serde_json::json!(0.0);
+    v["poles"] = poles.iter().map(|&r| serde_json::json!([r, 0.0])).collect();
+    v["std"] = serde_json::Value::Null;
+}
+
 /// A clap refusal of a flag's value: exit code 2, the flag and the value named, no panic.
 fn refused_at_flag(run: &Run, flag: &str, value: &str) {
     let ctx = format!("hsid {}\nstderr:\n{}", run.args, run.stderr);
@@ -122,22 +174,7 @@ fn a_number_flag_that_is_not_finite_is_refused_at_the_flag() {
 
     // A model and an input for `simulate`: --noise-snr NaN is the flag's fault, not the
     // output's.
-    let model = dir.join("m.json");
-    hsid(&[
-        "identify",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--no-refine",
-        "--segments",
-        "3",
-        "--json",
-        p(&model),
-    ])
-    .success();
+    let model = identified(&dir);
     let input = dir.write("u.csv", "u\n0\n0.5\n1\n");
     let snr = hsid(&[
         "simulate",
@@ -195,4 +232,68 @@ fn a_unit_with_a_double_quote_or_a_control_character_is_refused_before_any_work(
         "1",
     ]);
     comment.clean_error(&["commented.csv line 2", "output unit", "double quote"]);
+}
+
+#[test]
+fn a_model_file_that_is_unstable_unbounded_or_inconsistent_is_refused_on_reading() {
+    let dir = Scratch::new("model-checks");
+    let model = identified(&dir);
+    let text = std::fs::read_to_string(&model).unwrap();
+    // hsid's own file reads back, its poles within the tolerance.
+    validate_text(&dir, "own.json", &text).success();
+
+    let unstable = edited(&text, |v| first_order(v, 1.5, 1.0, &[1.5]));
+    let run = validate_text(&dir, "unstable.json", &unstable);
+    let line = run.clean_error(&["unstable.json", "\"A\"", "modulus 1.5", "stable"]);
+    assert!(!line.contains("constant"), "{line}");
+
+    let huge = edited(&text, |v| first_order(v, 0.5, 1e308, &[0.5]));
+    validate_text(&dir, "huge.json", &huge).clean_error(&["huge.json", "\"B\"", "1e150"]);
+
+    let stale = edited(&text, |v| first_order(v, 0.5, 1.0, &[0.9]));
+    validate_text(&dir, "stale.json", &stale).clean_error(&[
+        "stale.json",
+        "\"poles\"",
+        "eigenvalue",
+    ]);
+
+    // An integrating model's A is its stable part: stable, its pole at 1 not stored.
+    let integrating = edited(&text, |v| {
+        first_order(v, 0.5, 1.0, &[0.5]);
+        v["integrating"] = serde_json::json!(true);
+        v["noise"] = serde_json::Value::Null;
+    });
+    validate_text(&dir, "integrating.json", &integrating).success();
+    let with_unit_root = edited(&integrating, |v| first_order(v, 1.0, 1.0, &[1.0]));
+    validate_text(&dir, "root.json", &with_unit_root).clean_error(&[
+        "root.json",
+        "\"A\"",
+        "stable part G0",
+    ]);
+
+    let quoted = edited(&text, |v| v["units"]["input"] = serde_json::json!("V\""));
+    validate_text(&dir, "quoted.json", &quoted).clean_error(&[
+        "quoted.json",
+        "\"units\"",
+        "double quote",
+    ]);
+}
+
+#[test]
+fn a_key_repeated_in_a_model_file_is_refused_at_any_depth() {
+    let dir = Scratch::new("model-duplicates");
+    let model = identified(&dir);
+    let text = std::fs::read_to_string(&model).unwrap();
+    assert!(
+        text.contains("\"D\":") && text.contains("\"input\":"),
+        "{text}"
+    );
+    let top = text.replacen("\"D\":", "\"D\": 100, \"D\":", 1);
+    validate_text(&dir, "top.json", &top).clean_error(&["top.json", "key \"D\"", "twice"]);
+    let nested = text.replacen("\"input\":", "\"input\": \"A\", \"input\":", 1);
+    validate_text(&dir, "nested.json", &nested).clean_error(&[
+        "nested.json",
+        "key \"units.input\"",
+        "twice",
+    ]);
 }
