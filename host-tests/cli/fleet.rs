@@ -156,6 +156,12 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
         count.devices as f64 / secs,
         out.display()
     )?;
+    for name in &count.skipped {
+        outln!(
+            "note: {}: skipped {name}: a subdirectory (the checkpoints are the files of the directory itself; subdirectories are not searched)",
+            states.display()
+        )?;
+    }
     Ok(())
 }
 

@@ -297,3 +297,38 @@ fn a_key_repeated_in_a_model_file_is_refused_at_any_depth() {
         "twice",
     ]);
 }
+
+#[cfg(unix)]
+#[test]
+fn fleet_names_what_it_skips_and_shows_names_that_are_not_utf8_apart() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+
+    let dir = Scratch::new("fleet-listing");
+    let states = dir.join("states");
+    std::fs::create_dir_all(states.join("sub")).unwrap();
+    for name in [&b"dev\xff.bin"[..], &b"dev\xfe.bin"[..]] {
+        std::fs::write(states.join(OsStr::from_bytes(name)), b"not a checkpoint").unwrap();
+    }
+    let out = dir.join("models.jsonl");
+    let run = hsid(&["fleet", "--states", p(&states), "--out", p(&out)]).success();
+    assert!(run.stdout.starts_with("2 devices"), "{}", run.stdout);
+    let note = run
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("note:"))
+        .unwrap_or_else(|| panic!("no note of the subdirectory: {}", run.stdout));
+    assert!(
+        note.contains("skipped sub") && note.contains("subdirector"),
+        "{note}"
+    );
+    let devices: Vec<String> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            v["device"].as_str().unwrap().to_string()
+        })
+        .collect();
+    assert_eq!(devices, ["dev\\xFE.bin", "dev\\xFF.bin"]);
+}

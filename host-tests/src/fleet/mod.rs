@@ -13,4 +13,4 @@ pub mod wear;
 pub mod write;
 
 pub use device::{DeviceError, DeviceResult};
-pub use solve::{FleetCount, FleetSettings, solve_dir, solve_dir_each, solve_many};
+pub use solve::{FleetCount, FleetSettings, Listing, solve_dir, solve_dir_each, solve_many};
