@@ -290,9 +290,11 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
     opts.inner_fraction = a.inner_fraction;
     if let Some(r) = &a.select_segments {
         let r = parse_range(r).map_err(|e| e.replace("--holdout", "--select-segments"))?;
-        if r.start == 0 || r.end < r.start {
+        let most = hsid_host::identify::MAX_CHANNELS;
+        if r.start == 0 || r.end < r.start || r.end > most {
             return Err(format!(
-                "--select-segments {}..{}: need 1 <= MIN <= MAX",
+                "--select-segments {}..{}: need 1 <= MIN <= MAX <= {most} (the most channels the \
+                 desktop front end holds)",
                 r.start, r.end
             ));
         }

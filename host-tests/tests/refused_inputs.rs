@@ -332,3 +332,17 @@ fn fleet_names_what_it_skips_and_shows_names_that_are_not_utf8_apart() {
         .collect();
     assert_eq!(devices, ["dev\\xFE.bin", "dev\\xFF.bin"]);
 }
+
+#[test]
+fn a_segment_count_near_the_largest_count_is_refused_not_allocated() {
+    let data = servo();
+    let huge = usize::MAX.to_string();
+    let base = ["--data", p(&data), "--umin", "-1", "--umax", "1"];
+    let identify = hsid(&[&["identify"][..], &base[..], &["--segments", &huge]].concat());
+    identify.clean_error(&["--segments", &huge, "give fewer"]);
+    let diagnose = hsid(&[&["diagnose"][..], &base[..], &["--segments", &huge]].concat());
+    diagnose.clean_error(&["--segments", &huge, "give fewer"]);
+    let range = format!("1..{huge}");
+    let select = hsid(&[&["diagnose"][..], &base[..], &["--select-segments", &range]].concat());
+    select.clean_error(&["--select-segments", &range]);
+}

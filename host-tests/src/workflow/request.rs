@@ -279,6 +279,21 @@ impl IdentifyRequest {
                 ),
             ));
         }
+        // Checked before the knots are built: a count near `usize::MAX` cannot be allocated.
+        if let Some(SegmentCount::Fixed(n)) = self.segments
+            && n > crate::identify::MAX_CHANNELS
+        {
+            return Err(RequestError::new(
+                Field::Segments,
+                "segments",
+                format!(
+                    "{}: more segments per path than the desktop front end holds channels ({}); \
+                     give fewer",
+                    s.set(Field::Segments, n),
+                    crate::identify::MAX_CHANNELS
+                ),
+            ));
+        }
         if self.detrend && hold > 0 {
             return Err(RequestError::new(
                 Field::Detrend,
