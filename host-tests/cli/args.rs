@@ -7,9 +7,23 @@ use hsid::Basis;
 use hsid_host::io::{CsvOptions, Delimiter, IoError, Table, parse_table, read_source};
 use hsid_host::model_file::Units;
 use hsid_host::units::{
-    Origin, UnitsOrigin, checked_ts, resolve_units, ts_from_column, ts_from_comments,
-    units_from_comments,
+    Origin, UnitsOrigin, check_unit_text, checked_ts, resolve_units, ts_from_column,
+    ts_from_comments, units_from_comments,
 };
+
+/// The value parser of every number flag: a number that is finite. `NaN` and the infinities
+/// parse as `f64` but are no interval end, gain, noise level or sample time, so they are
+/// refused at the flag, before any work.
+pub fn finite_f64(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    match v.is_finite() {
+        true => Ok(v),
+        false => Err(format!("{s} is not a finite number: give a finite value")),
+    }
+}
 
 /// How the CSV files are read.
 #[derive(Args, Clone, Debug)]
@@ -66,10 +80,10 @@ pub struct Columns {
 #[derive(Args, Clone, Debug)]
 pub struct KnotArgs {
     /// Ascending knots, comma separated, u_min first and u_max last.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = finite_f64)]
     pub knots_asc: Option<Vec<f64>>,
     /// Descending knots, comma separated, u_min first and u_max last.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = finite_f64)]
     pub knots_desc: Option<Vec<f64>>,
 }
 
@@ -153,7 +167,7 @@ pub struct UnitArgs {
     /// has one, or its header comment `# ts = 0.01 s` (as `hsid simulate` writes it); every
     /// one stated must agree within 0.1 %. With none, times are in samples and frequencies in
     /// rad/sample.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     pub ts: Option<f64>,
     /// Unit of the input u (free text, e.g. `V`), for the reports and the model file. Without
     /// it, the record's header comments `# input unit = V` and `# output unit = deg` (as
@@ -178,7 +192,8 @@ impl UnitArgs {
             .map_err(|e| e.to_string())
     }
 
-    /// `--input-unit` and `--output-unit`, checked non-empty.
+    /// `--input-unit` and `--output-unit`, checked non-empty and free of the characters a unit
+    /// may not hold (double quotes, control characters: [`check_unit_text`]).
     pub fn units(&self) -> Result<Option<Units>, String> {
         let (Some(input), Some(output)) = (&self.input_unit, &self.output_unit) else {
             return Ok(None);
@@ -189,6 +204,7 @@ impl UnitArgs {
                     "{flag} is empty: give the unit's name, e.g. V or deg"
                 ));
             }
+            check_unit_text(v).map_err(|e| format!("{flag} {v:?}: {e}"))?;
         }
         Ok(Some(Units {
             input: input.trim().to_string(),

@@ -22,7 +22,9 @@ use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
 use hsid_host::workflow::{Field, IdentifyRequest, Syntax};
 
-use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, UnitArgs, comment_units, read_record};
+use crate::args::{
+    CsvArgs, HoldArgs, Horizons, KnotArgs, UnitArgs, comment_units, finite_f64, read_record,
+};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -55,7 +57,7 @@ pub struct DiagnoseArgs {
     pub validation: Option<PathBuf>,
     /// Without --validation: fraction of the samples after the hold used for estimation; the
     /// rest validates.
-    #[arg(long, default_value_t = 0.7)]
+    #[arg(long, default_value_t = 0.7, value_parser = finite_f64)]
     pub split: f64,
     /// Without --validation: hold out samples START..END (0-based, END exclusive) for
     /// validation instead, and estimate on the rest.
@@ -80,10 +82,10 @@ pub struct DiagnoseArgs {
     #[arg(long, value_enum, default_value = "backlash")]
     pub nonlinearity: Element,
     /// Lower end of the input interval (default: the smallest input of the data).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     pub umin: Option<f64>,
     /// Upper end of the input interval (default: the largest input of the data).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     pub umax: Option<f64>,
     /// Uniform segments per path (ignored when knots are given).
     #[arg(long, default_value_t = 7)]
@@ -93,7 +95,7 @@ pub struct DiagnoseArgs {
     #[arg(long)]
     pub select_segments: Option<String>,
     /// Knots of both paths (or of the static border), comma separated, u_min first, u_max last.
-    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, value_parser = finite_f64)]
     pub knots: Option<Vec<f64>>,
     #[command(flatten)]
     pub paths: KnotArgs,
@@ -103,7 +105,7 @@ pub struct DiagnoseArgs {
     #[command(flatten)]
     pub hold: HoldArgs,
     /// Known μ0 = H(u_min) for data without a hold; without it μ0 is estimated.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     pub mu0: Option<f64>,
     #[command(flatten)]
     pub horizons: Horizons,
@@ -114,14 +116,14 @@ pub struct DiagnoseArgs {
     #[arg(long, default_value_t = 4)]
     pub max_steps: usize,
     /// Least relative reduction of the estimation hold-out MSE for an effect to be added.
-    #[arg(long, default_value_t = 0.20)]
+    #[arg(long, default_value_t = 0.20, value_parser = finite_f64)]
     pub min_gain: f64,
     /// Largest extra input delay tried (samples).
     #[arg(long, default_value_t = 10)]
     pub max_delay: usize,
     /// Fraction of the estimation samples (after the hold) the inner hold-out fits on; the
     /// rest, one block, scores every setting and effect.
-    #[arg(long, default_value_t = 0.7)]
+    #[arg(long, default_value_t = 0.7, value_parser = finite_f64)]
     pub inner_fraction: f64,
     /// Where the poles are refined by the simulation error (variable projection) after the
     /// subspace step: never, in the reported models only, or in every fit.
@@ -221,7 +223,8 @@ fn record(
 }
 
 /// The identification settings: the interval (given, from the knots or from the data), the
-/// knots, the order, horizons, hold and μ0.
+/// knots, the order, horizons, hold and μ0; the estimation record (the first of `all_u`)
+/// checked to outlast the hold.
 fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptions, String> {
     let (lo, hi) = all_u
         .iter()
@@ -263,6 +266,11 @@ fn identify_options(a: &DiagnoseArgs, all_u: &[&Record]) -> Result<IdentifyOptio
             }
         }
     })?;
+    // The estimation record must outlast the hold, checked as identify checks it.
+    r.integrating = a.integrating;
+    let samples = all_u.first().map_or(0, |r| r.len());
+    r.check_hold(samples, a.hold.hold)
+        .map_err(|e| format!("{}: {}", a.data.display(), e.message))?;
     Ok(plan.options)
 }
 

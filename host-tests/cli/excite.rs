@@ -1,5 +1,6 @@
 //! `hsid excite`: the Table I excitation as CSV on standard output.
 
+use crate::args::finite_f64;
 use crate::failure::Failure;
 use clap::Args;
 use hsid::Excitation;
@@ -12,10 +13,10 @@ use std::io::{BufWriter, Write};
 #[derive(Args)]
 pub struct ExciteArgs {
     /// Lower end of the input interval.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     umin: f64,
     /// Upper end of the input interval.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     umax: f64,
     /// Samples in all (hold included).
     #[arg(long)]

@@ -13,6 +13,7 @@ use hsid_host::fleet::wear::{ReportOptions, wear_report};
 use hsid_host::fleet::write::write_fleet;
 use hsid_host::io::{AtomicFile, read_file_limited};
 
+use crate::args::finite_f64;
 use crate::failure::{Failure, outln};
 
 /// Arguments of `hsid fleet`.
@@ -71,7 +72,7 @@ struct SimulateFleetArgs {
     #[arg(long, default_value_t = 4000)]
     samples: usize,
     /// Standard deviation of the white noise driving the paper's noise model.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, value_parser = finite_f64)]
     noise: f64,
     /// Seed of the fleet.
     #[arg(long, default_value_t = 2026)]
@@ -90,10 +91,10 @@ struct ReportArgs {
     #[arg(long)]
     truth: Option<PathBuf>,
     /// Flag a device whose gap grows by more than this many standard errors of its slope.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, value_parser = finite_f64)]
     k: f64,
     /// Flag a device whose fitted gap in its last week exceeds this (input units).
-    #[arg(long)]
+    #[arg(long, value_parser = finite_f64)]
     limit: Option<f64>,
     /// Write the per-device report (CSV) here.
     #[arg(long)]
@@ -160,6 +161,12 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
         count.devices as f64 / secs,
         out.display()
     )?;
+    for name in &count.skipped {
+        outln!(
+            "note: {}: skipped {name}: a subdirectory (the checkpoints are the files of the directory itself; subdirectories are not searched)",
+            states.display()
+        )?;
+    }
     Ok(())
 }
 

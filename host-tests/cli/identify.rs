@@ -16,7 +16,7 @@ use hsid_host::refine::knots::SegmentCount;
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
 use crate::args::{
-    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs, YesNo,
+    BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs, YesNo, finite_f64,
 };
 use prepare::{read_records, refuse_bad_flags};
 
@@ -32,10 +32,10 @@ pub struct IdentifyArgs {
     #[arg(long, required = true)]
     data: Vec<PathBuf>,
     /// Lower end of the input interval.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     umin: f64,
     /// Upper end of the input interval.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     umax: f64,
     /// Uniform segments per path (ignored when knots are given), or `auto` to choose the
     /// count from the data by BIC of the refined model over 2 to 14. Default: 7, 10 or 14 by
@@ -66,7 +66,12 @@ pub struct IdentifyArgs {
     nonlinearity: Element,
     /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
     /// hold, μ0 is estimated with the model.
-    #[arg(long, allow_hyphen_values = true, conflicts_with = "detrend")]
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        conflicts_with = "detrend",
+        value_parser = finite_f64
+    )]
     mu0: Option<f64>,
     /// For data without a hold (`--hold 0`) whose output sits on an offset: subtract the mean
     /// of y over all records before identifying (the mean is printed). The model then

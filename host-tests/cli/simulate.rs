@@ -18,7 +18,7 @@ use hsid_host::simulate::{
 };
 use hsid_host::units::{Origin, UnitsOrigin, resolve_ts, ts_from_column};
 
-use crate::args::{CsvArgs, UnitArgs};
+use crate::args::{CsvArgs, UnitArgs, finite_f64};
 
 /// Arguments of `hsid simulate`.
 #[derive(Args)]
@@ -48,11 +48,12 @@ pub struct SimulateArgs {
         long,
         requires = "model",
         conflicts_with = "noise_std",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = finite_f64
     )]
     noise_snr: Option<f64>,
     /// Model only: output noise with this standard deviation of the white noise e.
-    #[arg(long, requires = "model")]
+    #[arg(long, requires = "model", value_parser = finite_f64)]
     noise_std: Option<f64>,
     /// Model only: white noise, or coloured by the model file's noise model (at its stored
     /// variance unless --noise-snr or --noise-std is given).

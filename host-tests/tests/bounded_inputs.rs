@@ -320,3 +320,65 @@ fn a_header_wider_than_the_limit_is_refused() {
         run.stderr
     );
 }
+
+/// A small file that states a model of order 300, or 2,001 knots, is refused on reading,
+/// before anything is computed from it (the work would grow with the cube of the order).
+#[test]
+fn a_model_file_beyond_the_sizes_is_refused_on_reading() {
+    let dir = Scratch::new("bounded-model");
+    let json = model(&dir);
+    let servo = repo().join("examples/data/servo.csv");
+    let text = fs::read_to_string(&json).unwrap();
+    let base: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let n = 300;
+    let mut order = base.clone();
+    order["order"] = n.into();
+    order["A"] = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| if i == j { 0.5 } else { 0.0 })
+                .collect::<Vec<f64>>()
+        })
+        .collect::<Vec<_>>()
+        .into();
+    order["B"] = vec![0.1; n].into();
+    order["C"] = vec![0.1; n].into();
+    order["poles"] = vec![[0.5, 0.0]; n].into();
+    order["std"] = serde_json::Value::Null;
+    let (lo, hi) = (-1.0, 1.0);
+    let k = 2000;
+    let knots: Vec<f64> = (0..=k)
+        .map(|i| {
+            if i == k {
+                hi
+            } else {
+                lo + (hi - lo) * i as f64 / k as f64
+            }
+        })
+        .collect();
+    let mut knotted = base.clone();
+    for key in ["knots_asc", "knots_desc"] {
+        knotted[key] = knots.clone().into();
+    }
+    for key in ["border_asc", "border_desc"] {
+        knotted[key] = vec![0.0; k + 1].into();
+    }
+    knotted["std"] = serde_json::Value::Null;
+    for (name, model, expected) in [
+        (
+            "order.json",
+            order,
+            "field \"order\": 300 is above the largest order a model file holds (128)",
+        ),
+        (
+            "knots.json",
+            knotted,
+            "field \"knots_asc\": has 2001 values, more than the 1024",
+        ),
+    ] {
+        let path = dir.write(name, &model.to_string());
+        let run = hsid(&["validate", "--model", p(&path), "--data", p(&servo)]);
+        assert_eq!(run.code, Some(1), "{name}: {}", run.stderr);
+        assert!(run.stderr.contains(expected), "{name}: {}", run.stderr);
+    }
+}

@@ -202,6 +202,7 @@ impl From<ModelFileError> for Failure {
             ModelFileError::TooLarge(_) => "model_file_too_large",
             ModelFileError::Version { .. } => "model_file_version",
             ModelFileError::Json { .. } => "model_file_json",
+            ModelFileError::DuplicateKey { .. } => "model_file_duplicate_key",
             ModelFileError::Invalid { .. } => "model_file_invalid",
         };
         Failure::new(Class::Data, kind, e.to_string())
@@ -214,6 +215,8 @@ impl From<DiagnoseError> for Failure {
             DiagnoseError::Identify(i) => return i.clone().into(),
             DiagnoseError::LengthMismatch { .. } => (Class::Data, "length_mismatch"),
             DiagnoseError::TooShort { .. } => (Class::Data, "too_short"),
+            DiagnoseError::AllHold { .. } => (Class::Data, "all_hold"),
+            DiagnoseError::MaxDelay { .. } => (Class::Settings, "max_delay"),
             DiagnoseError::InputOutOfRange { .. } => (Class::Data, "input_out_of_range"),
             DiagnoseError::KnotNotVisited { .. } => (Class::Data, "knot_not_visited"),
             DiagnoseError::InvalidSplit(_) => (Class::Settings, "invalid_split"),

@@ -27,6 +27,26 @@ pub enum DiagnoseError {
         /// Samples needed.
         need: usize,
     },
+    /// Every sample of the estimation record lies inside the hold.
+    #[error(
+        "{samples} samples, all inside the hold of {hold}: nothing left to identify from; give a shorter hold"
+    )]
+    AllHold {
+        /// Samples of the record.
+        samples: usize,
+        /// Samples of the hold.
+        hold: usize,
+    },
+    /// The longest dead time to try is not shorter than the estimation record.
+    #[error(
+        "a dead time of up to {delay} samples (--max-delay) cannot be tried on an estimation record of {samples} samples: give a shorter --max-delay"
+    )]
+    MaxDelay {
+        /// The longest dead time to try, in samples.
+        delay: usize,
+        /// Samples of the estimation record.
+        samples: usize,
+    },
     /// An input sample outside the knots' interval.
     #[error(
         "{record} sample {index}: u = {value} lies outside the knots' interval [{u_min}, {u_max}]"

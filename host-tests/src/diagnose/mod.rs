@@ -110,6 +110,12 @@ fn diagnose_inner(
     let shared = id.static_nonlinearity;
     let data = split::split(record, validation, &id)?;
     let (est, vrec, vrange) = (&data.estimation, &data.validation, data.range.clone());
+    if opts.max_delay >= est.len() {
+        return Err(DiagnoseError::MaxDelay {
+            delay: opts.max_delay,
+            samples: est.len(),
+        });
+    }
     let segment_choice = match &opts.select_segments {
         Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
         None => String::new(),

@@ -24,7 +24,11 @@ pub struct DataSplit {
 
 /// Fewest samples an estimation record needs with these options.
 pub(crate) fn min_len(id: &IdentifyOptions) -> usize {
-    id.hold + 4 * (id.f + id.p) + 50
+    // Saturating: a hold or horizons near `usize::MAX` need more samples than any record has.
+    id.f.saturating_add(id.p)
+        .saturating_mul(4)
+        .saturating_add(id.hold)
+        .saturating_add(50)
 }
 
 /// `u` and `y` of one length, every input inside `[u_min, u_max]`.
@@ -96,6 +100,9 @@ pub fn split(
     check_record(record, "estimation", u_min, u_max)?;
     let hold = id.hold;
     let n = record.len();
+    if hold >= n {
+        return Err(DiagnoseError::AllHold { samples: n, hold });
+    }
     let min_len = min_len(id);
     if n < min_len {
         return Err(DiagnoseError::TooShort {
@@ -175,4 +182,28 @@ pub fn split(
         });
     }
     Ok(split)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::panic)]
+    use super::*;
+
+    #[test]
+    fn a_hold_of_every_sample_or_more_is_refused_without_overflow() {
+        let record = Record::new(vec![0.0; 500], vec![0.0; 500]).unwrap();
+        for hold in [500, usize::MAX] {
+            let id = IdentifyOptions::uniform(-1.0, 1.0, 3, hold);
+            match split(&record, &Validation::Split(0.7), &id) {
+                Err(DiagnoseError::AllHold {
+                    samples: 500,
+                    hold: h,
+                }) => assert_eq!(h, hold),
+                other => panic!("{other:?}"),
+            }
+        }
+        let mut id = IdentifyOptions::uniform(-1.0, 1.0, 3, 0);
+        id.f = usize::MAX;
+        assert_eq!(min_len(&id), usize::MAX);
+    }
 }

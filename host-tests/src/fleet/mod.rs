@@ -19,4 +19,4 @@ pub mod write;
 pub const MAX_TABLE_BYTES: u64 = 1 << 30;
 
 pub use device::{DeviceError, DeviceResult};
-pub use solve::{FleetCount, FleetSettings, solve_dir, solve_dir_each, solve_many};
+pub use solve::{FleetCount, FleetSettings, Listing, solve_dir, solve_dir_each, solve_many};

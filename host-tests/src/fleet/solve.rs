@@ -148,28 +148,66 @@ pub(crate) fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, FleetErr
 /// A directory entry: the device id, and the file's path or why it cannot be read.
 pub(crate) type Entry = (String, Result<PathBuf, DeviceError>);
 
+/// A directory's checkpoints as listed: its files, and the entries that are no device.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Listing {
+    /// The files, sorted by file name (the device id, [`device_id`]); an entry that cannot
+    /// be listed is that device's error (named `entry N`).
+    pub files: Vec<Entry>,
+    /// The subdirectories (by [`device_id`], sorted): a fleet's checkpoints are the files of
+    /// the directory itself, so these are not searched, and the caller says so.
+    pub skipped: Vec<String>,
+}
+
+/// The device id of a file name: the name itself when it is UTF-8, else the name with each
+/// byte that is not part of a UTF-8 character written as `\xNN` (and each backslash as
+/// `\\`): two such names that differ show differently, where a lossy conversion would show
+/// both as the same `dev�.bin`.
+pub fn device_id(name: &std::ffi::OsStr) -> String {
+    if let Some(s) = name.to_str() {
+        return s.to_owned();
+    }
+    escaped(name.as_encoded_bytes())
+}
+
+/// `bytes` (not UTF-8) as text: UTF-8 runs as they are (backslashes doubled), every other
+/// byte as `\xNN`.
+fn escaped(bytes: &[u8]) -> String {
+    let mut out = String::new();
+    for chunk in bytes.utf8_chunks() {
+        out.push_str(&chunk.valid().replace('\\', "\\\\"));
+        for b in chunk.invalid() {
+            out.push_str(&format!("\\x{b:02X}"));
+        }
+    }
+    out
+}
+
 /// The files of a directory, sorted by file name (the device id); an entry that cannot be
-/// listed is that device's error (named `entry N`). Subdirectories are skipped.
-pub fn list_dir(dir: &Path) -> Result<Vec<Entry>, FleetError> {
+/// listed is that device's error (named `entry N`). Subdirectories are not searched: they are
+/// listed in [`Listing::skipped`].
+pub fn list_dir(dir: &Path) -> Result<Listing, FleetError> {
     let listing = std::fs::read_dir(dir).map_err(|e| FleetError::Directory {
         dir: dir.display().to_string(),
         error: e.to_string(),
     })?;
-    let mut out = Vec::new();
+    let mut out = Listing::default();
     for (i, entry) in listing.enumerate() {
         match entry {
-            Ok(entry) if entry.path().is_dir() => {}
-            Ok(entry) => out.push((
-                entry.file_name().to_string_lossy().into_owned(),
-                Ok(entry.path()),
-            )),
-            Err(e) => out.push((
+            Ok(entry) if entry.path().is_dir() => {
+                out.skipped.push(device_id(&entry.file_name()));
+            }
+            Ok(entry) => out
+                .files
+                .push((device_id(&entry.file_name()), Ok(entry.path()))),
+            Err(e) => out.files.push((
                 format!("entry {i}"),
                 Err(DeviceError::Unreadable(e.to_string())),
             )),
         }
     }
-    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out.files.sort_by(|a, b| a.0.cmp(&b.0));
+    out.skipped.sort();
     Ok(out)
 }
 
@@ -201,16 +239,20 @@ fn read_checkpoint(path: &Path) -> Result<Vec<u8>, DeviceError> {
     })
 }
 
-/// How many devices a batch solved, and how many of them have an error instead of a model.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// How many devices a batch solved, how many of them have an error instead of a model, and
+/// the entries of the directory that are no device.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct FleetCount {
     /// Devices (files of the directory, and entries that could not be listed).
     pub devices: usize,
     /// Devices with an error.
     pub failed: usize,
+    /// The subdirectories, not searched ([`Listing::skipped`]).
+    pub skipped: Vec<String>,
 }
 
-/// Solves every checkpoint file of `dir` ([`list_dir`]) on `threads` workers and hands each
+/// Solves every checkpoint file of `dir` ([`list_dir`]; its subdirectories are not searched,
+/// [`FleetCount::skipped`] names them) on `threads` workers and hands each
 /// device's result to `each`, in the listing's order, as its chunk completes. Each file is
 /// read by the worker that solves it, and only a chunk's results are held at once: memory is
 /// the listing plus a bounded number of checkpoints and models, whatever the fleet's size. A
@@ -222,10 +264,13 @@ pub fn solve_dir_each(
     threads: Option<usize>,
     each: &mut dyn FnMut(DeviceResult) -> std::io::Result<()>,
 ) -> Result<FleetCount, FleetError> {
-    let files = list_dir(dir)?;
+    let Listing { files, skipped } = list_dir(dir)?;
     let pool = pool(threads)?;
     let chunk = CHUNK_PER_THREAD * pool.current_num_threads().max(1);
-    let mut count = FleetCount::default();
+    let mut count = FleetCount {
+        skipped,
+        ..FleetCount::default()
+    };
     for part in files.chunks(chunk) {
         let results: Vec<DeviceResult> = pool.install(|| {
             part.par_iter()
@@ -266,4 +311,17 @@ pub fn solve_dir(
         Ok(())
     })?;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_name_that_is_not_utf8_shows_its_bytes() {
+        assert_eq!(escaped(b"dev\xff.bin"), "dev\\xFF.bin");
+        assert_eq!(escaped(b"dev\xfe.bin"), "dev\\xFE.bin");
+        assert_eq!(escaped(b"a\\b\xc3"), "a\\\\b\\xC3");
+        assert_eq!(device_id(std::ffi::OsStr::new("dev1.bin")), "dev1.bin");
+    }
 }

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use super::{ModelFile, ModelFileError};
+use crate::units::check_unit_text;
 
 type Checked = Result<(), ModelFileError>;
 
@@ -13,25 +14,158 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
         field,
         reason,
     };
+    sizes(m, &bad)?;
     plant(m, &bad)?;
     finite_all(m, &bad)?;
     knots(m, &bad)?;
     if let Some(t) = m.sample_time
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(bad("sample_time", format!("{t} is not a positive number")));
-    }
-    if let Some(u) = &m.units
-        && (u.input.trim().is_empty() || u.output.trim().is_empty())
+        && !(in_range(t) && t > 0.0)
     {
         return Err(bad(
-            "units",
-            "an empty unit name; give both (e.g. \"V\") or null".to_string(),
+            "sample_time",
+            format!("{t} is not a positive number (at most {MAX_MAGNITUDE:e})"),
         ));
+    }
+    if let Some(u) = &m.units {
+        if u.input.trim().is_empty() || u.output.trim().is_empty() {
+            return Err(bad(
+                "units",
+                "an empty unit name; give both (e.g. \"V\") or null".to_string(),
+            ));
+        }
+        for (signal, unit) in [("input", &u.input), ("output", &u.output)] {
+            check_unit_text(unit)
+                .map_err(|e| bad("units", format!("the {signal} unit {unit:?}: {e}")))?;
+        }
     }
     noise(m, &bad)?;
     element(m, &bad)?;
     std(m, &bad)
+}
+
+/// The largest model order a model file may state: the desktop identifies orders below its
+/// largest horizon (95), and the work of reading and simulating a model grows with the cube of
+/// its order (order 200 took 14 s to validate, 1000 more than ten minutes).
+pub const MAX_MODEL_ORDER: usize = 128;
+
+/// The most knots a border of a model file may have: the desktop's largest capacity holds 64
+/// channels (at most 64 knots on a border); a file with more is no model hsid wrote.
+pub const MAX_MODEL_KNOTS: usize = 1024;
+
+/// The order and the knot counts within [`MAX_MODEL_ORDER`] and [`MAX_MODEL_KNOTS`], checked
+/// before anything is computed from them.
+fn sizes(m: &ModelFile, bad: &Bad) -> Checked {
+    if m.order > MAX_MODEL_ORDER {
+        return Err(bad(
+            "order",
+            format!(
+                "{} is above the largest order a model file holds ({MAX_MODEL_ORDER})",
+                m.order
+            ),
+        ));
+    }
+    for (field, k) in [
+        ("knots_asc", &m.knots_asc),
+        ("knots_desc", &m.knots_desc),
+        ("border_asc", &m.border_asc),
+        ("border_desc", &m.border_desc),
+    ] {
+        if k.len() > MAX_MODEL_KNOTS {
+            return Err(bad(
+                field,
+                format!(
+                    "has {} values, more than the {MAX_MODEL_KNOTS} a border of a model file \
+                     holds",
+                    k.len()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Relative tolerance of a stored pole against the eigenvalue of `A` it stands for: `poles`
+/// must match A's eigenvalues within `POLE_TOLERANCE · max(1, |λ|)` each. hsid writes the
+/// eigenvalues it computes from `A` itself (they read back within rounding); the tolerance
+/// also admits poles rounded to about four decimals in a file written by hand.
+pub const POLE_TOLERANCE: f64 = 1e-3;
+
+/// The checks of a model file as it is read, beyond [`validate`]'s (which run on writing
+/// too): `A` is stable (its eigenvalues strictly inside the unit circle; for an integrating
+/// model too, whose `A` is the stable part `G₀` and whose pole at `z = 1` is not stored), and
+/// `poles` are A's eigenvalues ([`POLE_TOLERANCE`]). Run after [`validate`], which checked the
+/// shapes and that every number is finite and bounded.
+pub(super) fn on_read(m: &ModelFile, path: &Path) -> Checked {
+    let bad = |field: &'static str, reason: String| ModelFileError::Invalid {
+        path: path.to_path_buf(),
+        field,
+        reason,
+    };
+    let n = m.order;
+    if n == 0 {
+        return Ok(());
+    }
+    let a = nalgebra::DMatrix::from_fn(n, n, |i, j| m.a[i][j]);
+    let Some(eig) = crate::numerics::poly::eigenvalues(a) else {
+        return Err(bad(
+            "A",
+            "its eigenvalues cannot be computed (the Schur decomposition does not converge)"
+                .to_string(),
+        ));
+    };
+    let modulus = |&(re, im): &(f64, f64)| re.hypot(im);
+    if let Some(&(re, im)) = eig
+        .iter()
+        .find(|l| modulus(l) >= 1.0 || modulus(l).is_nan())
+    {
+        let what = match m.integrating {
+            true => "the stable part G0 of an integrating model (its pole at z = 1 is not stored)",
+            false => "the plant",
+        };
+        return Err(bad(
+            "A",
+            format!(
+                "has a pole at {} of modulus {:.6} >= 1: {what} must be stable, every pole \
+                 strictly inside the unit circle; identify the model again",
+                complex_text(re, im),
+                re.hypot(im)
+            ),
+        ));
+    }
+    let mut unmatched: Vec<(f64, f64)> = eig;
+    for (i, &[re, im]) in m.poles.iter().enumerate() {
+        let distance = |&(r, j): &(f64, f64)| (r - re).hypot(j - im);
+        let nearest = unmatched
+            .iter()
+            .enumerate()
+            .min_by(|x, y| distance(x.1).total_cmp(&distance(y.1)));
+        let Some((k, &l)) = nearest else {
+            break;
+        };
+        if distance(&l) > POLE_TOLERANCE * modulus(&l).max(1.0) {
+            return Err(bad(
+                "poles",
+                format!(
+                    "entry {i} is {}, but the nearest eigenvalue of A left is {}: the poles must \
+                     be A's eigenvalues (within {POLE_TOLERANCE:e} relative); write them as A \
+                     gives them",
+                    complex_text(re, im),
+                    complex_text(l.0, l.1)
+                ),
+            ));
+        }
+        unmatched.swap_remove(k);
+    }
+    Ok(())
+}
+
+/// `0.5`, `0.5+0.1i` or `0.5-0.1i`.
+fn complex_text(re: f64, im: f64) -> String {
+    if im == 0.0 {
+        format!("{re}")
+    } else {
+        format!("{re}{im:+}i")
+    }
 }
 
 /// A play or relay element: the kind it belongs to, one set of knots for both borders.
@@ -99,11 +233,29 @@ fn plant(m: &ModelFile, bad: &Bad) -> Checked {
     Ok(())
 }
 
+/// The largest magnitude of a number in a model file: products of two such numbers (the
+/// simulation's `A x`, `C x`) stay far from overflow, and no model of a physical plant comes
+/// near it.
+pub const MAX_MAGNITUDE: f64 = 1e150;
+
+/// Each value finite and at most [`MAX_MAGNITUDE`] in magnitude.
 fn finite(bad: &Bad, field: &'static str, values: &mut dyn Iterator<Item = f64>) -> Checked {
-    match values.enumerate().find(|(_, v)| !v.is_finite()) {
+    match values.enumerate().find(|(_, v)| !in_range(*v)) {
+        Some((i, v)) if v.is_finite() => Err(bad(
+            field,
+            format!(
+                "entry {i} is {v:e}, beyond the largest magnitude a model file holds \
+                 ({MAX_MAGNITUDE:e}); rescale the signals or write the model again"
+            ),
+        )),
         Some((i, v)) => Err(bad(field, format!("entry {i} is {v}, not a finite number"))),
         None => Ok(()),
     }
+}
+
+/// Finite and at most [`MAX_MAGNITUDE`] in magnitude.
+fn in_range(v: f64) -> bool {
+    v.is_finite() && v.abs() <= MAX_MAGNITUDE
 }
 
 fn finite_all(m: &ModelFile, bad: &Bad) -> Checked {
@@ -177,7 +329,7 @@ fn noise(m: &ModelFile, bad: &Bad) -> Checked {
         }
         finite(bad, field, &mut poly.iter().copied())?;
     }
-    if !(nm.sigma2.is_finite() && nm.sigma2 >= 0.0) {
+    if !(in_range(nm.sigma2) && nm.sigma2 >= 0.0) {
         return Err(bad(
             "noise.sigma2",
             format!("{} is not a finite variance >= 0", nm.sigma2),
@@ -209,7 +361,7 @@ fn std(m: &ModelFile, bad: &Bad) -> Checked {
         .chain(&s.border_asc)
         .chain(&s.border_desc)
         .chain(std::iter::once(&s.mu0));
-    if let Some(v) = all.copied().find(|v| !(v.is_finite() && *v >= 0.0)) {
+    if let Some(v) = all.copied().find(|v| !(in_range(*v) && *v >= 0.0)) {
         return Err(bad(
             "std",
             format!("{v} is not a standard deviation (finite, >= 0)"),

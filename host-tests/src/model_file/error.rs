@@ -42,6 +42,18 @@ pub enum ModelFileError {
         /// The underlying error.
         source: serde_json::Error,
     },
+    /// An object of the file repeats a key (JSON readers would keep one of the values
+    /// silently).
+    #[error(
+        "{path}: key \"{key}\" appears twice: a model file states each key once; keep the one \
+         meant"
+    )]
+    DuplicateKey {
+        /// File that was being read.
+        path: PathBuf,
+        /// The repeated key, with its place (`D`, `noise.c`).
+        key: String,
+    },
     /// The model is well-formed JSON but inconsistent (wrong matrix shape, lengths that differ,
     /// non-finite numbers, knots out of order).
     #[error("{path}: field \"{field}\": {reason}")]

@@ -15,6 +15,7 @@
 
 mod check;
 mod error;
+mod keys;
 mod parts;
 
 use std::path::Path;
@@ -25,6 +26,7 @@ use crate::io::{FileError, read_to_string_limited};
 use crate::model::Element;
 
 pub use crate::model::MemoryElement;
+pub use check::{MAX_MAGNITUDE, MAX_MODEL_KNOTS, MAX_MODEL_ORDER, POLE_TOLERANCE};
 pub use error::ModelFileError;
 pub use parts::{FormatTag, ModelStd, NoiseFile, Units};
 
@@ -109,9 +111,10 @@ pub struct ModelFile {
 impl ModelFile {
     /// Checks shapes and values (see `check.rs`): `A` is order×order, `B`, `C` and `poles` have
     /// `order` entries, each knot vector has as many entries as its border, knots increase
-    /// strictly from `u_min` to `u_max`, every number is finite, the noise model is monic, the
-    /// standard deviations have the shapes of what they describe. `source` is only used in the
-    /// error.
+    /// strictly from `u_min` to `u_max`, every number is finite and at most [`MAX_MAGNITUDE`]
+    /// in magnitude, the units hold no double quote or control character, the noise model is
+    /// monic, the standard deviations have the shapes of what they describe. `source` is only
+    /// used in the error.
     pub fn validate(&self, source: impl AsRef<Path>) -> Result<(), ModelFileError> {
         check::validate(self, source.as_ref())
     }
@@ -126,8 +129,12 @@ impl ModelFile {
         Ok(text)
     }
 
-    /// Parses JSON text, checks its version and [`validate`](Self::validate)s it; `source` is
-    /// only used in errors.
+    /// Parses JSON text, refuses a key that an object repeats
+    /// ([`ModelFileError::DuplicateKey`]), checks its version and
+    /// [`validate`](Self::validate)s it, then checks what a file read must be besides: `A`
+    /// stable (its eigenvalues strictly inside the unit circle, for an integrating model too,
+    /// whose `A` is the stable part) and `poles` the eigenvalues of `A` (within
+    /// [`POLE_TOLERANCE`] relative). `source` is only used in errors.
     ///
     /// A type error inside a field names that field (e.g. `field A[1][0]: invalid type ...`); a
     /// missing field is reported as `missing field `A``.
@@ -135,6 +142,12 @@ impl ModelFile {
         let path = source.as_ref();
         let value: serde_json::Value =
             serde_json::from_str(text).map_err(|source| json(path, source))?;
+        if let Some(key) = keys::first_duplicate(text) {
+            return Err(ModelFileError::DuplicateKey {
+                path: path.to_path_buf(),
+                key,
+            });
+        }
         let found = value.get("format");
         if found.and_then(|v| v.as_str()) != Some(FORMAT) {
             return Err(ModelFileError::Version {
@@ -156,6 +169,7 @@ impl ModelFile {
             }
         })?;
         model.validate(path)?;
+        check::on_read(&model, path)?;
         Ok(model)
     }
 

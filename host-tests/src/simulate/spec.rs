@@ -220,10 +220,12 @@ impl Shape {
 }
 
 impl PlantSpec {
-    /// Parses a specification from JSON text; an error names the offending field.
+    /// Parses a specification from JSON text; an error names the offending field. A unit
+    /// that holds a double quote or a control character is refused
+    /// ([`check_unit_text`](crate::units::check_unit_text)).
     pub fn from_json_str(text: &str) -> Result<Self, SimulateError> {
         let de = &mut serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(de).map_err(|e| {
+        let spec: Self = serde_path_to_error::deserialize(de).map_err(|e| {
             if e.inner().is_syntax() || e.inner().is_eof() {
                 SimulateError::Json {
                     reason: e.inner().to_string(),
@@ -234,6 +236,17 @@ impl PlantSpec {
                     reason: e.inner().to_string(),
                 }
             }
-        })
+        })?;
+        if let Some(u) = &spec.units {
+            for (field, unit) in [("units.input", &u.input), ("units.output", &u.output)] {
+                if let Some(unit) = unit {
+                    crate::units::check_unit_text(unit).map_err(|e| SimulateError::Format {
+                        field: field.to_string(),
+                        reason: format!("{unit:?}: {e}"),
+                    })?;
+                }
+            }
+        }
+        Ok(spec)
     }
 }

@@ -27,5 +27,7 @@ pub mod time;
 
 pub use header::{HeaderComment, header_comments};
 pub use report::{GapAt, UnitReport};
-pub use stated::{UnitsError, UnitsOrigin, resolve_units, units_from_comments};
+pub use stated::{
+    UnitCharError, UnitsError, UnitsOrigin, check_unit_text, resolve_units, units_from_comments,
+};
 pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column, ts_from_comments};

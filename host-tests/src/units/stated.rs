@@ -60,6 +60,20 @@ pub enum UnitsError {
         /// The signal whose unit is stated (`"input"` or `"output"`).
         stated: &'static str,
     },
+    /// A header comment's unit holds a character a unit may not hold.
+    #[error("{file} line {line}: the {signal} unit {unit:?}: {error}")]
+    BadCharacter {
+        /// The record.
+        file: PathBuf,
+        /// 1-based line of the comment.
+        line: usize,
+        /// `"input"` or `"output"`.
+        signal: &'static str,
+        /// The unit as stated.
+        unit: String,
+        /// The character refused.
+        error: UnitCharError,
+    },
     /// Two sources state different units.
     #[error(
         "{} give u in {} and y in {} but {} give u in {} and y in {}; drop one or make them agree",
@@ -73,6 +87,33 @@ pub enum UnitsError {
     },
 }
 
+/// A character a unit's name may not hold: a control character (below U+0020, or U+007F: a
+/// line break, a tab) or a double quote. A unit is written into CSV header comments, JSON,
+/// SVG and HTML as it is given; these characters break a line or a quoted string there, so
+/// they are refused wherever a unit is stated (a flag, a model file, a header comment).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{}: a unit is plain text without double quotes or control characters, e.g. V or deg",
+    describe_char(*.0)
+)]
+pub struct UnitCharError(pub char);
+
+/// The first character of `unit` that a unit may not hold ([`UnitCharError`]).
+pub fn check_unit_text(unit: &str) -> Result<(), UnitCharError> {
+    match unit.chars().find(|&c| c == '"' || c < ' ' || c == '\u{7f}') {
+        Some(c) => Err(UnitCharError(c)),
+        None => Ok(()),
+    }
+}
+
+/// `a double quote` or `the control character U+000A`.
+fn describe_char(c: char) -> String {
+    match c {
+        '"' => "it holds a double quote (\")".to_string(),
+        c => format!("it holds the control character U+{:04X}", u32::from(c)),
+    }
+}
+
 /// The signal whose unit a half comment leaves out.
 fn other_signal(stated: &str) -> &'static str {
     if stated == "input" { "output" } else { "input" }
@@ -83,9 +124,9 @@ fn other_signal(stated: &str) -> &'static str {
 pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, UnitsError> {
     let (mut input, mut output) = (None, None);
     for c in header_comments(text) {
-        let slot = match c.key {
-            "input unit" => &mut input,
-            "output unit" => &mut output,
+        let (slot, signal) = match c.key {
+            "input unit" => (&mut input, "input"),
+            "output unit" => (&mut output, "output"),
             _ => continue,
         };
         if c.value.is_empty() {
@@ -94,6 +135,13 @@ pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, U
                 line: c.line,
             });
         }
+        check_unit_text(c.value).map_err(|error| UnitsError::BadCharacter {
+            file: source.to_path_buf(),
+            line: c.line,
+            signal,
+            unit: c.value.to_string(),
+            error,
+        })?;
         *slot = Some((c.line, c.value.to_string()));
     }
     let half = |line, stated| UnitsError::HalfComment {
@@ -146,6 +194,21 @@ mod tests {
         text.push_str("u,y\n1,2\n# input unit = A\n");
         let got = units_from_comments(Path::new("r.csv"), &text).unwrap();
         assert_eq!(got, Some(units("V", "rad/s")));
+    }
+
+    #[test]
+    fn a_unit_with_a_quote_or_a_control_character_is_refused() {
+        assert_eq!(check_unit_text("m/s²"), Ok(()));
+        assert_eq!(check_unit_text("V\""), Err(UnitCharError('"')));
+        assert_eq!(check_unit_text("a\tb"), Err(UnitCharError('\t')));
+        assert_eq!(check_unit_text("x\u{7f}"), Err(UnitCharError('\u{7f}')));
+        let text = "# input unit = V\"\n# output unit = deg\nu,y\n";
+        let e = units_from_comments(Path::new("r.csv"), text).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "r.csv line 1: the input unit \"V\\\"\": it holds a double quote (\"): a unit is \
+             plain text without double quotes or control characters, e.g. V or deg"
+        );
     }
 
     #[test]

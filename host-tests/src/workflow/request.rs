@@ -285,9 +285,8 @@ impl IdentifyRequest {
             ));
         }
         let most = max_segments(self.element == Element::Static);
-        if let Some(SegmentCount::Fixed(n)) = self
-            .segments
-            .filter(|_| self.knots_asc.is_none() && self.knots_desc.is_none())
+        // Checked before the knots are built (a count near `usize::MAX` cannot be allocated).
+        if let Some(SegmentCount::Fixed(n)) = self.segments
             && n > MAX_SEGMENT_COUNT
         {
             return Err(RequestError::new(
@@ -491,14 +490,17 @@ impl IdentifyRequest {
                 ),
             ));
         }
-        // The first experiment must outlast the hold (of the increments, which lose one
-        // sample of each, for an integrating plant).
+        self.check_hold(record.first_len(), record.hold)
+    }
+
+    /// Checks that a first experiment of `samples` samples outlasts a hold of `hold` samples
+    /// (of the increments, which lose one sample of each, for an integrating plant): with
+    /// every sample inside the hold there is nothing to identify from.
+    pub fn check_hold(&self, samples: usize, hold: usize) -> Result<(), RequestError> {
+        let s = self.syntax;
         let (hold, first) = match self.integrating {
-            true => (
-                record.hold.saturating_sub(1),
-                record.first_len().saturating_sub(1),
-            ),
-            false => (record.hold, record.first_len()),
+            true => (hold.saturating_sub(1), samples.saturating_sub(1)),
+            false => (hold, samples),
         };
         if hold < first {
             return Ok(());
