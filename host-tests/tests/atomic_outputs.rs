@@ -10,33 +10,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use common::{Scratch, p};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn servo() -> PathBuf {
-    repo().join("examples/data/servo.csv")
-}
+use common::{Scratch, p, servo};
 
 /// `identify` on the servo record, quickly (the subspace model), with `extra`.
 fn servo_args(extra: &[&str]) -> Vec<String> {
-    let mut v: Vec<String> = [
-        "identify",
-        "--data",
-        p(&servo()),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--no-refine",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    v.extend(extra.iter().map(|s| s.to_string()));
-    v
+    common::servo_args("identify", &[&["--no-refine"], extra].concat())
 }
 
 fn is_model_file(path: &Path) -> bool {
@@ -139,23 +117,7 @@ fn concurrent_writers_leave_a_whole_file() {
 #[test]
 fn an_interrupted_fleet_leaves_the_previous_results() {
     let dir = Scratch::new("fleet-sigint");
-    let states = dir.join("states");
-    let truth = dir.join("truth.csv");
-    common::hsid(&[
-        "fleet",
-        "simulate",
-        "--devices",
-        "150",
-        "--weeks",
-        "2",
-        "--samples",
-        "2000",
-        "--out",
-        p(&states),
-        "--truth",
-        p(&truth),
-    ])
-    .success();
+    let (states, _) = common::simulate_fleet(&dir, 150, 2);
     let out = dir.join("prev.jsonl");
     let previous = "{\"previous\": true}\n";
     fs::write(&out, previous).unwrap();

@@ -6,55 +6,14 @@
 mod common;
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-use common::{Scratch, hsid, p};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use common::{Scratch, hsid, p, servo, servo_model};
 
 /// A small fleet of `devices` × 1 week in `dir`: the states folder and the truth table.
 fn fleet(dir: &Scratch, devices: usize) -> (PathBuf, PathBuf) {
-    let states = dir.join("states");
-    let truth = dir.join("truth.csv");
-    hsid(&[
-        "fleet",
-        "simulate",
-        "--devices",
-        &devices.to_string(),
-        "--weeks",
-        "1",
-        "--samples",
-        "2000",
-        "--out",
-        p(&states),
-        "--truth",
-        p(&truth),
-    ])
-    .success();
-    (states, truth)
-}
-
-/// A model file of the servo record.
-fn model(dir: &Scratch) -> PathBuf {
-    let json = dir.join("m.json");
-    let servo = repo().join("examples/data/servo.csv");
-    hsid(&[
-        "identify",
-        "--data",
-        p(&servo),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--no-refine",
-        "--json",
-        p(&json),
-    ])
-    .success();
-    json
+    common::simulate_fleet(dir, devices, 1)
 }
 
 #[cfg(unix)]
@@ -64,8 +23,8 @@ fn a_device_or_folder_is_refused_on_every_input_path() {
     let (states, truth) = fleet(&dir, 3);
     let models = dir.join("models.jsonl");
     hsid(&["fleet", "--states", p(&states), "--out", p(&models)]).success();
-    let json = model(&dir);
-    let servo = repo().join("examples/data/servo.csv");
+    let json = servo_model(&dir, &[]);
+    let servo = servo();
     let folder = dir.join("");
     let cases: Vec<(&str, Vec<&str>)> = vec![
         ("solve --state", vec!["solve", "--state", "/dev/zero"]),
@@ -193,7 +152,7 @@ fn a_fifo_in_a_fleet_costs_that_entry() {
 /// segment count beyond the largest capacity, a delay, a step count, a thread count.
 #[test]
 fn sizes_beyond_the_bounds_are_refused_before_work() {
-    let servo = repo().join("examples/data/servo.csv");
+    let servo = servo();
     let data = ["--data", p(&servo), "--umin", "-1", "--umax", "1"];
     let cases: [(&[&str], &str); 7] = [
         (
@@ -326,8 +285,8 @@ fn a_header_wider_than_the_limit_is_refused() {
 #[test]
 fn a_model_file_beyond_the_sizes_is_refused_on_reading() {
     let dir = Scratch::new("bounded-model");
-    let json = model(&dir);
-    let servo = repo().join("examples/data/servo.csv");
+    let json = servo_model(&dir, &[]);
+    let servo = servo();
     let text = fs::read_to_string(&json).unwrap();
     let base: serde_json::Value = serde_json::from_str(&text).unwrap();
     let n = 300;

@@ -8,37 +8,19 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::{Run, Scratch, hsid, p};
-
-/// The repository's servo record (`examples/data/servo.csv`).
-fn servo() -> PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
-}
+use common::{Run, Scratch, hsid, p, servo, servo_args, servo_model};
 
 /// A model of the servo record written by `hsid identify --json` (with units), in `dir`.
 fn identified(dir: &Scratch) -> PathBuf {
-    let model = dir.join("m.json");
-    let data = servo();
-    hsid(&[
-        "identify",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--no-refine",
+    let units = [
         "--segments",
         "3",
         "--input-unit",
         "V",
         "--output-unit",
         "deg",
-        "--json",
-        p(&model),
-    ])
-    .success();
-    model
+    ];
+    servo_model(dir, &units)
 }
 
 /// `hsid validate` of the model file `name` (`text`, written to `dir`) on the servo record.
@@ -82,31 +64,10 @@ fn refused_at_flag(run: &Run, flag: &str, value: &str) {
 
 #[test]
 fn a_hold_longer_than_the_record_is_refused_by_diagnose_as_by_identify() {
-    let data = servo();
     let hold = usize::MAX.to_string();
-    let diagnose = hsid(&[
-        "diagnose",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--hold",
-        &hold,
-    ]);
+    let diagnose = hsid(&servo_args("diagnose", &["--hold", &hold]));
     let line = diagnose.clean_error(&["servo.csv", "all inside the hold", "(--hold)", &hold]);
-    let identify = hsid(&[
-        "identify",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--hold",
-        &hold,
-    ]);
+    let identify = hsid(&servo_args("identify", &["--hold", &hold]));
     assert_eq!(
         identify.clean_error(&[]),
         line,
@@ -116,20 +77,10 @@ fn a_hold_longer_than_the_record_is_refused_by_diagnose_as_by_identify() {
 
 #[test]
 fn horizons_and_delays_near_the_largest_count_are_refused_not_overflowed() {
-    let data = servo();
     let huge = usize::MAX.to_string();
-    let base = [
-        "diagnose",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-    ];
-    let f = hsid(&[&base[..], &["--f", &huge]].concat());
+    let f = hsid(&servo_args("diagnose", &["--f", &huge]));
     f.clean_error(&["samples are too few"]);
-    let delay = hsid(&[&base[..], &["--max-delay", &huge]].concat());
+    let delay = hsid(&servo_args("diagnose", &["--max-delay", &huge]));
     delay.clean_error(&["--max-delay", &huge]);
 }
 
@@ -157,17 +108,7 @@ fn a_number_flag_that_is_not_finite_is_refused_at_the_flag() {
     assert!(!out.exists(), "nothing is written");
     let diagnose = hsid(&["diagnose", "--data", p(&data), "--min-gain", "NaN"]);
     refused_at_flag(&diagnose, "--min-gain", "NaN");
-    let mu0 = hsid(&[
-        "identify",
-        "--data",
-        p(&data),
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--mu0",
-        "inf",
-    ]);
+    let mu0 = hsid(&servo_args("identify", &["--mu0", "inf"]));
     refused_at_flag(&mu0, "--mu0", "inf");
     let knots = hsid(&["diagnose", "--data", p(&data), "--knots=-1,NaN,1"]);
     refused_at_flag(&knots, "--knots", "NaN");

@@ -129,6 +129,54 @@ pub fn hsid<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
     run
 }
 
+/// The bundled servo record (`examples/data/servo.csv`, input in [-1, 1]).
+pub fn servo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
+}
+
+/// The arguments of `hsid COMMAND` on the bundled servo record (`--umin -1 --umax 1`), then
+/// `extra`.
+pub fn servo_args(command: &str, extra: &[&str]) -> Vec<String> {
+    let servo = servo();
+    [command, "--data", p(&servo), "--umin", "-1", "--umax", "1"]
+        .iter()
+        .chain(extra)
+        .map(|s| s.to_string())
+        .collect()
+}
+
+/// A model file of the servo record (`hsid identify --no-refine --json`, then `extra`),
+/// written in `dir` as `m.json`.
+pub fn servo_model(dir: &Scratch, extra: &[&str]) -> PathBuf {
+    let model = dir.join("m.json");
+    let json = ["--no-refine", "--json", p(&model)];
+    hsid(&servo_args("identify", &[&json[..], extra].concat())).success();
+    model
+}
+
+/// `hsid fleet simulate` of `devices` × `weeks` checkpoints (2,000 samples each) into `dir`:
+/// the states folder and the truth table.
+pub fn simulate_fleet(dir: &Scratch, devices: usize, weeks: usize) -> (PathBuf, PathBuf) {
+    let (states, truth) = (dir.join("states"), dir.join("truth.csv"));
+    let (devices, weeks) = (devices.to_string(), weeks.to_string());
+    hsid(&[
+        "fleet",
+        "simulate",
+        "--devices",
+        &devices,
+        "--weeks",
+        &weeks,
+        "--samples",
+        "2000",
+        "--out",
+        p(&states),
+        "--truth",
+        p(&truth),
+    ])
+    .success();
+    (states, truth)
+}
+
 pub fn p(path: &Path) -> &str {
     path.to_str().unwrap()
 }
