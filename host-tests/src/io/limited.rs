@@ -43,7 +43,7 @@ pub enum LimitedReadError {
 /// [`read_to_string_limited`] with its failure as one I/O error, for readers whose error
 /// keeps the path beside an I/O cause: a file larger than `limit` is
 /// [`FileTooLarge`](std::io::ErrorKind::FileTooLarge), saying its size and the limit.
-pub fn read_text_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
+pub fn read_text_bounded(path: &Path, limit: u64) -> Result<String, std::io::Error> {
     read_to_string_limited(path, limit).map_err(|e| match e {
         LimitedReadError::File(f) => f.source,
         LimitedReadError::TooLarge(t) => std::io::Error::new(
