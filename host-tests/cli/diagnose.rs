@@ -16,7 +16,6 @@ use hsid_host::html::Reproduction;
 use hsid_host::html::diagnosis_page::{diagnosis_figures, diagnosis_page};
 use hsid_host::identify::IdentifyOptions;
 use hsid_host::integrating::increments_options;
-use hsid_host::io::StagedDir;
 use hsid_host::model_file::Units;
 use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
@@ -410,12 +409,10 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
     outln!("{}", report::text(&d))?;
     if let Some(dir) = &a.out {
         // Written together: a run that fails or is stopped leaves the previous figures.
-        let at = |e: std::io::Error| format!("{}: {e}", dir.display());
-        let stage = StagedDir::create(dir).map_err(at)?;
-        let inside = stage.path().display().to_string();
-        let files = figures::write_figures(&d, stage.path(), &a.prefix, &a.title)
-            .map_err(|e| e.to_string().replace(&inside, &dir.display().to_string()))?;
-        for f in stage.commit(&files).map_err(at)? {
+        let files = crate::figures::in_stage(dir, |stage| {
+            figures::write_figures(&d, stage, &a.prefix, &a.title)
+        })?;
+        for f in files {
             outln!("wrote {}", f.display())?;
         }
     }

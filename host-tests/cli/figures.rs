@@ -117,7 +117,23 @@ pub fn staged(
     dir: &Path,
     write: impl FnOnce(&Path) -> Result<Written, FigureError>,
 ) -> Result<Vec<String>, Failure> {
-    let at = |e: std::io::Error| format!("{}: {e}", dir.display());
+    let mut notes = Vec::new();
+    let files = in_stage(dir, |stage| {
+        write(stage).map(|w| {
+            notes = w.notes;
+            w.files
+        })
+    })?;
+    Ok(lines(dir, &Written { files, notes }))
+}
+
+/// The files that `write` writes into the folder it is given, moved into `dir` together once
+/// all are written ([`StagedDir`]); their paths in `dir`. Errors name `dir`, not the staging
+/// folder inside it.
+pub fn in_stage<E: std::fmt::Display>(
+    dir: &Path,
+    write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, E>,
+) -> Result<Vec<PathBuf>, Failure> {
     let stage = StagedDir::create(dir).map_err(|source| {
         FigureError::CreateDir {
             path: dir.to_path_buf(),
@@ -125,12 +141,12 @@ pub fn staged(
         }
         .to_string()
     })?;
-    // Errors name the folder asked for, not the staging folder inside it.
     let inside = stage.path().display().to_string();
-    let mut written = write(stage.path())
+    let files = write(stage.path())
         .map_err(|e| e.to_string().replace(&inside, &dir.display().to_string()))?;
-    written.files = stage.commit(&written.files).map_err(at)?;
-    Ok(lines(dir, &written))
+    Ok(stage
+        .commit(&files)
+        .map_err(|e| format!("{}: {e}", dir.display()))?)
 }
 
 /// What was written, as lines: the notes, then the count and the directory.
