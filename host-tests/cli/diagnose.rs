@@ -283,12 +283,6 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
     opts.max_steps = a.max_steps;
     opts.min_gain = a.min_gain;
     opts.max_delay = a.max_delay;
-    if !(a.inner_fraction > 0.0 && a.inner_fraction < 1.0) {
-        return Err(format!(
-            "--inner-fraction {} must lie strictly between 0 and 1",
-            a.inner_fraction
-        ));
-    }
     opts.inner_fraction = a.inner_fraction;
     if let Some(r) = &a.select_segments {
         let r = parse_range(r).map_err(|e| e.replace("--holdout", "--select-segments"))?;
