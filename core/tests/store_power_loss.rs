@@ -39,6 +39,7 @@ fn power_cut_at_each_of_37412_points_of_a_save_after_one_good_save_loads_old_or_
 }
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: exhaustive power cuts, about 45 s"]
 fn power_cut_at_each_of_37412_points_of_a_save_over_the_older_slot_loads_old_or_new() {
     // Both slots hold a checkpoint; the save erases and rewrites the older one.
     let c = paper_checkpoints(&[700, 1500, 2500]);

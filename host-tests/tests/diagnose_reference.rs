@@ -59,6 +59,7 @@ fn feedback_message(d: &Diagnosis) -> Option<&str> {
 }
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: Monte Carlo over seeds, about 4 min"]
 fn with_the_reference_the_base_model_is_not_biased_by_the_feedback() {
     let spec = ServoSpec::coloured();
     let (mut open, mut closed, mut closed_final) = (Vec::new(), Vec::new(), Vec::new());

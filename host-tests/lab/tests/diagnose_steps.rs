@@ -12,6 +12,7 @@ use hsid_lab::bench::{Outcome, run_all};
 use hsid_lab::scenario::{Plant, Scenario};
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: Monte Carlo over seeds, about 25 s"]
 fn no_added_step_raises_the_validation_error() {
     let kind = Element::Backlash;
     let scenarios: Vec<Scenario> = [

@@ -16,6 +16,7 @@ fn run(plant: TwoTanks) -> Result<(Diagnosis, f64), Box<dyn std::error::Error>> 
 }
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: Monte Carlo over tank records, about 4 min"]
 fn square_root_tanks_get_level_dependent_stores() -> Outcome {
     // Two of the runs of the example's table in which the estimation data can score
     // extensions (in the others the inner validation refuses to score anything and nothing

@@ -208,6 +208,7 @@ fn clean_output(d: &hsid_lab::family_b::Data) -> Vec<f64> {
 /// plant, and the outliers of seed 2 (a dozen spikes in the inner block: the kept model's
 /// significance is the heavy-tails test's).
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: confusion over seeds, about 2 min"]
 fn diagnosis_names_these_seeds_right() {
     let cases = [
         (Class::Clean, 1),
@@ -239,6 +240,7 @@ fn diagnosis_names_these_seeds_right() {
 /// static model whose element fit also improves `G` (static_hysteresis seed 6) is still named
 /// first.
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: confusion over seeds, about 30 s"]
 fn hysteresis_is_named_only_for_its_memory() {
     let clean = run_one(&Scenario::new(Class::Clean, 8));
     assert!(clean.error.is_none(), "{}", clean.line());
@@ -259,6 +261,7 @@ fn hysteresis_is_named_only_for_its_memory() {
 /// order 3 the output curve is named. Seed 1 of the same class (order 1, Table I on a backlash) keeps
 /// its order, without the warning.
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: about 30 s"]
 fn a_declared_order_the_record_cannot_normalise_is_lowered() {
     let lowered = run_one(&Scenario::new(Class::OutputCurve, 4));
     assert!(lowered.error.is_none(), "{}", lowered.line());

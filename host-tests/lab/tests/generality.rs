@@ -12,6 +12,7 @@ use hsid_lab::generality::{
 };
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: Monte Carlo over 20 random plants, about 5 min"]
 fn the_default_lands_near_the_noise_floor_on_random_plants() {
     let rows: Vec<Row> = (0..12)
         .map(|i| run_case(1, i, &[paper_estimate, default_estimate, diagnose_estimate]).unwrap())

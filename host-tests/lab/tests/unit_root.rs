@@ -14,6 +14,7 @@ use hsid_host::model::Element;
 /// order-4 plant whose base model has a pole at the circle), and on every scenario of the
 /// first family. A diagnosis of an integrating plant adds nothing and ends with the route.
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: Monte Carlo over plants, about 3 min"]
 fn the_unit_root_test_tells_integrating_plants_from_slow_ones() {
     use hsid_host::diagnose::verdict::End;
     use hsid_host::diagnose::{Check, DiagnoseOptions, Effect, diagnose};
