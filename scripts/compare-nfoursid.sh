@@ -27,5 +27,11 @@ fi
 "$VENV/bin/pip" install --quiet --disable-pip-version-check nfoursid
 echo "nfoursid $("$VENV/bin/python" -c 'import importlib.metadata as m; print(m.version("nfoursid"))'), numpy $("$VENV/bin/python" -c 'import numpy; print(numpy.__version__)')"
 
-cargo run --release --quiet -p hsid-host --example export_zy -- "$OUT" "$RUNS" "$CASE" "$HORIZON" "$METHOD"
+# HSID_EXPORT_ZY: an export_zy binary built already (`.ci/run` takes the one the test step
+# built), else it is built here.
+if [ -n "${HSID_EXPORT_ZY:-}" ]; then
+    "$HSID_EXPORT_ZY" "$OUT" "$RUNS" "$CASE" "$HORIZON" "$METHOD"
+else
+    cargo run --release --quiet -p hsid-host --example export_zy -- "$OUT" "$RUNS" "$CASE" "$HORIZON" "$METHOD"
+fi
 "$VENV/bin/python" scripts/compare_nfoursid.py "$OUT"

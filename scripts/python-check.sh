@@ -14,8 +14,15 @@ venv=$root/target/py-venv
 # script or its scripts' #! lines: those name the path the venv was made at, so a copied venv
 # would install into the original.
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check maturin numpy pytest "dask[distributed]" nfoursid pandas scipy
-cargo build --release --quiet -p hsid-host --bin hsid
-cargo build --release --quiet -p hsid-py --example make_checkpoint
+# HSID_PREBUILT=1: target/release/hsid and target/release/examples/make_checkpoint are built
+# already (`.ci/run` runs the test command first, which builds both), else they are built here.
+if [ -z "${HSID_PREBUILT:-}" ]; then
+  cargo build --release --quiet -p hsid-host --bin hsid
+  cargo build --release --quiet -p hsid-py --example make_checkpoint
+fi
+for b in target/release/hsid target/release/examples/make_checkpoint; do
+  [ -x "$b" ] || { echo "$b is missing: build it, or run without HSID_PREBUILT" >&2; exit 1; }
+done
 export VIRTUAL_ENV=$venv PATH=$venv/bin:$PATH
 (cd python && "$venv/bin/python" -m maturin develop --release --quiet)
 

@@ -11,8 +11,10 @@ mod failure;
 mod figures;
 mod fleet;
 mod identify;
+mod interrupt;
 mod locate;
 mod paper;
+mod progress;
 mod simulate;
 mod solve;
 mod validate;
@@ -28,6 +30,10 @@ use clap::{Parser, Subcommand};
     about = "Subspace identification of Hammerstein systems with backlash or switch input nonlinearities"
 )]
 struct Cli {
+    /// Show no stages on standard error while a long run goes on (they show only for runs
+    /// longer than a second; errors and warnings are printed either way)
+    #[arg(long, global = true)]
+    quiet: bool,
     #[command(subcommand)]
     cmd: Cmd,
 }
@@ -58,7 +64,15 @@ enum Cmd {
 }
 
 fn main() -> ExitCode {
-    let result = match Cli::parse().cmd {
+    let cli = Cli::parse();
+    if let Err(e) = interrupt::install() {
+        eprintln!(
+            "hsid: warning: Ctrl-C and SIGTERM will stop the command without removing its \
+             temporary files: {e}"
+        );
+    }
+    let reporter = progress::reporter(cli.quiet);
+    let result = progress::run(reporter.as_ref(), || match cli.cmd {
         Cmd::Paper(a) => paper::run(&a),
         Cmd::Excite(a) => excite::run(&a),
         Cmd::Identify(a) => identify::run(&a),
@@ -67,7 +81,7 @@ fn main() -> ExitCode {
         Cmd::Validate(a) => validate::run(&a),
         Cmd::Simulate(a) => simulate::run(&a).map_err(failure::Failure::from),
         Cmd::Fleet(a) => fleet::run(&a),
-    };
+    });
     match result {
         Ok(()) | Err(failure::Failure::OutputClosed) => ExitCode::SUCCESS,
         Err(failure::Failure::Message(e)) => {

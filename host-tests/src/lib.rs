@@ -18,6 +18,7 @@ pub mod model_file;
 pub mod numerics;
 pub mod paper;
 pub mod plot;
+pub mod progress;
 pub mod reference;
 pub mod refine;
 pub mod report;

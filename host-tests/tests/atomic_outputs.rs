@@ -145,6 +145,12 @@ fn an_interrupted_fleet_leaves_the_previous_results() {
             text == previous || whole_new,
             "after {wait_ms} ms: neither the previous file nor a whole new one:\n{text}"
         );
+        // The interrupted run removed its temporary file.
+        let left: Vec<String> = leftovers(&dir.join(""), &[])
+            .into_iter()
+            .filter(|n| n.starts_with(".hsid-"))
+            .collect();
+        assert_eq!(left, Vec::<String>::new(), "after {wait_ms} ms");
         fs::write(&out, previous).unwrap();
     }
 }
@@ -188,6 +194,12 @@ fn an_interrupted_run_leaves_the_previous_figures() {
             "after {wait_ms} ms: {previous} of {} figure files are the previous ones",
             names.len()
         );
+        // The stopped run removed its staging folder and temporary files.
+        let left: Vec<String> = leftovers(&figures, &[])
+            .into_iter()
+            .filter(|n| n.starts_with(".hsid-"))
+            .collect();
+        assert_eq!(left, Vec::<String>::new(), "after {wait_ms} ms");
     }
 }
 

@@ -238,3 +238,55 @@ fn diagnose_names_what_the_model_file_leaves_out() {
     assert_eq!(r["model_after"]["structure"]["delay"], 3);
     check("diagnose --model-out", &read(&model));
 }
+
+/// The schema states the reader's bounds: a file beyond one (a number above 1e150, an order
+/// above 128, more than 1,024 knots, a unit with a line break or a double quote) fails both
+/// the schema and the reader, and the file it came from passes both.
+#[test]
+fn the_schema_and_the_reader_refuse_the_same_bounds() {
+    let dir = Scratch::new("model-format-bounds");
+    let model = common::servo_model(&dir, &[]);
+    let text = read(&model);
+    let good = check("servo model", &text);
+    type Change = Box<dyn Fn(&mut Value)>;
+    let cases: Vec<(&str, Change)> = vec![
+        ("D beyond 1e150", Box::new(|v| v["D"] = 1e151.into())),
+        (
+            "a knot beyond 1e150",
+            Box::new(|v| v["u_max"] = (-2e150).into()),
+        ),
+        ("order 129", Box::new(|v| v["order"] = 129.into())),
+        (
+            "1,025 knots",
+            Box::new(|v| {
+                let k: Vec<f64> = (0..1025).map(f64::from).collect();
+                v["knots_asc"] = k.into();
+            }),
+        ),
+        (
+            "a line break in a unit",
+            Box::new(|v| v["units"]["input"] = "V\nu,y".into()),
+        ),
+        (
+            "a double quote in a unit",
+            Box::new(|v| v["units"]["output"] = "de\"g".into()),
+        ),
+        (
+            "ESC in a unit",
+            Box::new(|v| v["units"]["output"] = "\u{1b}[31m".into()),
+        ),
+    ];
+    for (name, change) in cases {
+        let mut v = good.clone();
+        change(&mut v);
+        assert!(
+            !schema_errors(&v).is_empty(),
+            "{name}: the schema accepts it"
+        );
+        let changed = serde_json::to_string_pretty(&v).unwrap();
+        assert!(
+            ModelFile::from_json_str(name, &changed).is_err(),
+            "{name}: the reader accepts it"
+        );
+    }
+}

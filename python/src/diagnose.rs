@@ -85,11 +85,11 @@ pub fn diagnose<'py>(
         },
         None => Validation::Split(split),
     };
-    let text = py.detach(|| {
+    let text = crate::interrupt::interruptible(py, move || {
         let d = run(&est, &validation, &opts).map_err(Failure::from)?;
         serde_json::to_string(&report::to_json(&d))
             .map_err(|e| Failure::new(Class::Data, "json", e.to_string()))
-    })?;
+    })??;
     py.import("json")?.call_method1("loads", (text,))
 }
 

@@ -9,6 +9,7 @@ use hsid_host::diagnose::DiagnoseError;
 use hsid_host::fleet::device::checkpoint_kind;
 use hsid_host::identify::IdentifyError;
 use hsid_host::model_file::ModelFileError;
+use hsid_host::progress::Interrupted;
 use hsid_host::simulate::SimulateError;
 use hsid_host::units::TimeError;
 use hsid_host::workflow::{RequestError, WorkflowError};
@@ -151,7 +152,16 @@ impl From<WorkflowError> for Failure {
             e @ WorkflowError::ElementFit { .. } => {
                 Failure::new(Class::Identification, "element_fit", e.to_string())
             }
+            WorkflowError::Interrupted(i) => i.into(),
         }
+    }
+}
+
+/// A run stopped by its caller: the call that stopped it raises `KeyboardInterrupt` itself
+/// ([`crate::interrupt`]), so this reaches Python only from a run stopped another way.
+impl From<Interrupted> for Failure {
+    fn from(e: Interrupted) -> Self {
+        Failure::new(Class::Identification, "interrupted", e.to_string())
     }
 }
 
@@ -165,6 +175,7 @@ impl From<ChooseError> for Failure {
             e @ ChooseError::NoCandidate => {
                 Failure::new(Class::Settings, "no_candidate", e.to_string())
             }
+            ChooseError::Interrupted(i) => i.into(),
         }
     }
 }
@@ -213,6 +224,7 @@ impl From<DiagnoseError> for Failure {
     fn from(e: DiagnoseError) -> Self {
         let (class, kind) = match &e {
             DiagnoseError::Identify(i) => return i.clone().into(),
+            DiagnoseError::Interrupted(i) => return (*i).into(),
             DiagnoseError::LengthMismatch { .. } => (Class::Data, "length_mismatch"),
             DiagnoseError::TooShort { .. } => (Class::Data, "too_short"),
             DiagnoseError::AllHold { .. } => (Class::Data, "all_hold"),

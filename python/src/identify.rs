@@ -140,7 +140,9 @@ pub fn identify(
         request.reference = Some("reference".to_string());
     }
     (rec.ts, rec.units) = (ts, units);
-    let id = py.detach(|| identify_record(&rec, &request).map_err(Failure::from))?;
+    let id = crate::interrupt::interruptible(py, move || {
+        identify_record(&rec, &request).map_err(Failure::from)
+    })??;
     Ok(Model::with_notes(id.model_file(), identified_notes(&id)))
 }
 

@@ -7,6 +7,7 @@ mod diagnose;
 mod error;
 mod fleet;
 mod identify;
+mod interrupt;
 mod model;
 mod regressor;
 mod settings;

@@ -170,7 +170,7 @@ impl Records {
             WorkflowError::ClosedLoop { name, error } => {
                 format!("{first} (reference column {name}): {error}")
             }
-            e @ WorkflowError::ElementFit { .. } => e.to_string(),
+            e @ (WorkflowError::ElementFit { .. } | WorkflowError::Interrupted(_)) => e.to_string(),
             WorkflowError::Choose(e) => format!("{first}: {e}"),
         }
         .into()

@@ -47,6 +47,9 @@ pub enum ChooseError {
     /// No candidate was given (an empty list of candidate orders).
     #[error("no candidate to identify: give at least one order or segment count")]
     NoCandidate,
+    /// The caller stopped the run.
+    #[error(transparent)]
+    Interrupted(#[from] crate::progress::Interrupted),
 }
 
 /// How the horizons are set.
@@ -256,9 +259,11 @@ pub fn best_model(
     let mut scores = Vec::new();
     let mut failures = Vec::new();
     let mut first_error = None;
-    for s in candidates {
+    let n = candidates.len();
+    for (i, s) in candidates.into_iter().enumerate() {
         let mut opts = base.clone();
         if let Some(s) = s {
+            crate::progress::stage(|| format!("choosing segments: {s} ({} of {n})", i + 1))?;
             opts.knots_asc = uniform_knots(lo, hi, s);
             opts.knots_desc = opts.knots_asc.clone();
         }
@@ -274,6 +279,7 @@ pub fn best_model(
                     kept = Some((score, s.unwrap_or(0), b));
                 }
             }
+            Err(e @ ChooseError::Interrupted(_)) => return Err(e),
             Err(e) => {
                 failures.extend(s.map(|s| (s, e.to_string())));
                 first_error.get_or_insert(e);
@@ -323,6 +329,7 @@ fn at_knots(
     let free = choices.horizons == Horizons::FromData;
     let mut reduced = None;
     let (model, start) = loop {
+        crate::progress::stage(|| format!("subspace model at f = {}, p = {}", opts.f, opts.p))?;
         let s = subspace_start(u, y, &mut opts, choices.estimator, free)?;
         // Horizons the input could not support stay shortened: the plant's memory is not
         // read from a model at horizons the data do not allow.

@@ -76,7 +76,10 @@ pub fn choose_order(
     let mut fits = Vec::new();
     let mut scores = Vec::new();
     let mut failures = Vec::new();
-    for &n in candidates {
+    for (i, &n) in candidates.iter().enumerate() {
+        crate::progress::stage(|| {
+            format!("refining order {n} ({} of {})", i + 1, candidates.len())
+        })?;
         let mut o = opts.clone();
         o.order = Some(n);
         let fit = subspace_start(u, y, &mut o, ModelStage::Refined, false)

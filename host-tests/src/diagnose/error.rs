@@ -8,6 +8,9 @@ use crate::model::RecordError;
 /// Why a diagnosis could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum DiagnoseError {
+    /// The caller stopped the run ([`crate::progress::Reporter::stopped`]).
+    #[error(transparent)]
+    Interrupted(#[from] crate::progress::Interrupted),
     /// The identification failed.
     #[error("identification failed: {0}")]
     Identify(#[source] IdentifyError),

@@ -117,11 +117,15 @@ fn diagnose_inner(
         });
     }
     let segment_choice = match &opts.select_segments {
-        Some(range) => segments::select_segments(range, est, &mut id, opts, shared),
+        Some(range) => {
+            crate::progress::stage(|| "diagnose: choosing the segment count".to_string())?;
+            segments::select_segments(range, est, &mut id, opts, shared)
+        }
         None => String::new(),
     };
     let mut warnings = data_checks(&est.u, &est.y, &id, opts.nonlinearity);
     let mut plan = fit_plan::FitPlan::new(opts, &id, est);
+    crate::progress::stage(|| "diagnose: the base model".to_string())?;
     let (base, lowered) = base_order::fit_base(est, opts, &mut id, &mut plan)?;
     warnings.extend(lowered);
     let paper = model::fit_structure(&Structure::base(), est, &plan.paper)

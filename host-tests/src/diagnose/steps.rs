@@ -109,7 +109,13 @@ impl Context<'_> {
             p.findings.push(Finding::Integrating);
             return Ok(());
         }
-        for _ in 0..self.opts.max_steps {
+        for k in 1..=self.opts.max_steps {
+            crate::progress::stage(|| {
+                format!(
+                    "diagnose step {k} of at most {}: testing the residual",
+                    self.opts.max_steps
+                )
+            })?;
             if let Flow::Stop = self.step(p)? {
                 break;
             }
@@ -206,6 +212,7 @@ impl Context<'_> {
             if !e.deterministic() || !(effects::has_evidence(e, tests) || saturated || every) {
                 continue;
             }
+            crate::progress::stage(|| format!("diagnose: trying {}", e.name()))?;
             if let Some(c) = proposal.propose(e)? {
                 cands.push(c);
             }

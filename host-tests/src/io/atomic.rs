@@ -13,6 +13,8 @@ use std::path::{Path, PathBuf};
 
 use tempfile::NamedTempFile;
 
+use super::partial::Partial;
+
 /// Where the bytes for `path` go before they are complete.
 enum Target {
     /// A temporary file beside the destination, renamed over it by [`AtomicFile::commit`].
@@ -27,6 +29,8 @@ enum Target {
 pub struct AtomicFile {
     target: Target,
     path: PathBuf,
+    /// The temporary's registration, so that a signal removes it ([`super::abandon`]).
+    partial: Option<Partial>,
 }
 
 /// The destination `path` resolved through a symbolic link, and whether it is something other
@@ -51,10 +55,13 @@ impl AtomicFile {
     /// Starts the file that will replace `path` (created in `path`'s folder, which must exist).
     pub fn create(path: impl AsRef<Path>) -> io::Result<Self> {
         let (path, special) = destination(path.as_ref())?;
-        let target = match special {
-            true => Target::InPlace(BufWriter::new(
-                fs::OpenOptions::new().write(true).open(&path)?,
-            )),
+        let (target, partial) = match special {
+            true => (
+                Target::InPlace(BufWriter::new(
+                    fs::OpenOptions::new().write(true).open(&path)?,
+                )),
+                None,
+            ),
             false => {
                 let dir = match path.parent() {
                     Some(d) if !d.as_os_str().is_empty() => d,
@@ -68,10 +75,16 @@ impl AtomicFile {
                     // As `File::create` would make it (the umask applies).
                     builder.permissions(fs::Permissions::from_mode(0o666));
                 }
-                Target::Staged(BufWriter::new(builder.tempfile_in(dir)?))
+                let (file, partial) =
+                    Partial::create(|| builder.tempfile_in(dir), NamedTempFile::path)?;
+                (Target::Staged(BufWriter::new(file)), Some(partial))
             }
         };
-        Ok(Self { target, path })
+        Ok(Self {
+            target,
+            path,
+            partial,
+        })
     }
 
     /// The destination.
@@ -81,7 +94,12 @@ impl AtomicFile {
 
     /// Flushes the bytes to the disk and renames the file over the destination.
     pub fn commit(self) -> io::Result<()> {
-        match self.target {
+        let Self {
+            target,
+            path,
+            partial,
+        } = self;
+        match target {
             Target::InPlace(w) => {
                 w.into_inner().map_err(io::IntoInnerError::into_error)?;
                 Ok(())
@@ -89,9 +107,13 @@ impl AtomicFile {
             Target::Staged(w) => {
                 let file = w.into_inner().map_err(io::IntoInnerError::into_error)?;
                 file.as_file().sync_all()?;
-                file.persist(&self.path).map_err(|e| e.error)?;
+                let persist = || file.persist(&path).map(drop).map_err(|e| e.error);
+                match partial {
+                    Some(partial) => partial.finish(persist)?,
+                    None => persist()?,
+                }
                 // The rename itself reaches the disk with the folder's entry.
-                if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
                     let _ = fs::File::open(dir).and_then(|d| d.sync_all());
                 }
                 Ok(())
@@ -132,6 +154,8 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: impl AsRef<[u8]>) -> io::Resu
 pub struct StagedDir {
     dir: PathBuf,
     stage: tempfile::TempDir,
+    /// The staging folder's registration, so that a signal removes it ([`super::abandon`]).
+    partial: Partial,
 }
 
 impl StagedDir {
@@ -139,10 +163,19 @@ impl StagedDir {
     pub fn create(dir: impl AsRef<Path>) -> io::Result<Self> {
         let dir = dir.as_ref().to_path_buf();
         fs::create_dir_all(&dir)?;
-        let stage = tempfile::Builder::new()
-            .prefix(".hsid-staging-")
-            .tempdir_in(&dir)?;
-        Ok(Self { dir, stage })
+        let (stage, partial) = Partial::create(
+            || {
+                tempfile::Builder::new()
+                    .prefix(".hsid-staging-")
+                    .tempdir_in(&dir)
+            },
+            tempfile::TempDir::path,
+        )?;
+        Ok(Self {
+            dir,
+            stage,
+            partial,
+        })
     }
 
     /// The folder to write the files into.
@@ -175,18 +208,28 @@ impl StagedDir {
                 fs::create_dir_all(parent)?;
             }
         }
-        let mut placed = Vec::with_capacity(files.len());
-        for (file, to) in moves {
-            match to {
-                Some(to) => {
-                    fs::rename(file, &to)?;
-                    placed.push(to);
+        let Self {
+            dir,
+            stage,
+            partial,
+        } = self;
+        // The renames and the removal of the staging folder under the registry's lock: a
+        // signal meanwhile waits for them, so the folder is never left half replaced.
+        let placed = partial.finish(|| -> io::Result<Vec<PathBuf>> {
+            let mut placed = Vec::with_capacity(files.len());
+            for (file, to) in moves {
+                match to {
+                    Some(to) => {
+                        fs::rename(file, &to)?;
+                        placed.push(to);
+                    }
+                    None => placed.push(file.clone()),
                 }
-                None => placed.push(file.clone()),
             }
-        }
-        self.stage.close()?;
-        if let Ok(d) = fs::File::open(&self.dir) {
+            stage.close()?;
+            Ok(placed)
+        })?;
+        if let Ok(d) = fs::File::open(&dir) {
             let _ = d.sync_all();
         }
         Ok(placed)

@@ -23,6 +23,7 @@ mod atomic;
 mod error;
 mod file_error;
 mod limited;
+mod partial;
 mod read;
 mod stream;
 mod write;
@@ -34,6 +35,7 @@ pub use limited::{
     LimitedReadError, TooLarge, open_regular, read_file_limited, read_limited, read_text_bounded,
     read_to_string_limited,
 };
+pub use partial::{abandon, in_progress};
 pub use read::{
     CsvOptions, Delimiter, MAX_COLUMNS, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table,
     parse_columns, parse_table, read_columns, read_source, read_table, read_table_from,

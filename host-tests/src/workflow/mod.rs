@@ -37,6 +37,7 @@ use crate::hysteresis::{HysteresisError, HysteresisFit};
 use crate::identify::IdentifyError;
 use crate::model::{Element, Record};
 use crate::model_file::ModelFile;
+use crate::progress;
 
 /// Lines of text for the user, in order (notes, a report).
 pub type Lines = Vec<String>;
@@ -66,6 +67,9 @@ pub enum WorkflowError {
         /// Why.
         error: ReferenceError,
     },
+    /// The caller stopped the run ([`progress::Reporter::stopped`]).
+    #[error(transparent)]
+    Interrupted(#[from] progress::Interrupted),
     /// The element's simulation-error fit failed.
     #[error("{prefix}: {error}")]
     ElementFit {
@@ -130,12 +134,18 @@ impl Identified {
     }
 }
 
+/// A stage of the workflow ([`progress::stage`]).
+fn stage(text: impl FnOnce() -> String) -> Result<(), WorkflowError> {
+    Ok(progress::stage(text)?)
+}
+
 /// Identifies `record` as `request` asks: see the [module](self) for the steps.
 pub fn identify_record(
     record: &Record,
     request: &IdentifyRequest,
 ) -> Result<Identified, WorkflowError> {
     let mut plan = request.plan_for(record)?;
+    stage(|| "checking the output for an integrator".to_string())?;
     let (routed, route_note) = detect::route(request, record);
     let request = &routed;
     let mut notes: Lines = route_note.into_iter().collect();
@@ -159,25 +169,34 @@ pub fn identify_record(
         ));
     }
     let model =
-        best_model(&record.u, &record.y, &plan.options, &plan.choices).map_err(|e| match e {
-            ChooseError::Identify(error) => {
-                let index = sample_index(&error).unwrap_or(0);
-                let index = match request.integrating {
-                    true => source.increments_source(index),
-                    false => index,
-                };
-                WorkflowError::Sample { error, index }
-            }
-            e => WorkflowError::Choose(e),
-        });
-    let linear = baseline::wanted(request, &plan)
-        .then(|| linear_model(&record.u, &record.y, &plan.options, &plan.choices));
+        progress::stage(|| format!("the model with the {} element", request.element.name()))
+            .map_err(ChooseError::from)
+            .and_then(|()| best_model(&record.u, &record.y, &plan.options, &plan.choices))
+            .map_err(|e| match e {
+                ChooseError::Identify(error) => {
+                    let index = sample_index(&error).unwrap_or(0);
+                    let index = match request.integrating {
+                        true => source.increments_source(index),
+                        false => index,
+                    };
+                    WorkflowError::Sample { error, index }
+                }
+                ChooseError::Interrupted(i) => WorkflowError::Interrupted(i),
+                e => WorkflowError::Choose(e),
+            });
+    let linear = baseline::wanted(request, &plan).then(|| {
+        progress::stage(|| "the linear baseline".to_string())
+            .map_err(ChooseError::from)
+            .and_then(|()| linear_model(&record.u, &record.y, &plan.options, &plan.choices))
+    });
     let settled = match (model, linear) {
         (Ok(best), linear) => with_element(&record, request, best, linear, &mut notes)?,
         // The model with the element failed where the data chose its structure: the linear
         // model, when there is one, is the answer (a record whose output responds gives a
         // model). A structure the user gave (knots, segments, horizons) keeps its refusal.
-        (Err(e), Some(Ok(linear))) if !request.structure_given() => {
+        (Err(e), Some(Ok(linear)))
+            if !request.structure_given() && !matches!(e, WorkflowError::Interrupted(_)) =>
+        {
             Settled::Linear(Box::new((linear, Baseline::Alone(e.to_string()))))
         }
         (Err(e), _) => return Err(e),
@@ -244,19 +263,30 @@ fn with_element(
 ) -> Result<Settled, WorkflowError> {
     notes.extend(best.report());
     if let Some(name) = &request.reference {
+        stage(|| format!("the closed-loop estimate with the reference {name}"))?;
         notes.push(closed_loop::replace(&mut best, record, name)?);
     }
+    stage(|| "the noise model".to_string())?;
     let (estimate, estimate_notes) = estimate::estimate(&best, record, request);
     notes.extend(estimate_notes);
     let decision = element_fit::decide(request, record);
     let element = match decision.run {
-        true => Some(element_fit::fit(request, record, &estimate.model)?),
+        true => {
+            stage(|| {
+                format!(
+                    "fitting the {} element by simulation error",
+                    request.element.name()
+                )
+            })?;
+            Some(element_fit::fit(request, record, &estimate.model)?)
+        }
         false => None,
     };
     let baseline = match linear {
         None => None,
         Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
         Some(Ok(linear)) => {
+            stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
             match baseline::compare(record, request, &best, element.as_ref(), &linear) {
                 Some(c) if c.reported == Reported::Linear => {
                     return Ok(Settled::Linear(Box::new((linear, Baseline::Compared(c)))));
