@@ -17,7 +17,7 @@
 //! `proptest_common::config`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod proptest_common;
+use crate::proptest_common;
 
 use hsid::{
     Basis, CheckpointError, Error, Forgetting, Identifier, Knots, Method, MuZero, Order, Real,

@@ -14,7 +14,7 @@
 //! Cases: 2 × 5,000 (seeded, see `proptest_common::config`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod proptest_common;
+use crate::proptest_common;
 
 use hsid::{
     Basis, Direction, Error, Forgetting, KnotEnd, Knots, Method, MuZero, Order, Real, Settings,

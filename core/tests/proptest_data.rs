@@ -12,7 +12,7 @@
 //! Cases: 2 × 4,000 (seeded, see `proptest_common::config`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod proptest_common;
+use crate::proptest_common;
 
 use hsid::{Basis, Error, Forgetting, Knots, Method, MuZero, Order, Real, Settings, Signal};
 use proptest::prelude::*;

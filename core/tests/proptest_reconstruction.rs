@@ -11,7 +11,7 @@
 //! Cases: 2 × 1,000 (seeded, see `proptest_common::config`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod proptest_common;
+use crate::proptest_common;
 
 use hsid::{Basis, Direction, Forgetting, Knots, Method, MuZero, Order, Real, Settings};
 use proptest::prelude::*;

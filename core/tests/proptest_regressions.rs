@@ -4,7 +4,7 @@
 //! the fixes from regressing. `docs/reliability.md` lists them with the fixes.
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
-mod proptest_common;
+use crate::proptest_common;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 

@@ -4,7 +4,7 @@
 //! checksum (another magic, version or an impossible length) are refused with their fault.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-mod store_common;
+use crate::store_common;
 
 use hsid::store::{Fault, RamFlash, Region, Slot, Store, StoreError};
 use store_common::{PaperId, paper_checkpoints, restores};

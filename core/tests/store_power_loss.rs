@@ -5,7 +5,7 @@
 //! byte for byte, which restores; never a corrupt one, never none.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-mod store_common;
+use crate::store_common;
 
 use hsid::store::{RamFlash, Region, Slot, Store};
 use store_common::{PaperId, Sweep, paper_checkpoints, restores, sweep};

@@ -2,7 +2,7 @@
 //! power cuts on other flash geometries (program units of 1 to 256 bytes).
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
-mod store_common;
+use crate::store_common;
 
 use hsid::store::{Flash, Geometry, RamFlash, RamFlashError, Region, Slot, Store, StoreError};
 use rand_core::{Rng, SeedableRng};

@@ -3,7 +3,7 @@
 //! middle of a batch or of the figures, and inputs that carry control characters.
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

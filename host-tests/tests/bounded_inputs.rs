@@ -3,7 +3,7 @@
 //! can be is refused before it is read; in a fleet's folder such an entry costs that entry.
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::PathBuf;

@@ -12,7 +12,7 @@ use hsid_host::io::write_columns;
 use hsid_host::paper::{Case, Experiment, PaperConfig, experiment};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Run, Scratch, hsid, identify, p};
 

@@ -3,7 +3,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use hsid_host::closed_loop::{ServoSpec, simulate_servo};
 use hsid_host::diagnose::{DiagnoseOptions, Validation, diagnose};

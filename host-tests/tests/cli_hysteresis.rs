@@ -14,7 +14,7 @@ use hsid_host::model::MemoryElement;
 use hsid_host::report::fit;
 use hsid_host::table1::{count_runs, end_tolerance};
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, identify, p, schema_errors};
 

@@ -10,7 +10,7 @@ use std::process::{Command, Stdio};
 use hsid_host::io::parse_columns;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, p};
 

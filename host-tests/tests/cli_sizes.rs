@@ -6,7 +6,7 @@
 use hsid_host::paper::{Case, PaperConfig, experiment};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Scratch, identify, p};
 

@@ -8,7 +8,7 @@ use hsid_host::io::MAX_RECORD_BYTES;
 use hsid_host::model_file::ModelFile;
 use hsid_host::paper::{Case, PaperConfig, experiment};
 
-mod common;
+use crate::common;
 
 use common::{Scratch, identify, p};
 

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use hsid_host::io::parse_columns;
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, p};
 

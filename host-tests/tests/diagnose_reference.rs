@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::servo_poles::{true_pole, upper_pole};
 use hsid_host::closed_loop::{ReferenceError, ServoSpec, simulate_servo};

@@ -5,7 +5,7 @@
 //! analytic delta method, the measured border points against the true loop).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use hsid_host::model::Element;
 use std::path::Path;

@@ -4,7 +4,7 @@
 
 #![allow(clippy::panic)]
 
-mod common;
+use crate::common;
 
 use hsid_host::choose::{self, Choices, Segments, best_model};
 use hsid_host::identify::{HostModel, IdentifyError, IdentifyOptions, identify};

@@ -7,7 +7,7 @@
 
 #![allow(clippy::unwrap_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::nrmse;
 use hsid_host::model::{FileModel, Record, Simulate};

@@ -9,7 +9,7 @@ use hsid_host::model_file::{
 };
 use serde_json::{Value, json};
 
-mod common;
+use crate::common;
 
 use common::{Scratch, schema_errors};
 

@@ -11,7 +11,7 @@ use hsid_host::model_file::ModelFile;
 use hsid_host::paper::{Case, PaperConfig, experiment};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, identify, p, schema_errors};
 

@@ -15,7 +15,7 @@ use hsid_host::io::parse_columns;
 use hsid_host::model::{Element, MemoryElement, Simulate, Syntax, for_input};
 use hsid_host::simulate::{InputRecord, ModelOptions, SimulateError, simulate_model};
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, p};
 

@@ -9,7 +9,7 @@ use hsid_host::io::write_columns;
 use hsid_host::paper::{Case, PaperConfig, experiment};
 use serde_json::Value;
 
-mod common;
+use crate::common;
 
 use common::{Scratch, hsid, identify, p};
 
