@@ -9,14 +9,17 @@
 #               documents a limit and fails by design: docs/reliability.md, Long runs.)
 #   fuzz        scripts/fuzz-smoke.sh: the four cargo-fuzz targets, 30 s each (FUZZ_SECONDS);
 #               the first build instruments every dependency for coverage (minutes).
+#   install     the README's first command, `cargo install --path host-tests` (into a temporary
+#               root; a release build of its own, without the tests' dev-dependencies), and
+#               the installed `hsid --version`.
 #   exhaustion  scripts/exhaustion.sh: a 4 GB CSV, a 1 GB model file, 10^5 checkpoints (time
 #               and peak memory; tens of minutes and gigabytes of temporary disk). ROWS and
 #               STATES scale it down.
-# SLOW_PARTS="tests fuzz" chooses the parts (default: all three). Each part is timed; the
+# SLOW_PARTS="tests fuzz" chooses the parts (default: all four). Each part is timed; the
 # script stops at the first part that fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-parts=${SLOW_PARTS:-tests fuzz exhaustion}
+parts=${SLOW_PARTS:-tests fuzz install exhaustion}
 
 timed() {
   local name=$1
@@ -37,6 +40,12 @@ if [[ " $parts " == *" fuzz "* ]]; then
     cargo install cargo-fuzz --locked --quiet
   fi
   timed fuzz scripts/fuzz-smoke.sh
+fi
+if [[ " $parts " == *" install "* ]]; then
+  root=$(mktemp -d)
+  timed install cargo install --path host-tests --root "$root" --target-dir target --locked --quiet
+  "$root/bin/hsid" --version
+  rm -rf "$root"
 fi
 if [[ " $parts " == *" exhaustion "* ]]; then
   cargo build --release -p hsid-host --bin hsid

@@ -36,6 +36,7 @@ const FIXED: [&str; 12] = [
 ];
 
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: a whole diagnosis of a closed-loop servo through the command line, about 60 s"]
 fn hsid_diagnose_takes_the_reference_column() {
     let spec = ServoSpec::paper();
     let s = simulate_servo(&spec, 5).unwrap();

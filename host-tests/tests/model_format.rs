@@ -202,6 +202,7 @@ fn delayed_record() -> (Vec<f64>, Vec<f64>) {
 /// An effect the model file has no place for (an input delay) is named when the final model is
 /// written, and the report keeps it beside the model.
 #[test]
+#[ignore = "slow tier, run by scripts/slow-checks.sh: a whole diagnosis with an input delay through the command line, about 40 s"]
 fn diagnose_names_what_the_model_file_leaves_out() {
     let dir = Scratch::new("model-format-delay");
     let (u, y) = delayed_record();
