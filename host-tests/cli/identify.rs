@@ -18,7 +18,7 @@ use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 use crate::args::{
     BasisArg, Columns, CsvArgs, HoldArgs, Horizons, KnotArgs, ModelOut, UnitArgs, YesNo, finite_f64,
 };
-use prepare::{read_records, refuse_bad_flags};
+use prepare::read_records;
 
 /// Arguments of `hsid identify`.
 #[derive(Args)]
@@ -118,7 +118,8 @@ pub struct IdentifyArgs {
     /// it: memory does not grow with the record (for files too large to read whole, e.g. 10⁸
     /// rows). Gives the subspace model of one file with the given or default segments and
     /// horizons; what needs the whole record (refinement, fits, figures, the HTML report,
-    /// --detrend, --segments auto) is not available. Only the input and output columns are
+    /// --detrend, --segments auto, --integrating yes and the check for an integrator) is not
+    /// available. Only the input and output columns are
     /// read (the time column is not checked).
     #[arg(long, conflicts_with_all = ["refine", "detrend", "html", "out", "true_plant"])]
     stream: bool,
@@ -168,11 +169,10 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let request = request(a);
-    refuse_bad_flags(a, &request)?;
     if a.stream {
         return stream::run(a, &request);
     }
-    let records = read_records(a)?;
+    let records = read_records(a, &request)?;
     let id = identify_record(&records.record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
     for line in id.lines()? {
@@ -186,16 +186,11 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         page::write(a, path, &id, &settings)?;
     }
     if let Some(path) = &a.out.json {
-        write(&id.model_file(), path)?;
+        id.model_file().save(path).map_err(|e| e.to_string())?;
+        outln!("wrote {}", path.display())?;
     }
     for line in figures {
         outln!("{line}")?;
     }
-    Ok(())
-}
-
-fn write(file: &hsid_host::model_file::ModelFile, path: &std::path::Path) -> Result<(), Failure> {
-    file.save(path).map_err(|e| e.to_string())?;
-    outln!("wrote {}", path.display())?;
     Ok(())
 }

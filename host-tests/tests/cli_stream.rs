@@ -103,4 +103,9 @@ fn stream_refuses_what_needs_the_whole_record() {
     identify(&data, &args).clean_error(&["--stream reads one record, 2 given"]);
     let args = ["--stream", "--segments", "auto"];
     identify(&data, &args).clean_error(&["--segments auto", "--stream"]);
+    let args = ["--stream", "--fit", "simulation"];
+    identify(&data, &args).clean_error(&["--fit simulation needs the whole record"]);
+    // The increments need the whole record: refused, not silently identified as they are.
+    let args = ["--stream", "--integrating", "yes"];
+    identify(&data, &args).clean_error(&["--integrating yes", "not --stream"]);
 }

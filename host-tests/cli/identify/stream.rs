@@ -13,16 +13,32 @@ use std::path::Path;
 use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
 use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
-use hsid_host::workflow::IdentifyRequest;
 use hsid_host::workflow::element_fit::applies;
+use hsid_host::workflow::{ElementFit, IdentifyRequest};
 
 use hsid_host::table1::{RunCounter, end_tolerance};
 
-use super::{IdentifyArgs, write};
+use super::IdentifyArgs;
 use crate::failure::{Failure, outln};
 
-/// Runs `hsid identify --stream` (the arguments are checked by [`super::run`] first).
+/// Runs `hsid identify --stream`, after refusing what needs the whole record.
 pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
+    if request.fit == ElementFit::Simulation {
+        return Err(
+            "--fit simulation needs the whole record (not --stream) and a plant without an \
+             integrator (not --integrating): drop those, or give --fit auto or none"
+                .to_string()
+                .into(),
+        );
+    }
+    if request.integrating {
+        return Err(
+            "--integrating yes identifies the output's increments, which needs the whole \
+             record (not --stream): drop one"
+                .to_string()
+                .into(),
+        );
+    }
     let [path] = a.data.as_slice() else {
         return Err(format!(
             "--stream reads one record, {} given: identify them one at a time, or join them \
@@ -71,7 +87,8 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         let mut file = model.to_json(Some(a.nonlinearity));
         file.sample_time = ts;
         file.units = units;
-        write(&file, out)?;
+        file.save(out).map_err(|e| e.to_string())?;
+        outln!("wrote {}", out.display())?;
     }
     Ok(())
 }

@@ -134,18 +134,13 @@ impl Identified {
     }
 }
 
-/// A stage of the workflow ([`progress::stage`]).
-fn stage(text: impl FnOnce() -> String) -> Result<(), WorkflowError> {
-    Ok(progress::stage(text)?)
-}
-
 /// Identifies `record` as `request` asks: see the [module](self) for the steps.
 pub fn identify_record(
     record: &Record,
     request: &IdentifyRequest,
 ) -> Result<Identified, WorkflowError> {
     let mut plan = request.plan_for(record)?;
-    stage(|| "checking the output for an integrator".to_string())?;
+    progress::stage(|| "checking the output for an integrator".to_string())?;
     let (routed, route_note) = detect::route(request, record);
     let request = &routed;
     let mut notes: Lines = route_note.into_iter().collect();
@@ -263,16 +258,16 @@ fn with_element(
 ) -> Result<Settled, WorkflowError> {
     notes.extend(best.report());
     if let Some(name) = &request.reference {
-        stage(|| format!("the closed-loop estimate with the reference {name}"))?;
+        progress::stage(|| format!("the closed-loop estimate with the reference {name}"))?;
         notes.push(closed_loop::replace(&mut best, record, name)?);
     }
-    stage(|| "the noise model".to_string())?;
+    progress::stage(|| "the noise model".to_string())?;
     let (estimate, estimate_notes) = estimate::estimate(&best, record, request);
     notes.extend(estimate_notes);
     let decision = element_fit::decide(request, record);
     let element = match decision.run {
         true => {
-            stage(|| {
+            progress::stage(|| {
                 format!(
                     "fitting the {} element by simulation error",
                     request.element.name()
@@ -286,7 +281,7 @@ fn with_element(
         None => None,
         Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
         Some(Ok(linear)) => {
-            stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
+            progress::stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
             match baseline::compare(record, request, &best, element.as_ref(), &linear) {
                 Some(c) if c.reported == Reported::Linear => {
                     return Ok(Settled::Linear(Box::new((linear, Baseline::Compared(c)))));
