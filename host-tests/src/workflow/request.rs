@@ -383,6 +383,28 @@ impl IdentifyRequest {
             (Field::KnotsAsc, &options.knots_asc),
             (Field::KnotsDesc, &options.knots_desc),
         ] {
+            let word = match field {
+                Field::KnotsAsc => "ascending",
+                _ => "descending",
+            };
+            if let Some((prev, next)) = k
+                .windows(2)
+                .map(|w| (w[0], w[1]))
+                .find(|(a, b)| !(a.is_finite() && b.is_finite() && b > a))
+            {
+                return Err(RequestError::new(
+                    field,
+                    "knot_order",
+                    format!(
+                        "{} must be finite and strictly increasing: {next} follows {prev}; give \
+                         them in increasing order, each once",
+                        match s.name(field) {
+                            name if name.contains(word) => name.to_string(),
+                            name => format!("{name} (the {word} path's knots)"),
+                        }
+                    ),
+                ));
+            }
             if k.first() != Some(&umin) || k.last() != Some(&umax) {
                 return Err(RequestError::new(
                     field,
@@ -570,6 +592,32 @@ mod tests {
             r.validate(300).unwrap_err().message,
             "knots (ascending) must start at umin=-1 and end at umax=1"
         );
+        // Unsorted, repeated or non-finite knots are refused before any work, in each
+        // front end's words.
+        for (knots, next, prev) in [
+            (vec![-1.0, 0.5, 0.0, 1.0], "0", "0.5"),
+            (vec![-1.0, 0.0, 0.0, 1.0], "0", "0"),
+            (vec![-1.0, f64::NAN, 1.0], "NaN", "-1"),
+        ] {
+            let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+            r.knots_desc = Some(knots);
+            let e = r.validate(300).unwrap_err();
+            assert_eq!((e.field, e.kind), (Field::KnotsDesc, "knot_order"));
+            assert_eq!(
+                e.message,
+                format!(
+                    "--knots-desc (the descending path's knots) must be finite and strictly \
+                     increasing: {next} follows {prev}; give them in increasing order, each once"
+                )
+            );
+            r.syntax = Syntax::Python;
+            assert!(
+                r.validate(300)
+                    .unwrap_err()
+                    .message
+                    .starts_with("knots (descending) must be finite and strictly increasing: ")
+            );
+        }
         let mut r = IdentifyRequest::new(1.0, -1.0, Syntax::Python);
         assert_eq!(r.validate(0).unwrap_err().kind, "invalid_interval");
         r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
