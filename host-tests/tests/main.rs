@@ -34,6 +34,7 @@ mod interrupt;
 mod io;
 mod knots_from_data;
 mod linear_baseline;
+mod long_records;
 mod long_run;
 mod matlab_recipe;
 mod model_file;

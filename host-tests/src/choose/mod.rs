@@ -23,7 +23,7 @@ pub use start::{MAX_START_RADIUS, MIN_REDUCED_HORIZON, ReducedHorizons, StableSt
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
-use crate::refine::pem::{NoiseOrder, PemFit};
+use crate::refine::pem::{NoiseOrder, PemFit, PemOptions, refine};
 use start::subspace_start;
 
 /// `order 2: why; order 3: why`.
@@ -114,6 +114,12 @@ pub struct Choices {
     pub noise: NoiseOrder,
     /// The candidate orders of the refinement when the order is not given.
     pub orders: OrderCandidates,
+    /// A record longer than this many samples makes the choices above (segments, horizons,
+    /// order) on its first this-many samples and then refines the chosen model alone on the
+    /// whole record, started from its fit on those samples ([`ChoiceWindow`]): the
+    /// candidates cost a fixed amount, not one refinement of the whole record each. `None`:
+    /// every candidate on the whole record.
+    pub window: Option<usize>,
 }
 
 /// The orders refined when the order is not given.
@@ -138,9 +144,15 @@ impl Default for Choices {
             criterion: Criterion::Bic,
             noise: NoiseOrder::default(),
             orders: OrderCandidates::Neighbours,
+            window: Some(CHOICE_WINDOW),
         }
     }
 }
+
+/// The samples the default choices are made on in a longer record ([`Choices::window`]):
+/// above the longest measured record of the project's data (the positioning drive's 24,841),
+/// so every documented choice is made on the whole record as before.
+pub const CHOICE_WINDOW: usize = 30_000;
 
 impl Choices {
     /// The paper's estimator at the given horizons.
@@ -153,7 +165,17 @@ impl Choices {
             criterion: Criterion::Bic,
             noise: NoiseOrder::default(),
             orders: OrderCandidates::Neighbours,
+            window: None,
         }
+    }
+
+    /// Whether these choices choose anything from the data for options `base`: the segment
+    /// count, the horizons or the refined model's order.
+    fn chooses(&self, base: &IdentifyOptions) -> bool {
+        self.estimator == ModelStage::Refined
+            && (matches!(self.segments, Segments::FromData(_))
+                || self.horizons == Horizons::FromData
+                || base.order.is_none())
     }
 }
 
@@ -179,6 +201,39 @@ pub struct Best {
     pub horizons: Option<HorizonChoice>,
     /// The order's choice, when refined without a fixed order.
     pub order: Option<OrderChoice>,
+    /// The choices made on the start of a long record, when they were.
+    pub window: Option<ChoiceWindow>,
+}
+
+/// The choices of a long record made on its first samples ([`Choices::window`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChoiceWindow {
+    /// Samples the candidates were identified and refined on.
+    pub samples: usize,
+    /// Samples of the whole record.
+    pub record: usize,
+    /// The chosen model's mean squared prediction error on the window.
+    pub window_mse: f64,
+    /// Why the whole-record refinement started from the whole record's subspace model rather
+    /// than from the window's fit, when it did.
+    pub restarted: Option<String>,
+}
+
+impl ChoiceWindow {
+    /// One line for a report.
+    pub fn report(&self) -> String {
+        let start = match &self.restarted {
+            None => "started from its fit there".to_string(),
+            Some(why) => format!(
+                "started from the whole record's subspace model (from the window's fit: {why})"
+            ),
+        };
+        format!(
+            "choices made on the first {} of {} samples (segments, horizons and order: every \
+             candidate refined there); the chosen model refined on the whole record, {start}",
+            self.samples, self.record
+        )
+    }
 }
 
 impl Best {
@@ -202,6 +257,9 @@ impl Best {
         }
         if let Some(o) = &self.order {
             lines.push(o.report());
+        }
+        if let Some(w) = &self.window {
+            lines.push(w.report());
         }
         lines
     }
@@ -239,7 +297,75 @@ impl SegmentChoice {
 /// identified and refined on its uniform knots and the best by the criterion is kept; else
 /// the model is the one at `base`'s knots. The candidates' first error is returned when none
 /// gives a model.
+///
+/// A record longer than `choices.window` makes the choices on its first `window` samples
+/// and refines the chosen model alone on the whole record ([`ChoiceWindow`]).
 pub fn best_model(
+    u: &[f64],
+    y: &[f64],
+    base: &IdentifyOptions,
+    choices: &Choices,
+) -> Result<Best, ChooseError> {
+    match choices.window {
+        Some(w) if u.len() > w && y.len() == u.len() && choices.chooses(base) => {
+            let chosen = candidates(&u[..w], &y[..w], base, choices)?;
+            on_whole_record(u, y, w, chosen, choices)
+        }
+        _ => candidates(u, y, base, choices),
+    }
+}
+
+/// The model `chosen` on the start of `(u, y)`, its structure kept (knots, horizons, order),
+/// refined on the whole record from its fit there; from the whole record's subspace model at
+/// that structure when the window's fit does not refine there.
+fn on_whole_record(
+    u: &[f64],
+    y: &[f64],
+    window: usize,
+    chosen: Best,
+    choices: &Choices,
+) -> Result<Best, ChooseError> {
+    let Some(window_fit) = chosen.fit.as_ref() else {
+        return Ok(chosen);
+    };
+    let mut opts = chosen.options.clone();
+    opts.order = Some(window_fit.model.order);
+    let pem = &PemOptions {
+        noise_order: choices.noise,
+        ..PemOptions::for_identify(&opts)
+    };
+    crate::progress::stage(|| {
+        format!(
+            "refining the chosen model on the whole record ({} samples)",
+            u.len()
+        )
+    })?;
+    let (fit, restarted) = match refine(u, y, &window_fit.model, pem) {
+        Ok(fit) => (fit, None),
+        Err(e) => {
+            let s = subspace_start(u, y, &mut opts, ModelStage::Refined, false)?;
+            let fit = refine(u, y, &s.model, pem)
+                .map_err(|f| ChooseError::Refine(vec![(opts.order.unwrap_or(0), f.to_string())]))?;
+            (fit, Some(e.to_string()))
+        }
+    };
+    let window = ChoiceWindow {
+        samples: window,
+        record: u.len(),
+        window_mse: window_fit.mse,
+        restarted,
+    };
+    Ok(Best {
+        model: fit.model.clone(),
+        options: opts,
+        fit: Some(fit),
+        window: Some(window),
+        ..chosen
+    })
+}
+
+/// [`best_model`] on the whole of `(u, y)`: every candidate.
+fn candidates(
     u: &[f64],
     y: &[f64],
     base: &IdentifyOptions,
@@ -358,6 +484,7 @@ fn at_knots(
             segments: None,
             horizons,
             order: None,
+            window: None,
         });
     }
     let candidates = match (base.order, choices.orders) {
@@ -376,5 +503,6 @@ fn at_knots(
         segments: None,
         horizons,
         order: (base.order.is_none()).then_some(order),
+        window: None,
     })
 }

@@ -207,7 +207,13 @@ pub enum Jacobian<'a> {
     },
     /// The caller's analytic Jacobian at `θ` (one row per residual).
     Analytic(&'a dyn Fn(&[f64]) -> DMatrix<f64>),
+    /// The caller's normal equations `(JᵀJ, Jᵀr)` at `θ` with `r` the residual there: for a
+    /// long record, where the iteration is not to hold a Jacobian of a row per sample.
+    Normal(&'a dyn Fn(&[f64], &[f64]) -> NormalEquations),
 }
+
+/// `(JᵀJ, Jᵀr)`.
+pub type NormalEquations = (DMatrix<f64>, DVector<f64>);
 
 /// A least-squares problem: the residual, where steps are admissible, and its Jacobian.
 #[derive(Clone, Copy)]
@@ -235,13 +241,25 @@ pub struct Minimum {
     pub unconverged: Option<f64>,
 }
 
-/// The Jacobian at `theta` with residual `r`; `Err(Some(j))` if the difference step of
-/// parameter `j` does not simulate.
-fn jacobian_at(problem: &Problem<'_>, theta: &[f64], r: &[f64]) -> Result<DMatrix<f64>, usize> {
-    let typical = match problem.jacobian {
-        Jacobian::Analytic(jac) => return Ok(jac(theta)),
-        Jacobian::ForwardDifference { typical } => typical,
+/// The normal equations `(JᵀJ, Jᵀr)` at `theta` with residual `r`; `Err(j)` if the
+/// difference step of parameter `j` does not simulate.
+fn normal_at(problem: &Problem<'_>, theta: &[f64], r: &[f64]) -> Result<NormalEquations, usize> {
+    let jac = match problem.jacobian {
+        Jacobian::Normal(normal) => return Ok(normal(theta, r)),
+        Jacobian::Analytic(jac) => jac(theta),
+        Jacobian::ForwardDifference { typical } => jacobian_at(typical, problem, theta, r)?,
     };
+    Ok((jac.tr_mul(&jac), jac.tr_mul(&DVector::from_column_slice(r))))
+}
+
+/// The forward-difference Jacobian at `theta` with residual `r`; `Err(j)` if the difference
+/// step of parameter `j` does not simulate.
+fn jacobian_at(
+    typical: &[f64],
+    problem: &Problem<'_>,
+    theta: &[f64],
+    r: &[f64],
+) -> Result<DMatrix<f64>, usize> {
     let p = theta.len();
     let mut jac = DMatrix::<f64>::zeros(r.len(), p);
     for j in 0..p {
@@ -279,8 +297,8 @@ pub fn minimise(
     let mut lambda = damping.initial;
     let mut last_gain = f64::INFINITY;
     for it in 1..=settings.iterations {
-        let jac = match jacobian_at(problem, &theta, &r) {
-            Ok(jac) => jac,
+        let (jtj, jtr) = match normal_at(problem, &theta, &r) {
+            Ok(normal) => normal,
             Err(parameter) => match settings.jacobian_failure {
                 JacobianFailure::Stop => {
                     return Ok(Minimum {
@@ -295,8 +313,6 @@ pub fn minimise(
                 }
             },
         };
-        let jtj = jac.tr_mul(&jac);
-        let jtr = jac.tr_mul(&DVector::from_column_slice(&r));
         let mut stepped = false;
         let mut tries = 0;
         while match damping.limit {
@@ -500,6 +516,22 @@ mod tests {
             minimise(&problem, &[1.0, 0.1], &short),
             Err(LmFailure::NoConvergence { iterations: 1, .. })
         ));
+        // The normal equations of the same Jacobian take the same steps: the same iterate,
+        // bit for bit, after the same number of iterations.
+        let normal = |th: &[f64], r: &[f64]| {
+            let j = jacobian(th);
+            (j.tr_mul(&j), j.tr_mul(&DVector::from_column_slice(r)))
+        };
+        let by_normal = Problem {
+            jacobian: Jacobian::Normal(&normal),
+            ..problem
+        };
+        let same = minimise(
+            &by_normal,
+            &[1.0, 0.1],
+            &Settings::prediction_error(100, 1e-12),
+        )?;
+        assert_eq!(same, min);
         Ok(())
     }
 

@@ -33,7 +33,7 @@
 use std::cell::RefCell;
 use std::time::Instant;
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use super::poly::{observer_form, spectral_radius, tf_from_ss};
 use super::signal::{HatRegressors, delay, filter};
@@ -674,16 +674,21 @@ pub fn minimise_to_limit(
     let last: RefCell<Option<(Vec<f64>, PemEvaluation)>> = RefCell::new(None);
     let residual = |th: &[f64]| Some(problem.errors(th));
     let admissible = |th: &[f64]| problem.check_stable(th).is_ok();
-    let jacobian = |th: &[f64]| {
+    // The normal equations, not the Jacobian, go to the iteration, and the previous
+    // evaluation is dropped before the next is made: one Jacobian (a row per sample) is held
+    // at a time.
+    let normal = |th: &[f64], r: &[f64]| {
+        *last.borrow_mut() = None;
         let ev = problem.evaluate(th);
-        let jac = ev.jac.clone();
+        let jtj = ev.jac.tr_mul(&ev.jac);
+        let jtr = ev.jac.tr_mul(&DVector::from_column_slice(r));
         *last.borrow_mut() = Some((th.to_vec(), ev));
-        jac
+        (jtj, jtr)
     };
     let lm = lm::Problem {
         residual: &residual,
         admissible: &admissible,
-        jacobian: Jacobian::Analytic(&jacobian),
+        jacobian: Jacobian::Normal(&normal),
     };
     let cost0 = problem.errors(&theta0).iter().map(|e| e * e).sum::<f64>();
     if !cost0.is_finite() {
