@@ -394,7 +394,7 @@ impl IdentifyRequest {
             {
                 return Err(RequestError::new(
                     field,
-                    "knot_order",
+                    "knots_not_increasing",
                     format!(
                         "{} must be finite and strictly increasing: {next} follows {prev}; give \
                          them in increasing order, each once",
@@ -602,7 +602,10 @@ mod tests {
             let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
             r.knots_desc = Some(knots);
             let e = r.validate(300).unwrap_err();
-            assert_eq!((e.field, e.kind), (Field::KnotsDesc, "knot_order"));
+            assert_eq!(
+                (e.field, e.kind),
+                (Field::KnotsDesc, "knots_not_increasing")
+            );
             assert_eq!(
                 e.message,
                 format!(
