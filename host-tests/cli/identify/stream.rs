@@ -25,8 +25,8 @@ use crate::failure::{Failure, outln};
 pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
     if request.fit == ElementFit::Simulation {
         return Err(
-            "--fit simulation needs the whole record (not --stream) and a plant without an \
-             integrator (not --integrating): drop those, or give --fit auto or none"
+            "--fit simulation needs the whole record (not --stream): drop one, or give --fit \
+             auto or none"
                 .to_string()
                 .into(),
         );

@@ -17,13 +17,14 @@ pub use horizons::{
 };
 pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
 pub use linear::{LINEAR_MAX_ORDER, is_linear, linear_model, linear_options};
+use order::on_whole_record;
 pub use order::{OrderChoice, choose_order, neighbours};
 pub use start::{MAX_START_RADIUS, MIN_REDUCED_HORIZON, ReducedHorizons, StableStart, stabilised};
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, relative_scores};
 use crate::reference::uniform_knots;
-use crate::refine::pem::{NoiseOrder, PemFit, PemOptions, refine};
+use crate::refine::pem::{NoiseOrder, PemFit};
 use start::subspace_start;
 
 /// `order 2: why; order 3: why`.
@@ -212,8 +213,6 @@ pub struct ChoiceWindow {
     pub samples: usize,
     /// Samples of the whole record.
     pub record: usize,
-    /// The chosen model's mean squared prediction error on the window.
-    pub window_mse: f64,
     /// Why the whole-record refinement started from the whole record's subspace model rather
     /// than from the window's fit, when it did.
     pub restarted: Option<String>,
@@ -306,60 +305,27 @@ pub fn best_model(
     base: &IdentifyOptions,
     choices: &Choices,
 ) -> Result<Best, ChooseError> {
-    match choices.window {
-        Some(w) if u.len() > w && y.len() == u.len() && choices.chooses(base) => {
-            let chosen = candidates(&u[..w], &y[..w], base, choices)?;
-            on_whole_record(u, y, w, chosen, choices)
-        }
-        _ => candidates(u, y, base, choices),
-    }
-}
-
-/// The model `chosen` on the start of `(u, y)`, its structure kept (knots, horizons, order),
-/// refined on the whole record from its fit there; from the whole record's subspace model at
-/// that structure when the window's fit does not refine there.
-fn on_whole_record(
-    u: &[f64],
-    y: &[f64],
-    window: usize,
-    chosen: Best,
-    choices: &Choices,
-) -> Result<Best, ChooseError> {
-    let Some(window_fit) = chosen.fit.as_ref() else {
+    let window = match choices.window {
+        Some(w) if u.len() > w && y.len() == u.len() && choices.chooses(base) => Some(w),
+        _ => None,
+    };
+    let end = window.unwrap_or(u.len());
+    let chosen = candidates(&u[..end], &y[..end.min(y.len())], base, choices)?;
+    let (Some(samples), Some(window_fit)) = (window, &chosen.fit) else {
         return Ok(chosen);
     };
-    let mut opts = chosen.options.clone();
-    opts.order = Some(window_fit.model.order);
-    let pem = &PemOptions {
-        noise_order: choices.noise,
-        ..PemOptions::for_identify(&opts)
-    };
-    crate::progress::stage(|| {
-        format!(
-            "refining the chosen model on the whole record ({} samples)",
-            u.len()
-        )
-    })?;
-    let (fit, restarted) = match refine(u, y, &window_fit.model, pem) {
-        Ok(fit) => (fit, None),
-        Err(e) => {
-            let s = subspace_start(u, y, &mut opts, ModelStage::Refined, false)?;
-            let fit = refine(u, y, &s.model, pem)
-                .map_err(|f| ChooseError::Refine(vec![(opts.order.unwrap_or(0), f.to_string())]))?;
-            (fit, Some(e.to_string()))
-        }
-    };
-    let window = ChoiceWindow {
-        samples: window,
-        record: u.len(),
-        window_mse: window_fit.mse,
-        restarted,
-    };
+    let mut options = chosen.options.clone();
+    options.order = Some(window_fit.model.order);
+    let (fit, restarted) = on_whole_record(u, y, &options, window_fit, choices)?;
     Ok(Best {
         model: fit.model.clone(),
-        options: opts,
+        options,
         fit: Some(fit),
-        window: Some(window),
+        window: Some(ChoiceWindow {
+            samples,
+            record: u.len(),
+            restarted,
+        }),
         ..chosen
     })
 }

@@ -11,7 +11,7 @@
 use super::ModelStage;
 use super::start::subspace_start;
 use super::{Choices, ChooseError};
-use crate::identify::IdentifyOptions;
+use crate::identify::{HostModel, IdentifyOptions};
 use crate::numerics::select::{Criterion, best, relative_scores};
 use crate::refine::pem::{PemFit, PemOptions, refine};
 
@@ -56,6 +56,66 @@ impl OrderChoice {
     }
 }
 
+/// The refinement's options for `opts` with the noise model of `choices`.
+fn pem_options(opts: &IdentifyOptions, choices: &Choices) -> PemOptions {
+    PemOptions {
+        noise_order: choices.noise,
+        ..PemOptions::for_identify(opts)
+    }
+}
+
+/// Refines order `n` on `(u, y)` with [`PemOptions::for_identify`] and the noise model of
+/// `choices`: from `from` (a fit of the same structure on the record's start) when given, from
+/// the subspace model with `opts` at that order when not or when `from` does not refine.
+/// Returns the fit and, when `from` did not refine, why.
+fn refine_order(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+    n: usize,
+    choices: &Choices,
+    from: Option<&HostModel>,
+) -> Result<(PemFit, Option<String>), String> {
+    let pem = &pem_options(opts, choices);
+    let mut start = from.cloned();
+    let mut restarted = None;
+    loop {
+        let model = match start.take() {
+            Some(m) => m,
+            None => {
+                let mut o = opts.clone();
+                o.order = Some(n);
+                subspace_start(u, y, &mut o, ModelStage::Refined, false)
+                    .map_err(|e| e.to_string())?
+                    .model
+            }
+        };
+        match refine(u, y, &model, pem) {
+            Ok(fit) => return Ok((fit, restarted)),
+            // The start's fit did not refine on the whole record: once more from its own
+            // subspace model.
+            Err(e) if from.is_some() && restarted.is_none() => restarted = Some(e.to_string()),
+            Err(e) => return Err(e.to_string()),
+        }
+    }
+}
+
+/// The order of `chosen` (a fit on the start of `(u, y)` with `opts`) refined on the whole
+/// record: from `chosen`'s model, or from the whole record's subspace model at that order when
+/// that does not refine (then with why).
+pub fn on_whole_record(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+    chosen: &PemFit,
+    choices: &Choices,
+) -> Result<(PemFit, Option<String>), ChooseError> {
+    let n = chosen.model.order;
+    crate::progress::stage(|| format!("refining the chosen order {n} on the whole record"))?;
+    refine_order(u, y, opts, n, choices, Some(&chosen.model))
+        .map_err(|e| ChooseError::Refine(vec![(n, e)]))
+}
+
 /// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order,
 /// refined with [`PemOptions::for_identify`] and the noise model of `choices`) and keeps the
 /// best by `choices.criterion`; the fit of
@@ -69,10 +129,6 @@ pub fn choose_order(
     choices: &Choices,
 ) -> Result<(PemFit, OrderChoice), ChooseError> {
     let criterion = choices.criterion;
-    let pem = &PemOptions {
-        noise_order: choices.noise,
-        ..PemOptions::for_identify(opts)
-    };
     let mut fits = Vec::new();
     let mut scores = Vec::new();
     let mut failures = Vec::new();
@@ -80,13 +136,8 @@ pub fn choose_order(
         crate::progress::stage(|| {
             format!("refining order {n} ({} of {})", i + 1, candidates.len())
         })?;
-        let mut o = opts.clone();
-        o.order = Some(n);
-        let fit = subspace_start(u, y, &mut o, ModelStage::Refined, false)
-            .map_err(|e| e.to_string())
-            .and_then(|s| refine(u, y, &s.model, pem).map_err(|e| e.to_string()));
-        match fit {
-            Ok(f) => {
+        match refine_order(u, y, opts, n, choices, None) {
+            Ok((f, _)) => {
                 scores.push((
                     n,
                     criterion.score(f.samples as f64, f.mse, f.parameters() as f64),

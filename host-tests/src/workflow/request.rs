@@ -331,9 +331,8 @@ impl IdentifyRequest {
                 Field::Fit,
                 "fit_integrating",
                 match s {
-                    Syntax::Cli => "--fit simulation needs the whole record (not --stream) and a \
-                                    plant without an integrator (not --integrating): drop those, \
-                                    or give --fit auto or none"
+                    Syntax::Cli => "--fit simulation needs a plant without an integrator (not \
+                                    --integrating yes): drop one, or give --fit auto or none"
                         .to_string(),
                     Syntax::Python => "fit=\"simulation\" needs a plant without an integrator \
                                        (not integrating=True): drop one, or give fit=\"auto\" or \
