@@ -34,6 +34,24 @@ pub struct Borders<'a> {
 }
 
 impl DynamicsFit<'_> {
+    /// The fit on the first `n` samples (all of them when there are fewer).
+    pub fn prefix(&self, n: usize) -> DynamicsFit<'_> {
+        let cut = |s: usize| n.min(s);
+        DynamicsFit {
+            h: &self.h[..cut(self.h.len())],
+            y: &self.y[..cut(self.y.len())],
+            skip: &self.skip[..cut(self.skip.len())],
+            map: self.map,
+            fit_x0: self.fit_x0,
+            radius_limit: self.radius_limit,
+            iterations: self.iterations,
+            borders: self.borders.map(|b| Borders {
+                u: &b.u[..cut(b.u.len())],
+                shared: b.shared,
+            }),
+        }
+    }
+
     /// The error the fit minimises for a linear part's output `lin`: the target minus
     /// `g(lin)`, the skipped samples left out; `None` if it is not finite.
     pub fn residual(&self, lin: &[f64]) -> Option<Vec<f64>> {

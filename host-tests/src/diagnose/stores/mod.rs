@@ -204,16 +204,76 @@ impl HostModel {
     }
 }
 
+/// Samples the starts are tried on: on a longer record every start is fitted on its first
+/// `START_WINDOW` samples with at most [`START_ITERATIONS`] iterations, and the fit continued
+/// on the whole record from the best of them (from the next best when it does not simulate
+/// there).
+pub const START_WINDOW: usize = 30_000;
+
+/// Levenberg–Marquardt iterations per start on the window of a long record: enough to rank
+/// the starts; the best one is then given the full iterations on the whole record.
+pub const START_ITERATIONS: usize = 25;
+
 /// Fits the level-dependent stores to an order-2 model with real poles (`A`, `B`, `C`, `D`
 /// give the start, `x0` its initial state; the borders and the output map are held). Every
-/// start in the module documentation is tried; the fit with the least squared simulation
-/// error on the samples not skipped is returned.
+/// start in the module documentation is tried (on a record longer than [`START_WINDOW`], on
+/// its first samples, the best continued on the whole record); the fit with the least squared
+/// simulation error on the samples not skipped is returned.
 pub fn fit(
     m: &HostModel,
     x0: &[f64],
     data: &DynamicsFit,
     class: StoresClass,
 ) -> Result<(Stores, HostModel), DynamicsError> {
+    fit_with_window(m, x0, data, class, START_WINDOW)
+}
+
+/// [`fit`] with the starts tried on the first `window` samples of a longer record.
+fn fit_with_window(
+    m: &HostModel,
+    x0: &[f64],
+    data: &DynamicsFit,
+    class: StoresClass,
+    window: usize,
+) -> Result<(Stores, HostModel), DynamicsError> {
+    let windowed = data.h.len() > window;
+    let window = DynamicsFit {
+        iterations: data.iterations.min(START_ITERATIONS),
+        ..data.prefix(window)
+    };
+    let on = if windowed { &window } else { data };
+    let mut fits: Vec<(f64, Vec<f64>)> = starts(m, x0, on, class)?
+        .into_iter()
+        .filter_map(|theta0| fit_from(m, &theta0, on, class))
+        .collect();
+    fits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let theta = match windowed {
+        false => fits.into_iter().next().map(|(_, t)| t),
+        true => fits
+            .into_iter()
+            .find_map(|(_, t)| fit_from(m, &t, data, class).map(|(_, t)| t)),
+    };
+    let theta = theta.ok_or(DynamicsError::NotSimulating)?;
+    Ok((Stores::from_theta(&theta), with_borders(m, data, &theta)))
+}
+
+/// `m` with the border values appended to `θ` after the stores' parameters, when refitted.
+fn with_borders(m: &HostModel, data: &DynamicsFit, theta: &[f64]) -> HostModel {
+    let mut mm = m.clone();
+    if let Some(b) = data.borders {
+        b.unpack(&mut theta.iter().skip(PARAMETERS).copied(), &mut mm);
+    }
+    mm
+}
+
+/// The starts `θ0` of the module documentation for `class` on `data` (border values appended
+/// when refitted).
+fn starts(
+    m: &HostModel,
+    x0: &[f64],
+    data: &DynamicsFit,
+    class: StoresClass,
+) -> Result<Vec<Vec<f64>>, DynamicsError> {
     let cascades = m.start_cascades()?;
     let y_first = m.d * data.h.first().copied().unwrap_or(0.0)
         + m.c.iter().zip(x0).map(|(c, x)| c * x).sum::<f64>();
@@ -229,24 +289,7 @@ pub fn fit(
             samples: data.h.len(),
         });
     }
-    // Refitted border values are appended to θ after the stores' parameters.
-    let with_borders = |t: &[f64]| -> HostModel {
-        let mut mm = m.clone();
-        if let Some(b) = data.borders {
-            b.unpack(&mut t.iter().skip(PARAMETERS).copied(), &mut mm);
-        }
-        mm
-    };
-    let residual = |t: &[f64]| -> Option<Vec<f64>> {
-        let refitted = data.borders.and_then(|_| data.refitted_h(&with_borders(t)));
-        data.residual(&Stores::from_theta(t).simulate(refitted.as_deref().unwrap_or(data.h))?)
-    };
-    let admissible = |t: &[f64]| Stores::from_theta(t).admissible();
-    let settings = Settings {
-        iterations: data.iterations,
-        ..Settings::default()
-    };
-    let mut best: Option<(f64, (Stores, HostModel))> = None;
+    let mut out = Vec::new();
     for cascade in cascades {
         let Some(linear) = linear_start(&cascade, m.d, y_first, h_low, h_high) else {
             continue;
@@ -276,35 +319,50 @@ pub fn fit(
                 if let Some(b) = data.borders {
                     b.pack(m, &mut theta0);
                 }
-                let typical: Vec<f64> = theta0.iter().map(|v| v.abs().max(1e-3)).collect();
-                let held = |t: &[f64]| {
-                    let mut t = t.to_vec();
-                    if !data.fit_x0 {
-                        t[11..PARAMETERS].copy_from_slice(&theta0[11..PARAMETERS]);
-                    }
-                    if class == StoresClass::Linear {
-                        // α, the level and the spill held.
-                        for i in [2, 3, 9, 10] {
-                            t[i] = theta0[i];
-                        }
-                    }
-                    t
-                };
-                let res = |t: &[f64]| residual(&held(t));
-                let Some((theta, r)) =
-                    levenberg_marquardt(&theta0, &typical, &settings, &res, &admissible).ok()
-                else {
-                    continue;
-                };
-                let e: f64 = r.iter().map(|v| v * v).sum();
-                if best.as_ref().is_none_or(|(b, _)| e < *b) {
-                    let theta = held(&theta);
-                    best = Some((e, (Stores::from_theta(&theta), with_borders(&theta))));
-                }
+                out.push(theta0);
             }
         }
     }
-    best.map(|(_, fit)| fit).ok_or(DynamicsError::NotSimulating)
+    Ok(out)
+}
+
+/// The stores fitted on `data` by Levenberg–Marquardt from `θ0` (what `class` and
+/// [`DynamicsFit::fit_x0`] hold kept at `θ0`'s values): the squared simulation error and `θ`;
+/// `None` when the fit does not simulate.
+fn fit_from(
+    m: &HostModel,
+    theta0: &[f64],
+    data: &DynamicsFit,
+    class: StoresClass,
+) -> Option<(f64, Vec<f64>)> {
+    let residual = |t: &[f64]| -> Option<Vec<f64>> {
+        let refitted = data
+            .borders
+            .and_then(|_| data.refitted_h(&with_borders(m, data, t)));
+        data.residual(&Stores::from_theta(t).simulate(refitted.as_deref().unwrap_or(data.h))?)
+    };
+    let admissible = |t: &[f64]| Stores::from_theta(t).admissible();
+    let settings = Settings {
+        iterations: data.iterations,
+        ..Settings::default()
+    };
+    let typical: Vec<f64> = theta0.iter().map(|v| v.abs().max(1e-3)).collect();
+    let held = |t: &[f64]| {
+        let mut t = t.to_vec();
+        if !data.fit_x0 {
+            t[11..PARAMETERS].copy_from_slice(&theta0[11..PARAMETERS]);
+        }
+        if class == StoresClass::Linear {
+            // α, the level and the spill held.
+            for i in [2, 3, 9, 10] {
+                t[i] = theta0[i];
+            }
+        }
+        t
+    };
+    let res = |t: &[f64]| residual(&held(t));
+    let (theta, r) = levenberg_marquardt(theta0, &typical, &settings, &res, &admissible).ok()?;
+    Some((r.iter().map(|v| v * v).sum(), held(&theta)))
 }
 
 /// The linear cascade as stores (`α = 1`, no overflow). Outflow rates `k_i = S (1 − p_i^{1/S})`
