@@ -249,8 +249,8 @@ fn analytic_jacobian_matches_finite_differences() {
         for i in p.layout().iota() {
             th[i] = 0.3;
         }
-        let ev = p.evaluate(&th);
-        assert_eq!(ev.jac.nrows(), p.samples());
+        let jac = p.jacobian(&th);
+        assert_eq!(jac.nrows(), p.samples());
         for j in 0..th.len() {
             let h = 1e-6 * (1.0 + th[j].abs());
             let mut tp = th.clone();
@@ -261,7 +261,7 @@ fn analytic_jacobian_matches_finite_differences() {
             let (mut num, mut den) = (0.0, 0.0);
             for t in 0..ep.len() {
                 let fd = (ep[t] - em[t]) / (2.0 * h);
-                num += (fd - ev.jac[(t, j)]).powi(2);
+                num += (fd - jac[(t, j)]).powi(2);
                 den += fd * fd;
             }
             let rel = (num / den.max(1e-300)).sqrt();
@@ -270,6 +270,63 @@ fn analytic_jacobian_matches_finite_differences() {
                 "column {j} (feed-through {ft}): relative error {rel}"
             );
         }
+    }
+}
+
+/// The normal equations accumulated sample by sample (what the refinement uses) are those of
+/// the Jacobian matrix: `JᵀJ`, `Jᵀε` and `Jᵀr` for another residual, to rounding.
+#[test]
+fn accumulated_normal_equations_are_those_of_the_jacobian() {
+    let cfg = PaperConfig::default();
+    let opts = options(&cfg);
+    let e = run0();
+    let init = identify(&e.u, &e.y, &opts).unwrap();
+    let noise = NoiseModel {
+        c: vec![1.0, 0.4, 0.1],
+        d: vec![1.0, -0.8, 0.05],
+        sigma2: 1.0,
+    };
+    for (ft, ini) in [
+        (true, PemInitialState::Rest),
+        (false, PemInitialState::Estimate),
+    ] {
+        let p = PemProblem::new(
+            &e.u,
+            &e.y,
+            &opts.knots_asc,
+            &opts.knots_desc,
+            structure(2, ini, ft),
+        )
+        .unwrap();
+        let mut th = p.theta_from(&init, &noise).unwrap();
+        for i in p.layout().iota() {
+            th[i] = 0.3;
+        }
+        let jac = p.jacobian(&th);
+        let ev = p.evaluate(&th);
+        let eps = nalgebra::DVector::from_column_slice(&ev.eps);
+        assert_eq!(ev.eps, p.errors(&th));
+        let close = |a: &nalgebra::DMatrix<f64>, b: &nalgebra::DMatrix<f64>, what: &str| {
+            let rel = (a - b).norm() / b.norm();
+            assert!(
+                rel < 1e-12,
+                "{what} (feed-through {ft}): relative error {rel}"
+            );
+        };
+        close(&ev.jtj, &jac.tr_mul(&jac), "JᵀJ");
+        close(
+            &nalgebra::DMatrix::from_column_slice(ev.jtr.len(), 1, ev.jtr.as_slice()),
+            &nalgebra::DMatrix::from_column_slice(eps.len(), 1, eps.as_slice())
+                .tr_mul(&jac)
+                .transpose(),
+            "Jᵀε",
+        );
+        let r: Vec<f64> = (0..ev.eps.len()).map(|t| (t as f64 * 0.37).sin()).collect();
+        let other = p.evaluate_against(&th, Some(&r));
+        let rv = nalgebra::DVector::from_column_slice(&r);
+        let want = jac.tr_mul(&rv);
+        let rel = (&other.jtr - &want).norm() / want.norm();
+        assert!(rel < 1e-12, "Jᵀr (feed-through {ft}): relative error {rel}");
     }
 }
 

@@ -115,7 +115,7 @@ pub fn paper_crb(
             }
         }
         let ev = problem.evaluate(&th);
-        let jtj = ev.jac.tr_mul(&ev.jac);
+        let jtj = ev.jtj;
         info = Some(match info {
             Some(acc) => acc + jtj,
             None => jtj,

@@ -36,7 +36,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 
 use super::poly::{observer_form, spectral_radius, tf_from_ss};
-use super::signal::{HatRegressors, delay, filter};
+use super::signal::{HatRegressors, Stepped, filter, push_lag};
 use super::stochastic::{NoiseModel, fit_noise};
 use super::{RefineError, Unstable};
 use crate::identify::{HostModel, IdentifyOptions, identify};
@@ -272,21 +272,26 @@ pub fn burn_in(initial: PemInitialState) -> usize {
 pub struct PemProblem {
     layout: ParamLayout,
     hat: HatRegressors,
-    /// Dense hat channels over `start..`.
-    w: Vec<Vec<f64>>,
     /// `y[start..]`.
     y: Vec<f64>,
     start: usize,
     burn: usize,
 }
 
-/// Prediction errors and their Jacobian at one parameter vector.
+/// Rows of the Jacobian gathered before their products are added to the normal equations.
+const ROW_BLOCK: usize = 256;
+
+/// Prediction errors and the normal equations of their Jacobian at one parameter vector,
+/// accumulated sample by sample: no `N × d` matrix is formed ([`PemProblem::jacobian`] gives
+/// it for checks).
 #[derive(Clone, Debug)]
 pub struct PemEvaluation {
     /// `ε(t)`, `t = start + burn …`.
     pub eps: Vec<f64>,
-    /// `∂ε/∂θ` (`N × d`).
-    pub jac: DMatrix<f64>,
+    /// `JᵀJ` with `J = ∂ε/∂θ` (`d × d`), the information matrix up to `σ²`.
+    pub jtj: DMatrix<f64>,
+    /// `Jᵀr` with `r` the residual the evaluation was asked for (`ε` itself by default).
+    pub jtr: DVector<f64>,
     /// `Σ ε²`.
     pub cost: f64,
 }
@@ -335,15 +340,9 @@ impl PemProblem {
         if have < need {
             return Err(RefineError::TooFewSamples { have, need });
         }
-        let w = hat
-            .dense()
-            .into_iter()
-            .map(|c| c[start..].to_vec())
-            .collect();
         Ok(Self {
             layout,
             hat,
-            w,
             y: y[start..].to_vec(),
             start,
             burn,
@@ -402,14 +401,8 @@ impl PemProblem {
         let beta = &th[l.beta()];
         let mu0 = beta[0];
         let len = self.y.len();
-        let mut hd = vec![0.0; len];
-        for (k, wk) in self.w.iter().enumerate() {
-            let bk = beta[k];
-            for (h, w) in hd.iter_mut().zip(wk) {
-                *h += bk * w;
-            }
-        }
-        hd.iter_mut().for_each(|h| *h -= mu0);
+        let mut w = vec![0.0; l.channels];
+        let hd: Vec<f64> = (0..len).map(|t| self.hat_at(t, beta, &mut w)).collect();
         let mut xr = filter(&p.b, &p.f, &hd);
         if l.init {
             let mut imp = vec![0.0; len];
@@ -423,81 +416,177 @@ impl PemProblem {
         (s, hd, xr)
     }
 
-    /// Prediction errors in the cost (`t ≥ start + burn`).
+    /// `H(t) − μ0` at sample `t` of the problem (`start + t` of the record), its channels
+    /// left in `w`.
+    fn hat_at(&self, t: usize, beta: &[f64], w: &mut [f64]) -> f64 {
+        self.hat.sample_into(self.start + t, w);
+        let mut h = 0.0;
+        for (b, wk) in beta.iter().zip(w.iter()) {
+            h += b * wk;
+        }
+        h - beta.first().copied().unwrap_or(0.0)
+    }
+
+    /// Prediction errors in the cost (`t ≥ start + burn`), the predictor run sample by sample
+    /// (the values of [`rows`](Self::rows), without the Jacobian).
     pub fn errors(&self, th: &[f64]) -> Vec<f64> {
-        let p = self.layout.polynomials(th);
-        let s = self.simulate(th);
-        let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
-        let mut e = filter(&p.d, &p.c, &raw);
-        e.drain(..self.burn.min(e.len()));
+        let l = self.layout;
+        let p = l.polynomials(th);
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
+        let mut plant = Stepped::new(&p.b, &p.f);
+        let mut free = Stepped::new(&th[l.iota()], &p.f);
+        let mut noise = Stepped::new(&p.d, &p.c);
+        let mut w = vec![0.0; l.channels];
+        let mut e = Vec::with_capacity(self.samples());
+        for (t, y) in self.y.iter().enumerate() {
+            let hd = self.hat_at(t, beta, &mut w);
+            let mut xr = plant.step(hd);
+            if l.init {
+                xr += free.step(if t == 0 { 1.0 } else { 0.0 });
+            }
+            let eps = noise.step(y - (xr + mu0));
+            if t >= self.burn {
+                e.push(eps);
+            }
+        }
         e
     }
 
-    /// Prediction errors and the analytic Jacobian at `θ`.
+    /// Prediction errors and the normal equations of the analytic Jacobian at `θ`
+    /// (`Jᵀε`).
     pub fn evaluate(&self, th: &[f64]) -> PemEvaluation {
+        self.evaluate_against(th, None)
+    }
+
+    /// [`evaluate`](Self::evaluate) with `Jᵀr` for the residual `r` (one value per sample in
+    /// the cost; `ε` itself when `None` or of another length).
+    pub fn evaluate_against(&self, th: &[f64], r: Option<&[f64]>) -> PemEvaluation {
+        let d = self.layout.len();
+        let r = r.filter(|r| r.len() == self.samples());
+        let mut jtj = DMatrix::<f64>::zeros(d, d);
+        let mut jtr = DVector::<f64>::zeros(d);
+        let mut eps = Vec::with_capacity(self.samples());
+        // Rows gathered in blocks, each block's `BᵀB` and `Bᵀr` added by a matrix product.
+        let mut block = DMatrix::<f64>::zeros(ROW_BLOCK, d);
+        let mut rb = DVector::<f64>::zeros(ROW_BLOCK);
+        let mut filled = 0;
+        let mut add = |block: &DMatrix<f64>, rb: &DVector<f64>, rows: usize| {
+            let (b, r) = (block.rows(0, rows), rb.rows(0, rows));
+            jtj.gemm_tr(1.0, &b, &b, 1.0);
+            jtr.gemv_tr(1.0, &b, &r, 1.0);
+        };
+        self.rows(th, |e, j| {
+            rb[filled] = r.map_or(e, |r| r.get(eps.len()).copied().unwrap_or(e));
+            block.row_mut(filled).copy_from_slice(j);
+            filled += 1;
+            if filled == ROW_BLOCK {
+                add(&block, &rb, filled);
+                filled = 0;
+            }
+            eps.push(e);
+        });
+        add(&block, &rb, filled);
+        let cost = eps.iter().map(|e| e * e).sum();
+        PemEvaluation {
+            eps,
+            jtj,
+            jtr,
+            cost,
+        }
+    }
+
+    /// The analytic Jacobian `∂ε/∂θ` at `θ` as a matrix (`N × d`, a row per sample in the
+    /// cost): for checks and short records; the refinement uses
+    /// [`evaluate`](Self::evaluate).
+    pub fn jacobian(&self, th: &[f64]) -> DMatrix<f64> {
+        let d = self.layout.len();
+        let mut values = Vec::with_capacity(self.samples() * d);
+        self.rows(th, |_, j| values.extend_from_slice(j));
+        DMatrix::from_row_slice(values.len() / d.max(1), d, &values)
+    }
+
+    /// Runs the predictor at `θ` sample by sample and calls `row(ε(t), ∂ε(t)/∂θ)` for every
+    /// sample in the cost, in order. Every signal is a filter of the one before it, so each
+    /// is carried as a filter state (the lags of the Jacobian's columns as short histories):
+    /// nothing the record's length is kept.
+    ///
+    /// With `e` the eliminated power, `∂B/∂f_i = q⁻ᵉ` and `∂B/∂b_i = q⁻ⁱ − q⁻ᵉ`: the columns
+    /// of `f_i` are `q⁻ᵉ g − q⁻ⁱ k` and of `b_i` `q⁻ⁱ g − q⁻ᵉ g`, with `g = (H − μ0)/F` and
+    /// `k = (x + r)/F`; the border columns `G w_k` (μ0's `G (w_0 − 1) + 1`); the
+    /// initial-state columns `q⁻ᵏ δ/F`; each deterministic column through `−D/C`. The noise
+    /// columns are `q⁻ⁱ (y − ŷ_det)/C` and `−q⁻ⁱ ε/C`.
+    fn rows(&self, th: &[f64], mut row: impl FnMut(f64, &[f64])) {
         let l = self.layout;
         let p = l.polynomials(th);
-        let len = self.y.len();
-        let (s, hd, xr) = self.parts(th);
-        let raw: Vec<f64> = self.y.iter().zip(&s).map(|(a, b)| a - b).collect();
-        let eps_all = filter(&p.d, &p.c, &raw);
-        let burn = self.burn.min(len);
-        let eps = eps_all[burn..].to_vec();
-        let cost = eps.iter().map(|e| e * e).sum();
-        let mut jac = DMatrix::<f64>::zeros(len - burn, l.len());
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
         let one = [1.0];
-        // Deterministic columns: ∂ε/∂θ = −(D/C) ∂ŷ/∂θ.
-        let mut put_det = |col: usize, ds: &[f64]| {
-            let v = filter(&p.d, &p.c, ds);
-            for (t, x) in v.iter().enumerate().skip(burn) {
-                jac[(t - burn, col)] = -x;
+        let (n, nb, e, nv) = (l.n, l.nb(), l.eliminated(), l.nv);
+        let mut plant = Stepped::new(&p.b, &p.f);
+        let mut free = Stepped::new(&th[l.iota()], &p.f);
+        let mut noise = Stepped::new(&p.d, &p.c);
+        let mut g_f = Stepped::new(&one, &p.f);
+        let mut k_f = Stepped::new(&one, &p.f);
+        let mut i_f = Stepped::new(&one, &p.f);
+        let mut r_c = Stepped::new(&one, &p.c);
+        let mut e_c = Stepped::new(&one, &p.c);
+        let mut borders: Vec<Stepped> = (0..l.channels).map(|_| Stepped::new(&p.b, &p.f)).collect();
+        // One `D/C` per deterministic column: f, b, β, ι in the layout's order.
+        let det_columns = l.f().chain(l.b()).chain(l.beta()).chain(l.iota());
+        let mut det: Vec<(usize, Stepped)> =
+            det_columns.map(|c| (c, Stepped::new(&p.d, &p.c))).collect();
+        let lags = n.max(nb).max(e) + 1;
+        let (mut g, mut k) = (vec![0.0; lags], vec![0.0; lags]);
+        let mut gf = vec![0.0; n.max(1)];
+        let (mut rc, mut ec) = (vec![0.0; nv + 1], vec![0.0; nv + 1]);
+        let mut w = vec![0.0; l.channels];
+        let mut raw_columns = vec![0.0; det.len()];
+        let mut j = vec![0.0; l.len()];
+        for t in 0..self.y.len() {
+            let hd = self.hat_at(t, beta, &mut w);
+            let imp = if t == 0 { 1.0 } else { 0.0 };
+            let mut xr = plant.step(hd);
+            if l.init {
+                xr += free.step(imp);
             }
-        };
-        let g = filter(&one, &p.f, &hd);
-        let kk = filter(&one, &p.f, &xr);
-        // With e the eliminated power: ∂B/∂f_i = q⁻ᵉ, ∂B/∂b_i = q⁻ⁱ − q⁻ᵉ.
-        let ge = delay(&g, l.eliminated());
-        for i in 1..=l.n {
-            let kd = delay(&kk, i);
-            let col: Vec<f64> = ge.iter().zip(&kd).map(|(a, b)| a - b).collect();
-            put_det(l.f().start + i - 1, &col);
-        }
-        for (j, i) in (1..=l.nb()).enumerate() {
-            let gd = delay(&g, i);
-            let col: Vec<f64> = gd.iter().zip(&ge).map(|(a, b)| a - b).collect();
-            put_det(l.b().start + j, &col);
-        }
-        for (k, wk) in self.w.iter().enumerate() {
-            if k == 0 {
-                let w0m: Vec<f64> = wk.iter().map(|v| v - 1.0).collect();
-                let col: Vec<f64> = filter(&p.b, &p.f, &w0m).iter().map(|v| v + 1.0).collect();
-                put_det(l.beta().start, &col);
-            } else {
-                put_det(l.beta().start + k, &filter(&p.b, &p.f, wk));
+            let raw = self.y[t] - (xr + mu0);
+            let eps = noise.step(raw);
+            push_lag(&mut g, g_f.step(hd));
+            push_lag(&mut k, k_f.step(xr));
+            push_lag(&mut gf, i_f.step(imp));
+            push_lag(&mut rc, r_c.step(raw));
+            push_lag(&mut ec, e_c.step(eps));
+            let mut c = raw_columns.iter_mut();
+            for ki in k.iter().skip(1).take(n) {
+                c.next().into_iter().for_each(|v| *v = g[e] - ki);
+            }
+            for i in 1..=nb {
+                c.next().into_iter().for_each(|v| *v = g[i] - g[e]);
+            }
+            for (kk, (wk, f)) in w.iter().zip(borders.iter_mut()).enumerate() {
+                let v = match kk {
+                    0 => f.step(wk - 1.0) + 1.0,
+                    _ => f.step(*wk),
+                };
+                c.next().into_iter().for_each(|x| *x = v);
+            }
+            if l.init {
+                for gk in gf.iter().take(n) {
+                    c.next().into_iter().for_each(|v| *v = *gk);
+                }
+            }
+            for ((col, f), v) in det.iter_mut().zip(&raw_columns) {
+                j[*col] = -f.step(*v);
+            }
+            for i in 1..=nv {
+                j[l.nd().start + i - 1] = rc[i];
+                j[l.nc().start + i - 1] = -ec[i];
+            }
+            if t >= self.burn {
+                row(eps, &j);
             }
         }
-        if l.init {
-            let mut imp = vec![0.0; len];
-            if let Some(i0) = imp.first_mut() {
-                *i0 = 1.0;
-            }
-            let gf = filter(&one, &p.f, &imp);
-            for k in 0..l.n {
-                put_det(l.iota().start + k, &delay(&gf, k));
-            }
-        }
-        // Noise columns.
-        let rc = filter(&one, &p.c, &raw);
-        let ec = filter(&one, &p.c, &eps_all);
-        for i in 1..=l.nv {
-            let a = delay(&rc, i);
-            let b = delay(&ec, i);
-            for t in burn..len {
-                jac[(t - burn, l.nd().start + i - 1)] = a[t];
-                jac[(t - burn, l.nc().start + i - 1)] = -b[t];
-            }
-        }
-        PemEvaluation { eps, jac, cost }
     }
 
     /// `θ` of a deterministic model and a noise model (initial-state coefficients 0).
@@ -679,11 +768,10 @@ pub fn minimise_to_limit(
     // at a time.
     let normal = |th: &[f64], r: &[f64]| {
         *last.borrow_mut() = None;
-        let ev = problem.evaluate(th);
-        let jtj = ev.jac.tr_mul(&ev.jac);
-        let jtr = ev.jac.tr_mul(&DVector::from_column_slice(r));
+        let ev = problem.evaluate_against(th, Some(r));
+        let normal = (ev.jtj.clone(), ev.jtr.clone());
         *last.borrow_mut() = Some((th.to_vec(), ev));
-        (jtj, jtr)
+        normal
     };
     let lm = lm::Problem {
         residual: &residual,
@@ -725,9 +813,9 @@ pub fn minimise_to_limit(
 
 /// `σ̂² (JᵀJ)⁻¹` at an evaluation.
 pub fn covariance(ev: &PemEvaluation) -> Result<(DMatrix<f64>, f64), RefineError> {
-    let (n, d) = ev.jac.shape();
+    let (n, d) = (ev.eps.len(), ev.jtj.nrows());
     let sigma2 = ev.cost / (n.saturating_sub(d)).max(1) as f64;
-    let h = ev.jac.tr_mul(&ev.jac);
+    let h = &ev.jtj;
     // Scale to unit diagonal for the inversion.
     let s: Vec<f64> = (0..d).map(|i| 1.0 / h[(i, i)].max(1e-300).sqrt()).collect();
     let hs = DMatrix::from_fn(d, d, |i, j| h[(i, j)] * s[i] * s[j]);
@@ -890,7 +978,7 @@ fn refine_from(
         // The data do not determine every parameter (a pole cancelled by a zero, an initial
         // state the record hardly excites): the estimate stands, its covariance does not.
         Err(RefineError::Singular(_)) => {
-            let (n, d) = ev.jac.shape();
+            let (n, d) = (ev.eps.len(), ev.jtj.nrows());
             let sigma2 = ev.cost / (n.saturating_sub(d)).max(1) as f64;
             (DMatrix::zeros(d, d), sigma2, true)
         }

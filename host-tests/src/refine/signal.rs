@@ -61,6 +61,56 @@ pub fn delay(x: &[f64], k: usize) -> Vec<f64> {
     y
 }
 
+/// A causal filter `b(q)/a(q)` (`a₀ = 1`) from rest, one sample at a time: the values of
+/// [`filter`] on the whole signal, with a state of the filter's length rather than the
+/// signal's.
+#[derive(Clone, Debug)]
+pub(crate) struct Stepped {
+    b: Vec<f64>,
+    a: Vec<f64>,
+    /// `x(t − k)` at `k`.
+    x: Vec<f64>,
+    /// `y(t − k)` at `k` (the slot `k = 0` is the newest output).
+    y: Vec<f64>,
+}
+
+impl Stepped {
+    /// The filter `b/a` at rest.
+    pub(crate) fn new(b: &[f64], a: &[f64]) -> Self {
+        Self {
+            b: b.to_vec(),
+            a: a.to_vec(),
+            x: vec![0.0; b.len()],
+            y: vec![0.0; a.len().max(1)],
+        }
+    }
+
+    /// The output for the next input sample `v`.
+    pub(crate) fn step(&mut self, v: f64) -> f64 {
+        push_lag(&mut self.x, v);
+        self.y.rotate_right(1);
+        let mut acc = 0.0;
+        for (b, x) in self.b.iter().zip(&self.x) {
+            acc += b * x;
+        }
+        for (a, y) in self.a.iter().zip(&self.y).skip(1) {
+            acc -= a * y;
+        }
+        if let Some(y0) = self.y.first_mut() {
+            *y0 = acc;
+        }
+        acc
+    }
+}
+
+/// Shifts a history `h[k] = x(t − k)` by one sample, `v` the newest.
+pub(crate) fn push_lag(h: &mut [f64], v: f64) {
+    h.rotate_right(1);
+    if let Some(h0) = h.first_mut() {
+        *h0 = v;
+    }
+}
+
 /// Checks a knot vector: at least two finite, strictly increasing values.
 pub(crate) fn check_knots(k: &[f64], which: &'static str) -> Result<(), RefineError> {
     if k.len() < 2 {
@@ -82,7 +132,7 @@ pub struct HatRegressors {
     n_desc: usize,
     shared: bool,
     /// Per sample: two channels and their weights (the second may have weight 0).
-    idx: Vec<[usize; 2]>,
+    idx: Vec<[u16; 2]>,
     w: Vec<[f64; 2]>,
 }
 
@@ -122,6 +172,12 @@ impl HatRegressors {
         }
         let n_asc = knots_asc.len() - 1;
         let n_desc = if shared { 0 } else { knots_desc.len() - 1 };
+        // Channel numbers are kept in 16 bits (four bytes a sample instead of sixteen).
+        if 1 + n_asc + n_desc > usize::from(u16::MAX) {
+            return Err(RefineError::InvalidKnots(
+                "more than 65,535 border channels: give fewer knots",
+            ));
+        }
         let mut idx = Vec::with_capacity(u.len());
         let mut w = Vec::with_capacity(u.len());
         for (&ut, dir) in u.iter().zip(directions(u, lo)) {
@@ -132,7 +188,7 @@ impl HatRegressors {
             };
             let (s, th) = hat_weights(k, ut);
             // φ_s with weight 1 − θ, φ_{s+1} with weight θ; φ_0 is channel 0 on both paths.
-            let ch = |i: usize| if i == 0 { 0 } else { off + i };
+            let ch = |i: usize| u16::try_from(if i == 0 { 0 } else { off + i }).unwrap_or(u16::MAX);
             idx.push([ch(s), ch(s + 1)]);
             w.push([1.0 - th, th]);
         }
@@ -166,8 +222,8 @@ impl HatRegressors {
             .iter()
             .zip(&self.w)
             .map(|(i, w)| {
-                beta.get(i[0]).copied().unwrap_or(0.0) * w[0]
-                    + beta.get(i[1]).copied().unwrap_or(0.0) * w[1]
+                beta.get(usize::from(i[0])).copied().unwrap_or(0.0) * w[0]
+                    + beta.get(usize::from(i[1])).copied().unwrap_or(0.0) * w[1]
             })
             .collect()
     }
@@ -179,10 +235,10 @@ impl HatRegressors {
             .zip(&self.w)
             .map(|(i, w)| {
                 let mut v = 0.0;
-                if i[0] == k {
+                if usize::from(i[0]) == k {
                     v += w[0];
                 }
-                if i[1] == k {
+                if usize::from(i[1]) == k {
                     v += w[1];
                 }
                 v
@@ -190,12 +246,25 @@ impl HatRegressors {
             .collect()
     }
 
+    /// The channels' values at sample `t` into `out` (one per channel; zero where the sample
+    /// has no weight, and everywhere past the record).
+    pub(crate) fn sample_into(&self, t: usize, out: &mut [f64]) {
+        out.iter_mut().for_each(|v| *v = 0.0);
+        if let (Some(i), Some(w)) = (self.idx.get(t), self.w.get(t)) {
+            for (i, w) in i.iter().zip(w) {
+                if let Some(o) = out.get_mut(usize::from(*i)) {
+                    *o += w;
+                }
+            }
+        }
+    }
+
     /// All channels as dense signals (channel-major).
     pub fn dense(&self) -> Vec<Vec<f64>> {
         let mut out = vec![vec![0.0; self.len()]; self.channels()];
         for (t, (i, w)) in self.idx.iter().zip(&self.w).enumerate() {
-            out[i[0]][t] += w[0];
-            out[i[1]][t] += w[1];
+            out[usize::from(i[0])][t] += w[0];
+            out[usize::from(i[1])][t] += w[1];
         }
         out
     }
