@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::identify::HostModel;
 use crate::numerics::select::{Criterion, best};
-use crate::validation::arx::{continuous_rows, lagged, rss};
+use crate::validation::arx::{Column, continuous_rows, rss};
 use crate::validation::residual::LEVEL;
 use crate::validation::stats::chi2_sf;
 
@@ -91,19 +91,18 @@ pub fn dead_time(
     model_lag: usize,
 ) -> DeadTime {
     let span = max_lag + 1;
-    let ones = vec![1.0; y.len()];
-    let zl: Vec<Vec<Vec<f64>>> = (0..=span)
-        .map(|j| z.iter().map(|c| lagged(c, j)).collect())
+    let zl: Vec<Vec<Column>> = (0..=span)
+        .map(|j| z.iter().map(|c| Column::Lagged(c, j)).collect())
         .collect();
-    let yl: Vec<Vec<f64>> = (1..=6).map(|i| lagged(y, i)).collect();
+    let yl: Vec<Column> = (1..=6).map(|i| Column::Lagged(y, i)).collect();
     let start = span.max(6);
     let rows = continuous_rows(time, start);
     let n = rows.len() as f64;
-    let cols_for = |na: usize, first: usize| -> Vec<&[f64]> {
-        let mut c: Vec<&[f64]> = vec![&ones];
-        c.extend(yl[..na].iter().map(Vec::as_slice));
+    let cols_for = |na: usize, first: usize| -> Vec<Column> {
+        let mut c = vec![Column::Constant(1.0)];
+        c.extend_from_slice(&yl[..na]);
         for lag in zl.iter().skip(first) {
-            c.extend(lag.iter().map(Vec::as_slice));
+            c.extend_from_slice(lag);
         }
         c
     };

@@ -1,9 +1,7 @@
 //! Autoregressive noise models `D(q) r(t) = e(t)`, `D(q) = 1 + d_1 q⁻¹ + … + d_p q⁻ᵖ`, fitted
 //! by least squares on the lagged record, and the order chosen by BIC.
 
-use nalgebra::{DMatrix, DVector};
-
-use super::lstsq::{Scaling, lstsq, lstsq_min_norm};
+use super::lstsq::{Scaling, normal_by_rows, solve_normal, solve_normal_min_norm};
 
 /// A fitted AR(p) model.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,10 +28,11 @@ impl Ar {
 /// How [`fit_ar_with`] solves the least-squares problem.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum ArSolver {
-    /// The normal equations by Cholesky ([`lstsq`] without scaling): no result if the lagged
-    /// record is rank deficient.
+    /// The normal equations by Cholesky (unscaled): no result if the lagged record is rank
+    /// deficient.
     Cholesky,
-    /// The minimum-norm solution of the equilibrated normal equations ([`lstsq_min_norm`]).
+    /// The minimum-norm solution of the equilibrated normal equations
+    /// ([`lstsq_min_norm`](super::lstsq::lstsq_min_norm)).
     MinimumNorm,
 }
 
@@ -74,17 +73,33 @@ pub(crate) fn fit_ar_with(r: &[f64], p: usize, settings: &ArSettings) -> Option<
         return None;
     }
     let rows = n - p;
-    let x = DMatrix::from_fn(rows, p, |t, i| -r[t + p - 1 - i]);
-    let y = DVector::from_iterator(rows, r[p..].iter().copied());
+    if r.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    // Row t: the lags −r(t + p − 1 − i) of r(t + p).
+    let lagged = |t: usize, x: &mut [f64]| {
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = -r[t + p - 1 - i];
+        }
+        r[t + p]
+    };
+    let (g, b) = normal_by_rows(rows, p, lagged);
     let d = match settings.solver {
-        ArSolver::Cholesky => lstsq(&x, &y, Scaling::None)?,
-        ArSolver::MinimumNorm => lstsq_min_norm(&x, &y)?,
+        ArSolver::Cholesky => solve_normal(&g, &b, Scaling::None)?,
+        ArSolver::MinimumNorm => solve_normal_min_norm(&g, &b)?,
     };
     // The innovations e(t) = r(t) + Σ d_i r(t − i), t ≥ p.
-    let e = &y - &x * &d;
+    let mut x = vec![0.0; p];
+    let sse: f64 = (0..rows)
+        .map(|t| {
+            let y = lagged(t, &mut x);
+            let fit: f64 = x.iter().zip(d.iter()).map(|(a, b)| a * b).sum();
+            (y - fit).powi(2)
+        })
+        .sum();
     Some(Ar {
         d: d.iter().copied().collect(),
-        sigma2: e.norm_squared() / rows as f64,
+        sigma2: sse / rows as f64,
     })
 }
 

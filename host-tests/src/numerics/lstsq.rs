@@ -38,9 +38,61 @@ pub(crate) fn solve_normal(
 
 /// Least squares for a matrix `X`; `None` if `XᵀX` is singular.
 pub fn lstsq(x: &DMatrix<f64>, y: &DVector<f64>, scaling: Scaling) -> Option<DVector<f64>> {
-    let g = x.transpose() * x;
-    let r = x.transpose() * y;
+    let g = x.tr_mul(x);
+    let r = x.tr_mul(y);
     solve_normal(&g, &r, scaling)
+}
+
+/// Rows of `X` gathered before their products are added in [`normal_by_rows`].
+const ROW_BLOCK: usize = 1024;
+
+/// The normal equations `(XᵀX, Xᵀy)` of a regression given a row at a time: `row(t, x)` writes
+/// row `t` of `X` (`k` values) into `x` and returns `y(t)`, for `t` in `0..rows`. The rows are
+/// gathered in blocks and each block's products added by a matrix product: no `rows × k`
+/// matrix is formed.
+pub(crate) fn normal_by_rows(
+    rows: usize,
+    k: usize,
+    mut row: impl FnMut(usize, &mut [f64]) -> f64,
+) -> (DMatrix<f64>, DVector<f64>) {
+    let mut g = DMatrix::<f64>::zeros(k, k);
+    let mut b = DVector::<f64>::zeros(k);
+    let mut block = DMatrix::<f64>::zeros(ROW_BLOCK.min(rows.max(1)), k);
+    let mut yb = DVector::<f64>::zeros(block.nrows());
+    let mut x = vec![0.0; k];
+    let mut filled = 0;
+    for t in 0..rows {
+        yb[filled] = row(t, &mut x);
+        block.row_mut(filled).copy_from_slice(&x);
+        filled += 1;
+        if filled == block.nrows() || t + 1 == rows {
+            let (xb, y) = (block.rows(0, filled), yb.rows(0, filled));
+            g.gemm_tr(1.0, &xb, &xb, 1.0);
+            b.gemv_tr(1.0, &xb, &y, 1.0);
+            filled = 0;
+        }
+    }
+    (g, b)
+}
+
+/// The minimum-norm solution of normal equations `(G, b)` equilibrated to a unit diagonal
+/// first (what [`lstsq_min_norm`] solves); `None` if they are not finite or the
+/// decomposition does not converge.
+pub(crate) fn solve_normal_min_norm(g: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
+    let k = g.nrows();
+    if g.iter().chain(b.iter()).any(|v| !v.is_finite()) {
+        return None;
+    }
+    let scale: Vec<f64> = (0..k)
+        .map(|i| {
+            let d = g[(i, i)].sqrt();
+            if d > 0.0 { 1.0 / d } else { 0.0 }
+        })
+        .collect();
+    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
+    let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
+    let beta = solve_min_norm(gs, &bs)?;
+    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
 }
 
 /// Least squares for `X` given by its columns; `None` if `XᵀX` is singular.
@@ -96,16 +148,7 @@ pub fn lstsq_min_norm(x: &DMatrix<f64>, y: &DVector<f64>) -> Option<DVector<f64>
         }
     }
     let b = DVector::from_fn(k, |i, _| dot(col(i), y.as_slice()));
-    let scale: Vec<f64> = (0..k)
-        .map(|i| {
-            let d = g[(i, i)].sqrt();
-            if d > 0.0 { 1.0 / d } else { 0.0 }
-        })
-        .collect();
-    let gs = DMatrix::from_fn(k, k, |i, j| g[(i, j)] * scale[i] * scale[j]);
-    let bs = DVector::from_fn(k, |i, _| b[i] * scale[i]);
-    let beta = solve_min_norm(gs, &bs)?;
-    Some(DVector::from_fn(k, |i, _| beta[i] * scale[i]))
+    solve_normal_min_norm(&g, &b)
 }
 
 /// The minimum-norm solution of `G x = b` for a symmetric positive semi-definite `G`, by a

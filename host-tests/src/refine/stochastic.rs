@@ -25,7 +25,7 @@ use super::signal::filter;
 use crate::identify::HostModel;
 use crate::numerics::ar::fit_ar;
 use crate::numerics::direction::directions;
-use crate::numerics::lstsq::{Scaling, lstsq};
+use crate::numerics::lstsq::{Scaling, normal_by_rows, solve_normal};
 use crate::numerics::select::{Criterion, best};
 use crate::report::UndefinedFit;
 
@@ -208,16 +208,18 @@ pub fn hannan_rissanen(r: &[f64], k: usize) -> Result<NoiseModel, RefineError> {
     // Stage 2: r(t) = −Σ d_i r(t−i) + Σ c_i ê(t−i) + e(t).
     let s = l + k;
     let rows = n - s;
-    let x = DMatrix::from_fn(rows, 2 * k, |t, j| {
+    let (g, b) = normal_by_rows(rows, 2 * k, |t, x| {
         let tt = t + s;
-        if j < k {
-            -r[tt - 1 - j]
-        } else {
-            e[tt - 1 - (j - k)]
+        for (j, xj) in x.iter_mut().enumerate() {
+            *xj = if j < k {
+                -r[tt - 1 - j]
+            } else {
+                e[tt - 1 - (j - k)]
+            };
         }
+        r[tt]
     });
-    let yv = DVector::from_iterator(rows, r[s..].iter().copied());
-    let th = lstsq(&x, &yv, Scaling::None)
+    let th = solve_normal(&g, &b, Scaling::None)
         .ok_or(RefineError::Singular("ARMA regression of the residual"))?;
     let mut d = vec![1.0];
     d.extend(th.iter().take(k));

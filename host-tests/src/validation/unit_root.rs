@@ -21,7 +21,7 @@
 //! testing", Econometric Theory 1995), so −3.43 errs towards not rejecting, i.e. towards the
 //! warning.
 
-use super::arx::{continuous_rows, fit, lagged, rss};
+use super::arx::{Column, continuous_rows, fit, rss};
 use crate::numerics::select::{Criterion, best};
 
 /// Dickey–Fuller's 1 % critical value of `τ` for the regression with a constant (asymptotic).
@@ -49,28 +49,27 @@ impl UnitRoot {
 /// across a gap in `time` are left out. `None` when the record is too short to fit.
 pub fn unit_root(z: &[Vec<f64>], y: &[f64], time: &[f64], lags: usize) -> Option<UnitRoot> {
     const MAX_AR: usize = 6;
-    let ones = vec![1.0; y.len()];
-    let zl: Vec<Vec<f64>> = (0..=lags)
-        .flat_map(|j| z.iter().map(move |c| lagged(c, j)))
+    let zl: Vec<Column> = (0..=lags)
+        .flat_map(|j| z.iter().map(move |c| Column::Lagged(c, j)))
         .collect();
     let dy: Vec<f64> = (0..y.len())
         .map(|t| if t == 0 { 0.0 } else { y[t] - y[t - 1] })
         .collect();
-    let yl: Vec<Vec<f64>> = (1..=MAX_AR).map(|i| lagged(y, i)).collect();
-    let dyl: Vec<Vec<f64>> = (1..MAX_AR).map(|i| lagged(&dy, i)).collect();
+    let yl: Vec<Column> = (1..=MAX_AR).map(|i| Column::Lagged(y, i)).collect();
+    let dyl: Vec<Column> = (1..MAX_AR).map(|i| Column::Lagged(&dy, i)).collect();
     let rows = continuous_rows(time, (lags + 1).max(MAX_AR + 1));
     let n = rows.len() as f64;
     let scores: Vec<(usize, f64)> = (1..=MAX_AR)
         .filter_map(|na| {
-            let cols = columns(&ones, &yl[..na], &zl);
+            let cols = columns(&yl[..na], &zl);
             let r = rss(&cols, y, &rows)?;
             Some((na, Criterion::Bic.score(n, r / n, cols.len() as f64)))
         })
         .collect();
     let na = best(&scores)?;
-    let free = columns(&ones, &yl[..na], &zl);
+    let free = columns(&yl[..na], &zl);
     let (beta, rss_free) = fit(&free, y, &rows)?;
-    let rss_root = rss(&columns(&ones, &dyl[..na - 1], &zl), &dy, &rows)?;
+    let rss_root = rss(&columns(&dyl[..na - 1], &zl), &dy, &rows)?;
     let rho = beta[1..=na].iter().sum::<f64>() - 1.0;
     let dof = (n - free.len() as f64).max(1.0);
     let f = ((rss_root - rss_free).max(0.0) / (rss_free / dof)).max(0.0);
@@ -82,10 +81,10 @@ pub fn unit_root(z: &[Vec<f64>], y: &[f64], time: &[f64], lags: usize) -> Option
 }
 
 /// The constant, the output lags and the input lags, as regression columns.
-fn columns<'a>(ones: &'a [f64], outputs: &'a [Vec<f64>], inputs: &'a [Vec<f64>]) -> Vec<&'a [f64]> {
-    let mut c: Vec<&[f64]> = vec![ones];
-    c.extend(outputs.iter().map(Vec::as_slice));
-    c.extend(inputs.iter().map(Vec::as_slice));
+fn columns<'a>(outputs: &[Column<'a>], inputs: &[Column<'a>]) -> Vec<Column<'a>> {
+    let mut c = vec![Column::Constant(1.0)];
+    c.extend_from_slice(outputs);
+    c.extend_from_slice(inputs);
     c
 }
 
