@@ -24,6 +24,8 @@ pub mod estimate;
 pub mod report;
 mod request;
 
+use std::borrow::Cow;
+
 pub use baseline::{Baseline, Comparison, Reported, ScoredOn};
 pub use estimate::Estimate;
 pub use request::{
@@ -145,9 +147,11 @@ pub fn identify_record(
     let request = &routed;
     let mut notes: Lines = route_note.into_iter().collect();
     let source = record;
-    let mut record = record.clone();
+    // Copied only where changed (the increments, the detrended output), and for the result at
+    // the end: a long record is not held twice while it is identified.
+    let mut record = Cow::Borrowed(record);
     if request.integrating {
-        record = record.increments();
+        record = Cow::Owned(record.increments());
         plan.options = crate::integrating::increments_options(&plan.options);
         notes.push(
             "integrating: one pole fixed at z = 1; the stable part G₀ is identified on the \
@@ -157,8 +161,8 @@ pub fn identify_record(
         );
     }
     if request.detrend {
-        let mean;
-        (record, mean) = record.detrended();
+        let (detrended, mean) = record.into_owned().detrended();
+        record = Cow::Owned(detrended);
         notes.push(format!(
             "detrended: subtracted the mean output {mean:.6} from y"
         ));
@@ -216,7 +220,7 @@ pub fn identify_record(
         }
     };
     Ok(Identified {
-        record,
+        record: record.into_owned(),
         best,
         estimate,
         notes,
