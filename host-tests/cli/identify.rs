@@ -172,8 +172,8 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     if a.stream {
         return stream::run(a, &request);
     }
-    let records = read_records(a, &request)?;
-    let id = identify_record(&records.record(a.hold.hold), &request)
+    let mut records = read_records(a, &request)?;
+    let id = identify_record(&records.take_record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
     for line in id.lines()? {
         outln!("{line}")?;

@@ -146,13 +146,15 @@ impl Records {
     }
 
     /// The library's record: the samples, the reference when read, the sample time and
-    /// units, the hold and where each file starts.
-    pub fn record(&self, hold: usize) -> Record {
+    /// units, the hold and where each file starts. The samples move into it: the records keep
+    /// what their messages need (paths, lines, starts), and a long record is not held twice.
+    pub fn take_record(&mut self, hold: usize) -> Record {
+        let time = (0..self.u.len()).map(|t| t as f64).collect();
         Record {
-            u: self.u.clone(),
-            y: self.y.clone(),
-            time: (0..self.u.len()).map(|t| t as f64).collect(),
-            reference: (!self.r.is_empty()).then(|| self.r.clone()),
+            u: std::mem::take(&mut self.u),
+            y: std::mem::take(&mut self.y),
+            time,
+            reference: (!self.r.is_empty()).then(|| std::mem::take(&mut self.r)),
             ts: self.ts,
             units: self.units.clone(),
             hold,

@@ -1,6 +1,7 @@
 //! CSV columns in: the requested columns of a file with a header, as numbers, with the line of
 //! every sample.
 
+use std::borrow::Cow;
 use std::fs;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -226,10 +227,18 @@ pub fn parse_table(
         .unwrap_or_else(|| Delimiter::sniff(header_text));
     // Comment lines are emptied rather than left to the parser's comment option, which does
     // not count them in its line numbers; empty lines it skips and counts.
-    let uncommented: String = text
-        .split_inclusive('\n')
-        .map(|l| if l.starts_with('#') { "\n" } else { l })
-        .collect();
+    // The copy is made only when there are comments, at its final size (a long record's text
+    // is not held three times over).
+    let uncommented: Cow<str> = match text.starts_with('#') || text.contains("\n#") {
+        false => Cow::Borrowed(text),
+        true => {
+            let mut u = String::with_capacity(text.len());
+            for l in text.split_inclusive('\n') {
+                u.push_str(if l.starts_with('#') { "\n" } else { l });
+            }
+            Cow::Owned(u)
+        }
+    };
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)

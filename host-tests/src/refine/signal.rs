@@ -131,9 +131,10 @@ pub struct HatRegressors {
     n_asc: usize,
     n_desc: usize,
     shared: bool,
-    /// Per sample: two channels and their weights (the second may have weight 0).
+    /// Per sample: two channels (the second may have weight 0) and the second's weight `θ`
+    /// (the first's is `1 − θ`).
     idx: Vec<[u16; 2]>,
-    w: Vec<[f64; 2]>,
+    theta: Vec<f64>,
 }
 
 impl HatRegressors {
@@ -179,7 +180,7 @@ impl HatRegressors {
             ));
         }
         let mut idx = Vec::with_capacity(u.len());
-        let mut w = Vec::with_capacity(u.len());
+        let mut theta = Vec::with_capacity(u.len());
         for (&ut, dir) in u.iter().zip(directions(u, lo)) {
             let (k, off) = if dir == Direction::Ascending || shared {
                 (knots_asc, 0)
@@ -190,15 +191,20 @@ impl HatRegressors {
             // φ_s with weight 1 − θ, φ_{s+1} with weight θ; φ_0 is channel 0 on both paths.
             let ch = |i: usize| u16::try_from(if i == 0 { 0 } else { off + i }).unwrap_or(u16::MAX);
             idx.push([ch(s), ch(s + 1)]);
-            w.push([1.0 - th, th]);
+            theta.push(th);
         }
         Ok(Self {
             n_asc,
             n_desc,
             shared,
             idx,
-            w,
+            theta,
         })
+    }
+
+    /// The two weights of every sample.
+    fn weights(&self) -> impl Iterator<Item = [f64; 2]> + '_ {
+        self.theta.iter().map(|&th| [1.0 - th, th])
     }
 
     /// Samples.
@@ -220,7 +226,7 @@ impl HatRegressors {
     pub fn output(&self, beta: &[f64]) -> Vec<f64> {
         self.idx
             .iter()
-            .zip(&self.w)
+            .zip(self.weights())
             .map(|(i, w)| {
                 beta.get(usize::from(i[0])).copied().unwrap_or(0.0) * w[0]
                     + beta.get(usize::from(i[1])).copied().unwrap_or(0.0) * w[1]
@@ -232,7 +238,7 @@ impl HatRegressors {
     pub fn channel(&self, k: usize) -> Vec<f64> {
         self.idx
             .iter()
-            .zip(&self.w)
+            .zip(self.weights())
             .map(|(i, w)| {
                 let mut v = 0.0;
                 if usize::from(i[0]) == k {
@@ -250,8 +256,8 @@ impl HatRegressors {
     /// has no weight, and everywhere past the record).
     pub(crate) fn sample_into(&self, t: usize, out: &mut [f64]) {
         out.iter_mut().for_each(|v| *v = 0.0);
-        if let (Some(i), Some(w)) = (self.idx.get(t), self.w.get(t)) {
-            for (i, w) in i.iter().zip(w) {
+        if let (Some(i), Some(&th)) = (self.idx.get(t), self.theta.get(t)) {
+            for (i, w) in i.iter().zip([1.0 - th, th]) {
                 if let Some(o) = out.get_mut(usize::from(*i)) {
                     *o += w;
                 }
@@ -262,7 +268,7 @@ impl HatRegressors {
     /// All channels as dense signals (channel-major).
     pub fn dense(&self) -> Vec<Vec<f64>> {
         let mut out = vec![vec![0.0; self.len()]; self.channels()];
-        for (t, (i, w)) in self.idx.iter().zip(&self.w).enumerate() {
+        for (t, (i, w)) in self.idx.iter().zip(self.weights()).enumerate() {
             out[usize::from(i[0])][t] += w[0];
             out[usize::from(i[1])][t] += w[1];
         }
