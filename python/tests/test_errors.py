@@ -72,6 +72,16 @@ def test_bad_settings(uy):
     raises(hsid.DataError, "all_hold", hsid.identify, u[:300], y[:300], -1.0, 1.0)
 
 
+def test_a_refinement_too_large_for_the_record_is_refused_before_it_starts():
+    # 10⁶ samples at order 40 (153 parameters with 14 segments a path): 2.3e12 multiply–adds
+    # at the refinement's iteration limit, over the 1e12 a run may ask for; refused at once.
+    t = np.arange(1_000_000)
+    u = np.sin(2 * np.pi * t / 5000.0)
+    y = 0.5 * u
+    e = raises(hsid.SettingsError, "work", hsid.identify, u, y, -1.0, 1.0, hold=0, order=40)
+    assert str(e).startswith("order=40 on 1000000 samples") and "refine=False" in str(e), str(e)
+
+
 def test_unknown_keyword_is_a_type_error(uy):
     u, y = uy
     with pytest.raises(TypeError):

@@ -66,7 +66,17 @@ pub enum Field {
     Reference,
     /// The record itself.
     Data,
+    /// The model order.
+    Order,
 }
+
+/// The most work a refinement at a given order may ask for before it starts: samples ×
+/// parameters² × [`REFINE_ITERATIONS`], the multiply–adds of its iterations' normal equations
+/// at their limit (at about 10⁹ a second, some minutes on one core).
+pub const MAX_REFINE_WORK: f64 = 1e12;
+
+/// The refinement's iteration limit the work is counted with.
+pub const REFINE_ITERATIONS: usize = 100;
 
 /// The most segments per path a count may ask for: those the record does not support are
 /// merged into neighbours first, so a count beyond the capacity can fit a short record; a
@@ -98,6 +108,7 @@ impl Syntax {
             (Syntax::Cli, Field::Nonlinearity) => "--nonlinearity",
             (Syntax::Cli, Field::Reference) => "--reference-column",
             (Syntax::Cli, Field::Data) => "--data",
+            (Syntax::Cli, Field::Order) => "--order",
             (Syntax::Python, Field::UMin) => "umin",
             (Syntax::Python, Field::UMax) => "umax",
             (Syntax::Python, Field::Segments) => "segments",
@@ -110,6 +121,7 @@ impl Syntax {
             (Syntax::Python, Field::Nonlinearity) => "nonlinearity",
             (Syntax::Python, Field::Reference) => "reference",
             (Syntax::Python, Field::Data) => "u, y",
+            (Syntax::Python, Field::Order) => "order",
         }
     }
 
@@ -511,7 +523,56 @@ impl IdentifyRequest {
                 ),
             ));
         }
-        self.check_hold(record.first_len(), record.hold)
+        self.check_hold(record.first_len(), record.hold)?;
+        self.check_work(record.u.len())
+    }
+
+    /// Checks that a refinement at a given order stays within [`MAX_REFINE_WORK`] on a record
+    /// of `samples` samples: its parameters are the order's denominator, numerator and initial
+    /// state, the border channels (the most segments the request may choose) and a noise model
+    /// of order 2. Orders chosen from the data are bounded by the horizons and refined on the
+    /// choice window; without refinement the work is a few passes whatever the order.
+    pub fn check_work(&self, samples: usize) -> Result<(), RequestError> {
+        let Some(order) = self
+            .order
+            .filter(|_| self.refine && self.reference.is_none())
+        else {
+            return Ok(());
+        };
+        let s = self.syntax;
+        let count = match self.segments {
+            Some(SegmentCount::Fixed(n)) => n,
+            Some(SegmentCount::Auto) => AUTO_CANDIDATES.max().unwrap_or(0),
+            None => SEGMENT_CANDIDATES.iter().copied().max().unwrap_or(0),
+        };
+        let path = |k: &Option<Vec<f64>>| k.as_ref().map_or(count, |k| k.len().saturating_sub(1));
+        let channels = 1
+            + path(&self.knots_asc)
+            + match self.element {
+                Element::Static => 0,
+                _ => path(&self.knots_desc),
+            };
+        let parameters = 3 * order + channels + 4;
+        let work = samples as f64 * (parameters * parameters) as f64 * REFINE_ITERATIONS as f64;
+        if work <= MAX_REFINE_WORK {
+            return Ok(());
+        }
+        Err(RequestError::new(
+            Field::Order,
+            "work",
+            format!(
+                "{} on {samples} samples: a refinement of {parameters} parameters costs samples × \
+                 parameters² per iteration, {work:.1e} multiply–adds at its {REFINE_ITERATIONS} \
+                 iterations, above the {MAX_REFINE_WORK:.0e} a run may ask for before it starts \
+                 (minutes to hours on one core): give a lower order, fewer segments, {}, or a \
+                 shorter record",
+                s.set(Field::Order, order),
+                match s {
+                    Syntax::Cli => "--no-refine",
+                    Syntax::Python => "refine=False",
+                },
+            ),
+        ))
     }
 
     /// Checks that a first experiment of `samples` samples outlasts a hold of `hold` samples
@@ -649,5 +710,49 @@ mod tests {
         assert_eq!(r.check_record(&rec).unwrap_err().kind, "reference_records");
         rec.starts = vec![0];
         assert_eq!(r.check_record(&rec).unwrap_err().kind, "reference_missing");
+    }
+
+    /// A given order is refused before the work when its refinement's normal equations would
+    /// cost more than [`MAX_REFINE_WORK`] multiply–adds (`samples × d² × 100`), in each front
+    /// end's words; what the defaults choose, a short record and no refinement pass.
+    #[test]
+    fn a_refinement_too_large_for_the_record_is_refused_before_it_starts() {
+        let mut r = IdentifyRequest::new(-1.0, 1.0, Syntax::Cli);
+        r.order = Some(30);
+        // 14 segments a path at most: d = 3 · 30 + 29 + 4 = 123.
+        assert!(r.check_work(6_300).is_ok());
+        let e = r.check_work(1_000_000).unwrap_err();
+        assert_eq!((e.field, e.kind), (Field::Order, "work"));
+        assert!(
+            e.message
+                .starts_with("--order 30 on 1000000 samples: a refinement of 123 parameters")
+                && e.message.contains("1.5e12 multiply–adds")
+                && e.message.contains("--no-refine"),
+            "{}",
+            e.message
+        );
+        // 10⁶ · 123² · 100 = 1.51e12 over the limit; 650,000 samples (0.98e12) within it.
+        assert!(r.check_work(650_000).is_ok());
+        assert!(r.check_work(670_000).is_err());
+        // Given knots count as given: 3 segments a path, d = 3 · 30 + 7 + 4 = 101.
+        r.knots_asc = Some(vec![-1.0, -0.5, 0.5, 1.0]);
+        r.knots_desc = r.knots_asc.clone();
+        assert!(r.check_work(950_000).is_ok());
+        assert!(r.check_work(1_000_000).is_err());
+        r.refine = false;
+        assert!(r.check_work(100_000_000).is_ok());
+        let mut p = IdentifyRequest::new(-1.0, 1.0, Syntax::Python);
+        assert!(p.check_work(100_000_000).is_ok(), "the order from the data");
+        p.order = Some(2);
+        p.segments = Some(SegmentCount::Fixed(10));
+        assert!(p.check_work(1_000_000).is_ok(), "the tour's servo at 10⁶");
+        p.order = Some(40);
+        let e = p.check_work(1_000_000).unwrap_err();
+        assert!(
+            e.message.starts_with("order=40 on 1000000 samples")
+                && e.message.contains("refine=False"),
+            "{}",
+            e.message
+        );
     }
 }
