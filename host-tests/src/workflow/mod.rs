@@ -29,7 +29,8 @@ use std::borrow::Cow;
 pub use baseline::{Baseline, Comparison, Reported, ScoredOn};
 pub use estimate::Estimate;
 pub use request::{
-    ElementFit, Field, IdentifyRequest, MAX_SEGMENT_COUNT, Plan, RequestError, Syntax,
+    ElementFit, Field, IdentifyRequest, MAX_REFINE_WORK, MAX_SEGMENT_COUNT, Plan,
+    REFINE_ITERATIONS, RequestError, Syntax,
 };
 
 use crate::choose::noise_file;
