@@ -17,8 +17,8 @@ pub use horizons::{
 };
 pub use knots::{KnotSupport, MIN_SEGMENT_SAMPLES, supported_knots};
 pub use linear::{LINEAR_MAX_ORDER, is_linear, linear_model, linear_options};
-use order::on_whole_record;
 pub use order::{OrderChoice, choose_order, neighbours};
+use order::{Refined, on_whole_record};
 pub use start::{MAX_START_RADIUS, MIN_REDUCED_HORIZON, ReducedHorizons, StableStart, stabilised};
 
 use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
@@ -316,7 +316,7 @@ pub fn best_model(
     };
     let mut options = chosen.options.clone();
     options.order = Some(window_fit.model.order);
-    let (fit, restarted) = on_whole_record(u, y, &options, window_fit, choices)?;
+    let Refined { fit, restarted } = on_whole_record(u, y, &options, window_fit, choices)?;
     Ok(Best {
         model: fit.model.clone(),
         options,
@@ -324,7 +324,7 @@ pub fn best_model(
         window: Some(ChoiceWindow {
             samples,
             record: u.len(),
-            restarted,
+            restarted: restarted.map(|e| e.to_string()),
         }),
         ..chosen
     })

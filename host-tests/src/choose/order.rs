@@ -11,8 +11,9 @@
 use super::ModelStage;
 use super::start::subspace_start;
 use super::{Choices, ChooseError};
-use crate::identify::{HostModel, IdentifyOptions};
+use crate::identify::{HostModel, IdentifyError, IdentifyOptions};
 use crate::numerics::select::{Criterion, best, relative_scores};
+use crate::refine::RefineError;
 use crate::refine::pem::{PemFit, PemOptions, refine};
 
 /// The order chosen and the score of every candidate.
@@ -64,10 +65,27 @@ fn pem_options(opts: &IdentifyOptions, choices: &Choices) -> PemOptions {
     }
 }
 
+/// A refined order and, when the start it was given did not refine, why.
+#[derive(Clone, Debug)]
+pub struct Refined {
+    /// The fit.
+    pub fit: PemFit,
+    /// Why the given start did not refine (the fit is then from the subspace model).
+    pub restarted: Option<RefineError>,
+}
+
+/// Why an order could not be refined: its subspace model, or its refinement.
+#[derive(Debug, thiserror::Error)]
+enum OrderError {
+    #[error(transparent)]
+    Start(#[from] IdentifyError),
+    #[error(transparent)]
+    Refine(#[from] RefineError),
+}
+
 /// Refines order `n` on `(u, y)` with [`PemOptions::for_identify`] and the noise model of
 /// `choices`: from `from` (a fit of the same structure on the record's start) when given, from
 /// the subspace model with `opts` at that order when not or when `from` does not refine.
-/// Returns the fit and, when `from` did not refine, why.
 fn refine_order(
     u: &[f64],
     y: &[f64],
@@ -75,7 +93,7 @@ fn refine_order(
     n: usize,
     choices: &Choices,
     from: Option<&HostModel>,
-) -> Result<(PemFit, Option<String>), String> {
+) -> Result<Refined, OrderError> {
     let pem = &pem_options(opts, choices);
     let mut start = from.cloned();
     let mut restarted = None;
@@ -85,17 +103,15 @@ fn refine_order(
             None => {
                 let mut o = opts.clone();
                 o.order = Some(n);
-                subspace_start(u, y, &mut o, ModelStage::Refined, false)
-                    .map_err(|e| e.to_string())?
-                    .model
+                subspace_start(u, y, &mut o, ModelStage::Refined, false)?.model
             }
         };
         match refine(u, y, &model, pem) {
-            Ok(fit) => return Ok((fit, restarted)),
+            Ok(fit) => return Ok(Refined { fit, restarted }),
             // The start's fit did not refine on the whole record: once more from its own
             // subspace model.
-            Err(e) if from.is_some() && restarted.is_none() => restarted = Some(e.to_string()),
-            Err(e) => return Err(e.to_string()),
+            Err(e) if from.is_some() && restarted.is_none() => restarted = Some(e),
+            Err(e) => return Err(e.into()),
         }
     }
 }
@@ -109,11 +125,11 @@ pub fn on_whole_record(
     opts: &IdentifyOptions,
     chosen: &PemFit,
     choices: &Choices,
-) -> Result<(PemFit, Option<String>), ChooseError> {
+) -> Result<Refined, ChooseError> {
     let n = chosen.model.order;
     crate::progress::stage(|| format!("refining the chosen order {n} on the whole record"))?;
     refine_order(u, y, opts, n, choices, Some(&chosen.model))
-        .map_err(|e| ChooseError::Refine(vec![(n, e)]))
+        .map_err(|e| ChooseError::Refine(vec![(n, e.to_string())]))
 }
 
 /// Refines the orders `candidates` on `(u, y)` (each identified with `opts` at that order,
@@ -137,14 +153,14 @@ pub fn choose_order(
             format!("refining order {n} ({} of {})", i + 1, candidates.len())
         })?;
         match refine_order(u, y, opts, n, choices, None) {
-            Ok((f, _)) => {
+            Ok(Refined { fit: f, .. }) => {
                 scores.push((
                     n,
                     criterion.score(f.samples as f64, f.mse, f.parameters() as f64),
                 ));
                 fits.push((n, f));
             }
-            Err(e) => failures.push((n, e)),
+            Err(e) => failures.push((n, e.to_string())),
         }
     }
     // A fit the data do not determine (a singular information matrix, or a pole slower than
