@@ -428,7 +428,7 @@ impl PemProblem {
     }
 
     /// Prediction errors in the cost (`t ≥ start + burn`), the predictor run sample by sample
-    /// (the values of [`rows`](Self::rows), without the Jacobian).
+    /// (the values [`evaluate`](Self::evaluate) gives, without the Jacobian).
     pub fn errors(&self, th: &[f64]) -> Vec<f64> {
         let l = self.layout;
         let p = l.polynomials(th);
