@@ -36,7 +36,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 
 use super::poly::{observer_form, spectral_radius, tf_from_ss};
-use super::signal::{HatRegressors, Stepped, push_lag};
+use super::signal::{HatRegressors, Stepped, filter, push_lag};
 use super::stochastic::{NoiseModel, fit_noise};
 use super::{RefineError, Unstable};
 use crate::identify::{HostModel, IdentifyOptions, identify};
@@ -391,8 +391,29 @@ impl PemProblem {
 
     /// The deterministic output `ŷ_det(t)` over `start..` (no noise model).
     pub fn simulate(&self, th: &[f64]) -> Vec<f64> {
-        let mut run = Predictor::new(self, th);
-        (0..self.y.len()).map(|t| run.step(t).simulated).collect()
+        self.parts(th).0
+    }
+
+    /// `(ŷ_det, H − μ0, x + r)`.
+    fn parts(&self, th: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let l = &self.layout;
+        let p = l.polynomials(th);
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
+        let len = self.y.len();
+        let mut w = vec![0.0; l.channels];
+        let hd: Vec<f64> = (0..len).map(|t| self.hat_at(t, beta, &mut w)).collect();
+        let mut xr = filter(&p.b, &p.f, &hd);
+        if l.init {
+            let mut imp = vec![0.0; len];
+            if let Some(i0) = imp.first_mut() {
+                *i0 = 1.0;
+            }
+            let r = filter(&th[l.iota()], &p.f, &imp);
+            xr.iter_mut().zip(&r).for_each(|(a, b)| *a += b);
+        }
+        let s = xr.iter().map(|v| v + mu0).collect();
+        (s, hd, xr)
     }
 
     /// `H(t) − μ0` at sample `t` of the problem (`start + t` of the record), its channels
@@ -409,11 +430,27 @@ impl PemProblem {
     /// Prediction errors in the cost (`t ≥ start + burn`), the predictor run sample by sample
     /// (the values [`evaluate`](Self::evaluate) gives, without the Jacobian).
     pub fn errors(&self, th: &[f64]) -> Vec<f64> {
-        let mut run = Predictor::new(self, th);
-        (0..self.y.len())
-            .map(|t| run.step(t).eps)
-            .skip(self.burn)
-            .collect()
+        let l = self.layout;
+        let p = l.polynomials(th);
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
+        let mut plant = Stepped::new(&p.b, &p.f);
+        let mut free = Stepped::new(&th[l.iota()], &p.f);
+        let mut noise = Stepped::new(&p.d, &p.c);
+        let mut w = vec![0.0; l.channels];
+        let mut e = Vec::with_capacity(self.samples());
+        for (t, y) in self.y.iter().enumerate() {
+            let hd = self.hat_at(t, beta, &mut w);
+            let mut xr = plant.step(hd);
+            if l.init {
+                xr += free.step(if t == 0 { 1.0 } else { 0.0 });
+            }
+            let eps = noise.step(y - (xr + mu0));
+            if t >= self.burn {
+                e.push(eps);
+            }
+        }
+        e
     }
 
     /// Prediction errors and the normal equations of the analytic Jacobian at `θ`
@@ -482,9 +519,13 @@ impl PemProblem {
     fn rows(&self, th: &[f64], mut row: impl FnMut(f64, &[f64])) {
         let l = self.layout;
         let p = l.polynomials(th);
+        let beta = &th[l.beta()];
+        let mu0 = beta[0];
         let one = [1.0];
         let (n, nb, e, nv) = (l.n, l.nb(), l.eliminated(), l.nv);
-        let mut run = Predictor::new(self, th);
+        let mut plant = Stepped::new(&p.b, &p.f);
+        let mut free = Stepped::new(&th[l.iota()], &p.f);
+        let mut noise = Stepped::new(&p.d, &p.c);
         let mut g_f = Stepped::new(&one, &p.f);
         let mut k_f = Stepped::new(&one, &p.f);
         let mut i_f = Stepped::new(&one, &p.f);
@@ -499,17 +540,18 @@ impl PemProblem {
         let (mut g, mut k) = (vec![0.0; lags], vec![0.0; lags]);
         let mut gf = vec![0.0; n.max(1)];
         let (mut rc, mut ec) = (vec![0.0; nv + 1], vec![0.0; nv + 1]);
+        let mut w = vec![0.0; l.channels];
         let mut raw_columns = vec![0.0; det.len()];
         let mut j = vec![0.0; l.len()];
         for t in 0..self.y.len() {
-            let Step {
-                hd,
-                xr,
-                raw,
-                eps,
-                imp,
-                ..
-            } = run.step(t);
+            let hd = self.hat_at(t, beta, &mut w);
+            let imp = if t == 0 { 1.0 } else { 0.0 };
+            let mut xr = plant.step(hd);
+            if l.init {
+                xr += free.step(imp);
+            }
+            let raw = self.y[t] - (xr + mu0);
+            let eps = noise.step(raw);
             push_lag(&mut g, g_f.step(hd));
             push_lag(&mut k, k_f.step(xr));
             push_lag(&mut gf, i_f.step(imp));
@@ -522,7 +564,7 @@ impl PemProblem {
             for i in 1..=nb {
                 c.next().into_iter().for_each(|v| *v = g[i] - g[e]);
             }
-            for (kk, (wk, f)) in run.w.iter().zip(borders.iter_mut()).enumerate() {
+            for (kk, (wk, f)) in w.iter().zip(borders.iter_mut()).enumerate() {
                 let v = match kk {
                     0 => f.step(wk - 1.0) + 1.0,
                     _ => f.step(*wk),
@@ -617,74 +659,6 @@ impl PemProblem {
             c: p.c,
             d: p.d,
             sigma2,
-        }
-    }
-}
-
-/// One sample of the predictor at `θ` ([`Predictor::step`]).
-#[derive(Clone, Copy, Debug)]
-struct Step {
-    /// `H(t) − μ0`.
-    hd: f64,
-    /// `x(t) + r(t)`: the plant's output from rest and its free response.
-    xr: f64,
-    /// `ŷ_det(t)`.
-    simulated: f64,
-    /// `y(t) − ŷ_det(t)`.
-    raw: f64,
-    /// `ε(t) = (D/C)(y − ŷ_det)`.
-    eps: f64,
-    /// The impulse `δ(t)` the free response is driven by.
-    imp: f64,
-}
-
-/// The predictor of a [`PemProblem`] at `θ` run one sample at a time, each filter a state of
-/// its own length: the values of the whole-signal filters, bit for bit.
-struct Predictor<'a> {
-    problem: &'a PemProblem,
-    beta: &'a [f64],
-    init: bool,
-    plant: Stepped,
-    free: Stepped,
-    noise: Stepped,
-    /// The border channels of the last sample.
-    w: Vec<f64>,
-}
-
-impl<'a> Predictor<'a> {
-    fn new(problem: &'a PemProblem, th: &'a [f64]) -> Self {
-        let l = problem.layout;
-        let p = l.polynomials(th);
-        Self {
-            problem,
-            beta: &th[l.beta()],
-            init: l.init,
-            plant: Stepped::new(&p.b, &p.f),
-            free: Stepped::new(&th[l.iota()], &p.f),
-            noise: Stepped::new(&p.d, &p.c),
-            w: vec![0.0; l.channels],
-        }
-    }
-
-    /// Sample `t` (the samples taken in order from 0).
-    fn step(&mut self, t: usize) -> Step {
-        let mu0 = self.beta.first().copied().unwrap_or(0.0);
-        let hd = self.problem.hat_at(t, self.beta, &mut self.w);
-        let imp = if t == 0 { 1.0 } else { 0.0 };
-        let mut xr = self.plant.step(hd);
-        if self.init {
-            xr += self.free.step(imp);
-        }
-        let simulated = xr + mu0;
-        let raw = self.problem.y.get(t).copied().unwrap_or(0.0) - simulated;
-        let eps = self.noise.step(raw);
-        Step {
-            hd,
-            xr,
-            simulated,
-            raw,
-            eps,
-            imp,
         }
     }
 }
