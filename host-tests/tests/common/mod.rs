@@ -76,7 +76,8 @@ impl Run {
 
     /// Asserts the run failed cleanly: non-zero exit, a single stderr line starting with
     /// `hsid:` that contains every string of `needles`, and no panic or backtrace.
-    /// Returns the stderr line.
+    /// Returns the stderr line. The stages a run over a second shows (`hsid: [1.0 s] …`,
+    /// [`is_progress`]) are not that line: how long a run takes is not what it says.
     pub fn clean_error(&self, needles: &[&str]) -> String {
         let ctx = format!(
             "hsid {}\nexit {:?}\nstdout:\n{}\nstderr:\n{}",
@@ -87,7 +88,7 @@ impl Run {
         let lower = self.stderr.to_lowercase();
         assert!(!lower.contains("panicked"), "panic: {ctx}");
         assert!(!lower.contains("backtrace"), "backtrace: {ctx}");
-        let lines: Vec<&str> = self.stderr.lines().collect();
+        let lines: Vec<&str> = self.stderr.lines().filter(|l| !is_progress(l)).collect();
         assert_eq!(lines.len(), 1, "expected one stderr line: {ctx}");
         let line = lines[0];
         assert!(
@@ -99,6 +100,14 @@ impl Run {
         }
         line.to_string()
     }
+}
+
+/// Whether `line` is a stage line of the progress a run over a second shows on standard error
+/// when it is not a terminal: `hsid: [<seconds> s] <stage>`.
+pub fn is_progress(line: &str) -> bool {
+    line.strip_prefix("hsid: [")
+        .and_then(|rest| rest.split_once(" s] "))
+        .is_some_and(|(secs, _)| secs.parse::<f64>().is_ok())
 }
 
 /// Runs the `hsid` binary with `args`.
