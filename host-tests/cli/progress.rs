@@ -5,7 +5,6 @@
 //! JSON are the same either way.
 
 use std::io::{IsTerminal, Write};
-use std::rc::Rc;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -136,7 +135,7 @@ pub fn reporter(quiet: bool) -> Option<Stderr> {
 pub fn run<R>(reporter: Option<&Stderr>, f: impl FnOnce() -> R) -> R {
     match reporter {
         Some(r) => {
-            let out = hsid_host::progress::reporting(Rc::new(r.clone()), f);
+            let out = hsid_host::progress::reporting(Arc::new(r.clone()), f);
             r.finish();
             out
         }

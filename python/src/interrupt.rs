@@ -4,7 +4,6 @@
 //! tells the work to stop: the work ends at its next stage
 //! ([`hsid_host::progress::Reporter::stopped`]) and its result is dropped.
 
-use std::rc::Rc;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
@@ -40,7 +39,7 @@ pub fn interruptible<T: Send + 'static>(
     std::thread::Builder::new()
         .name("hsid-work".into())
         .spawn(move || {
-            let out = reporting(Rc::new(Stop(flag)), work);
+            let out = reporting(Arc::new(Stop(flag)), work);
             // The caller may have gone (interrupted): the result is dropped.
             let _ = tx.send(out);
         })

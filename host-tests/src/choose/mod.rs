@@ -352,6 +352,9 @@ fn candidates(
     let mut failures = Vec::new();
     let mut first_error = None;
     let n = candidates.len();
+    // One segment count after the other: each builds subspace models, whose lagged sums and
+    // solve workspace are the largest buffers of a run; the orders each refines run across
+    // the cores ([`choose_order`]).
     for (i, s) in candidates.into_iter().enumerate() {
         let mut opts = base.clone();
         if let Some(s) = s {

@@ -83,6 +83,18 @@ enum OrderError {
     Refine(#[from] RefineError),
 }
 
+/// The subspace model of `(u, y)` with `opts` at order `n`, to start its refinement from.
+fn subspace_model(
+    u: &[f64],
+    y: &[f64],
+    opts: &IdentifyOptions,
+    n: usize,
+) -> Result<HostModel, IdentifyError> {
+    let mut o = opts.clone();
+    o.order = Some(n);
+    Ok(subspace_start(u, y, &mut o, ModelStage::Refined, false)?.model)
+}
+
 /// Refines order `n` on `(u, y)` with [`PemOptions::for_identify`] and the noise model of
 /// `choices`: from `from` (a fit of the same structure on the record's start) when given, from
 /// the subspace model with `opts` at that order when not or when `from` does not refine.
@@ -95,25 +107,17 @@ fn refine_order(
     from: Option<&HostModel>,
 ) -> Result<Refined, OrderError> {
     let pem = &pem_options(opts, choices);
-    let mut start = from.cloned();
     let mut restarted = None;
-    loop {
-        let model = match start.take() {
-            Some(m) => m,
-            None => {
-                let mut o = opts.clone();
-                o.order = Some(n);
-                subspace_start(u, y, &mut o, ModelStage::Refined, false)?.model
-            }
-        };
-        match refine(u, y, &model, pem) {
+    if let Some(start) = from {
+        match refine(u, y, start, pem) {
             Ok(fit) => return Ok(Refined { fit, restarted }),
             // The start's fit did not refine on the whole record: once more from its own
             // subspace model.
-            Err(e) if from.is_some() && restarted.is_none() => restarted = Some(e),
-            Err(e) => return Err(e.into()),
+            Err(e) => restarted = Some(e),
         }
     }
+    let fit = refine(u, y, &subspace_model(u, y, opts, n)?, pem)?;
+    Ok(Refined { fit, restarted })
 }
 
 /// The order of `chosen` (a fit on the start of `(u, y)` with `opts`) refined on the whole
@@ -148,19 +152,37 @@ pub fn choose_order(
     let mut fits = Vec::new();
     let mut scores = Vec::new();
     let mut failures = Vec::new();
-    for (i, &n) in candidates.iter().enumerate() {
+    // The subspace models one after the other: each holds the identifier's lagged sums and
+    // its solve's workspace, the largest buffers of a run (tens of MB at f = p = 40 and
+    // 29 channels, whatever the record's length).
+    let mut starts = Vec::with_capacity(candidates.len());
+    for &n in candidates {
+        crate::progress::stage(|| format!("subspace model at order {n}"))?;
+        starts.push(subspace_model(u, y, opts, n).map_err(|e| e.to_string()));
+    }
+    // Their refinements are independent and need little memory: across the cores, kept in
+    // their order.
+    let pem = &pem_options(opts, choices);
+    let refined = crate::progress::map(&starts, |i, start| {
+        let n = candidates[i];
         crate::progress::stage(|| {
             format!("refining order {n} ({} of {})", i + 1, candidates.len())
         })?;
-        match refine_order(u, y, opts, n, choices, None) {
-            Ok(Refined { fit: f, .. }) => {
+        Ok::<_, crate::progress::Interrupted>(match start {
+            Ok(model) => refine(u, y, model, pem).map_err(|e| e.to_string()),
+            Err(e) => Err(e.clone()),
+        })
+    });
+    for (&n, refined) in candidates.iter().zip(refined) {
+        match refined? {
+            Ok(f) => {
                 scores.push((
                     n,
                     criterion.score(f.samples as f64, f.mse, f.parameters() as f64),
                 ));
                 fits.push((n, f));
             }
-            Err(e) => failures.push((n, e.to_string())),
+            Err(e) => failures.push((n, e)),
         }
     }
     // A fit the data do not determine (a singular information matrix, or a pole slower than

@@ -200,22 +200,27 @@ impl Context<'_> {
     ) -> Result<(Vec<Candidate>, Option<usize>), DiagnoseError> {
         let (min_gain, tie) = (self.opts.min_gain, self.opts.tie);
         let every = self.opts.proposing == Proposing::Every;
-        let mut cands = Vec::new();
-        for e in Effect::PROPOSED {
-            // A saturated output found by the data checks is direct evidence of an output
-            // nonlinearity, even when the residual tests lack power.
-            let saturated = e == Effect::OutputNonlinearity
-                && self
-                    .warnings
-                    .iter()
-                    .any(|w| w.check == Check::OutputSaturation);
-            if !e.deterministic() || !(effects::has_evidence(e, tests) || saturated || every) {
-                continue;
-            }
+        let tried: Vec<Effect> = Effect::PROPOSED
+            .into_iter()
+            .filter(|&e| {
+                // A saturated output found by the data checks is direct evidence of an output
+                // nonlinearity, even when the residual tests lack power.
+                let saturated = e == Effect::OutputNonlinearity
+                    && self
+                        .warnings
+                        .iter()
+                        .any(|w| w.check == Check::OutputSaturation);
+                e.deterministic() && (effects::has_evidence(e, tests) || saturated || every)
+            })
+            .collect();
+        // The effects are proposed independently: across the cores, kept in their order.
+        let proposed = crate::progress::map(&tried, |_, &e| {
             crate::progress::stage(|| format!("diagnose: trying {}", e.name()))?;
-            if let Some(c) = proposal.propose(e)? {
-                cands.push(c);
-            }
+            proposal.propose(e)
+        });
+        let mut cands = Vec::new();
+        for c in proposed {
+            cands.extend(c?);
         }
         let mut chosen = effects::choose(&cands, min_gain, tie);
         if chosen.is_none() && current.delay == 0 && self.dead.extra() > 0 {

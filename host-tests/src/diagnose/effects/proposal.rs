@@ -53,8 +53,10 @@ impl Proposal<'_> {
     ) -> Result<Option<Candidate>, DiagnoseError> {
         let mut scored: Vec<(Structure, ExtendedModel, Evaluation)> = Vec::new();
         let mut tried = Vec::new();
-        for (label, s) in options {
-            let (m, ev) = match self.holdout.score(&s, metric) {
+        // The settings are independent: scored across the cores, kept in their order.
+        let scores = crate::progress::map(&options, |_, (_, s)| self.holdout.score(s, metric));
+        for ((label, s), score) in options.into_iter().zip(scores) {
+            let (m, ev) = match score {
                 Ok(Some(v)) => v,
                 Ok(None) => {
                     tried.push(Tried::Unscored {
