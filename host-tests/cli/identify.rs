@@ -173,6 +173,7 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         return stream::run(a, &request);
     }
     let mut records = read_records(a, &request)?;
+    records.read_hold(a.umin, a.hold.hold, a.hold.hold_tolerance)?;
     let id = identify_record(&records.take_record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
     for line in id.lines()? {

@@ -20,7 +20,7 @@ use hsid_host::refine::{InnovationForm, NoiseModel};
 use hsid_host::report::fit_report;
 use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
+use crate::args::{Columns, CsvArgs, UnitArgs, read_uy};
 
 /// Arguments of `hsid validate`.
 #[derive(Args)]
@@ -71,7 +71,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         .map(|u| (UnitsOrigin::ModelFile(a.model.clone()), u));
     let units = a
         .units
-        .resolve_units(stored.into_iter().chain(comment_units(record.units)))?;
+        .resolve_units(stored.into_iter().chain(record.units))?;
     let stated: Vec<(Origin, f64)> = a
         .units
         .ts()?

@@ -18,6 +18,7 @@ mod cli_stream;
 mod cli_units;
 mod closed_loop;
 mod compensation;
+mod csv_layouts;
 mod diagnose;
 mod diagnose_hysteresis;
 mod diagnose_measured;

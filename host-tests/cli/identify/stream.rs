@@ -11,8 +11,9 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
-use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
+use hsid_host::io::{CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
+use hsid_host::units::{UnitsOrigin, units_from_names};
 use hsid_host::workflow::element_fit::applies;
 use hsid_host::workflow::{ElementFit, IdentifyRequest};
 
@@ -65,13 +66,21 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         a.columns.input_column.as_str(),
         a.columns.output_column.as_str(),
     ];
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
+    let csv = a.csv.options();
     let (name, reader) = open(path)?;
     let stream = CsvStream::new(&name, reader, &names, &csv)?;
+    let header = stream.units();
+    let stated = units_from_names(&name, names, header[0].as_deref(), header[1].as_deref())
+        .map_err(|e| e.to_string())?
+        .map(|u| (UnitsOrigin::ColumnNames(name.clone()), u));
+    let units = a.units.resolve_units(stated)?.or(units);
     let mut runs = RunCounter::new(a.umin, a.umax, end_tolerance(a.umin, a.umax));
-    let model = identify(stream, &name, &opts, (opts.hold, &mut runs))?;
+    let hold = HoldRows {
+        len: opts.hold,
+        u_min: a.umin,
+        tolerance: a.hold.hold_tolerance.unwrap_or(0.0),
+    };
+    let model = identify(stream, &name, &opts, hold, (opts.hold, &mut runs))?;
     outln!(
         "streamed {} samples (subspace model, not refined; fits not computed)",
         model.samples
@@ -93,6 +102,16 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The hold as the rows are pushed: an input of its first `len` rows within `tolerance` of
+/// `u_min` is pushed as `u_min` (`--hold-tolerance`; one beyond it stops the identifier,
+/// [`hsid::Error::HoldNotAtMin`]).
+#[derive(Clone, Copy)]
+struct HoldRows {
+    len: usize,
+    u_min: f64,
+    tolerance: f64,
+}
+
 /// The file, or standard input for `-`, buffered, with the name errors give it.
 fn open(path: &Path) -> Result<(std::path::PathBuf, Box<dyn BufRead + Send>), IoError> {
     if path == Path::new(STDIN_PATH) {
@@ -112,6 +131,7 @@ fn identify(
     mut stream: CsvStream<Box<dyn BufRead + Send>>,
     name: &Path,
     opts: &IdentifyOptions,
+    hold: HoldRows,
     runs: (usize, &mut RunCounter),
 ) -> Result<HostModel, String> {
     let mut failed: Option<IoError> = None;
@@ -122,8 +142,12 @@ fn identify(
             if row + 1 >= from {
                 counter.push(v[0]);
             }
+            let u = match row < hold.len && (v[0] - hold.u_min).abs() <= hold.tolerance {
+                true => hold.u_min,
+                false => v[0],
+            };
             row += 1;
-            Some((v[0], v[1]))
+            Some((u, v[1]))
         }
         Ok(None) => None,
         Err(e) => {
