@@ -118,11 +118,15 @@ pub struct KnotArgs {
     pub knots_desc: Option<Vec<f64>>,
 }
 
+/// The default hold (samples at u_min at the start): `--hold` of identify and diagnose, and
+/// the samples validate leaves out of its fits (`--skip`).
+pub const DEFAULT_HOLD: usize = 300;
+
 /// The initial hold at u_min.
 #[derive(Args, Clone, Debug)]
 pub struct HoldArgs {
     /// Samples of the initial hold at u_min (0: no hold).
-    #[arg(long, default_value_t = 300)]
+    #[arg(long, default_value_t = DEFAULT_HOLD)]
     pub hold: usize,
     /// Samples of the hold skipped while the plant settles (default: half the hold).
     #[arg(long)]

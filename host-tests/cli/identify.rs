@@ -169,6 +169,7 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let request = request(a);
+    a.figures.check_true_plant(a.html.is_some())?;
     if a.stream {
         return stream::run(a, &request);
     }

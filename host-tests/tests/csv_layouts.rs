@@ -234,6 +234,22 @@ fn units_in_the_column_names_reach_the_model_file_and_the_reports() {
     let m = load(&json);
     assert_eq!(units(&m), ("V".into(), "mm".into()));
     same_model(&m, &clean, 1e-12);
+    // validate reads the same columns by their names, and its JSON carries the units.
+    let report = s.join("v.json");
+    hsid(&[
+        "validate",
+        "--model",
+        p(&json),
+        "--data",
+        p(&data),
+        "--json",
+        p(&report),
+    ])
+    .success();
+    let v = load(&report);
+    assert_eq!(v["units"]["input"], "V");
+    assert_eq!(v["units"]["output"], "mm");
+    assert_eq!(v["reading"]["units"]["output"], "mm");
     // The flags must agree with the column names.
     identify(&data, &json, &["--input-unit", "V", "--output-unit", "deg"]).clean_error(&[
         "--input-unit/--output-unit give u in V and y in deg",

@@ -10,6 +10,7 @@ mod bad_input;
 mod bounded_inputs;
 mod cli;
 mod cli_diagnose_reference;
+mod cli_edges;
 mod cli_hysteresis;
 mod cli_pipe;
 mod cli_simulate;
