@@ -403,3 +403,44 @@ fn a_hold_longer_than_the_rest_at_u_min_asks_for_a_shorter_hold() {
     ]);
     assert!(!line.contains("--hold-tolerance"), "{line}");
 }
+
+#[test]
+fn the_row_by_row_reader_reads_the_same_layouts() {
+    let s = Scratch::new("csv-stream");
+    let stream = ["--stream", "--ts", "0.01"];
+    let clean_json = s.join("clean.json");
+    identify(&servo(), &clean_json, &stream).success();
+    let clean = load(&clean_json);
+    // Units in the column names, decimal commas, a hold logged with noise.
+    let data = noisy_hold(&s);
+    let text = std::fs::read_to_string(&data).unwrap();
+    let comma: String = text
+        .replacen("u,y", "u [V];y [deg]", 1)
+        .replace(',', ";")
+        .replace('.', ",");
+    let comma = s.write("comma.csv", &comma);
+    let json = s.join("m.json");
+    identify(
+        &comma,
+        &json,
+        &[&stream[..], &["--decimal", "comma"]].concat(),
+    )
+    .clean_error(&[
+        "comma.csv line 2: u = ",
+        "is not u_min = -1 but the hold (--hold 300) is not over (--hold-tolerance 0)",
+        "give --hold-tolerance",
+    ]);
+    identify(
+        &comma,
+        &json,
+        &[
+            &stream[..],
+            &["--decimal", "comma", "--hold-tolerance", "1e-3"],
+        ]
+        .concat(),
+    )
+    .success();
+    let m = load(&json);
+    assert_eq!(units(&m), ("V".into(), "deg".into()));
+    same_model(&m, &clean, 0.0);
+}

@@ -135,17 +135,27 @@ fn identify(
     runs: (usize, &mut RunCounter),
 ) -> Result<HostModel, String> {
     let mut failed: Option<IoError> = None;
+    // The first input of the hold off u_min beyond the tolerance (line, value), and the
+    // largest deviation of the hold up to it: the record stops there.
+    let mut off_hold: Option<(usize, f64)> = None;
+    let mut largest = 0.0f64;
     let (from, counter) = runs;
     let mut row = 0usize;
     let mut next = || match stream.next_row() {
-        Ok(Some((_, v))) => {
+        Ok(Some((line, v))) => {
             if row + 1 >= from {
                 counter.push(v[0]);
             }
-            let u = match row < hold.len && (v[0] - hold.u_min).abs() <= hold.tolerance {
-                true => hold.u_min,
-                false => v[0],
-            };
+            let in_hold = row < hold.len;
+            let deviation = (v[0] - hold.u_min).abs();
+            if in_hold {
+                largest = largest.max(deviation);
+                if !deviation.le(&hold.tolerance) {
+                    off_hold = Some((line, v[0]));
+                    return None;
+                }
+            }
+            let u = if in_hold { hold.u_min } else { v[0] };
             row += 1;
             Some((u, v[1]))
         }
@@ -156,6 +166,18 @@ fn identify(
         }
     };
     let result = identify_stream(&mut next, opts);
+    if let Some((line, value)) = off_hold {
+        return Err(format!(
+            "{} line {line}: u = {value} is not u_min = {} but the hold (--hold {}) is not over \
+             (--hold-tolerance {}); the largest deviation in the hold up to it is {largest:.2e}: \
+             if the input rests at its minimum with a little noise, give --hold-tolerance (the \
+             largest |u − u_min| to accept); if the excitation starts here, shorten --hold",
+            name.display(),
+            hold.u_min,
+            hold.len,
+            hold.tolerance
+        ));
+    }
     match failed {
         Some(e) => Err(e.to_string()),
         None => result.map_err(|e| format!("{}: {e}", name.display())),
