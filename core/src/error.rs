@@ -399,7 +399,7 @@ impl fmt::Display for Error {
             ),
             Error::HoldNotAtMin { index, value } => write!(
                 f,
-                "sample {index} belongs to the hold but u = {value} is not u_min: check the hold length"
+                "sample {index} belongs to the hold but u = {value} is not u_min: either the excitation starts before the hold ends (shorten the hold) or the input is not exactly at u_min while it rests there (read the hold's inputs within a tolerance as u_min before pushing them)"
             ),
             Error::InvalidMu0 { value } => write!(
                 f,

@@ -7,7 +7,7 @@
 //! not take), an error when the whole-file reader refuses it.
 #![no_main]
 
-use hsid_host::io::{CsvOptions, CsvStream, Delimiter, IoError, Table, read_table_from};
+use hsid_host::io::{CsvOptions, CsvStream, Decimal, Delimiter, IoError, Table, read_table_from};
 use libfuzzer_sys::fuzz_target;
 
 const NAMES: [&[&str]; 4] = [&["u", "y"], &["y"], &["a", "b", "c"], &["u", "u"]];
@@ -35,6 +35,7 @@ fn stream(text: &[u8], names: &[&str], options: &CsvOptions) -> Result<Table, Io
     let mut t = Table {
         columns: vec![Vec::new(); names.len()],
         lines: Vec::new(),
+        units: s.units(),
     };
     while let Some((line, values)) = s.next_row()? {
         assert_eq!(values.len(), names.len());
@@ -59,7 +60,11 @@ fuzz_target!(|data: &[u8]| {
     };
     let names = NAMES[usize::from(choice >> 2) % NAMES.len()];
     let lines = 1 + text.iter().filter(|&&b| b == b'\n').count();
-    let options = CsvOptions { delimiter };
+    let decimal = match choice & 64 {
+        0 => Decimal::Point,
+        _ => Decimal::Comma,
+    };
+    let options = CsvOptions { delimiter, decimal };
     let whole = read_table_from("fuzz.csv", text, names, &options);
     match (&whole, stream(text, names, &options)) {
         (Ok(w), Ok(s)) => assert_eq!(*w, s, "the row-by-row reader differs"),

@@ -2,7 +2,8 @@
 
 mod integrating;
 
-use crate::failure::{Failure, outln};
+use crate::failure::{Failure, note, outln};
+use hsid_host::hold::read_hold;
 use hsid_host::model::{Element, Record};
 use std::path::PathBuf;
 
@@ -21,9 +22,7 @@ use hsid_host::refine::knots::SegmentCount;
 use hsid_host::units::{Origin, resolve_ts};
 use hsid_host::workflow::{Field, IdentifyRequest, Syntax};
 
-use crate::args::{
-    CsvArgs, HoldArgs, Horizons, KnotArgs, UnitArgs, comment_units, finite_f64, read_record,
-};
+use crate::args::{CsvArgs, HoldArgs, Horizons, KnotArgs, UnitArgs, finite_f64, read_record};
 
 /// Initial state of the simulations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -189,7 +188,7 @@ fn parse_range(s: &str) -> Result<std::ops::Range<usize>, String> {
 struct Stated {
     record: Record,
     ts: Vec<(Origin, f64)>,
-    units: Option<(PathBuf, Units)>,
+    units: Vec<(hsid_host::units::UnitsOrigin, Units)>,
 }
 
 /// Reads the input and output columns (and the reference column, when named) of a CSV file
@@ -359,7 +358,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         .into_iter()
         .collect();
     stated.extend(est_ts);
-    let mut unit_comments: Vec<(PathBuf, Units)> = est_units.into_iter().collect();
+    let mut unit_comments = est_units;
     let val = match &a.validation {
         Some(path) => {
             let ic = a
@@ -378,9 +377,27 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
         None => None,
     };
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
-    let units = a.units.resolve_units(comment_units(unit_comments))?;
+    let units = a.units.resolve_units(unit_comments)?;
     let records: Vec<&Record> = std::iter::once(&est).chain(val.as_ref()).collect();
     let mut opts = options(a, identify_options(a, &records)?)?;
+    drop(records);
+    let mut est = est;
+    if let Some(&u_min) = opts.identify.knots_asc.first() {
+        let tolerance = a.hold.hold_tolerance.unwrap_or(0.0);
+        let sample = |i: usize| format!("sample {i}");
+        let read = read_hold(&mut est.u, u_min, a.hold.hold, tolerance)
+            .map_err(|e| format!("{} {}", a.data.display(), e.describe(&sample)))?;
+        if let (Some(largest), true) = (read.largest, read.replaced > 0) {
+            note(&format!(
+                "{}: {} inputs of the hold are within --hold-tolerance {tolerance} of u_min = \
+                 {u_min} (the largest deviation {:.2e}, sample {}) and are read as u_min",
+                a.data.display(),
+                read.replaced,
+                largest.deviation,
+                largest.index
+            ));
+        }
+    }
     let mut validation = match (val, &a.holdout) {
         (Some(v), _) => Validation::Separate {
             record: v,

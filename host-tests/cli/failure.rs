@@ -110,6 +110,14 @@ pub fn out_line(line: std::fmt::Arguments<'_>) -> Result<(), Failure> {
     }
 }
 
+/// A note on standard error, `hsid: note: …` on one line (not silenced by `--quiet`, which
+/// silences the progress lines): what the run did with its input that the user did not ask
+/// for in so many words. A closed standard error is ignored.
+pub fn note(message: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(io::stderr().lock(), "hsid: note: {}", one_line(message));
+}
+
 /// `println!` that does not panic when the pipe is closed ([`out_line`]).
 macro_rules! outln {
     ($($arg:tt)*) => {

@@ -24,14 +24,28 @@ pub struct FigureArgs {
     /// curves, into this directory (created if missing).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// With --out, for a simulated record: the plant specification it was simulated from
-    /// (`hsid simulate --plant`); its element's loop under the Table I sweeps, times the linear
-    /// part's static gain, is drawn dashed beside the identified borders.
-    #[arg(long, value_name = "SPEC", requires = "out")]
+    /// With --out or --html, for a simulated record: the plant specification it was simulated
+    /// from (`hsid simulate --plant`); its element's loop under the Table I sweeps, times the
+    /// linear part's static gain, is drawn dashed beside the identified borders (in the
+    /// figures of --out and in the HTML report).
+    #[arg(long, value_name = "SPEC")]
     true_plant: Option<PathBuf>,
 }
 
 impl FigureArgs {
+    /// Refuses `--true-plant` when nothing draws it: neither `--out` nor `--html` (`html`)
+    /// is given.
+    pub fn check_true_plant(&self, html: bool) -> Result<(), Failure> {
+        match (&self.true_plant, &self.out, html) {
+            (Some(_), None, false) => Err(
+                "--true-plant draws the true loop in the figures: give --out DIR or --html FILE"
+                    .to_string()
+                    .into(),
+            ),
+            _ => Ok(()),
+        }
+    }
+
     /// The directory of `--out`, if given.
     pub fn dir(&self) -> Option<&Path> {
         self.out.as_deref()

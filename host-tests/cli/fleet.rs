@@ -32,14 +32,18 @@ enum FleetCmd {
     /// Simulates a fleet: one checkpoint per device and week, written by the core's
     /// identifier as the firmware runs it, and the truth table.
     Simulate(SimulateFleetArgs),
-    /// The wear report of a fleet's solved models (the JSON lines of `hsid fleet`).
+    /// The wear report of a fleet's solved models (the JSON lines of `hsid fleet`). It
+    /// follows each device over the weeks by its checkpoints' file names, which must be
+    /// DEVICE-wWEEK.bin (e.g. pump17-w3.bin: device pump17, week 3), as `fleet simulate`
+    /// writes them.
     Report(ReportArgs),
 }
 
 /// Solves every checkpoint of a directory.
 #[derive(Args)]
 struct SolveFleetArgs {
-    /// Directory of checkpoints, one file per device (the file name is the device id).
+    /// Directory of checkpoints, one file per device (the file name is the device id; for
+    /// `fleet report`, DEVICE-wWEEK.bin, e.g. pump17-w3.bin: device pump17, week 3).
     #[arg(long)]
     states: Option<PathBuf>,
     /// Output: one JSON line per device, its model or its error.
@@ -84,7 +88,8 @@ struct SimulateFleetArgs {
 
 #[derive(Args)]
 struct ReportArgs {
-    /// The JSON lines of `hsid fleet`.
+    /// The JSON lines of `hsid fleet`, whose device ids (the checkpoints' file names) are
+    /// DEVICE-wWEEK.bin.
     #[arg(long)]
     models: PathBuf,
     /// The truth table of `hsid fleet simulate`, for the detection and false-flag rates.
@@ -153,14 +158,23 @@ fn solve(a: &SolveFleetArgs) -> Result<(), Failure> {
     }
     .map_err(|e| format!("{}: {e}", out.display()))?;
     let secs = start.elapsed().as_secs_f64();
-    outln!(
-        "{} devices: {} models, {} errors, in {secs:.2} s ({:.0} checkpoints/s); wrote {}",
-        count.devices,
-        count.devices - count.failed,
-        count.failed,
-        count.devices as f64 / secs,
-        out.display()
-    )?;
+    if count.devices == 0 {
+        outln!(
+            "no checkpoint in {} (its files are the checkpoints, for `fleet report` named \
+             DEVICE-wWEEK.bin); wrote {} without a line",
+            states.display(),
+            out.display()
+        )?;
+    } else {
+        outln!(
+            "{} devices: {} models, {} errors, in {secs:.2} s ({:.0} checkpoints/s); wrote {}",
+            count.devices,
+            count.devices - count.failed,
+            count.failed,
+            count.devices as f64 / secs,
+            out.display()
+        )?;
+    }
     for name in &count.skipped {
         outln!(
             "note: {}: skipped {name}: a subdirectory (the checkpoints are the files of the directory itself; subdirectories are not searched)",

@@ -169,10 +169,12 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
 /// Identifies, refines or fits the noise model, prints the model and its fits, writes the file.
 pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
     let request = request(a);
+    a.figures.check_true_plant(a.html.is_some())?;
     if a.stream {
         return stream::run(a, &request);
     }
     let mut records = read_records(a, &request)?;
+    records.read_hold(a.umin, a.hold.hold, a.hold.hold_tolerance)?;
     let id = identify_record(&records.take_record(a.hold.hold), &request)
         .map_err(|e| records.workflow_error(e))?;
     for line in id.lines()? {

@@ -28,7 +28,7 @@ pub fn sample_error(data: &Path, lines: &[usize], e: &IdentifyError) -> String {
             line(*index)
         ),
         IdentifyError::Core(Error::HoldNotAtMin { index, value }) => format!(
-            "{} line {}: u = {value} is not --umin but the hold (--hold) is not over: check the hold length",
+            "{} line {}: u = {value} is not --umin but the hold (--hold) is not over: if the input rests at its minimum with a little noise, give --hold-tolerance (the largest |u − u_min| to accept); if the excitation starts here, shorten --hold",
             data.display(),
             line(*index)
         ),

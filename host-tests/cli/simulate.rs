@@ -87,9 +87,7 @@ pub enum ColourArg {
 
 /// Simulates and prints the record.
 pub fn run(a: &SimulateArgs) -> Result<(), String> {
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
+    let csv = a.csv.options();
     let (output, lines) = match (&a.plant, &a.model) {
         (Some(spec), _) => plant(a, spec, &csv)?,
         (None, Some(model)) => model_run(a, model, &csv)?,
@@ -220,7 +218,7 @@ fn element_run(
 
 /// The input record, with its time column when it has one (or it was named: then it must).
 fn input(a: &SimulateArgs, csv: &CsvOptions) -> Result<InputRecord, String> {
-    let (time, named) = a.units.time_column();
+    let (time, named) = a.units.simulate_time_column();
     let input = read_input(&a.input, &a.input_column, time, csv).map_err(|e| e.to_string())?;
     if named && input.t.is_none() {
         return Err(format!(

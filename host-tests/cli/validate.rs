@@ -17,10 +17,11 @@ use hsid_host::model_file::{ModelFile, Units};
 use hsid_host::refine::poly::is_stable;
 use hsid_host::refine::stochastic::prediction_report;
 use hsid_host::refine::{InnovationForm, NoiseModel};
-use hsid_host::report::fit_report;
+use hsid_host::report::{Fit, fit, fit_report};
 use hsid_host::units::{Origin, UnitReport, UnitsOrigin, resolve_ts};
+use serde::Serialize;
 
-use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_uy};
+use crate::args::{Columns, CsvArgs, DEFAULT_HOLD, UnitArgs, read_uy};
 
 /// Arguments of `hsid validate`.
 #[derive(Args)]
@@ -31,9 +32,11 @@ pub struct ValidateArgs {
     /// CSV file with a header (`-`: standard input).
     #[arg(long)]
     data: PathBuf,
-    /// Samples at the start left out of the fit (e.g. the hold).
-    #[arg(long, default_value_t = 0)]
-    skip: usize,
+    /// Samples at the start left out of the fits (the hold) [default: 300, the default
+    /// --hold of identify and diagnose, whose validation skips the hold too; --skip 0 scores
+    /// every sample].
+    #[arg(long)]
+    skip: Option<usize>,
     #[command(flatten)]
     columns: Columns,
     #[command(flatten)]
@@ -57,10 +60,59 @@ pub struct ValidateArgs {
     /// lines, and a line `note: …` says how many samples lie outside.
     #[arg(long)]
     strict_interval: bool,
+    /// Write what validate prints as a JSON document (format hsid-validate/1) to this file:
+    /// the fits (RMSE, NRMSE, fit %), the samples scored, the sample time, the units, the
+    /// model read in them and the warnings.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+}
+
+/// A fit in the JSON document of `validate --json`.
+#[derive(Serialize)]
+struct FitJson {
+    rmse: f64,
+    nrmse: f64,
+    fit_percent: f64,
+}
+
+impl From<Fit> for FitJson {
+    fn from(f: Fit) -> Self {
+        Self {
+            rmse: f.rmse,
+            nrmse: f.nrmse,
+            fit_percent: f.fit_percent,
+        }
+    }
+}
+
+/// The JSON document of `validate --json`: what validate prints, as numbers.
+#[derive(Serialize)]
+struct ValidateJson<'a> {
+    format: &'static str,
+    model: String,
+    data: String,
+    /// Samples of the record (after the integrating model's differencing).
+    samples: usize,
+    /// Samples at the start not scored.
+    skip: usize,
+    /// Samples scored: `samples − skip`.
+    samples_scored: usize,
+    simulation: FitJson,
+    /// The one-step prediction fit, with a noise model.
+    prediction: Option<FitJson>,
+    /// The innovation standard deviation of the noise model.
+    innovation_std: Option<f64>,
+    sample_time: Option<f64>,
+    units: Option<&'a Units>,
+    /// The model read in units (poles in continuous time, gains, gap).
+    reading: &'a UnitReport,
+    /// The notes validate printed (input outside the interval, an integrating model, …).
+    warnings: Vec<String>,
 }
 
 /// Prints the simulation fit and, with a noise model, the one-step prediction fit.
 pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
+    a.figures.check_true_plant(a.html.is_some())?;
     let file = ModelFile::load(&a.model).map_err(|e| e.to_string())?;
     let noise = noise(a, &file)?;
     let m = HostModel::from_json(&file);
@@ -71,7 +123,7 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         .map(|u| (UnitsOrigin::ModelFile(a.model.clone()), u));
     let units = a
         .units
-        .resolve_units(stored.into_iter().chain(comment_units(record.units)))?;
+        .resolve_units(stored.into_iter().chain(record.units))?;
     let stated: Vec<(Origin, f64)> = a
         .units
         .ts()?
@@ -85,18 +137,30 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         .collect();
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
     let mut table = record.table;
+    let mut warnings: Vec<String> = Vec::new();
     if file.integrating {
         // The file holds the stable part: it is validated on the output's increments.
-        outln!("integrating model (one pole at z = 1): validated on the output's increments")?;
+        let w = "integrating model (one pole at z = 1): validated on the output's increments";
+        outln!("{w}")?;
+        warnings.push(w.to_string());
         table.columns[1] = hsid_host::integrating::difference(&table.columns[1]);
         table.lines.drain(..table.lines.len().min(1));
         let first = table.columns[0].len().min(1);
         table.columns[0].drain(..first);
     }
     let (u, y) = (&table.columns[0], &table.columns[1]);
-    let skip = a.skip;
+    let skip = a.skip.unwrap_or(DEFAULT_HOLD);
     if skip >= u.len() {
-        return Err(format!("--skip {skip} leaves no samples of {}", u.len()).into());
+        let default = match a.skip {
+            Some(_) => "",
+            None => " (the default, the hold of identify's and diagnose's default --hold)",
+        };
+        return Err(format!(
+            "--skip {skip}{default} leaves no samples of {} to score: give a smaller --skip \
+             (0 scores every sample)",
+            u.len()
+        )
+        .into());
     }
     let (lo, hi) = (m.u_min(), m.u_max());
     if a.strict_interval
@@ -123,7 +187,9 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     // the file's knots, which its standard deviations belong to).
     let (extended, outside) = for_input(&m, u);
     if let Some(o) = outside {
-        outln!("note: {}", o.note(Syntax::Cli))?;
+        let w = o.note(Syntax::Cli);
+        outln!("note: {w}")?;
+        warnings.push(w);
     }
     let element = element.map(|h| for_input(&h, u).0.model);
     let sim = match &element {
@@ -131,16 +197,40 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         None => extended.simulate(u),
     };
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
-    if let Some(nm) = noise {
-        let mut predictor = InnovationForm::new(&extended.model, &nm);
+    let mut prediction = None;
+    if let Some(nm) = &noise {
+        let mut predictor = InnovationForm::new(&extended.model, nm);
         predictor.u_start = extended.u_start;
         let pred = predictor.predict(u, y);
         outln!(
             "{}",
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?
         )?;
+        prediction = Some(fit(&y[skip..], &pred[skip..]));
     }
-    let in_units = reading(&file, &m, ts, units)?;
+    let in_units = reading(&file, &m, ts, units.clone(), &mut warnings)?;
+    if let Some(path) = &a.json {
+        let doc = ValidateJson {
+            format: "hsid-validate/1",
+            model: a.model.display().to_string(),
+            data: a.data.display().to_string(),
+            samples: u.len(),
+            skip,
+            samples_scored: u.len() - skip,
+            simulation: fit(&y[skip..], &sim[skip..]).into(),
+            prediction: prediction.map(FitJson::from),
+            innovation_std: noise.as_ref().map(|n| n.sigma2.max(0.0).sqrt()),
+            sample_time: ts,
+            units: units.as_ref(),
+            reading: &in_units,
+            warnings,
+        };
+        let text =
+            serde_json::to_string_pretty(&doc).map_err(|e| format!("{}: {e}", path.display()))?;
+        hsid_host::io::write_atomic(path, text + "\n")
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        outln!("wrote {}", path.display())?;
+    }
     let shown = Shown {
         file: &file,
         model: &m,
@@ -186,6 +276,7 @@ fn reading(
     m: &HostModel,
     ts: Option<f64>,
     units: Option<Units>,
+    warnings: &mut Vec<String>,
 ) -> Result<UnitReport, Failure> {
     // The file keeps the standard deviations of re and im of each pole, not their
     // correlation: taken as uncorrelated.
@@ -196,7 +287,9 @@ fn reading(
             .collect()
     });
     if cov.is_some() {
-        outln!("pole standard deviations from the model file (re and im taken as uncorrelated)")?;
+        let w = "pole standard deviations from the model file (re and im taken as uncorrelated)";
+        outln!("{w}")?;
+        warnings.push(w.to_string());
     }
     let two_path = file.nonlinearity != Some(Element::Static);
     let in_units = m.unit_report(ts, units, cov.as_deref(), two_path);

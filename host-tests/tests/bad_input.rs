@@ -164,7 +164,15 @@ fn hold_not_at_u_min() {
             value: e.u[300]
         }
     );
-    says(&err, &["sample 300", "hold", "check the hold length"]);
+    says(
+        &err,
+        &[
+            "sample 300",
+            "hold",
+            "shorten the hold",
+            "within a tolerance",
+        ],
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -159,7 +159,7 @@ fn lists_and_advice_are_written_as_before() {
     };
     assert_eq!(
         uneven.to_string(),
-        "data/r.csv line 3: time step 0.0123457 differs from the mean step 0.0200000 by more than 0.1 %; the method needs uniform sampling (resample the record, or split it at the gap into several --data files)"
+        "data/r.csv line 3: time step 0.0123457 differs from the mean step 0.0200000 by more than 0.1 %; the method needs uniform sampling (resample the record, split it at the gap into several --data files, or, for a logger's jittery clock, give --ts to ignore the time column)"
     );
     let disagree = TimeError::Disagree {
         first: (Origin::Flag, 0.01),

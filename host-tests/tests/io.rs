@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use hsid_host::io::{
-    CsvOptions, Delimiter, FileAction, FileError, IoError, parse_columns, parse_table,
-    read_columns, write_columns, write_columns_to,
+    CsvOptions, CsvStream, Decimal, Delimiter, FileAction, FileError, IoError, header_names,
+    parse_columns, parse_table, read_columns, split_unit, write_columns, write_columns_to,
 };
 
 const TANKS: &str = concat!(
@@ -418,7 +418,92 @@ fn write_errors() {
 // ----- delimiters and comments --------------------------------------------------------------
 
 fn parse_with(text: &str, delimiter: Option<Delimiter>) -> Result<Vec<Vec<f64>>, IoError> {
-    parse_table("data.csv", text, &["u", "y"], &CsvOptions { delimiter }).map(|t| t.columns)
+    let options = CsvOptions {
+        delimiter,
+        ..CsvOptions::default()
+    };
+    parse_table("data.csv", text, &["u", "y"], &options).map(|t| t.columns)
+}
+
+#[test]
+fn a_decimal_comma_reads_with_semicolons_and_the_other_notation_is_refused() {
+    let comma = CsvOptions {
+        decimal: Decimal::Comma,
+        ..CsvOptions::default()
+    };
+    let text = "# a logger\nt;u [V];y\n0,00;-1;0,5\n0,01;1,25;-2,5e-1\n";
+    let t = parse_table("d.csv", text, &["u", "y", "t"], &comma).unwrap();
+    assert_eq!(
+        t.columns,
+        vec![vec![-1.0, 1.25], vec![0.5, -0.25], vec![0.0, 0.01]]
+    );
+    assert_eq!(t.units, vec![Some("V".to_string()), None, None]);
+    // Tabs in the header are kept as the delimiter.
+    let tabs = "u\ty\n1,5\t2\n";
+    let t = parse_table("d.csv", tabs, &["u", "y"], &comma).unwrap();
+    assert_eq!(t.columns, vec![vec![1.5], vec![2.0]]);
+    // Read with a decimal point, the comma is named with the option.
+    let e = parse_table("d.csv", text, &["u", "y"], &CsvOptions::default()).unwrap_err();
+    assert!(matches!(e, IoError::DecimalComma { line: 3, .. }), "{e}");
+    assert_eq!(
+        e.to_string(),
+        "d.csv line 3: column \"y\": \"0,5\" has a decimal comma: give --decimal comma \
+         (fields then separated by `;`), or write the number as 3.25"
+    );
+    // A point under --decimal comma (a thousands separator, or the other notation).
+    let e = parse_table("d.csv", "u;y\n1.250,5;2\n", &["u", "y"], &comma).unwrap_err();
+    assert!(matches!(e, IoError::DecimalPoint { line: 2, .. }), "{e}");
+    // `,` as the delimiter cannot hold decimal commas.
+    let both = CsvOptions {
+        delimiter: Some(Delimiter::Comma),
+        decimal: Decimal::Comma,
+    };
+    let e = parse_table("d.csv", "u,y\n1,2\n", &["u", "y"], &both).unwrap_err();
+    assert!(matches!(e, IoError::DecimalCommaDelimiter { .. }), "{e}");
+}
+
+#[test]
+fn a_column_name_with_a_unit_answers_to_its_name() {
+    assert_eq!(split_unit("u [V]"), ("u", Some("V")));
+    assert_eq!(split_unit(" time (ms) "), ("time", Some("ms")));
+    assert_eq!(split_unit("y [m/s²]"), ("y", Some("m/s²")));
+    assert_eq!(split_unit("[V]"), ("[V]", None));
+    assert_eq!(split_unit("u []"), ("u []", None));
+    assert_eq!(split_unit("u"), ("u", None));
+    let text = "u [V],y (deg),t\n1,2,0\n";
+    let o = CsvOptions::default();
+    let t = parse_table("d.csv", text, &["y", "u"], &o).unwrap();
+    assert_eq!(t.columns, vec![vec![2.0], vec![1.0]]);
+    assert_eq!(
+        t.units,
+        vec![Some("deg".to_string()), Some("V".to_string())]
+    );
+    // Asked for as written, the unit is still read.
+    let t = parse_table("d.csv", text, &["u [V]"], &o).unwrap();
+    assert_eq!(t.units, vec![Some("V".to_string())]);
+    // Two columns of the same name in different units are ambiguous.
+    let e = parse_table("d.csv", "u [V],u [mV],y\n1,2,3\n", &["u"], &o).unwrap_err();
+    assert!(matches!(e, IoError::DuplicateColumn { .. }), "{e}");
+    // The row-by-row reader reads the same units and decimal commas.
+    let mut s = CsvStream::new(
+        "d.csv",
+        "u [V];y [mm]\n1,5;2\n".as_bytes(),
+        &["u", "y"],
+        &CsvOptions {
+            decimal: Decimal::Comma,
+            ..CsvOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        s.units(),
+        vec![Some("V".to_string()), Some("mm".to_string())]
+    );
+    assert_eq!(s.next_row().unwrap(), Some((2, vec![1.5, 2.0])));
+    assert_eq!(
+        header_names("d.csv", "# c\n\"a\";b [s]\n1;2\n", &o).unwrap(),
+        vec!["a".to_string(), "b [s]".to_string()]
+    );
 }
 
 #[test]
@@ -448,6 +533,7 @@ fn a_given_delimiter_overrides_the_sniffing() {
         &["u, V", "y"],
         &CsvOptions {
             delimiter: Some(Delimiter::Semicolon),
+            ..CsvOptions::default()
         },
     )
     .unwrap();
@@ -461,11 +547,18 @@ fn a_given_delimiter_overrides_the_sniffing() {
 }
 
 #[test]
-fn decimal_commas_are_not_numbers() {
+fn decimal_commas_are_not_numbers_but_name_the_option_that_reads_them() {
     let err = parse_with("u;y\n1,5;2\n", None).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "data.csv line 2: column \"u\": \"1,5\" is not a number"
+        "data.csv line 2: column \"u\": \"1,5\" has a decimal comma: give --decimal comma \
+         (fields then separated by `;`), or write the number as 3.25"
+    );
+    // A comma that makes no number in either notation is not a number.
+    let err = parse_with("u;y\n1,5,5;2\n", None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "data.csv line 2: column \"u\": \"1,5,5\" is not a number"
     );
 }
 

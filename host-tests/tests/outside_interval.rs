@@ -252,8 +252,18 @@ fn simulate_and_validate_extend_by_default_and_refuse_when_strict() {
     ])
     .clean_error(&["element", "noise"]);
 
-    // validate: the note before the fit, and the model's own extended output fits it exactly.
-    let run = hsid(&["validate", "--model", p(&two), "--data", p(&uy)]).success();
+    // validate: the note before the fit, and the model's own extended output fits it exactly
+    // (every sample scored: the record has no hold to skip).
+    let run = hsid(&[
+        "validate",
+        "--model",
+        p(&two),
+        "--data",
+        p(&uy),
+        "--skip",
+        "0",
+    ])
+    .success();
     let first = run.stdout.lines().next().unwrap_or_default();
     assert_eq!(first, format!("note: {note}"), "{}", run.stdout);
     assert!(run.stdout.contains("fit 100.00 %"), "{}", run.stdout);
@@ -263,10 +273,21 @@ fn simulate_and_validate_extend_by_default_and_refuse_when_strict() {
         p(&two),
         "--data",
         p(&uy),
+        "--skip",
+        "0",
         "--strict-interval",
     ])
     .clean_error(&["uy.csv line 62: u = 1.5 lies outside the model's interval [-1, 1]"]);
-    let run = hsid(&["validate", "--model", p(&el), "--data", p(&uy)]).success();
+    let run = hsid(&[
+        "validate",
+        "--model",
+        p(&el),
+        "--data",
+        p(&uy),
+        "--skip",
+        "0",
+    ])
+    .success();
     assert!(
         run.stdout.starts_with(&format!("note: {note}")),
         "{}",
@@ -278,6 +299,8 @@ fn simulate_and_validate_extend_by_default_and_refuse_when_strict() {
         p(&el),
         "--data",
         p(&uy),
+        "--skip",
+        "0",
         "--strict-interval",
     ])
     .clean_error(&["uy.csv line 62: u = 1.5 lies outside the model's interval [-1, 1]"]);

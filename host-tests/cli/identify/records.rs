@@ -9,9 +9,10 @@ use hsid_host::model_file::Units;
 use hsid_host::units::{Origin, resolve_ts};
 use hsid_host::workflow::{Field, WorkflowError};
 
-use crate::args::{Columns, CsvArgs, UnitArgs, comment_units, read_record, read_uy};
-use crate::failure::Failure;
+use crate::args::{Columns, CsvArgs, UnitArgs, read_record, read_uy};
+use crate::failure::{Failure, note};
 use crate::locate;
+use hsid_host::hold::read_hold;
 
 /// The records of one identification, concatenated in the order given.
 pub struct Records {
@@ -80,7 +81,7 @@ impl Records {
             r.lines.push(rec.table.lines);
         }
         r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
-        r.units = units.resolve_units(comment_units(unit_comments))?;
+        r.units = units.resolve_units(unit_comments)?;
         Ok(r)
     }
 
@@ -121,6 +122,35 @@ impl Records {
                     self.paths[k].display()
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// Checks the hold, the first `hold` inputs of the first record, against `u_min`
+    /// ([`read_hold`]): within `--hold-tolerance` (default 0) they are read as `u_min`, with a
+    /// note when any was not exactly there; beyond it the error names the lines and the cause
+    /// (noise on the hold, or the excitation starting inside it).
+    pub fn read_hold(
+        &mut self,
+        u_min: f64,
+        hold: usize,
+        tolerance: Option<f64>,
+    ) -> Result<(), String> {
+        let end = self.starts.get(1).copied().unwrap_or(self.u.len());
+        let (path, lines) = (&self.paths[0], &self.lines[0]);
+        let line = |i: usize| format!("line {}", lines.get(i).copied().unwrap_or(i + 1));
+        let read = read_hold(&mut self.u[..end], u_min, hold, tolerance.unwrap_or(0.0))
+            .map_err(|e| format!("{} {}", path.display(), e.describe(&line)))?;
+        if let (Some(largest), true) = (read.largest, read.replaced > 0) {
+            note(&format!(
+                "{}: {} inputs of the hold are within --hold-tolerance {} of u_min = {u_min} \
+                 (the largest deviation {:.2e}, {}) and are read as u_min",
+                path.display(),
+                read.replaced,
+                tolerance.unwrap_or(0.0),
+                largest.deviation,
+                line(largest.index)
+            ));
         }
         Ok(())
     }

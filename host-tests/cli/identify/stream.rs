@@ -11,8 +11,9 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use hsid_host::identify::{HostModel, IdentifyOptions, identify_stream};
-use hsid_host::io::{CsvOptions, CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
+use hsid_host::io::{CsvStream, FileError, IoError, STDIN_NAME, STDIN_PATH};
 use hsid_host::refine::knots::SegmentCount;
+use hsid_host::units::{UnitsOrigin, units_from_names};
 use hsid_host::workflow::element_fit::applies;
 use hsid_host::workflow::{ElementFit, IdentifyRequest};
 
@@ -65,13 +66,21 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         a.columns.input_column.as_str(),
         a.columns.output_column.as_str(),
     ];
-    let csv = CsvOptions {
-        delimiter: a.csv.delimiter(),
-    };
+    let csv = a.csv.options();
     let (name, reader) = open(path)?;
     let stream = CsvStream::new(&name, reader, &names, &csv)?;
+    let header = stream.units();
+    let stated = units_from_names(&name, names, header[0].as_deref(), header[1].as_deref())
+        .map_err(|e| e.to_string())?
+        .map(|u| (UnitsOrigin::ColumnNames(name.clone()), u));
+    let units = a.units.resolve_units(stated)?.or(units);
     let mut runs = RunCounter::new(a.umin, a.umax, end_tolerance(a.umin, a.umax));
-    let model = identify(stream, &name, &opts, (opts.hold, &mut runs))?;
+    let hold = HoldRows {
+        len: opts.hold,
+        u_min: a.umin,
+        tolerance: a.hold.hold_tolerance.unwrap_or(0.0),
+    };
+    let model = identify(stream, &name, &opts, hold, (opts.hold, &mut runs))?;
     outln!(
         "streamed {} samples (subspace model, not refined; fits not computed)",
         model.samples
@@ -93,6 +102,16 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The hold as the rows are pushed: an input of its first `len` rows within `tolerance` of
+/// `u_min` is pushed as `u_min` (`--hold-tolerance`; one beyond it stops the identifier,
+/// [`hsid::Error::HoldNotAtMin`]).
+#[derive(Clone, Copy)]
+struct HoldRows {
+    len: usize,
+    u_min: f64,
+    tolerance: f64,
+}
+
 /// The file, or standard input for `-`, buffered, with the name errors give it.
 fn open(path: &Path) -> Result<(std::path::PathBuf, Box<dyn BufRead + Send>), IoError> {
     if path == Path::new(STDIN_PATH) {
@@ -112,18 +131,33 @@ fn identify(
     mut stream: CsvStream<Box<dyn BufRead + Send>>,
     name: &Path,
     opts: &IdentifyOptions,
+    hold: HoldRows,
     runs: (usize, &mut RunCounter),
 ) -> Result<HostModel, String> {
     let mut failed: Option<IoError> = None;
+    // The first input of the hold off u_min beyond the tolerance (line, value), and the
+    // largest deviation of the hold up to it: the record stops there.
+    let mut off_hold: Option<(usize, f64)> = None;
+    let mut largest = 0.0f64;
     let (from, counter) = runs;
     let mut row = 0usize;
     let mut next = || match stream.next_row() {
-        Ok(Some((_, v))) => {
+        Ok(Some((line, v))) => {
             if row + 1 >= from {
                 counter.push(v[0]);
             }
+            let in_hold = row < hold.len;
+            let deviation = (v[0] - hold.u_min).abs();
+            if in_hold {
+                largest = largest.max(deviation);
+                if !deviation.le(&hold.tolerance) {
+                    off_hold = Some((line, v[0]));
+                    return None;
+                }
+            }
+            let u = if in_hold { hold.u_min } else { v[0] };
             row += 1;
-            Some((v[0], v[1]))
+            Some((u, v[1]))
         }
         Ok(None) => None,
         Err(e) => {
@@ -132,6 +166,18 @@ fn identify(
         }
     };
     let result = identify_stream(&mut next, opts);
+    if let Some((line, value)) = off_hold {
+        return Err(format!(
+            "{} line {line}: u = {value} is not u_min = {} but the hold (--hold {}) is not over \
+             (--hold-tolerance {}); the largest deviation in the hold up to it is {largest:.2e}: \
+             if the input rests at its minimum with a little noise, give --hold-tolerance (the \
+             largest |u − u_min| to accept); if the excitation starts here, shorten --hold",
+            name.display(),
+            hold.u_min,
+            hold.len,
+            hold.tolerance
+        ));
+    }
     match failed {
         Some(e) => Err(e.to_string()),
         None => result.map_err(|e| format!("{}: {e}", name.display())),

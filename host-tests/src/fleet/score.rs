@@ -139,21 +139,19 @@ pub fn score(devices: &[DeviceWear], truth: &Path) -> Result<String, ScoreError>
             slope_err.push(tr.slope - true_slope);
         }
     }
-    let rate = |a: usize, b: usize| {
-        if b == 0 {
-            f64::NAN
-        } else {
-            100.0 * a as f64 / b as f64
-        }
+    // "3 of 4 (75.0 %)"; of none, "0 of 0 (none in the truth table)" rather than NaN %.
+    let rate = |a: usize, b: usize, digits: usize| match b {
+        0 => format!("{a} of 0 (none in the truth table)"),
+        b => format!("{a} of {b} ({:.*} %)", digits, 100.0 * a as f64 / b as f64),
     };
     let (gm, gs) = mean_std(&gap_err);
     let (sm, ss) = mean_std(&slope_err);
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "wearing devices flagged: {hit} of {worn} ({:.1} %); devices that do not wear flagged: {false_flags} of {sound} ({:.2} %)",
-        rate(hit, worn),
-        rate(false_flags, sound)
+        "wearing devices flagged: {}; devices that do not wear flagged: {}",
+        rate(hit, worn, 1),
+        rate(false_flags, sound, 2)
     );
     let _ = writeln!(
         out,

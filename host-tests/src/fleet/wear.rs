@@ -64,6 +64,20 @@ pub enum WearError {
     /// The truth table could not be read or does not fit.
     #[error(transparent)]
     Score(#[from] ScoreError),
+    /// No line of the models file holds a device's weekly model or error: the fleet's
+    /// directory held no checkpoint (or none the report can follow).
+    #[error(
+        "{path}: no model of a checkpoint named DEVICE-wWEEK.bin ({lines} lines), so no device to \
+         follow over the weeks: the report reads the JSON lines of `hsid fleet --states DIR`, \
+         whose checkpoints must be named DEVICE-wWEEK.bin (e.g. pump17-w3.bin: device pump17, \
+         week 3); check that DIR holds them"
+    )]
+    NoDevices {
+        /// The models file.
+        path: PathBuf,
+        /// Its non-blank lines (all errors when non-zero).
+        lines: usize,
+    },
     /// The per-device table could not be written.
     #[error("{path}: {source}")]
     WriteCsv {
@@ -92,7 +106,11 @@ pub enum LineError {
         line: usize,
     },
     /// A device id that is not `DEVICE-wWEEK.bin`.
-    #[error("line {line}: device id {id:?} is not DEVICE-wWEEK.bin")]
+    #[error(
+        "line {line}: device id {id:?} is not DEVICE-wWEEK.bin (e.g. pump17-w3.bin: device \
+         pump17, week 3): the report follows each device over the weeks by its checkpoints' \
+         file names; rename them so in the directory of `hsid fleet --states` and solve again"
+    )]
     DeviceId {
         /// 1-based line.
         line: usize,
@@ -196,6 +214,12 @@ pub fn wear_report(
     csv: Option<&Path>,
 ) -> Result<String, WearError> {
     let (mut devices, errors) = read_models(models)?;
+    if devices.is_empty() {
+        return Err(WearError::NoDevices {
+            path: models.to_path_buf(),
+            lines: errors.values().sum(),
+        });
+    }
     flag(&mut devices, opts);
     let mut out = String::new();
     let weeks: usize = devices.iter().map(|d| d.gaps.len()).sum();

@@ -138,6 +138,49 @@ pub enum IoError {
         /// The offending text (trimmed).
         text: String,
     },
+    /// A requested cell holds a number with a decimal comma (`3,25`) where the numbers take
+    /// a decimal point ([`Decimal::Point`](super::Decimal::Point)).
+    #[error(
+        "{path} line {line}: column \"{column}\": \"{text}\" has a decimal comma: give \
+         --decimal comma (fields then separated by `;`), or write the number as 3.25"
+    )]
+    DecimalComma {
+        /// File that was being read.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// Column name.
+        column: String,
+        /// The cell (trimmed).
+        text: String,
+    },
+    /// A requested cell holds a decimal point where the numbers take a decimal comma
+    /// ([`Decimal::Comma`](super::Decimal::Comma)): a thousands separator or a file of the
+    /// other notation, refused rather than guessed.
+    #[error(
+        "{path} line {line}: column \"{column}\": \"{text}\" has a decimal point, but \
+         --decimal comma reads numbers as 3,25: drop --decimal comma for this file, and \
+         remove any thousands separators"
+    )]
+    DecimalPoint {
+        /// File that was being read.
+        path: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// Column name.
+        column: String,
+        /// The cell (trimmed).
+        text: String,
+    },
+    /// A decimal comma with `,` as the field delimiter: a number's comma would split it.
+    #[error(
+        "{path}: a decimal comma needs another field delimiter than `,`: give --delimiter \
+         semicolon or tab (or leave --delimiter out: `;` is then taken)"
+    )]
+    DecimalCommaDelimiter {
+        /// File that was being read.
+        path: PathBuf,
+    },
     /// A requested cell (or a value to be written) is NaN or infinite.
     #[error("{path} line {line}: column \"{column}\": {value} is not a finite number")]
     NonFinite {

@@ -7,7 +7,11 @@
 //!
 //! * the delimiter `,`, `;` or tab: given ([`CsvOptions::delimiter`]) or sniffed from the
 //!   header line ([`Delimiter::sniff`]: tab if the header has a tab, else `;` if it has a `;`
-//!   and no `,`, else `,`); numbers use a decimal point in every case;
+//!   and no `,`, else `,`); numbers take a decimal point, or with [`Decimal::Comma`] a
+//!   decimal comma (`3,25`, the fields then separated by `;` unless the header has tabs); a
+//!   number in the other notation is refused with the option to give, never guessed;
+//! * a header name `name [unit]` or `name (unit)` ([`split_unit`]) answers to its name
+//!   (`u [V]` is the column `u`), and its unit is kept ([`Table::units`]);
 //! * comment lines starting with `#` (before the header or between rows), skipped;
 //! * header names and cells are trimmed of surrounding spaces and double quotes
 //!   (`"uEst", "yEst"` works), and quoted fields may hold the delimiter;
@@ -37,8 +41,9 @@ pub use limited::{
 };
 pub use partial::{abandon, in_progress};
 pub use read::{
-    CsvOptions, Delimiter, MAX_COLUMNS, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table,
-    parse_columns, parse_table, read_columns, read_source, read_table, read_table_from,
+    CsvOptions, Decimal, Delimiter, MAX_COLUMNS, MAX_RECORD_BYTES, STDIN_NAME, STDIN_PATH, Table,
+    header_names, parse_columns, parse_table, read_columns, read_source, read_table,
+    read_table_from, split_unit,
 };
 pub use stream::{CsvStream, MAX_LINE_BYTES};
 pub use write::{format_f64, write_columns, write_columns_to};

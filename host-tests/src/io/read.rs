@@ -51,11 +51,41 @@ impl Delimiter {
     }
 }
 
+/// The decimal separator of the numbers of a CSV file.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Decimal {
+    /// `3.25`, the default.
+    #[default]
+    Point,
+    /// `3,25`, as European loggers write; the fields are then separated by `;` (or tabs).
+    Comma,
+}
+
 /// How a CSV file is read.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CsvOptions {
-    /// The field delimiter; `None` sniffs it from the header line ([`Delimiter::sniff`]).
+    /// The field delimiter; `None` sniffs it from the header line ([`Delimiter::sniff`]), or
+    /// with a decimal comma takes `;` (a tab when the header has one).
     pub delimiter: Option<Delimiter>,
+    /// The decimal separator of the numbers.
+    pub decimal: Decimal,
+}
+
+impl CsvOptions {
+    /// The delimiter of a file whose header line is `header`: the one given, else sniffed
+    /// ([`Delimiter::sniff`]); with a decimal comma `;` unless the header has a tab, and `,`
+    /// refused ([`IoError::DecimalCommaDelimiter`]).
+    pub fn delimiter_for(&self, path: &Path, header: &str) -> Result<Delimiter, IoError> {
+        match (self.decimal, self.delimiter) {
+            (Decimal::Comma, Some(Delimiter::Comma)) => Err(IoError::DecimalCommaDelimiter {
+                path: path.to_path_buf(),
+            }),
+            (Decimal::Comma, None) if header.contains('\t') => Ok(Delimiter::Tab),
+            (Decimal::Comma, None) => Ok(Delimiter::Semicolon),
+            (Decimal::Point, None) => Ok(Delimiter::sniff(header)),
+            (_, Some(d)) => Ok(d),
+        }
+    }
 }
 
 /// The requested columns of a CSV file.
@@ -66,6 +96,71 @@ pub struct Table {
     /// The 1-based line of each data row in the file (comment lines make it differ from the
     /// row index + 2).
     pub lines: Vec<usize>,
+    /// The unit each requested column's header states as `name [unit]` or `name (unit)`
+    /// ([`split_unit`]), in the order of the names; `None` where it states none.
+    pub units: Vec<Option<String>>,
+}
+
+/// A header name's name and unit: `u [V]` and `u (V)` are `("u", Some("V"))`, `u` is
+/// `("u", None)`. The unit is what the brackets hold, trimmed; empty brackets or a name
+/// that is nothing but brackets state no unit.
+pub fn split_unit(header: &str) -> (&str, Option<&str>) {
+    let header = header.trim();
+    for (open, close) in [('[', ']'), ('(', ')')] {
+        if let Some(inner) = header.strip_suffix(close)
+            && let Some((name, unit)) = inner.rsplit_once(open)
+        {
+            let (name, unit) = (name.trim(), unit.trim());
+            if !name.is_empty() && !unit.is_empty() {
+                return (name, Some(unit));
+            }
+        }
+    }
+    (header, None)
+}
+
+/// The first line with content of a CSV text (not blank, not a `#` comment), split into its
+/// cleaned names: the header, read without the data (to find a time column among its
+/// names). [`IoError::Empty`] when there is none.
+pub fn header_names(
+    source: impl AsRef<Path>,
+    text: &str,
+    options: &CsvOptions,
+) -> Result<Vec<String>, IoError> {
+    let path = source.as_ref();
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let Some((_, line)) = layout_header(text) else {
+        return Err(IoError::Empty {
+            path: path.to_path_buf(),
+        });
+    };
+    let delimiter = options.delimiter_for(path, line)?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .delimiter(delimiter.byte())
+        .from_reader(line.as_bytes());
+    let mut record = csv::StringRecord::new();
+    reader
+        .read_record(&mut record)
+        .map_err(|e| IoError::Malformed {
+            path: path.to_path_buf(),
+            line: None,
+            reason: e.to_string(),
+        })?;
+    let mut header: Vec<String> = record.iter().map(|f| clean(f).to_string()).collect();
+    while header.last().is_some_and(|h| h.is_empty()) {
+        header.pop();
+    }
+    Ok(header)
+}
+
+/// The first line with content (1-based) and its text, without its line end.
+fn layout_header(text: &str) -> Option<(usize, &str)> {
+    text.split('\n').enumerate().find_map(|(i, line)| {
+        let line = line.strip_suffix('\r').unwrap_or(line);
+        (!line.trim().is_empty() && !line.starts_with('#')).then_some((i + 1, line))
+    })
 }
 
 /// Reads the named columns of a CSV file with a header row, the delimiter sniffed.
@@ -222,9 +317,7 @@ pub fn parse_table(
             path: path.to_path_buf(),
         });
     };
-    let delimiter = options
-        .delimiter
-        .unwrap_or_else(|| Delimiter::sniff(header_text));
+    let delimiter = options.delimiter_for(path, header_text)?;
     // Comment lines are emptied rather than left to the parser's comment option, which does
     // not count them in its line numbers; empty lines it skips and counts.
     // The copy is made only when there are comments, at its final size (a long record's text
@@ -284,10 +377,16 @@ pub fn parse_table(
     let mut table = Table {
         columns: vec![Vec::new(); names.len()],
         lines: Vec::new(),
+        units: units_of(&header, &indices),
     };
     while let Some(line) = rows.next_row()? {
         let fields: Vec<&str> = rows.record.iter().map(clean).collect();
-        row(path, line, &header, &indices, &fields, &mut table.columns)?;
+        let cells = Cells {
+            header: &header,
+            indices: &indices,
+            decimal: options.decimal,
+        };
+        cells.row(path, line, &fields, &mut table.columns)?;
         table.lines.push(line);
     }
     if table.lines.is_empty() {
@@ -366,7 +465,13 @@ pub(super) fn resolve(
     let mut indices = Vec::with_capacity(names.len());
     for &name in names {
         let wanted = clean(name);
-        let mut hits = header.iter().enumerate().filter(|(_, h)| *h == wanted);
+        // The name as written (`u [V]`), else the name part of `name [unit]` headers.
+        let exact = header.iter().any(|h| h == wanted);
+        let matches = |h: &String| match exact {
+            true => h == wanted,
+            false => split_unit(h).0 == wanted,
+        };
+        let mut hits = header.iter().enumerate().filter(|(_, h)| matches(h));
         match (hits.next(), hits.next()) {
             (Some((i, _)), None) => indices.push(i),
             (Some(_), Some(_)) => {
@@ -389,15 +494,70 @@ pub(super) fn resolve(
     Ok(indices)
 }
 
-/// Checks one data row and appends its requested cells to `columns`.
-pub(super) fn row(
+/// The unit the header states for each resolved column ([`split_unit`]).
+pub(super) fn units_of(header: &[String], indices: &[usize]) -> Vec<Option<String>> {
+    indices
+        .iter()
+        .map(|&i| split_unit(&header[i]).1.map(str::to_string))
+        .collect()
+}
+
+/// How the requested cells of a row are found and read.
+pub(super) struct Cells<'a> {
+    /// The header's names.
+    pub header: &'a [String],
+    /// The index of each requested column in the header.
+    pub indices: &'a [usize],
+    /// The decimal separator.
+    pub decimal: Decimal,
+}
+
+/// A cell as a number with the decimal separator `decimal`; the error to give otherwise.
+fn number(cell: &str, decimal: Decimal) -> Result<f64, NumberError> {
+    match decimal {
+        Decimal::Point => cell.parse().map_err(|_| {
+            let comma = cell.contains(',') && cell.replace(',', ".").parse::<f64>().is_ok();
+            match comma {
+                true => NumberError::Comma,
+                false => NumberError::Bad,
+            }
+        }),
+        Decimal::Comma if cell.contains('.') => Err(NumberError::Point),
+        Decimal::Comma => cell.replace(',', ".").parse().map_err(|_| NumberError::Bad),
+    }
+}
+
+/// Why a cell is not a number.
+enum NumberError {
+    /// Not a number in any notation.
+    Bad,
+    /// A number with a decimal comma, read with a decimal point.
+    Comma,
+    /// A number with a decimal point, read with a decimal comma.
+    Point,
+}
+
+impl Cells<'_> {
+    /// Checks one data row and appends its requested cells to `columns`.
+    pub(super) fn row(
+        &self,
+        path: &Path,
+        line: usize,
+        fields: &[&str],
+        columns: &mut [Vec<f64>],
+    ) -> Result<(), IoError> {
+        row(path, line, self, fields, columns)
+    }
+}
+
+fn row(
     path: &Path,
     line: usize,
-    header: &[String],
-    indices: &[usize],
+    cells: &Cells<'_>,
     fields: &[&str],
     columns: &mut [Vec<f64>],
 ) -> Result<(), IoError> {
+    let (header, indices) = (cells.header, cells.indices);
     let err_path = || path.to_path_buf();
     let expected = header.len();
     if fields.len() < expected {
@@ -430,11 +590,28 @@ pub(super) fn row(
                 column: column(),
             });
         }
-        let value: f64 = cell.parse().map_err(|_| IoError::BadNumber {
-            path: err_path(),
-            line,
-            column: column(),
-            text: cell.to_string(),
+        let value: f64 = number(cell, cells.decimal).map_err(|e| {
+            let (path, column, text) = (err_path(), column(), cell.to_string());
+            match e {
+                NumberError::Bad => IoError::BadNumber {
+                    path,
+                    line,
+                    column,
+                    text,
+                },
+                NumberError::Comma => IoError::DecimalComma {
+                    path,
+                    line,
+                    column,
+                    text,
+                },
+                NumberError::Point => IoError::DecimalPoint {
+                    path,
+                    line,
+                    column,
+                    text,
+                },
+            }
         })?;
         if !value.is_finite() {
             return Err(IoError::NonFinite {

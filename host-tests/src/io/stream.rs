@@ -10,8 +10,8 @@
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
 
-use super::read::{LONE_CR, clean, resolve, row};
-use super::{CsvOptions, Delimiter, FileError, IoError};
+use super::read::{Cells, LONE_CR, clean, resolve, units_of};
+use super::{CsvOptions, Decimal, Delimiter, FileError, IoError};
 
 /// The longest line read (1 MiB): memory stays bounded even for a file without line breaks.
 pub const MAX_LINE_BYTES: u64 = 1 << 20;
@@ -22,6 +22,7 @@ pub struct CsvStream<R> {
     path: PathBuf,
     reader: R,
     delimiter: u8,
+    decimal: Decimal,
     header: Vec<String>,
     indices: Vec<usize>,
     /// Line number of the last line read.
@@ -47,6 +48,7 @@ impl<R: BufRead> CsvStream<R> {
             path: source.as_ref().to_path_buf(),
             reader,
             delimiter: b',',
+            decimal: options.decimal,
             header: Vec::new(),
             indices: Vec::new(),
             line: 0,
@@ -60,7 +62,7 @@ impl<R: BufRead> CsvStream<R> {
             return Err(IoError::Empty { path: s.path });
         }
         let text = s.text();
-        let delimiter = options.delimiter.unwrap_or_else(|| Delimiter::sniff(text));
+        let delimiter = options.delimiter_for(&s.path, text)?;
         s.delimiter = match delimiter {
             Delimiter::Comma => b',',
             Delimiter::Semicolon => b';',
@@ -107,18 +109,22 @@ impl<R: BufRead> CsvStream<R> {
         };
         let fields: Vec<&str> = fields.into_iter().map(clean).collect();
         let (path, line) = (&self.path, self.line);
-        let checked = row(
-            path,
-            line,
-            &self.header,
-            &self.indices,
-            &fields,
-            &mut values,
-        );
+        let cells = Cells {
+            header: &self.header,
+            indices: &self.indices,
+            decimal: self.decimal,
+        };
+        let checked = cells.row(path, line, &fields, &mut values);
         let out = values.iter().filter_map(|c| c.first().copied()).collect();
         self.values = values;
         checked?;
         Ok(Some((line, out)))
+    }
+
+    /// The unit the header states for each requested column (`u [V]`), in the order of the
+    /// names; `None` where it states none.
+    pub fn units(&self) -> Vec<Option<String>> {
+        units_of(&self.header, &self.indices)
     }
 
     /// The line [`Self::next_content`] found (checked UTF-8 there).

@@ -9,8 +9,8 @@
 //!   u, by the definitions of the firmware's `Model::gap_at` and `Model::loop_height`.
 //! * [`dead_band`]: the widest flat interval of a static element's border.
 //! * [`header`]: a record's header comments (`# key = value`), where both are stated.
-//! * [`stated`]: the units from the flags, a model file, a plant specification or a record's
-//!   header comments, checked to agree.
+//! * [`stated`]: the units from the flags, a model file, a plant specification, a record's
+//!   header comments or its column names (`u [V]`), checked to agree.
 //! * [`report`]: all of it as one [`UnitReport`], printed by `identify` and `validate`.
 //!
 //! Without a sample time the same numbers are given per sample (time constants in samples,
@@ -29,5 +29,9 @@ pub use header::{HeaderComment, header_comments};
 pub use report::{GapAt, UnitReport};
 pub use stated::{
     UnitCharError, UnitsError, UnitsOrigin, check_unit_text, resolve_units, units_from_comments,
+    units_from_names,
 };
-pub use time::{Origin, TimeError, checked_ts, resolve_ts, ts_from_column, ts_from_comments};
+pub use time::{
+    Jitter, Origin, TimeError, TimeUnit, checked_ts, is_time_name, resolve_ts, time_unit_of,
+    ts_from_column, ts_from_comments,
+};

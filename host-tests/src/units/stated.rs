@@ -20,6 +20,8 @@ pub enum UnitsOrigin {
     PlantSpec(PathBuf),
     /// A record's header comments `# input unit = …`, `# output unit = …`.
     Comment(PathBuf),
+    /// A record's column names `u [V]`, `y [deg]`.
+    ColumnNames(PathBuf),
 }
 
 impl fmt::Display for UnitsOrigin {
@@ -29,6 +31,7 @@ impl fmt::Display for UnitsOrigin {
             Self::ModelFile(p) => write!(f, "the units of {}", p.display()),
             Self::PlantSpec(p) => write!(f, "the units of {}", p.display()),
             Self::Comment(p) => write!(f, "the unit comments of {}", p.display()),
+            Self::ColumnNames(p) => write!(f, "the column names of {}", p.display()),
         }
     }
 }
@@ -67,6 +70,31 @@ pub enum UnitsError {
         file: PathBuf,
         /// 1-based line of the comment.
         line: usize,
+        /// `"input"` or `"output"`.
+        signal: &'static str,
+        /// The unit as stated.
+        unit: String,
+        /// The character refused.
+        error: UnitCharError,
+    },
+    /// The column names state one signal's unit (`u [V]`) but not the other's (`y`).
+    #[error(
+        "{file}: the header states a unit for \"{stated}\" but none for \"{missing}\": \
+         write it as `{missing} [unit]`, or give --input-unit and --output-unit"
+    )]
+    HalfColumnNames {
+        /// The record.
+        file: PathBuf,
+        /// The header name with a unit.
+        stated: String,
+        /// The header name without one.
+        missing: String,
+    },
+    /// A column name's unit holds a character a unit may not hold.
+    #[error("{file}: the {signal} unit {unit:?} of the header: {error}")]
+    BadColumnUnit {
+        /// The record.
+        file: PathBuf,
         /// `"input"` or `"output"`.
         signal: &'static str,
         /// The unit as stated.
@@ -157,6 +185,40 @@ pub fn units_from_comments(source: &Path, text: &str) -> Result<Option<Units>, U
     }
 }
 
+/// The units a record's column names state, `u [V]` and `y [deg]` (see
+/// [`split_unit`](crate::io::split_unit)): both or neither; `input` and `output` are the
+/// units of the input and output columns and `names` their header names, for the errors.
+pub fn units_from_names(
+    source: &Path,
+    names: [&str; 2],
+    input: Option<&str>,
+    output: Option<&str>,
+) -> Result<Option<Units>, UnitsError> {
+    let bad = |signal: &'static str, unit: &str, error| UnitsError::BadColumnUnit {
+        file: source.to_path_buf(),
+        signal,
+        unit: unit.to_string(),
+        error,
+    };
+    for (signal, unit) in [("input", input), ("output", output)] {
+        if let Some(unit) = unit {
+            check_unit_text(unit).map_err(|e| bad(signal, unit, e))?;
+        }
+    }
+    match (input, output) {
+        (None, None) => Ok(None),
+        (Some(i), Some(o)) => Ok(Some(Units {
+            input: i.to_string(),
+            output: o.to_string(),
+        })),
+        (i, _) => Err(UnitsError::HalfColumnNames {
+            file: source.to_path_buf(),
+            stated: names[usize::from(i.is_none())].to_string(),
+            missing: names[usize::from(i.is_some())].to_string(),
+        }),
+    }
+}
+
 /// The units every source in `stated` agrees on (`None` when none states them), or the first
 /// disagreement.
 pub fn resolve_units(stated: &[(UnitsOrigin, Units)]) -> Result<Option<Units>, UnitsError> {
@@ -208,6 +270,23 @@ mod tests {
             e.to_string(),
             "r.csv line 1: the input unit \"V\\\"\": it holds a double quote (\"): a unit is \
              plain text without double quotes or control characters, e.g. V or deg"
+        );
+    }
+
+    #[test]
+    fn column_names_state_both_units_or_neither() {
+        let p = Path::new("r.csv");
+        let names = ["u [V]", "y"];
+        assert_eq!(units_from_names(p, names, None, None), Ok(None));
+        assert_eq!(
+            units_from_names(p, names, Some("V"), Some("mm")),
+            Ok(Some(units("V", "mm")))
+        );
+        let e = units_from_names(p, names, Some("V"), None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "r.csv: the header states a unit for \"u [V]\" but none for \"y\": write it as \
+             `y [unit]`, or give --input-unit and --output-unit"
         );
     }
 

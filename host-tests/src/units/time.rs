@@ -71,8 +71,9 @@ pub enum TimeError {
     /// A time column whose step differs from the mean step by more than [`TS_TOLERANCE`].
     #[error(
         "{file} line {line}: time step {} differs from the mean step {} by more than \
-         {} %; the method needs uniform sampling (resample the record, or split it \
-         at the gap into several --data files)",
+         {} %; the method needs uniform sampling (resample the record, split it \
+         at the gap into several --data files, or, for a logger's jittery clock, give --ts \
+         to ignore the time column)",
         significant(*.step),
         significant(*.ts),
         TS_TOLERANCE * 100.0
@@ -86,6 +87,19 @@ pub enum TimeError {
         step: f64,
         /// The mean step.
         ts: f64,
+    },
+    /// A time column whose header states a unit that is not one of time read (`time [min]`).
+    #[error(
+        "{file}: the time column \"{column}\" is in {unit:?}, which is not s, ms or us: give \
+         --time-unit s|ms|us for the numbers it holds, or --ts to ignore the column"
+    )]
+    UnknownUnit {
+        /// The record.
+        file: PathBuf,
+        /// The column's header name.
+        column: String,
+        /// The unit it states.
+        unit: String,
     },
     /// A header comment `# ts = … s` whose value is not a number.
     #[error(
@@ -111,6 +125,155 @@ pub enum TimeError {
         /// The second source and its value.
         second: (Origin, f64),
     },
+}
+
+/// The unit of a time column: seconds unless its name or `--time-unit` states otherwise.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TimeUnit {
+    /// Seconds (`s`).
+    #[default]
+    Seconds,
+    /// Milliseconds (`ms`).
+    Milliseconds,
+    /// Microseconds (`us`, `µs`).
+    Microseconds,
+}
+
+impl TimeUnit {
+    /// Seconds per unit.
+    pub fn seconds(self) -> f64 {
+        match self {
+            Self::Seconds => 1.0,
+            Self::Milliseconds => 1e-3,
+            Self::Microseconds => 1e-6,
+        }
+    }
+
+    /// Units per second (1, 1000, 10⁶), exact: a time in the unit divided by it is the
+    /// correctly rounded time in seconds.
+    pub fn per_second(self) -> f64 {
+        match self {
+            Self::Seconds => 1.0,
+            Self::Milliseconds => 1e3,
+            Self::Microseconds => 1e6,
+        }
+    }
+
+    /// The unit's symbol: `s`, `ms`, `us`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Self::Seconds => "s",
+            Self::Milliseconds => "ms",
+            Self::Microseconds => "us",
+        }
+    }
+
+    /// The unit a symbol names: `s`, `sec`, `ms`, `us`, `µs` or `μs` (case-sensitive, as SI
+    /// symbols are: `Ms` is no millisecond); `None` for any other.
+    pub fn from_symbol(symbol: &str) -> Option<Self> {
+        match symbol.trim() {
+            "s" | "sec" => Some(Self::Seconds),
+            "ms" => Some(Self::Milliseconds),
+            "us" | "µs" | "μs" => Some(Self::Microseconds),
+            _ => None,
+        }
+    }
+}
+
+/// The names a time column answers to without `--time-column`: `t` or `time` (any case),
+/// alone (`t`, `Time`), with a unit suffix (`t_ms`, `time_us`, `t_s`) or with a unit in
+/// brackets (`time [ms]`, `t (s)`).
+pub fn is_time_name(header: &str) -> bool {
+    let (name, _) = crate::io::split_unit(header);
+    let lower = name.to_ascii_lowercase();
+    let base = match lower.rsplit_once('_') {
+        Some((base, suffix)) if TimeUnit::from_symbol(suffix).is_some() => base,
+        _ => lower.as_str(),
+    };
+    base == "t" || base == "time"
+}
+
+/// The unit a time column's header name states: in brackets (`time [ms]`, `t (us)`) or as
+/// a suffix after `_` (`t_ms`, `time_us`); `Ok(None)` when it states none (then seconds),
+/// [`TimeError::UnknownUnit`] for a bracketed unit that is not `s`, `ms` or `us`.
+pub fn time_unit_of(file: &Path, header: &str) -> Result<Option<TimeUnit>, TimeError> {
+    let (name, unit) = crate::io::split_unit(header);
+    if let Some(unit) = unit {
+        return TimeUnit::from_symbol(unit)
+            .map(Some)
+            .ok_or_else(|| TimeError::UnknownUnit {
+                file: file.to_path_buf(),
+                column: header.to_string(),
+                unit: unit.to_string(),
+            });
+    }
+    Ok(name
+        .rsplit_once('_')
+        .and_then(|(_, suffix)| TimeUnit::from_symbol(suffix)))
+}
+
+/// How the steps of a time column spread around their mean, in seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jitter {
+    /// The mean step: (last − first) / (rows − 1).
+    pub mean: f64,
+    /// The largest |step − mean|.
+    pub largest: f64,
+    /// The standard deviation of the steps.
+    pub std: f64,
+}
+
+impl Jitter {
+    /// The spread of the steps of `t` (seconds), `None` with fewer than two rows.
+    pub fn of(t: &[f64]) -> Option<Self> {
+        let (first, last) = (t.first()?, t.last()?);
+        if t.len() < 2 {
+            return None;
+        }
+        let mean = (last - first) / (t.len() - 1) as f64;
+        let (mut largest, mut sum2) = (0.0f64, 0.0);
+        for w in t.windows(2) {
+            let d = (w[1] - w[0]) - mean;
+            largest = largest.max(d.abs());
+            sum2 += d * d;
+        }
+        // Steps that differ only by the rounding of the times (1e-9 of the step) are uniform.
+        let noise = 1e-9 * mean.abs();
+        let std = (sum2 / (t.len() - 1) as f64).sqrt();
+        Some(Self {
+            mean,
+            largest: if largest <= noise { 0.0 } else { largest },
+            std: if std <= noise { 0.0 } else { std },
+        })
+    }
+}
+
+impl fmt::Display for Jitter {
+    /// `mean step 10 ms, steps within ±0.5 ms of it (std 0.29 ms)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "mean step {}, steps within ±{} of it (std {})",
+            duration(self.mean),
+            duration(self.largest),
+            duration(self.std)
+        )
+    }
+}
+
+/// A duration in s, ms or µs, three significant digits.
+fn duration(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v} s");
+    }
+    let (scale, unit) = match v.abs() {
+        a if a >= 1.0 => (1.0, "s"),
+        a if a >= 1e-3 => (1e3, "ms"),
+        _ => (1e6, "µs"),
+    };
+    let x = v * scale;
+    let digits = 2 - x.abs().log10().floor().clamp(-300.0, 300.0) as i32;
+    format!("{:.*} {unit}", digits.max(0) as usize, x)
 }
 
 /// `v` with six significant digits (a time step read from text carries rounding noise).
@@ -236,6 +399,46 @@ mod tests {
         let e = ts_from_column("r.csv".into(), &t, &lines(5)).unwrap_err();
         assert!(matches!(e, TimeError::NotUniform { line: 3, .. }), "{e}");
         assert_eq!(e.to_string().lines().count(), 1);
+    }
+
+    #[test]
+    fn time_columns_are_found_by_name_and_state_their_unit() {
+        let p = Path::new("r.csv");
+        for name in [
+            "t", "T", "time", "Time", "t_ms", "time_us", "t [ms]", "time (s)",
+        ] {
+            assert!(is_time_name(name), "{name}");
+        }
+        for name in ["u", "temp", "t_x", "times", "tt [s]"] {
+            assert!(!is_time_name(name), "{name}");
+        }
+        let unit = |n| time_unit_of(p, n).unwrap();
+        assert_eq!(unit("t"), None);
+        assert_eq!(unit("t_ms"), Some(TimeUnit::Milliseconds));
+        assert_eq!(unit("time [ms]"), Some(TimeUnit::Milliseconds));
+        assert_eq!(unit("time (s)"), Some(TimeUnit::Seconds));
+        assert_eq!(unit("t_us"), Some(TimeUnit::Microseconds));
+        assert_eq!(unit("t [µs]"), Some(TimeUnit::Microseconds));
+        let e = time_unit_of(p, "time [min]").unwrap_err();
+        assert!(e.to_string().contains("--time-unit s|ms|us"), "{e}");
+    }
+
+    #[test]
+    fn the_jitter_of_a_column_is_its_steps_around_their_mean() {
+        let t = [0.0, 0.0105, 0.0200, 0.0300];
+        let j = Jitter::of(&t).unwrap();
+        assert!((j.mean - 0.01).abs() < 1e-15, "{j:?}");
+        assert!((j.largest - 0.0005).abs() < 1e-12, "{j:?}");
+        assert_eq!(
+            j.to_string(),
+            "mean step 10.0 ms, steps within ±500 µs of it (std 408 µs)"
+        );
+        assert_eq!(Jitter::of(&[1.0]), None);
+        let uniform: Vec<f64> = (0..100).map(|k| 0.01 * k as f64).collect();
+        assert_eq!(
+            Jitter::of(&uniform).unwrap().to_string(),
+            "mean step 10.0 ms, steps within ±0 s of it (std 0 s)"
+        );
     }
 
     #[test]
