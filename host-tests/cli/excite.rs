@@ -5,6 +5,7 @@ use crate::failure::Failure;
 use clap::Args;
 use hsid::Excitation;
 use hsid_host::io::format_f64;
+use hsid_host::simulate::check_excitation_length;
 use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 use std::io::{BufWriter, Write};
@@ -18,7 +19,7 @@ pub struct ExciteArgs {
     /// Upper end of the input interval.
     #[arg(long, allow_hyphen_values = true, value_parser = finite_f64)]
     umax: f64,
-    /// Samples in all (hold included).
+    /// Samples in all (hold included): more than the hold.
     #[arg(long)]
     samples: usize,
     /// Initial hold at u_min (samples).
@@ -34,6 +35,7 @@ pub struct ExciteArgs {
 pub fn run(a: &ExciteArgs) -> Result<(), Failure> {
     let excitation = Excitation::new(a.umin, a.umax, a.hold, Pcg32::seed_from_u64(a.seed))
         .map_err(|e| e.to_string())?;
+    check_excitation_length(a.samples, a.hold).map_err(|e| e.to_string())?;
     let mut out = BufWriter::new(std::io::stdout().lock());
     writeln!(out, "u")?;
     for v in excitation.take(a.samples) {

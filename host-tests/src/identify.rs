@@ -487,6 +487,19 @@ impl HostModel {
         self.simulate_from(u, self.knots_asc.first().copied().unwrap_or(0.0))
     }
 
+    /// The element's output `h(t)` for the input `u`: the signal
+    /// [`simulate_from`](Self::simulate_from) feeds the linear part with the same `u_start`,
+    /// the border of each sample's direction at its input.
+    pub fn element_output_from(&self, u: &[f64], u_start: f64) -> Vec<f64> {
+        u.iter()
+            .zip(directions(u, u_start))
+            .map(|(&ui, dir)| match dir {
+                Direction::Ascending => self.border_asc_at(ui),
+                Direction::Descending => self.border_desc_at(ui),
+            })
+            .collect()
+    }
+
     /// [`simulate`](Self::simulate) with the input before the record at `u_start` (which
     /// decides the path of a first sample that does not move away from it): a model extended
     /// beyond its interval starts where the model it extends starts.

@@ -201,6 +201,41 @@ fn excite_rejects_an_empty_interval() {
     run.clean_error(&["[3, -3]"]);
 }
 
+#[test]
+fn excite_rejects_a_record_no_longer_than_its_hold() {
+    // 100 samples under the default hold of 300 would be u_min throughout.
+    let run = hsid(&["excite", "--umin", "-1", "--umax", "1", "--samples", "100"]);
+    assert!(run.stdout.is_empty(), "{}", run.stdout);
+    run.clean_error(&[
+        "100 samples are no more than the hold of 300",
+        "give more samples",
+    ]);
+    let run = hsid(&[
+        "excite",
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--samples",
+        "10",
+        "--hold",
+        "10",
+    ]);
+    run.clean_error(&["10 samples are no more than the hold of 10"]);
+    let run = hsid(&[
+        "excite",
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--samples",
+        "11",
+        "--hold",
+        "10",
+    ]);
+    assert_eq!(run.success().stdout.lines().count(), 12);
+}
+
 // ---------------------------------------------------------------------------------------------
 // identify / validate round trips
 // ---------------------------------------------------------------------------------------------

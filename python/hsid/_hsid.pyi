@@ -1,11 +1,16 @@
 """Type stubs of the extension module ``hsid._hsid`` (re-exported by ``hsid``)."""
 
-from typing import Any, List, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Iterable, List, Literal, Optional, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
 
-FloatArray = npt.NDArray[np.floating[Any]]
+FloatArray = npt.ArrayLike
+"""Samples: a 1-D float array, or anything ``numpy.asarray`` makes one of (a list, a pandas
+Series, a memoryview); integers, booleans, complex numbers, objects and text are refused."""
+
+__version__: str
+"""The package's version (the workspace's)."""
 Direction = Literal["ascending", "descending"]
 
 class HsidError(Exception):
@@ -30,6 +35,16 @@ class Model:
     ``y(t) = C x(t) + D h(t)``. It is the model file (format hsid-model/1) that
     ``hsid identify --json`` writes."""
 
+    def __init__(self, text: str, notes: Optional[List[str]] = None) -> None:
+        """The model of a model file's JSON text, as ``Model.from_json(text)``; ``notes`` are
+        what its identification said (pickling keeps them)."""
+    def __reduce__(self) -> Tuple[type, Tuple[str, List[str]]]:
+        """Pickling, ``copy.copy`` and ``copy.deepcopy`` through the JSON text and the notes."""
+    def __eq__(self, other: object) -> bool:
+        """Equal when the model files are (every number, setting, sample time and unit; not
+        the notes): ``Model.from_json(m.to_json()) == m``."""
+    def __hash__(self) -> int:
+        """The hash of the model file's contents, consistent with ``==``."""
     @staticmethod
     def from_json(text: str) -> Model:
         """Reads a model file (format hsid-model/1) from its JSON text."""
@@ -50,10 +65,10 @@ class Model:
         """State matrix, order x order."""
     @property
     def B(self) -> npt.NDArray[np.float64]:
-        """Input vector."""
+        """Input vector, 1-D (``to_dlti()`` and ``to_control()`` give it as an n x 1 column)."""
     @property
     def C(self) -> npt.NDArray[np.float64]:
-        """Output vector."""
+        """Output vector, 1-D (``to_dlti()`` and ``to_control()`` give it as a 1 x n row)."""
     @property
     def D(self) -> float:
         """Feedthrough."""
@@ -78,7 +93,15 @@ class Model:
     @property
     def std(self) -> Optional[dict[str, Any]]:
         """Standard deviations of a refined model: ``poles`` ([re, im] each), ``mu0``,
-        ``border_asc``, ``border_desc``; None for a model that was not refined."""
+        ``border_asc``, ``border_desc`` and ``gap`` (of ``mean_gap``, propagated to first
+        order from the border values' standard deviations, the two borders' first values one
+        parameter μ0 and the others taken as uncorrelated; None where the mean gap is not
+        defined); None for a model that was not refined."""
+    @property
+    def mean_gap(self) -> Optional[float]:
+        """The mean gap of the borders (input units) as ``hsid identify`` reports it: the mean
+        of the defined ``gap_at`` after an ascent and after a descent at 5 equally spaced
+        interior inputs; None for a static element or where no gap is defined."""
     @property
     def ts(self) -> Optional[float]:
         """Sample time in seconds."""
@@ -107,11 +130,28 @@ class Model:
     @property
     def integrating(self) -> bool:
         """True for the stable part of an integrating plant (one pole at z = 1)."""
+    @overload
+    def element(self, u: float, *, strict_interval: bool = False) -> float: ...
+    @overload
+    def element(
+        self, u: FloatArray, *, strict_interval: bool = False
+    ) -> npt.NDArray[np.float64]:
+        """The element's output h(t) for the input ``u``, the signal the linear part
+        (``to_dlti()``) is driven by when the model simulates ``u`` from rest; outside
+        [u_min, u_max] as ``simulate``."""
+    def to_dlti(self) -> Any:
+        """The linear part as ``scipy.signal.dlti(A, B, C, D, dt=ts)`` (B n x 1, C 1 x n;
+        ``dt=True`` without a sample time); its input is ``element(u)``. Needs scipy."""
+    def to_control(self) -> Any:
+        """The linear part as a python-control ``StateSpace`` with ``dt=ts`` (True without a
+        sample time). Needs the ``control`` package."""
 
 def excite(
     umin: float, umax: float, samples: int, *, hold: int = 300, seed: int = 1
 ) -> npt.NDArray[np.float64]:
-    """The method's excitation (Table I of the paper), equal to ``hsid excite``."""
+    """The method's excitation (Table I of the paper), equal to ``hsid excite``; ``samples``
+    must exceed ``hold`` (``SettingsError`` of kind ``excitation_too_short`` otherwise, as
+    ``hsid excite`` refuses it)."""
 
 def simulate_plant(
     spec: Union[dict[str, Any], str], u: FloatArray, *, seed: Optional[int] = None
@@ -175,10 +215,13 @@ def solve_checkpoint(state: bytes, solver: str = "dense") -> Model:
     ``solver`` is ``"dense"`` or ``"structured"`` (the firmware's solve; ``SettingsError`` for
     settings it does not take, e.g. μ0 estimated)."""
 
-def solve_many(states: Sequence[bytes], threads: Optional[int] = None) -> List[Union[Model, HsidError]]:
+def solve_many(
+    states: Iterable[Union[bytes, bytearray, memoryview]], threads: Optional[int] = None
+) -> List[Union[Model, HsidError]]:
     """Many checkpoints solved across ``threads`` worker threads (default: one per core), the GIL
     released: in order, a ``Model`` per checkpoint that solved and the ``HsidError`` (returned,
-    not raised; ``.kind`` names it) per checkpoint that did not."""
+    not raised; ``.kind`` names it) per checkpoint that did not. One bytes object instead of a
+    list raises ``DataError`` of kind ``not_a_list``, an item that is not bytes ``not_bytes``."""
 
 def diagnose(
     u: FloatArray,
@@ -197,7 +240,22 @@ def diagnose(
     hold: int = 300,
     f: Optional[int] = None,
     p: Optional[int] = None,
+    ts: Optional[float] = None,
+    units: Optional[dict[str, str]] = None,
 ) -> dict[str, Any]:
     """The diagnosis of ``(u, y)`` as the JSON report of ``hsid diagnose --json``: the model,
     the checks of the data against the method's assumptions, the residual tests and the
-    effects added; validated on ``(u_val, y_val)`` or on the last ``1 - split`` of the record."""
+    effects added; validated on ``(u_val, y_val)`` or on the last ``1 - split`` of the record.
+    ``ts`` and ``units``, checked as ``identify`` checks them, are added as ``"ts"`` and
+    ``"units"``."""
+
+def read_csv_columns(
+    path: Any,
+    *,
+    u: str = "u",
+    y: Optional[str] = "y",
+    time: Optional[str] = None,
+    delimiter: Optional[str] = None,
+) -> dict[str, Any]:
+    """The columns ``u``, ``y`` and the time column of an hsid CSV record with its sample
+    time and units, as a dict ``{"u", "y", "t", "ts", "units"}``; ``hsid.read_csv`` wraps it."""

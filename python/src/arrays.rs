@@ -1,24 +1,29 @@
 //! numpy arrays in and out: a 1-D floating-point array becomes a `Vec<f64>` (other float
-//! dtypes and non-contiguous arrays converted explicitly); integers, booleans, complex numbers,
-//! objects, other shapes and non-finite values are refused with a [`DataError`](crate::error).
+//! dtypes and non-contiguous arrays converted explicitly; lists, pandas Series and other
+//! array-likes read through `numpy.asarray` first); integers, booleans, complex numbers,
+//! objects, text, other shapes and non-finite values are refused with a
+//! [`DataError`](crate::error).
 
 use numpy::{PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyString};
 
 use crate::error::{Class, Failure};
 
-/// The values of the 1-D float array `obj`, named `name` in errors, every one finite.
+/// The values of the 1-D float array `obj`, named `name` in errors, every one finite. Anything
+/// else numpy reads as an array (a list, a pandas Series, a memoryview, any object with
+/// `__array__`) is taken through `numpy.asarray(obj)` first, then checked as an array is.
 pub fn vector(name: &str, obj: &Bound<'_, PyAny>) -> Result<Vec<f64>, Failure> {
+    let converted;
+    let obj = match obj.cast::<PyUntypedArray>() {
+        Ok(_) => obj,
+        Err(_) => {
+            converted = as_array(name, obj)?;
+            &converted
+        }
+    };
     let Ok(array) = obj.cast::<PyUntypedArray>() else {
-        let ty = obj
-            .get_type()
-            .name()
-            .map_or_else(|_| "?".to_string(), |n| n.to_string());
-        return Err(Failure::new(
-            Class::Data,
-            "not_an_array",
-            format!("{name} is a {ty}, not a numpy array: give numpy.asarray({name}, dtype=float)"),
-        ));
+        return Err(not_an_array(name, obj, None));
     };
     if array.ndim() != 1 {
         return Err(Failure::new(
@@ -54,6 +59,41 @@ pub fn vector(name: &str, obj: &Bound<'_, PyAny>) -> Result<Vec<f64>, Failure> {
     };
     finite(name, &values)?;
     Ok(values)
+}
+
+/// `numpy.asarray(obj)`, or a `not_an_array` failure saying why numpy could not read it.
+fn as_array<'py>(name: &str, obj: &Bound<'py, PyAny>) -> Result<Bound<'py, PyAny>, Failure> {
+    // A str or bytes object is one value to numpy (a 0-d array of text), never samples.
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(not_an_array(name, obj, None));
+    }
+    let py = obj.py();
+    let array = py
+        .import("numpy")
+        .and_then(|np| np.call_method1("asarray", (obj,)))
+        .map_err(|e| not_an_array(name, obj, Some(e.value(py).to_string())))?;
+    // numpy makes a 0-d array of anything (None, a dict, a number): one value, not samples.
+    match array.cast::<PyUntypedArray>() {
+        Ok(a) if a.ndim() > 0 => Ok(array),
+        _ => Err(not_an_array(name, obj, None)),
+    }
+}
+
+/// `name` is not something numpy reads as an array of numbers.
+fn not_an_array(name: &str, obj: &Bound<'_, PyAny>, why: Option<String>) -> Failure {
+    let ty = obj
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    let why = why.map_or_else(String::new, |w| format!(" (numpy.asarray: {w})"));
+    Failure::new(
+        Class::Data,
+        "not_an_array",
+        format!(
+            "{name} is a {ty}, which numpy does not read as an array of samples{why}: give a 1-D \
+             sequence of numbers (a numpy array, a list, a pandas Series)"
+        ),
+    )
 }
 
 /// The values of a float64 array, in order whatever its strides.

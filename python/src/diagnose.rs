@@ -18,10 +18,13 @@ use crate::settings;
 /// Validation: `u_val, y_val` (a separate record whose first `validation_skip` samples, the
 /// hold by default, are left out), else the last `1 - split` of the samples after the hold.
 /// `umin`/`umax` default to the range of the inputs, `f = p = 10`, 7 segments per path.
+/// `ts` (seconds) and `units` ({"input", "output"}), checked as `identify` checks them, are
+/// added to the report as `"ts"` and `"units"` (the command line puts them in its HTML page
+/// and `--model-out` file); without them the dict is the command line's JSON report.
 #[pyfunction]
 #[pyo3(signature = (u, y, umin=None, umax=None, *, u_val=None, y_val=None, split=0.7,
     validation_skip=None, nonlinearity="backlash", segments=7, knots=None, order=None,
-    hold=300, f=None, p=None))]
+    hold=300, f=None, p=None, ts=None, units=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn diagnose<'py>(
     py: Python<'py>,
@@ -40,7 +43,11 @@ pub fn diagnose<'py>(
     hold: usize,
     f: Option<usize>,
     p: Option<usize>,
+    ts: Option<f64>,
+    units: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let ts = settings::sample_time(ts)?;
+    let units = settings::units(units)?;
     let est = record(vector("u", u)?, vector("y", y)?)?;
     let val = match (u_val, y_val) {
         (Some(u), Some(y)) => Some(record(vector("u_val", u)?, vector("y_val", y)?)?),
@@ -90,7 +97,17 @@ pub fn diagnose<'py>(
         serde_json::to_string(&report::to_json(&d))
             .map_err(|e| Failure::new(Class::Data, "json", e.to_string()))
     })??;
-    py.import("json")?.call_method1("loads", (text,))
+    let report = py.import("json")?.call_method1("loads", (text,))?;
+    if let Some(ts) = ts {
+        report.set_item("ts", ts)?;
+    }
+    if let Some(u) = units {
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("input", u.input)?;
+        d.set_item("output", u.output)?;
+        report.set_item("units", d)?;
+    }
+    Ok(report)
 }
 
 /// The diagnosis settings of `hsid diagnose` for these keywords.

@@ -5,6 +5,7 @@ use hsid_host::fleet::solve::{Checkpoint, solve_many as solve};
 use hsid_host::fleet::{DeviceError, DeviceResult};
 use hsid_host::model::Element;
 use pyo3::prelude::*;
+use pyo3::types::{PyByteArray, PyBytes, PyMemoryView, PyString};
 
 use crate::error::{Class, Failure};
 use crate::model::Model;
@@ -17,9 +18,10 @@ use crate::model::Model;
 #[pyo3(signature = (states, threads = None))]
 pub fn solve_many(
     py: Python<'_>,
-    states: Vec<Vec<u8>>,
+    states: &Bound<'_, PyAny>,
     threads: Option<usize>,
 ) -> PyResult<Vec<Py<PyAny>>> {
+    let states = checkpoints(states)?;
     let checkpoints: Vec<Checkpoint> = states
         .into_iter()
         .enumerate()
@@ -32,6 +34,71 @@ pub fn solve_many(
         .detach(|| solve(&checkpoints, None, threads))
         .map_err(|e| PyErr::from(Failure::new(Class::Settings, "threads", e.to_string())))?;
     results.into_iter().map(|r| outcome(py, r)).collect()
+}
+
+/// The bytes of each checkpoint of `states`, a list (or other iterable) of bytes-like objects;
+/// one bytes object, a str or an item that is not bytes is a `DataError` saying what to give.
+fn checkpoints(states: &Bound<'_, PyAny>) -> Result<Vec<Vec<u8>>, Failure> {
+    let type_name = |o: &Bound<'_, PyAny>| {
+        o.get_type()
+            .name()
+            .map_or_else(|_| "?".to_string(), |n| n.to_string())
+    };
+    if states.is_instance_of::<PyBytes>()
+        || states.is_instance_of::<PyByteArray>()
+        || states.is_instance_of::<PyString>()
+        || states.cast::<PyMemoryView>().is_ok()
+    {
+        return Err(Failure::new(
+            Class::Data,
+            "not_a_list",
+            format!(
+                "states is one {} object: give a list of checkpoints' bytes \
+                 (solve_many([state]) for one, or solve_checkpoint(state))",
+                type_name(states)
+            ),
+        ));
+    }
+    let items = states.try_iter().map_err(|_| {
+        Failure::new(
+            Class::Data,
+            "not_a_list",
+            format!(
+                "states is a {}: give a list of checkpoints' bytes",
+                type_name(states)
+            ),
+        )
+    })?;
+    let mut out = Vec::new();
+    for (i, item) in items.enumerate() {
+        let item = item.map_err(|e| Failure::new(Class::Data, "not_a_list", e.to_string()))?;
+        let bytes = if let Ok(b) = item.cast::<PyBytes>() {
+            Some(b.as_bytes().to_vec())
+        } else if let Ok(b) = item.cast::<PyByteArray>() {
+            Some(b.to_vec())
+        } else if item.cast::<PyMemoryView>().is_ok() {
+            item.call_method0("tobytes")
+                .ok()
+                .and_then(|b| b.cast::<PyBytes>().ok().map(|b| b.as_bytes().to_vec()))
+        } else {
+            None
+        };
+        match bytes {
+            Some(b) => out.push(b),
+            None => {
+                return Err(Failure::new(
+                    Class::Data,
+                    "not_bytes",
+                    format!(
+                        "states[{i}] is a {}: give each checkpoint's bytes (e.g. \
+                         pathlib.Path(file).read_bytes())",
+                        type_name(&item)
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// A device's model, or its error as an exception object.

@@ -87,14 +87,7 @@ pub fn identify(
     settle: Option<usize>,
 ) -> PyResult<Model> {
     let (u, y) = record(u, y, hold)?;
-    if let Some(ts) = ts.filter(|t| !(t.is_finite() && *t > 0.0)) {
-        return Err(Failure::new(
-            Class::Settings,
-            "sample_time",
-            format!("ts={ts}: give the sample time in seconds, finite and positive"),
-        )
-        .into());
-    }
+    let ts = settings::sample_time(ts)?;
     let units = settings::units(units)?;
     let mut request = settings::request(
         umin,

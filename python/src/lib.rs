@@ -3,6 +3,7 @@
 
 mod arrays;
 mod checkpoint;
+mod csv;
 mod diagnose;
 mod error;
 mod fleet;
@@ -27,6 +28,8 @@ fn _hsid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(checkpoint::solve_checkpoint, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(fleet::solve_many, m)?)?;
+    m.add_function(wrap_pyfunction!(csv::read_csv_columns, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("HsidError", py.get_type::<error::HsidError>())?;
     m.add("DataError", py.get_type::<error::DataError>())?;
     m.add("SettingsError", py.get_type::<error::SettingsError>())?;

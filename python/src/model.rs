@@ -7,9 +7,9 @@ use hsid_host::identify::HostModel;
 use hsid_host::model::{FileModel, MemoryElement, Simulate, Syntax, for_input};
 use hsid_host::model_file::ModelFile;
 use numpy::{Complex64, PyArray1, PyArray2};
-use pyo3::exceptions::PyUserWarning;
+use pyo3::exceptions::{PyImportError, PyUserWarning};
 use pyo3::prelude::*;
-use pyo3::types::PyFloat;
+use pyo3::types::{PyBool, PyDict, PyFloat};
 
 use crate::arrays::{inside, out, vector};
 use crate::error::{Class, Failure};
@@ -44,6 +44,65 @@ impl Model {
             simulated,
             notes,
         }
+    }
+
+    /// The model file as compact JSON: what `==` compares and `hash` hashes.
+    fn key(&self) -> Result<String, Failure> {
+        serde_json::to_string(&self.file).map_err(to_data)
+    }
+
+    /// Whether the element has two paths (a gap); `None` (a solved checkpoint's two paths)
+    /// counts as two.
+    fn two_path(&self) -> bool {
+        self.file.nonlinearity.is_none_or(|n| n.two_path())
+    }
+
+    /// The standard deviation of the mean gap, from the file's standard deviations.
+    fn mean_gap_std(&self) -> Option<f64> {
+        let std = self.file.std.as_ref()?;
+        if !self.two_path() {
+            return None;
+        }
+        let cov = self.model.border_covariance_of_std(std)?;
+        self.model.mean_gap_std(&cov)
+    }
+
+    /// `A, B (n × 1), C (1 × n), D (1 × 1)` as numpy arrays, and `dt` (the sample time, or
+    /// True: discrete with the sample time unknown).
+    #[allow(clippy::type_complexity)]
+    fn abcd<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyAny>,
+    )> {
+        let f = &self.file;
+        let col: Vec<Vec<f64>> = f.b.iter().map(|&v| vec![v]).collect();
+        let a = if f.order == 0 {
+            PyArray2::zeros(py, [0, 0], false)
+        } else {
+            PyArray2::from_vec2(py, &f.a)?
+        };
+        let b = if f.order == 0 {
+            PyArray2::zeros(py, [0, 1], false)
+        } else {
+            PyArray2::from_vec2(py, &col)?
+        };
+        let c = if f.order == 0 {
+            PyArray2::zeros(py, [1, 0], false)
+        } else {
+            PyArray2::from_vec2(py, std::slice::from_ref(&f.c))?
+        };
+        let d = PyArray2::from_vec2(py, &[vec![f.d]])?;
+        let dt = match f.sample_time {
+            Some(ts) => PyFloat::new(py, ts).into_any(),
+            None => PyBool::new(py, true).to_owned().into_any(),
+        };
+        Ok((a, b, c, d, dt))
     }
 
     fn check_u(&self, name: &str, u: &[f64]) -> Result<(), Failure> {
@@ -85,8 +144,63 @@ fn json_to_py<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
 }
 
+/// What `__reduce__` gives pickle: the class and the arguments that make the model again.
+type Reduced<'py> = (Bound<'py, PyAny>, (String, Vec<String>));
+
+/// An optional package a conversion needs, or an `ImportError` naming what to install.
+fn needs<'py>(
+    py: Python<'py>,
+    module: &str,
+    package: &str,
+    what: &str,
+) -> PyResult<Bound<'py, PyModule>> {
+    py.import(module).map_err(|e| {
+        PyImportError::new_err(format!(
+            "{what} needs {package} (pip install {package}): {e}"
+        ))
+    })
+}
+
 #[pymethods]
 impl Model {
+    /// `Model(text)`: the model of a model file's JSON text, as `Model.from_json(text)`;
+    /// `notes` are what its identification said (pickling keeps them).
+    #[new]
+    #[pyo3(signature = (text, notes=None))]
+    fn py_new(text: &str, notes: Option<Vec<String>>) -> PyResult<Self> {
+        let file = ModelFile::from_json_str("<string>", text).map_err(Failure::from)?;
+        Ok(Self::with_notes(file, notes.unwrap_or_default()))
+    }
+
+    /// Pickling (and `copy.copy`, `copy.deepcopy`) through the model file's JSON text and the
+    /// notes: `Model(text, notes)`.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Reduced<'py>> {
+        let m = slf.get();
+        let text = m.file.to_json_string("<model>").map_err(Failure::from)?;
+        Ok((slf.get_type().into_any(), (text, m.notes.clone())))
+    }
+
+    /// Equal when the model files are: every number, knot, setting, sample time and unit
+    /// (not the notes). `Model.from_json(m.to_json()) == m`.
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+        let py = other.py();
+        match other.cast::<Model>() {
+            Ok(o) => {
+                let equal = self.key()? == o.get().key()?;
+                Ok(PyBool::new(py, equal).to_owned().into_any().unbind())
+            }
+            Err(_) => Ok(py.NotImplemented()),
+        }
+    }
+
+    /// The hash of the model file's contents, consistent with `==`.
+    fn __hash__(&self) -> PyResult<u64> {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.key()?.hash(&mut h);
+        Ok(h.finish())
+    }
+
     /// Reads a model file (format hsid-model/1) from its JSON text.
     #[staticmethod]
     fn from_json(text: &str) -> PyResult<Self> {
@@ -131,13 +245,13 @@ impl Model {
         Ok(PyArray2::from_vec2(py, &self.file.a)?)
     }
 
-    /// Input vector B (order).
+    /// Input vector B (order), 1-D; `to_dlti()` and `to_control()` give it as a column.
     #[getter(B)]
     fn b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         out(py, self.file.b.clone())
     }
 
-    /// Output vector C (order).
+    /// Output vector C (order), 1-D; `to_dlti()` and `to_control()` give it as a row.
     #[getter(C)]
     fn c<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         out(py, self.file.c.clone())
@@ -185,11 +299,76 @@ impl Model {
         self.file.nonlinearity.map(|n| n.name())
     }
 
-    /// Standard deviations of the refined model (poles, mu0, border_asc, border_desc) as a
-    /// dict, or None for a model that was not refined.
+    /// Standard deviations of the refined model (poles, mu0, border_asc, border_desc, and
+    /// gap: of `mean_gap`, None where it is not defined) as a dict, or None for a model that
+    /// was not refined.
     #[getter]
     fn std<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &serde_json::to_string(&self.file.std).map_err(to_data)?)
+        let d = json_to_py(py, &serde_json::to_string(&self.file.std).map_err(to_data)?)?;
+        if !d.is_none() {
+            d.set_item("gap", self.mean_gap_std())?;
+        }
+        Ok(d)
+    }
+
+    /// The mean gap of the borders (input units), as `hsid identify` reports it: the mean of
+    /// the defined gaps (`gap_at`) after an ascent and after a descent at 5 equally spaced
+    /// interior inputs of [u_min, u_max]; None for a static element or where no gap is
+    /// defined. Its standard deviation is `std["gap"]`.
+    #[getter]
+    fn mean_gap(&self) -> Option<f64> {
+        if self.two_path() {
+            self.model.mean_gap()
+        } else {
+            None
+        }
+    }
+
+    /// The linear part as `scipy.signal.dlti(A, B, C, D, dt=ts)`, B a column (n × 1) and C a
+    /// row (1 × n); `dt=True` when the sample time is not known. Its input is the element's
+    /// output `element(u)`; for an integrating model it is the stable part. Needs scipy.
+    fn to_dlti<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let signal = needs(py, "scipy.signal", "scipy", "Model.to_dlti")?;
+        let (a, b, c, d, dt) = self.abcd(py)?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("dt", dt)?;
+        signal.getattr("dlti")?.call((a, b, c, d), Some(&kwargs))
+    }
+
+    /// The linear part as a python-control `StateSpace(A, B, C, D, dt)`, `dt` the sample
+    /// time (True when not known); as `to_dlti`. Needs the `control` package.
+    fn to_control<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let control = needs(py, "control", "control", "Model.to_control")?;
+        let (a, b, c, d, dt) = self.abcd(py)?;
+        control.getattr("ss")?.call1((a, b, c, d, dt))
+    }
+
+    /// The element's output h(t) for the input `u` (a float or a 1-D array): the signal the
+    /// linear part (`to_dlti`) is driven by when the model simulates `u` from rest at u_min —
+    /// the ascending or descending border by each sample's direction, or the play's or relay's
+    /// output. Outside [u_min, u_max] as `simulate` (a `UserWarning`, or `DataError` with
+    /// `strict_interval=True`).
+    #[pyo3(signature = (u, *, strict_interval = false))]
+    fn element<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        strict_interval: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mut warning = None;
+        let r = map(py, "u", u, |v| {
+            if strict_interval {
+                self.check_u("u", v)?;
+            }
+            let (model, outside) = for_input(&self.simulated, v);
+            warning = outside.map(|o| o.note(Syntax::Python));
+            Ok(model.model.element_output(v, model.u_start))
+        })?;
+        if let Some(w) = warning {
+            let text = CString::new(w).unwrap_or_default();
+            PyErr::warn(py, py.get_type::<PyUserWarning>().as_any(), &text, 1)?;
+        }
+        Ok(r)
     }
 
     /// Sample time in seconds, or None.
@@ -282,12 +461,13 @@ impl Model {
         // An element model (play or relay) is fitted by simulation error, not refined by the
         // prediction-error method: say which, rather than `refined=False`.
         let how = match self.file.element {
-            Some(MemoryElement::Play) => "element=play, fit=simulation-error".to_string(),
-            Some(MemoryElement::Relay) => "element=relay, fit=simulation-error".to_string(),
-            None => format!("refined={}", self.file.std.is_some()),
+            Some(MemoryElement::Play) => "element='play', fit='simulation-error'".to_string(),
+            Some(MemoryElement::Relay) => "element='relay', fit='simulation-error'".to_string(),
+            None if self.file.std.is_some() => "refined=True".to_string(),
+            None => "refined=False".to_string(),
         };
         format!(
-            "Model(order={}, nonlinearity={kind}, u=[{}, {}], segments={}/{}, mu0={:.6}, {how})",
+            "Model(order={}, nonlinearity='{kind}', u=({:?}, {:?}), segments=({}, {}), mu0={:.6}, {how})",
             self.file.order,
             self.file.u_min,
             self.file.u_max,

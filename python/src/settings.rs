@@ -49,6 +49,17 @@ pub fn segments(obj: Option<&Bound<'_, PyAny>>) -> Result<Option<SegmentArg>, Fa
     }
 }
 
+/// `ts=`: None, or a sample time in seconds, finite and positive.
+pub fn sample_time(ts: Option<f64>) -> Result<Option<f64>, Failure> {
+    match ts {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(settings_err(
+            "sample_time",
+            format!("ts={t}: give the sample time in seconds, finite and positive"),
+        )),
+        ts => Ok(ts),
+    }
+}
+
 /// Knots of the ascending and the descending path.
 pub type KnotPair = (Vec<f64>, Vec<f64>);
 

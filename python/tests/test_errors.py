@@ -35,7 +35,16 @@ def test_wrong_dtypes_are_refused(uy):
     raises(hsid.DataError, "dtype", hsid.identify, u, y.astype(object), -1.0, 1.0, **PAPER)
     raises(hsid.DataError, "dtype", hsid.identify, u, y.astype(complex), -1.0, 1.0, **PAPER)
     raises(hsid.DataError, "dtype", hsid.identify, u > 0, y, -1.0, 1.0, **PAPER)
-    raises(hsid.DataError, "not_an_array", hsid.identify, list(u), y, -1.0, 1.0, **PAPER)
+    # Array-likes are read through numpy.asarray and checked as arrays are.
+    raises(hsid.DataError, "dtype", hsid.identify, [bool(v > 0) for v in u], y, -1.0, 1.0, **PAPER)
+    raises(hsid.DataError, "dtype", hsid.identify, [str(v) for v in u], y, -1.0, 1.0, **PAPER)
+    raises(hsid.DataError, "dtype", hsid.identify, u, list(y.astype(complex)), -1.0, 1.0, **PAPER)
+    e = raises(hsid.DataError, "not_an_array", hsid.identify, "u.csv", y, -1.0, 1.0, **PAPER)
+    assert "u is a str" in str(e), str(e)
+    raises(hsid.DataError, "not_an_array", hsid.identify, None, y, -1.0, 1.0, **PAPER)
+    raises(hsid.DataError, "not_an_array", hsid.identify, {"u": 1.0}, y, -1.0, 1.0, **PAPER)
+    raises(hsid.DataError, "not_an_array", hsid.identify, [[1.0], [1.0, 2.0]], y, -1.0, 1.0, **PAPER)
+    raises(hsid.DataError, "shape", hsid.identify, [list(u)], y, -1.0, 1.0, **PAPER)
 
 
 def test_two_dimensional_arrays_are_refused(uy):

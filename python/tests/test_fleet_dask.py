@@ -37,3 +37,24 @@ def test_a_local_cluster_of_two_processes_gives_the_serial_models(fleet):
             assert g == {"error": {"kind": e.kind, "message": str(e)}}
             continue
         assert g == {"model": serial}
+
+
+def test_a_plain_client_map_of_solve_checkpoint_returns_equal_models(fleet):
+    """Models travel between processes by pickle: `client.map(hsid.solve_checkpoint, blobs)`
+    gathers models equal to the serial ones."""
+    states, names = fleet
+    blobs, serial = [], []
+    for n in names:
+        blob = (states / n).read_bytes()
+        try:
+            serial.append(hsid.solve_checkpoint(blob))
+        except hsid.HsidError:
+            continue
+        blobs.append(blob)
+    assert len(blobs) >= 10
+    with distributed.LocalCluster(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:
+        got = client.gather(client.map(hsid.solve_checkpoint, blobs, pure=False))
+    assert got == serial
+    assert all(isinstance(m, hsid.Model) for m in got)

@@ -62,7 +62,10 @@ def test_refined_poles_and_gap_match_the_plant(refined, spec):
     gaps = refined.gap_at("ascending", np.linspace(-0.5, 0.5, 5))
     assert gaps.shape == (5,) and np.all(np.abs(gaps - 0.2) < 0.05)
     # The borders straddle the true ones: P_d - P_a is the gap times the slope, up to gain.
-    assert refined.std is not None and set(refined.std) == {"poles", "mu0", "border_asc", "border_desc"}
+    assert refined.std is not None
+    assert set(refined.std) == {"poles", "mu0", "border_asc", "border_desc", "gap"}
+    # The mean gap's standard deviation: small against the 0.2 V gap, but not zero.
+    assert 0 < refined.std["gap"] < 0.01 and abs(refined.mean_gap - 0.2) < 0.03
     assert refined.ts == 0.01 and refined.units == UNITS
 
 

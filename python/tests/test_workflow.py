@@ -58,7 +58,7 @@ def test_the_element_fit_route_is_the_same_in_python(inner_loops, cli, tmp_path)
     assert model.to_json() == text
     assert '"element": "play"' in text
     # Its repr says how it was fitted (not "refined=False", which reads as a failure).
-    assert "element=play, fit=simulation-error" in repr(model), repr(model)
+    assert "element='play', fit='simulation-error'" in repr(model), repr(model)
     fit_notes = [n for n in model.notes if n.startswith('fit="auto": ')]
     assert len(fit_notes) == 1, model.notes
     assert 'fit="none" keeps the two-path model' in fit_notes[0]
@@ -69,7 +69,7 @@ def test_the_element_fit_route_is_the_same_in_python(inner_loops, cli, tmp_path)
     assert nrmse < 0.15, nrmse
     none = hsid.identify(u, y, -1.0, 1.0, fit="none")
     assert '"element"' not in none.to_json()
-    assert "refined=true" in repr(none), repr(none)
+    assert "refined=True" in repr(none), repr(none)
     with pytest.raises(hsid.SettingsError) as e:
         hsid.identify(u, y, -1.0, 1.0, fit="sometimes")
     assert e.value.kind == "fit"

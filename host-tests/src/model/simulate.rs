@@ -84,6 +84,21 @@ impl FileModel {
     }
 }
 
+impl FileModel {
+    /// The element's output for the input `u`, the signal the linear part is driven by when
+    /// the model simulates `u`: the border of each sample's direction (the input before the
+    /// record at `u_start`, as [`HostModel::simulate_from`] takes it) for two paths or a static
+    /// border, the play's or relay's output for an element with memory (which starts at its
+    /// stored output whatever `u_start`). For an integrating model, the element before the
+    /// stable part.
+    pub fn element_output(&self, u: &[f64], u_start: f64) -> Vec<f64> {
+        match self {
+            FileModel::TwoPath(m) | FileModel::Integrating(m) => m.element_output_from(u, u_start),
+            FileModel::Element(h) => crate::hysteresis::simulate::element_output(h, u),
+        }
+    }
+}
+
 impl Simulate for FileModel {
     fn simulate(&self, u: &[f64]) -> Vec<f64> {
         match self {

@@ -35,6 +35,31 @@ pub use true_loop::{TrueLoop, true_loop};
 
 use crate::sim::Lti;
 
+/// An excitation asked for no more samples than its hold: every sample would be the hold's
+/// u_min, a record nothing can be identified from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{samples} samples are no more than the hold of {hold}: the excitation would be the hold \
+     alone, every sample at u_min; give more samples than the hold (the paper's record is the \
+     hold and 4000 more) or a shorter hold"
+)]
+pub struct ExcitationTooShort {
+    /// The samples asked for, hold included.
+    pub samples: usize,
+    /// The hold at u_min.
+    pub hold: usize,
+}
+
+/// Checks that an excitation of `samples` samples in all holds more than its `hold`, as
+/// `hsid excite` and Python's `hsid.excite` both require before generating it.
+pub fn check_excitation_length(samples: usize, hold: usize) -> Result<(), ExcitationTooShort> {
+    if samples > hold {
+        Ok(())
+    } else {
+        Err(ExcitationTooShort { samples, hold })
+    }
+}
+
 /// `G` driven by `h` from rest at `h[0]`: `G(1) h[0] + G (h − h[0])` from zero state (exact by
 /// superposition).
 fn from_rest(g: &Lti, h: &[f64]) -> Vec<f64> {

@@ -3,8 +3,11 @@
 //! [`HostModel`]'s borders.
 
 use hsid::Direction;
+use nalgebra::DMatrix;
 
+use super::report::GAP_POINTS;
 use crate::identify::HostModel;
+use crate::model_file::ModelStd;
 
 impl HostModel {
     /// The border of path `dir`: its knots and values.
@@ -50,6 +53,84 @@ impl HostModel {
         })
     }
 
+    /// The mean gap of the report ([`UnitReport::mean_gap`](super::UnitReport::mean_gap)):
+    /// the mean of the defined gaps [`gap_at`](Self::gap_at) after an ascent and after a
+    /// descent at the [`GAP_POINTS`] interior points of `GAP_POINTS + 1` equal parts of
+    /// `[u_min, u_max]` (input units); `None` when none is defined.
+    pub fn mean_gap(&self) -> Option<f64> {
+        let (lo, hi) = (self.u_min(), self.u_max());
+        let defined: Vec<f64> = (1..=GAP_POINTS)
+            .flat_map(|k| {
+                let u = lo + (hi - lo) * k as f64 / (GAP_POINTS + 1) as f64;
+                [
+                    self.gap_at(Direction::Descending, u),
+                    self.gap_at(Direction::Ascending, u),
+                ]
+            })
+            .flatten()
+            .collect();
+        (!defined.is_empty()).then(|| defined.iter().sum::<f64>() / defined.len() as f64)
+    }
+
+    /// The standard deviation of [`mean_gap`](Self::mean_gap) for the covariance `cov` of the
+    /// border values, ordered as `border_asc` then `border_desc` (a square matrix of their
+    /// total length), propagated to first order: `√(gᵀ cov g)` with `g` the gradient of the
+    /// mean gap in the border values by central differences. `None` when the mean gap is not
+    /// defined, when `cov` has another size, or when a step leaves the gap undefined.
+    pub fn mean_gap_std(&self, cov: &DMatrix<f64>) -> Option<f64> {
+        let (na, nd) = (self.border_asc.len(), self.border_desc.len());
+        if cov.nrows() != na + nd || cov.ncols() != na + nd {
+            return None;
+        }
+        self.mean_gap()?;
+        let scale = self
+            .border_asc
+            .iter()
+            .chain(&self.border_desc)
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        let h = 1e-6 * scale;
+        let mut grad = Vec::with_capacity(na + nd);
+        for i in 0..na + nd {
+            let moved = |d: f64| {
+                let mut m = self.clone();
+                match i.checked_sub(na) {
+                    None => m.border_asc[i] += d,
+                    Some(j) => m.border_desc[j] += d,
+                }
+                m.mean_gap()
+            };
+            grad.push((moved(h)? - moved(-h)?) / (2.0 * h));
+        }
+        let g = nalgebra::DVector::from_vec(grad);
+        Some((g.transpose() * cov * &g)[(0, 0)].max(0.0).sqrt())
+    }
+
+    /// The covariance of the border values (`border_asc` then `border_desc`) that a model
+    /// file's standard deviations `std` give: their squares on the diagonal and, the two
+    /// borders starting at the same parameter μ0, full correlation of their first values; the
+    /// file holds no covariance between other values, so it is taken as zero. `None` when
+    /// `std`'s lengths are not the borders'.
+    pub fn border_covariance_of_std(&self, std: &ModelStd) -> Option<DMatrix<f64>> {
+        let (na, nd) = (self.border_asc.len(), self.border_desc.len());
+        if std.border_asc.len() != na || std.border_desc.len() != nd || na == 0 || nd == 0 {
+            return None;
+        }
+        let sd: Vec<f64> = std
+            .border_asc
+            .iter()
+            .chain(&std.border_desc)
+            .copied()
+            .collect();
+        let mut cov = DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+            na + nd,
+            sd.iter().map(|s| s * s),
+        ));
+        cov[(0, na)] = sd[0] * sd[na];
+        cov[(na, 0)] = sd[0] * sd[na];
+        Some(cov)
+    }
+
     /// `P_d(u) − P_a(u)`, in the element's output units.
     pub(crate) fn loop_height(&self, u: f64) -> f64 {
         self.border_desc_at(u) - self.border_asc_at(u)
@@ -78,5 +159,42 @@ mod tests {
         assert!((m.gap_at(Direction::Descending, -1.0).unwrap() - 0.5).abs() < 1e-12);
         // Beyond the borders' ranges there is no gap.
         assert_eq!(m.border_inverse(Direction::Ascending, 2.0), None);
+    }
+
+    #[test]
+    fn the_mean_gap_std_is_the_change_along_the_covariance_direction() {
+        // Uneven borders, so that every value moves the mean gap differently.
+        let m = first_order(0.5, 0.5, vec![-2.5, -0.7, 1.5], vec![-2.5, 0.4, 2.2]);
+        let g0 = m.mean_gap().unwrap();
+        // For cov = δ δᵀ the standard deviation is |g·δ|, the mean gap's rate of change along
+        // δ: measured here by a finite difference of the whole mean gap.
+        let delta = [0.0, 0.03, -0.02, 0.0, 0.05, 0.01];
+        let cov = DMatrix::from_fn(6, 6, |i, j| delta[i] * delta[j]);
+        let moved = |e: f64| {
+            let mut p = m.clone();
+            for i in 0..3 {
+                p.border_asc[i] += e * delta[i];
+                p.border_desc[i] += e * delta[3 + i];
+            }
+            p.mean_gap().unwrap()
+        };
+        let rate = (moved(1e-3) - moved(-1e-3)) / 2e-3;
+        let std = m.mean_gap_std(&cov).unwrap();
+        assert!(
+            rate.abs() > 1e-3 && (std - rate.abs()).abs() < 1e-4 * rate.abs(),
+            "{std} {rate} {g0}"
+        );
+        // A covariance of the wrong size gives none.
+        assert_eq!(m.mean_gap_std(&DMatrix::zeros(5, 5)), None);
+        // The file's standard deviations: squares on the diagonal, μ0 shared by both borders.
+        let std = ModelStd {
+            poles: vec![],
+            mu0: 0.1,
+            border_asc: vec![0.1, 0.2, 0.3],
+            border_desc: vec![0.1, 0.4, 0.5],
+        };
+        let c = m.border_covariance_of_std(&std).unwrap();
+        assert!((c[(4, 4)] - 0.16).abs() < 1e-15 && (c[(0, 3)] - 0.01).abs() < 1e-15);
+        assert_eq!(c[(1, 4)], 0.0);
     }
 }

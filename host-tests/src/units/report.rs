@@ -90,11 +90,6 @@ impl HostModel {
         } else {
             Vec::new()
         };
-        let defined: Vec<f64> = gap
-            .iter()
-            .flat_map(|g| [g.after_descent, g.after_ascent])
-            .flatten()
-            .collect();
         UnitReport {
             ts,
             units,
@@ -102,8 +97,7 @@ impl HostModel {
             bandwidth: self.bandwidth().map(|w| w / scale),
             lti_gain: g,
             cascade_gain: self.cascade_gain(),
-            mean_gap: (!defined.is_empty())
-                .then(|| defined.iter().sum::<f64>() / defined.len() as f64),
+            mean_gap: if two_path { self.mean_gap() } else { None },
             gap,
             dead_band: if two_path {
                 None
