@@ -73,6 +73,7 @@ pub fn read_csv_columns<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = CsvOptions {
         delimiter: self::delimiter(delimiter)?,
+        ..CsvOptions::default()
     };
     let y_named = y.is_some_and(|n| n != "y");
     let (time, time_named) = time.map_or(("t", false), |t| (t, true));
