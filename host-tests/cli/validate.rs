@@ -292,7 +292,10 @@ fn reading(
         warnings.push(w.to_string());
     }
     let two_path = file.nonlinearity != Some(Element::Static);
-    let in_units = m.unit_report(ts, units, cov.as_deref(), two_path);
+    let gap_std = file.std.as_ref().and_then(|s| s.mean_gap);
+    let in_units = m
+        .unit_report(ts, units, cov.as_deref(), two_path)
+        .with_gap_std(gap_std);
     for line in in_units.lines() {
         outln!("{line}")?;
     }

@@ -294,6 +294,7 @@ fn a_model_file_gives_bands_of_borders_and_poles_but_not_of_the_bode_plot() {
         mu0: asc[0],
         border_asc: asc,
         border_desc: desc,
+        mean_gap: None,
     });
     let dir = Scratch::new("figures-stored");
     let record = RecordView {

@@ -176,9 +176,18 @@ fn the_sections_hold_the_models_numbers() {
         .unit_report(Some(0.01), None, None, true)
         .mean_gap
         .unwrap();
+    // With its standard deviation from the file, both rounded to it (`0.197 ± 0.004 V`).
     let gap = fact(&doc, "mean gap (between the borders)");
-    let shown: f64 = gap.split(' ').next().unwrap().parse().unwrap();
-    assert!((shown - want).abs() <= 5e-6, "{gap} against {want}");
+    let words: Vec<&str> = gap.split(' ').collect();
+    assert_eq!(words[1], "±", "{gap}");
+    let shown: f64 = words[0].parse().unwrap();
+    let std: f64 = words[2].parse().unwrap();
+    let file_std = file.std.as_ref().and_then(|s| s.mean_gap).unwrap();
+    let decimals = words[0].split('.').nth(1).map_or(0, str::len) as i32;
+    let half = 0.5 * 10f64.powi(-decimals);
+    assert!((shown - want).abs() <= half, "{gap} against {want}");
+    assert!((std - file_std).abs() <= half, "{gap} against ± {file_std}");
+    assert!(file_std > 0.0 && file_std < 0.02, "{file_std}");
     // The servo's truth: a play of 0.2 V, 3 Hz, damping 0.4.
     assert!((shown - 0.2).abs() < 0.02, "{gap}");
     let pole = doc

@@ -29,6 +29,7 @@ mod error_messages;
 mod figures;
 mod firmware;
 mod fleet;
+mod gap_uncertainty;
 mod html_report;
 mod hysteresis;
 mod integrating;

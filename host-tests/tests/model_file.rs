@@ -53,6 +53,7 @@ fn model() -> ModelFile {
             mu0: 0.03,
             border_asc: vec![0.03; 7],
             border_desc: vec![0.03; 7],
+            mean_gap: Some(0.004),
         }),
         integrating: false,
         element: None,

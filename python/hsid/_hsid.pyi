@@ -93,9 +93,10 @@ class Model:
     @property
     def std(self) -> Optional[dict[str, Any]]:
         """Standard deviations of a refined model: ``poles`` ([re, im] each), ``mu0``,
-        ``border_asc``, ``border_desc`` and ``gap`` (of ``mean_gap``, propagated to first
-        order from the border values' standard deviations, the two borders' first values one
-        parameter μ0 and the others taken as uncorrelated; None where the mean gap is not
+        ``border_asc``, ``border_desc`` and ``gap`` (of ``mean_gap``: the model file's, from
+        the refinement's whole covariance of the borders; in a file without it, propagated to
+        first order from the border values' standard deviations, the two borders' first values
+        one parameter μ0 and the others taken as uncorrelated; None where the mean gap is not
         defined); None for a model that was not refined."""
     @property
     def mean_gap(self) -> Optional[float]:

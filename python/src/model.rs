@@ -57,11 +57,16 @@ impl Model {
         self.file.nonlinearity.is_none_or(|n| n.two_path())
     }
 
-    /// The standard deviation of the mean gap, from the file's standard deviations.
+    /// The standard deviation of the mean gap: the file's (from the refinement's whole
+    /// covariance of the borders, as `hsid identify` prints it), else, in a file written
+    /// without it, from the borders' standard deviations taken as uncorrelated.
     fn mean_gap_std(&self) -> Option<f64> {
         let std = self.file.std.as_ref()?;
         if !self.two_path() {
             return None;
+        }
+        if let Some(s) = std.mean_gap {
+            return Some(s);
         }
         let cov = self.model.border_covariance_of_std(std)?;
         self.model.mean_gap_std(&cov)
@@ -306,6 +311,10 @@ impl Model {
     fn std<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let d = json_to_py(py, &serde_json::to_string(&self.file.std).map_err(to_data)?)?;
         if !d.is_none() {
+            // The file's `mean_gap` is `gap` here, with the fallback of an older file.
+            if d.contains("mean_gap")? {
+                d.del_item("mean_gap")?;
+            }
             d.set_item("gap", self.mean_gap_std())?;
         }
         Ok(d)

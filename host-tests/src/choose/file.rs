@@ -5,7 +5,7 @@
 use crate::model_file::{ModelStd, NoiseFile};
 use crate::refine::NoiseModel;
 use crate::refine::pem::PemFit;
-use crate::refine::uncertainty::{border_std, fit_poles};
+use crate::refine::uncertainty::{border_covariance, border_std, fit_poles};
 
 /// The noise model in the model file's form.
 pub fn noise_file(n: &NoiseModel) -> NoiseFile {
@@ -16,8 +16,9 @@ pub fn noise_file(n: &NoiseModel) -> NoiseFile {
     }
 }
 
-/// Standard deviations of a refined model, and the covariance of each pole's `(re, im)`: each
-/// pole of the model paired with the nearest root of the refined denominator.
+/// Standard deviations of a refined model (with its mean gap's, from the borders' whole
+/// covariance), and the covariance of each pole's `(re, im)`: each pole of the model paired
+/// with the nearest root of the refined denominator.
 pub fn model_std(fit: &PemFit) -> (ModelStd, Vec<[[f64; 2]; 2]>) {
     let roots = fit_poles(fit);
     let nearest: Vec<_> = fit
@@ -40,11 +41,16 @@ pub fn model_std(fit: &PemFit) -> (ModelStd, Vec<[[f64; 2]; 2]>) {
         .map(|r| r.map_or([[f64::NAN; 2]; 2], |r| r.cov))
         .collect();
     let (asc, desc) = border_std(fit);
+    // A static element's borders are one: it has no gap.
+    let mean_gap = (!fit.layout.shared)
+        .then(|| fit.model.mean_gap_std(&border_covariance(fit)))
+        .flatten();
     let std = ModelStd {
         poles,
         mu0: asc.first().copied().unwrap_or(f64::NAN),
         border_asc: asc,
         border_desc: desc,
+        mean_gap,
     };
     (std, cov)
 }

@@ -60,9 +60,10 @@ pub fn input_unit(r: &UnitReport) -> &str {
     r.units.as_ref().map_or("input units", |u| u.input.as_str())
 }
 
-/// The mean gap as the headline writes it (five decimals and the input unit).
+/// The mean gap as the headline writes it: with its standard deviation, rounded to it, when
+/// the model has one (else five decimals), and the input unit.
 pub(crate) fn gap_text(r: &UnitReport) -> Option<String> {
-    r.mean_gap.map(|g| format!("{g:.5} {}", input_unit(r)))
+    r.mean_gap_text().map(|g| format!("{g} {}", input_unit(r)))
 }
 
 /// One sentence: the element, its gap or dead band, and the order of the linear part.

@@ -360,7 +360,8 @@ fn std(m: &ModelFile, bad: &Bad) -> Checked {
         .flatten()
         .chain(&s.border_asc)
         .chain(&s.border_desc)
-        .chain(std::iter::once(&s.mu0));
+        .chain(std::iter::once(&s.mu0))
+        .chain(&s.mean_gap);
     if let Some(v) = all.copied().find(|v| !(in_range(*v) && *v >= 0.0)) {
         return Err(bad(
             "std",

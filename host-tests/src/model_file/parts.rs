@@ -63,4 +63,9 @@ pub struct ModelStd {
     pub border_asc: Vec<f64>,
     /// Of the descending border at each knot of `knots_desc`.
     pub border_desc: Vec<f64>,
+    /// Of the mean gap between the borders (input units), from the refinement's whole
+    /// covariance of the borders (their correlations included); absent for a static element
+    /// and in files written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_gap: Option<f64>,
 }

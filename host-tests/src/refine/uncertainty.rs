@@ -132,6 +132,24 @@ pub fn border_std(fit: &PemFit) -> (Vec<f64>, Vec<f64>) {
     (asc, desc)
 }
 
+/// The covariance of the border values at the knots, ascending then descending (each path
+/// starting with μ0's value, as [`border_std`] orders them): the block of the refinement's
+/// parameter covariance of the hat coefficients they are, correlations included.
+pub fn border_covariance(fit: &PemFit) -> DMatrix<f64> {
+    let l = fit.layout;
+    let b0 = l.beta().start;
+    let na = fit.model.border_asc.len().saturating_sub(1);
+    let nd = fit.model.border_desc.len().saturating_sub(1);
+    let off = if l.shared { 0 } else { na };
+    let index: Vec<usize> = (0..=na)
+        .chain(std::iter::once(0))
+        .chain((1..=nd).map(|i| off + i))
+        .collect();
+    DMatrix::from_fn(index.len(), index.len(), |i, j| {
+        fit.covariance[(b0 + index[i], b0 + index[j])]
+    })
+}
+
 /// Standard deviation of the interpolated border of one path on a grid of inputs.
 /// `indices[i]` is the position in `β` of the value at knot `i`.
 fn path_std_on_grid(fit: &PemFit, knots: &[f64], indices: &[usize], grid: &[f64]) -> Vec<f64> {

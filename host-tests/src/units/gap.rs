@@ -192,6 +192,7 @@ mod tests {
             mu0: 0.1,
             border_asc: vec![0.1, 0.2, 0.3],
             border_desc: vec![0.1, 0.4, 0.5],
+            mean_gap: None,
         };
         let c = m.border_covariance_of_std(&std).unwrap();
         assert!((c[(4, 4)] - 0.16).abs() < 1e-15 && (c[(0, 3)] - 0.01).abs() < 1e-15);

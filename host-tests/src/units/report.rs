@@ -50,6 +50,10 @@ pub struct UnitReport {
     pub gap: Vec<GapAt>,
     /// The mean of the defined gaps in `gap`, both directions (input units).
     pub mean_gap: Option<f64>,
+    /// The standard deviation of `mean_gap`, when the model has one
+    /// ([`ModelStd::mean_gap`](crate::model_file::ModelStd::mean_gap)); set with
+    /// [`with_gap_std`](Self::with_gap_std).
+    pub mean_gap_std: Option<f64>,
     /// The widest flat interval of a static element's border (static elements only).
     pub dead_band: Option<DeadBand>,
 }
@@ -98,6 +102,7 @@ impl HostModel {
             lti_gain: g,
             cascade_gain: self.cascade_gain(),
             mean_gap: if two_path { self.mean_gap() } else { None },
+            mean_gap_std: None,
             gap,
             dead_band: if two_path {
                 None
@@ -106,6 +111,39 @@ impl HostModel {
             },
         }
     }
+}
+
+impl UnitReport {
+    /// The report with the standard deviation of its mean gap (none without a mean gap).
+    pub fn with_gap_std(mut self, std: Option<f64>) -> Self {
+        self.mean_gap_std = self.mean_gap.and(std);
+        self
+    }
+
+    /// The mean gap with its standard deviation, both rounded to the uncertainty
+    /// ([`rounded_pm`]; `0.197 ± 0.004`), or with five decimals when it has none.
+    pub fn mean_gap_text(&self) -> Option<String> {
+        let g = self.mean_gap?;
+        Some(match self.mean_gap_std {
+            Some(s) => rounded_pm(g, s),
+            None => format!("{g:.5}"),
+        })
+    }
+}
+
+/// `v ± s` with `s` to two significant digits when they start with 1 or 2 and to one
+/// otherwise, and `v` to the same decimal place (`0.19698 ± 0.00423` reads `0.197 ± 0.004`,
+/// `0.19698 ± 0.00123` reads `0.1970 ± 0.0012`); five decimals each when `s` is zero or not
+/// finite.
+pub fn rounded_pm(v: f64, s: f64) -> String {
+    if !(s.is_finite() && s > 0.0 && v.is_finite()) {
+        return format!("{v:.5} ± {s:.5}");
+    }
+    let exp = s.log10().floor() as i32;
+    let lead = s / 10f64.powi(exp);
+    let digits = if lead < 3.0 { 2 } else { 1 };
+    let decimals = (digits - 1 - exp).max(0) as usize;
+    format!("{v:.decimals$} ± {s:.decimals$}")
 }
 
 fn pm(e: &ValueStd) -> String {
@@ -193,8 +231,8 @@ impl UnitReport {
                 g.loop_height
             ));
         }
-        if let Some(m) = self.mean_gap {
-            out.push(format!("mean gap {m:.5} {u_unit}"));
+        if let Some(m) = self.mean_gap_text() {
+            out.push(format!("mean gap {m} {u_unit}"));
         }
         if let Some(d) = &self.dead_band {
             out.push(format!(
@@ -253,6 +291,19 @@ mod tests {
         assert!(text.starts_with("sample time 0.01 s (100 Hz)\n"), "{text}");
         assert_eq!(shortest(1.0 / 0.003), "333.333");
         assert_eq!(shortest(1.0 / 0.004), "250");
+        // With its standard deviation, the gap is rounded to it.
+        let with = r.with_gap_std(Some(0.00423));
+        assert!(with.lines().join("\n").contains("mean gap 0.500 ± 0.004 V"));
+    }
+
+    #[test]
+    fn a_value_is_rounded_to_its_uncertainty() {
+        assert_eq!(rounded_pm(0.19698, 0.00423), "0.197 ± 0.004");
+        assert_eq!(rounded_pm(0.19698, 0.00123), "0.1970 ± 0.0012");
+        assert_eq!(rounded_pm(0.19698, 0.0299), "0.197 ± 0.030");
+        assert_eq!(rounded_pm(12.345, 2.7), "12.3 ± 2.7");
+        assert_eq!(rounded_pm(1234.5, 45.0), "1234 ± 45");
+        assert_eq!(rounded_pm(0.2, 0.0), "0.20000 ± 0.00000");
     }
 
     #[test]

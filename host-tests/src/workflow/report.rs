@@ -16,10 +16,12 @@ impl Identified {
     pub fn in_units(&self) -> UnitReport {
         let r = &self.record;
         let cov = self.estimate.std.as_ref().map(|(_, c)| c.as_slice());
+        let gap_std = self.estimate.std.as_ref().and_then(|(s, _)| s.mean_gap);
         let two_path = self.model_element().two_path();
         self.estimate
             .model
             .unit_report(r.ts, r.units.clone(), cov, two_path)
+            .with_gap_std(gap_std)
     }
 
     /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, the gap of
