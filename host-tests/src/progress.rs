@@ -8,7 +8,7 @@
 //! line prints the stages on standard error (a line each, or a spinner on a terminal) and
 //! stops on a signal by exiting; the library itself never prints.
 //!
-//! Independent candidates run across the cores ([`map`]): each worker reports to the reporter
+//! Independent candidates run across the cores (`map`): each worker reports to the reporter
 //! of the thread that started them, so a reporter is shared between threads and receives the
 //! stages of parallel candidates in the order they start.
 
