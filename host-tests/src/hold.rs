@@ -38,8 +38,7 @@ pub struct HoldError {
     /// The sample of the hold farthest from `u_min`.
     pub largest: HoldSample,
     /// Whether the excitation seems to start in the hold: the largest deviation is more than
-    /// [`EXCITATION_FRACTION`] of the input's span and the samples before the first one off
-    /// are all within the tolerance.
+    /// [`EXCITATION_FRACTION`] of the input's span.
     pub excitation: bool,
 }
 
@@ -126,8 +125,8 @@ pub fn read_hold(
             .filter(|v| v.is_finite())
             .fold(0.0f64, |m, v| m.max(v - u_min));
         let largest = largest.unwrap_or(sample(first));
-        let excitation = largest.deviation > EXCITATION_FRACTION * span
-            && (0..first).all(|i| (u[i] - u_min).abs() <= tolerance);
+        // The samples before `first` are within the tolerance: it is the first one off.
+        let excitation = largest.deviation > EXCITATION_FRACTION * span;
         return Err(HoldError {
             u_min,
             hold,

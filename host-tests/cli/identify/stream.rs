@@ -147,8 +147,8 @@ fn identify(
                 counter.push(v[0]);
             }
             let in_hold = row < hold.len;
-            let deviation = (v[0] - hold.u_min).abs();
             if in_hold {
+                let deviation = (v[0] - hold.u_min).abs();
                 largest = largest.max(deviation);
                 if !deviation.le(&hold.tolerance) {
                     off_hold = Some((line, v[0]));
