@@ -42,6 +42,7 @@ mod long_run;
 mod matlab_recipe;
 mod model_file;
 mod model_format;
+mod one_verdict;
 mod outside_interval;
 mod paper;
 mod plot;

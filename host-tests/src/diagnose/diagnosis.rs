@@ -14,7 +14,7 @@ use super::inner::InnerValidation;
 use super::model::{Evaluation, ExtendedModel, Metric};
 use super::verdict::Verdict;
 use crate::model::Record;
-use crate::validation::checks::Warning;
+use crate::validation::checks::{CHECKS, Check, Warning};
 use crate::validation::residual::TestSet;
 
 /// One effect added.
@@ -127,4 +127,16 @@ pub struct Diagnosis {
     pub inner: InnerValidation,
     /// The dead time of the estimation data (ARX test), against the base model's.
     pub dead_time: delay::DeadTime,
+}
+
+impl Diagnosis {
+    /// The data checks that ran, in order: [`CHECKS`], and the order check when it lowered
+    /// the declared order (it runs on a declared order alone).
+    pub fn checks_ran(&self) -> Vec<Check> {
+        let mut ran = CHECKS.to_vec();
+        if self.warnings.iter().any(|w| w.check == Check::Order) {
+            ran.push(Check::Order);
+        }
+        ran
+    }
 }

@@ -12,7 +12,7 @@ use super::evidence::{Evidence, Tried};
 use super::model::{ExtendedModel, Metric, Structure};
 use super::output_map::OutputMap;
 use crate::model_file::{ModelFile, NoiseFile};
-use crate::validation::checks::Warning;
+use crate::validation::checks::{Warning, checks_text};
 use crate::validation::residual::TestSet;
 
 /// One entry of `effects`: an effect added, or one with evidence that was not added.
@@ -250,13 +250,8 @@ pub fn text(d: &Diagnosis) -> String {
     let _ = writeln!(s, "hsid diagnose ({} nonlinearity)", d.nonlinearity.name());
     let _ = writeln!(s, "data: {}", d.data_description);
     let _ = writeln!(s);
-    if d.warnings.is_empty() {
-        let _ = writeln!(s, "data checks: the data meet the method's assumptions");
-    } else {
-        let _ = writeln!(s, "data checks ({} warnings):", d.warnings.len());
-        for w in &d.warnings {
-            let _ = writeln!(s, "  warning [{}]: {}", w.check, w.message);
-        }
+    for line in checks_text(&d.warnings, &d.checks_ran()) {
+        let _ = writeln!(s, "{line}");
     }
     let _ = writeln!(s);
     let b = &d.base.hammerstein;

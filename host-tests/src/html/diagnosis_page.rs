@@ -2,13 +2,12 @@
 //! before and after each added effect, the diagnosis figures, and the data checks with the
 //! residual tests on the estimation residual and on the validation data before and after.
 
-use super::advice::CHECKS;
 use super::checks::{data_rows, test_rows};
 use super::figures::drawn;
 use super::headline::{Fact, Headline, TextTable};
 use super::model_words::{model_facts, sentence};
 use super::{HtmlError, InlineFigure, Page, Reproduction};
-use crate::diagnose::{Check, Diagnosis, Evaluation, figures};
+use crate::diagnose::{Diagnosis, Evaluation, figures};
 use crate::model::Element;
 use crate::model_file::Units;
 
@@ -91,13 +90,7 @@ pub fn diagnosis_page(
         Fact::new("dead time", d.dead_time.to_string()),
     ];
     facts.extend(model_facts(m.order, &r));
-    // The order check has a row only when it lowered the declared order: it runs on a
-    // declared order alone.
-    let mut ran = CHECKS.to_vec();
-    if d.warnings.iter().any(|w| w.check == Check::Order) {
-        ran.push(Check::Order);
-    }
-    let mut checks = data_rows(&d.warnings, &ran);
+    let mut checks = data_rows(&d.warnings, &d.checks_ran());
     checks.extend(test_rows(&d.tests_estimation, "estimation residual"));
     checks.extend(test_rows(&d.tests_before, "validation, before"));
     checks.extend(test_rows(&d.tests_after, "validation, after"));

@@ -34,7 +34,7 @@ pub fn identified_page(
             units: &in_units,
             parts: &record.parts(),
             skip: record.hold,
-            estimation: Some(&id.best.options),
+            estimation: Some(&id.checks),
             extra: vec![Fact::new("estimator", id.estimate.estimator.clone())],
         };
         return Ok(run.page(figures, reproduction));
@@ -63,7 +63,7 @@ pub fn identified_page(
         units: &in_units,
         parts: &[(&record.u, &record.y)],
         skip: record.hold,
-        estimation: Some(&id.best.options),
+        estimation: Some(&id.checks),
         extra,
     };
     Ok(run.page(figures, reproduction))

@@ -8,11 +8,10 @@ use super::headline::{Fact, Headline};
 use super::model_words::{ModelElement, model_facts, sentence};
 use super::{InlineFigure, Page, Reproduction};
 use crate::hysteresis::HysteresisModel;
-use crate::identify::{HostModel, IdentifyOptions};
-use crate::model::Element;
+use crate::identify::HostModel;
 use crate::report::fit_report;
 use crate::units::UnitReport;
-use crate::validation::{data_checks, residual_tests};
+use crate::validation::{Warning, residual_tests};
 
 /// A model and the record it is shown on.
 pub struct ModelRun<'a> {
@@ -32,9 +31,9 @@ pub struct ModelRun<'a> {
     pub parts: &'a [(&'a [f64], &'a [f64])],
     /// Samples at the start left out of the fit and the tests (the hold).
     pub skip: usize,
-    /// `Some` on the estimation record: the options it was identified with (for the data
-    /// checks); `None` on a validation record.
-    pub estimation: Option<&'a IdentifyOptions>,
+    /// `Some` on the estimation record: its data checks ([`BEFORE_FIT`], run when it was
+    /// identified); `None` on a validation record.
+    pub estimation: Option<&'a [Warning]>,
     /// Further facts (e.g. the noise model's prediction fit), after the fit.
     pub extra: Vec<Fact>,
 }
@@ -46,16 +45,6 @@ impl ModelRun<'_> {
         match self.memory {
             Some(h) => crate::hysteresis::simulate::simulate(h, u),
             None => self.model.simulate(u),
-        }
-    }
-
-    fn kind(&self) -> Element {
-        match self.element {
-            ModelElement::Backlash | ModelElement::TwoPath | ModelElement::Play => {
-                Element::Backlash
-            }
-            ModelElement::Switch | ModelElement::Relay => Element::Switch,
-            ModelElement::Static => Element::Static,
         }
     }
 
@@ -87,7 +76,7 @@ impl ModelRun<'_> {
         facts.extend(self.extra.iter().cloned());
         let shared = self.element == ModelElement::Static;
         let mut checks = match self.estimation {
-            Some(opts) => data_rows(&data_checks(&u, &y, opts, self.kind()), &BEFORE_FIT),
+            Some(warnings) => data_rows(warnings, &BEFORE_FIT),
             None => Vec::new(),
         };
         // The residual tests need 20 samples after the first `skip`.

@@ -41,6 +41,7 @@ use crate::identify::IdentifyError;
 use crate::model::{Element, Record};
 use crate::model_file::ModelFile;
 use crate::progress;
+use crate::validation::{Warning, data_checks};
 
 /// Lines of text for the user, in order (notes, a report).
 pub type Lines = Vec<String>;
@@ -106,6 +107,9 @@ pub struct Identified {
     pub baseline: Option<Baseline>,
     /// The request.
     pub request: IdentifyRequest,
+    /// The data checks of the record as identified (`validation::checks::BEFORE_FIT`, at the
+    /// chosen knots and horizons): the terminal's lines and the page's table.
+    pub checks: Vec<Warning>,
 }
 
 impl Identified {
@@ -201,7 +205,7 @@ pub fn identify_record(
         }
         (Err(e), _) => return Err(e),
     };
-    let (best, estimate, element_note, element, baseline) = match settled {
+    let (best, estimate, element_note, fitted, baseline) = match settled {
         Settled::Element(parts) => {
             let m = *parts;
             (m.best, m.estimate, m.element_note, m.element, m.baseline)
@@ -220,15 +224,22 @@ pub fn identify_record(
             (linear, estimate, None, None, Some(why))
         }
     };
+    progress::stage(|| "checking the data against the method's assumptions".to_string())?;
+    let element = match baseline.as_ref().is_some_and(Baseline::reports_linear) {
+        true => Element::Static,
+        false => request.element,
+    };
+    let checks = data_checks(&record.u, &record.y, &best.options, element);
     Ok(Identified {
         record: record.into_owned(),
         best,
         estimate,
         notes,
         element_note,
-        element,
+        element: fitted,
         baseline,
         request: request.clone(),
+        checks,
     })
 }
 

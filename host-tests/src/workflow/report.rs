@@ -10,6 +10,7 @@ use crate::refine::InnovationForm;
 use crate::refine::stochastic::{noise_text, prediction_report};
 use crate::report::{UndefinedFit, fit_report, std_text};
 use crate::units::UnitReport;
+use crate::validation::checks::{BEFORE_FIT, checks_text};
 
 impl Identified {
     /// The model read in units (its poles with their covariance when refined).
@@ -37,6 +38,7 @@ impl Identified {
     /// is simulated and predicted from rest on its own; the hold is left out of the fits.
     pub fn lines(&self) -> Result<Lines, UndefinedFit> {
         let mut lines = self.notes.clone();
+        lines.extend(checks_text(&self.checks, &BEFORE_FIT));
         let model = &self.estimate.model;
         let (r, hold) = (&self.record, self.record.hold);
         let parts = r.parts();

@@ -1,6 +1,7 @@
 //! The data against the method's assumptions, before any fit. Every violation is a warning
 //! that says what was found and what it costs; one file per family of checks.
 
+pub mod advice;
 pub mod coverage;
 pub mod excitation;
 pub mod feedback;
@@ -12,6 +13,7 @@ pub mod setup;
 pub mod table1;
 pub mod warning;
 
+pub use advice::{BEFORE_FIT, CHECKS, check_advice, checks_text};
 pub use output::{Saturation, saturation};
 pub use setup::CheckSetup;
 pub use warning::{Check, Warning, warn};
