@@ -225,7 +225,7 @@ fn true_theta(p: &PemProblem, beta: &[f64]) -> Vec<f64> {
 /// The paper's record as a prediction-error problem of order 2 with an ARMA(2) noise model,
 /// with a feed-through and the plant at rest, and without either (the initial state estimated,
 /// its coefficients at 0.3): `(feed-through, problem, θ)`.
-fn jacobian_cases() -> Vec<(bool, PemProblem, Vec<f64>)> {
+fn jacobian_cases() -> Vec<(bool, PemProblem<'static>, Vec<f64>)> {
     let cfg = PaperConfig::default();
     let opts = options(&cfg);
     let e = run0();

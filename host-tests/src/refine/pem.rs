@@ -36,7 +36,7 @@ use std::time::Instant;
 use nalgebra::{DMatrix, DVector};
 
 use super::poly::{observer_form, spectral_radius, tf_from_ss};
-use super::signal::{HatRegressors, Stepped, filter, push_lag};
+use super::signal::{HatRegressors, Stepped, push_lag};
 use super::stochastic::{NoiseModel, fit_noise};
 use super::{RefineError, Unstable};
 use crate::identify::{HostModel, IdentifyOptions, identify};
@@ -269,11 +269,11 @@ pub fn burn_in(initial: PemInitialState) -> usize {
 
 /// A prediction-error problem: the data and the structure, without the parameters.
 #[derive(Clone, Debug)]
-pub struct PemProblem {
+pub struct PemProblem<'a> {
     layout: ParamLayout,
     hat: HatRegressors,
-    /// `y[start..]`.
-    y: Vec<f64>,
+    /// `y[start..]`, borrowed: a long record is not held twice.
+    y: &'a [f64],
     start: usize,
     burn: usize,
 }
@@ -296,11 +296,11 @@ pub struct PemEvaluation {
     pub cost: f64,
 }
 
-impl PemProblem {
+impl<'a> PemProblem<'a> {
     /// Sets up the problem of structure `st` on `u`, `y` with the given knots.
     pub fn new(
         u: &[f64],
-        y: &[f64],
+        y: &'a [f64],
         knots_asc: &[f64],
         knots_desc: &[f64],
         st: PemStructure,
@@ -343,7 +343,7 @@ impl PemProblem {
         Ok(Self {
             layout,
             hat,
-            y: y[start..].to_vec(),
+            y: &y[start..],
             start,
             burn,
         })
@@ -391,29 +391,23 @@ impl PemProblem {
 
     /// The deterministic output `ŷ_det(t)` over `start..` (no noise model).
     pub fn simulate(&self, th: &[f64]) -> Vec<f64> {
-        self.parts(th).0
-    }
-
-    /// `(ŷ_det, H − μ0, x + r)`.
-    fn parts(&self, th: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-        let l = &self.layout;
+        let l = self.layout;
         let p = l.polynomials(th);
         let beta = &th[l.beta()];
         let mu0 = beta[0];
-        let len = self.y.len();
+        let mut plant = Stepped::new(&p.b, &p.f);
+        let mut free = Stepped::new(&th[l.iota()], &p.f);
         let mut w = vec![0.0; l.channels];
-        let hd: Vec<f64> = (0..len).map(|t| self.hat_at(t, beta, &mut w)).collect();
-        let mut xr = filter(&p.b, &p.f, &hd);
-        if l.init {
-            let mut imp = vec![0.0; len];
-            if let Some(i0) = imp.first_mut() {
-                *i0 = 1.0;
-            }
-            let r = filter(&th[l.iota()], &p.f, &imp);
-            xr.iter_mut().zip(&r).for_each(|(a, b)| *a += b);
-        }
-        let s = xr.iter().map(|v| v + mu0).collect();
-        (s, hd, xr)
+        (0..self.y.len())
+            .map(|t| {
+                let hd = self.hat_at(t, beta, &mut w);
+                let mut xr = plant.step(hd);
+                if l.init {
+                    xr += free.step(if t == 0 { 1.0 } else { 0.0 });
+                }
+                xr + mu0
+            })
+            .collect()
     }
 
     /// `H(t) − μ0` at sample `t` of the problem (`start + t` of the record), its channels
@@ -862,8 +856,10 @@ pub fn refine(
         });
     }
     let start = opts.start.min(u.len());
-    let sim = init.simulate(u);
-    let resid: Vec<f64> = y.iter().zip(&sim).skip(start).map(|(a, b)| a - b).collect();
+    // The simulation's residual, in the simulation's own buffer.
+    let mut resid = init.simulate(u);
+    resid.iter_mut().zip(y).for_each(|(s, y)| *s = y - *s);
+    resid.drain(..start);
     let free = opts.feedthrough != Feedthrough::Zero;
     let mut fit = refine_structure(u, y, init, opts, start, &resid, free)?;
     if opts.feedthrough == Feedthrough::Auto {
@@ -986,11 +982,13 @@ fn refine_from(
     };
     let model = problem.model_of(&th, init, u.len());
     let noise = problem.noise_of(&th, sigma2);
-    let raw: Vec<f64> = y[start..]
-        .iter()
-        .zip(problem.simulate(&th))
-        .map(|(a, b)| a - b)
-        .collect();
+    let cost = ev.cost;
+    // The prediction errors are not needed past here: freed before the simulation.
+    drop(ev);
+    let mut raw = problem.simulate(&th);
+    raw.iter_mut()
+        .zip(&y[start..])
+        .for_each(|(s, y)| *s = y - *s);
     let fit = PemFit {
         model,
         noise,
@@ -999,12 +997,12 @@ fn refine_from(
         iterations,
         unconverged,
         singular,
-        mse: ev.cost / problem.samples() as f64,
+        mse: cost / problem.samples() as f64,
         samples: problem.samples(),
         start,
         noise_bic: Vec::new(),
         initial_cost,
-        cost: ev.cost,
+        cost,
         theta: th,
         seconds: 0.0,
     };
