@@ -7,6 +7,7 @@
 //! * [`select`]: the information criteria and the choice of the best candidate;
 //! * [`poly`]: polynomials in `q⁻¹`, their roots, and the observer form;
 //! * [`direction`]: the paper's direction signal δ(t) through the core's [`hsid::Direction`];
+//! * [`spectrum`]: the numerical rank and extreme eigenvalues of a Gram matrix;
 //! * [`hat`]: the hat basis on a knot sequence (segment and weights of an input);
 //! * [`rms`], [`rms_error`]: the root mean square of a signal and of a difference of two.
 
@@ -17,6 +18,7 @@ pub mod lm;
 pub mod lstsq;
 pub mod poly;
 pub mod select;
+pub mod spectrum;
 
 /// The root mean square of `x`, `sqrt(Σ x² / n)`; 0 for an empty slice.
 pub fn rms(x: &[f64]) -> f64 {

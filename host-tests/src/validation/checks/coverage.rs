@@ -2,18 +2,18 @@
 
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::validation::residual::regressor;
+use crate::validation::residual::regressor::{channel_count, samples};
 
 /// Knot segments with too few samples.
 pub(crate) fn path_coverage(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let shared = s.shared();
     // Both paths over the whole interval.
-    let (_, _, bins, count) = regressor(ex, s.knots_asc, s.knots_desc, shared);
+    let count = channel_count(s.knots_asc, s.knots_desc, shared);
     let na = s.knots_asc.len().saturating_sub(1);
     let mut counts = vec![0usize; count];
-    for &b in &bins {
-        if let Some(c) = counts.get_mut(b) {
+    for r in samples(ex, s.knots_asc, s.knots_desc, shared) {
+        if let Some(c) = counts.get_mut(r.bin) {
             *c += 1;
         }
     }

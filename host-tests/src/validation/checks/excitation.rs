@@ -1,36 +1,44 @@
 //! Persistent excitation of order `(f + p)·m` of the regressor.
 
-use nalgebra::DMatrix;
-
 use super::setup::CheckSetup;
 use super::warning::{Check, Warning, warn};
-use crate::validation::residual::regressor;
+use crate::numerics::spectrum::spectrum;
+use crate::validation::residual::regressor::{channel_count, samples};
 
-/// The regressor's block-Toeplitz Gram, checked for rank and condition.
+/// Pivots of the Gram's Cholesky factorisation below this fraction of the largest do not count
+/// to its numerical rank.
+const RANK_TOL: f64 = 1e-9;
+
+/// The Gram's condition above which the check warns: the data then determine some
+/// directions a million times less well than others.
+const MAX_CONDITION: f64 = 1e6;
+
+/// The regressor's block Hankel Gram, checked for rank and condition.
 pub(crate) fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> {
     let mut out = Vec::new();
     let shared = s.shared();
     // Persistent excitation of order (f + p)·m of the regressor.
-    let (_, z, _, _) = regressor(ex, s.knots_asc, s.knots_desc, shared);
-    let m = z.len();
+    let m = channel_count(s.knots_asc, s.knots_desc, shared);
     let k = s.f + s.p;
     let dim = k * m;
     if dim > 0 && ex.len() > k + 10 {
-        let g = hankel_gram(&z, k);
-        let ev = g.symmetric_eigenvalues();
-        let max = ev.max();
-        let min = ev.min();
-        let rank = ev.iter().filter(|&&v| v > 1e-9 * max).count();
-        let well_conditioned = min > 1e-6 * max;
-        if !well_conditioned {
+        let g = hankel_gram(
+            samples(ex, s.knots_asc, s.knots_desc, shared).map(|r| r.on),
+            ex.len(),
+            m,
+            k,
+        );
+        let sp = spectrum(&g, dim, RANK_TOL);
+        let condition = sp.condition();
+        if condition > MAX_CONDITION {
             out.push(warn(
                 Check::PersistentExcitation,
                 format!(
-                    "the regressor is not persistently exciting of order (f+p)·m = {dim}: its Hankel Gram has numerical rank {rank} of {dim} ({}); the projection of eq. (11) is ill-conditioned and the model can be poor (shorter horizons or fewer knots help)",
-                    if min > 1e-15 * max {
-                        format!("condition {:.1e}", max / min)
-                    } else {
-                        "singular".to_string()
+                    "the regressor is not persistently exciting of order (f+p)·m = {dim}: its Hankel Gram has numerical rank {} of {dim} ({}); the projection of eq. (11) is ill-conditioned and the model can be poor (shorter horizons or fewer knots help)",
+                    sp.rank,
+                    match condition.is_finite() {
+                        true => format!("condition {condition:.1e}"),
+                        false => format!("pivots below {RANK_TOL:.0e} of the largest"),
                     }
                 ),
             ));
@@ -39,66 +47,67 @@ pub(crate) fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> 
     out
 }
 
-/// The exact Gram `Σ_t φ(t) φ(t)ᵀ / cols` of the stacked regressor `φ(t) = [z(t); …;
-/// z(t + k − 1)]` over the `cols = n − k + 1` columns of its block Hankel matrix. Block
-/// `(a, b)`, `b ≥ a`, is the window sum `W_l(a) = Σ_{s=a}^{a+cols−1} z(s) z(s + l)ᵀ`,
-/// `l = b − a`: the lagged sum over the whole record (a hat basis has at most two channels
-/// on at a sample, so it costs `4·k` products per sample), less the `k − 1 − l` products past
-/// the first window, and then moved one sample per block row (one product out, one in).
-/// Exact, so positive semidefinite: its eigenvalues measure the excitation, not the edges of
-/// a Toeplitz approximation (which can make it indefinite).
-fn hankel_gram(z: &[Vec<f64>], k: usize) -> DMatrix<f64> {
-    let m = z.len();
-    let n = z.first().map_or(0, Vec::len);
-    let cols = n + 1 - k;
-    // The channels on at each sample.
-    let on: Vec<Vec<(usize, f64)>> = (0..n)
-        .map(|t| {
-            (0..m)
-                .filter(|&i| z[i][t] != 0.0)
-                .map(|i| (i, z[i][t]))
-                .collect()
-        })
-        .collect();
-    let mut g = DMatrix::zeros(k * m, k * m);
-    let mut w = vec![0.0; m * m];
-    for l in 0..k {
-        w.iter_mut().for_each(|v| *v = 0.0);
-        for s in 0..n - l {
-            for &(i, zi) in &on[s] {
-                for &(j, zj) in &on[s + l] {
-                    w[i * m + j] += zi * zj;
-                }
-            }
+/// The channels on at a sample with their weights (a weight of 0 is off).
+type On = [(usize, f64); 2];
+
+/// Adds `sign · x yᵀ` of two samples' channels to the `m × m` sums `w`.
+fn add(w: &mut [f64], m: usize, x: &On, y: &On, sign: f64) {
+    for &(i, a) in x {
+        for &(j, b) in y {
+            w[i * m + j] += sign * a * b;
         }
+    }
+}
+
+/// The exact Gram `Σ_t φ(t) φ(t)ᵀ / cols` of the stacked regressor `φ(t) = [z(t); …;
+/// z(t + k − 1)]` (`z` with `m` channels, at most two on at a sample: `on`, `n` samples) over
+/// the `cols = n − k + 1` columns of its block Hankel matrix. Block `(a, b)`, `b ≥ a`, is the
+/// window sum `W_l(a) = Σ_{s=a}^{a+cols−1} z(s) z(s + l)ᵀ`, `l = b − a`: the lagged sum over
+/// the whole record (one pass, `4·k` products a sample, the last `k` samples in a ring), less
+/// the products past the first window, then moved one sample per block row (one product out,
+/// one in) with the first and last `2k` samples kept. Memory `O(k·m)²`, none per sample.
+/// Row major, `k·m` square. Exact, so positive semidefinite: its eigenvalues measure the excitation, not the edges of
+/// a Toeplitz approximation (which can make it indefinite).
+fn hankel_gram(on: impl Iterator<Item = On>, n: usize, m: usize, k: usize) -> Vec<f64> {
+    let cols = n + 1 - k;
+    let ends = 2 * k;
+    let (mut head, mut tail) = (Vec::with_capacity(ends), Vec::with_capacity(ends));
+    let tail_from = n.saturating_sub(ends);
+    let mut ring: Vec<On> = vec![[(0, 0.0); 2]; k];
+    // full[l]: Σ_{s=0}^{n−1−l} z(s) z(s + l)ᵀ.
+    let mut full = vec![vec![0.0; m * m]; k];
+    for (t, e) in on.enumerate().take(n) {
+        ring[t % k] = e;
+        for (l, w) in full.iter_mut().enumerate().take(t.min(k - 1) + 1) {
+            add(w, m, &ring[(t - l) % k], &e, 1.0);
+        }
+        if t < ends {
+            head.push(e);
+        }
+        if t >= tail_from {
+            tail.push(e);
+        }
+    }
+    let at_tail = |s: usize| &tail[s - tail_from];
+    let d = k * m;
+    let mut g = vec![0.0; d * d];
+    for (l, mut w) in full.into_iter().enumerate() {
         // The first window ends at s = cols − 1.
         for s in cols..n - l {
-            for &(i, zi) in &on[s] {
-                for &(j, zj) in &on[s + l] {
-                    w[i * m + j] -= zi * zj;
-                }
-            }
+            add(&mut w, m, at_tail(s), at_tail(s + l), -1.0);
         }
         for a in 0..k - l {
             if a > 0 {
                 let (out, into) = (a - 1, a - 1 + cols);
-                for &(i, zi) in &on[out] {
-                    for &(j, zj) in &on[out + l] {
-                        w[i * m + j] -= zi * zj;
-                    }
-                }
-                for &(i, zi) in &on[into] {
-                    for &(j, zj) in &on[into + l] {
-                        w[i * m + j] += zi * zj;
-                    }
-                }
+                add(&mut w, m, &head[out], &head[out + l], -1.0);
+                add(&mut w, m, at_tail(into), at_tail(into + l), 1.0);
             }
             for i in 0..m {
                 for j in 0..m {
                     let v = w[i * m + j] / cols as f64;
                     let (r, c) = (a * m + i, (a + l) * m + j);
-                    g[(r, c)] = v;
-                    g[(c, r)] = v;
+                    g[r * d + c] = v;
+                    g[c * d + r] = v;
                 }
             }
         }
@@ -126,14 +135,22 @@ mod tests {
                     .collect()
             })
             .collect();
-        let g = hankel_gram(&z, k);
+        // Channel i is on where (t + i) % 3 != 0: two of the three at every sample.
+        let on = (0..n).map(|t| {
+            let mut e = [(0, 0.0); 2];
+            for (slot, i) in (0..m).filter(|i| z[*i][t] != 0.0).enumerate() {
+                e[slot] = (i, z[i][t]);
+            }
+            e
+        });
+        let g = hankel_gram(on, n, m, k);
         let cols = n - k + 1;
         for r in 0..k * m {
             for c in 0..k * m {
                 let (a, i, b, j) = (r / m, r % m, c / m, c % m);
                 let direct: f64 =
                     (0..cols).map(|t| z[i][t + a] * z[j][t + b]).sum::<f64>() / cols as f64;
-                assert!((g[(r, c)] - direct).abs() < 1e-12, "({r}, {c})");
+                assert!((g[r * k * m + c] - direct).abs() < 1e-12, "({r}, {c})");
             }
         }
     }
