@@ -4,6 +4,7 @@
 //! (`hsid_host`) knows nothing of the command line: each subcommand turns its arguments into the
 //! library's option structs, runs it and prints.
 
+mod allocator;
 mod args;
 mod diagnose;
 mod excite;
@@ -64,6 +65,7 @@ enum Cmd {
 }
 
 fn main() -> ExitCode {
+    allocator::tune();
     let cli = Cli::parse();
     if let Err(e) = interrupt::install() {
         eprintln!(
