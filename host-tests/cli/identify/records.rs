@@ -75,9 +75,9 @@ impl Records {
             unit_comments.extend(rec.units);
             let mut cols = rec.table.columns.into_iter();
             r.starts.push(r.u.len());
-            r.u.extend(cols.next().unwrap_or_default());
-            r.y.extend(cols.next().unwrap_or_default());
-            r.r.extend(cols.next().unwrap_or_default());
+            append(&mut r.u, cols.next());
+            append(&mut r.y, cols.next());
+            append(&mut r.r, cols.next());
             r.lines.push(rec.table.lines);
         }
         r.ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
@@ -216,5 +216,15 @@ impl Records {
         let mut lines = vec![0; self.starts[k]];
         lines.extend(&self.lines[k]);
         locate::sample_error(&self.paths[k], &lines, e)
+    }
+}
+
+/// Appends a file's column to the joined one: moved when it is the first (a long record is not
+/// copied), else copied after the others.
+fn append(joined: &mut Vec<f64>, column: Option<Vec<f64>>) {
+    let column = column.unwrap_or_default();
+    match joined.is_empty() {
+        true => *joined = column,
+        false => joined.extend(column),
     }
 }

@@ -131,7 +131,10 @@ pub fn read_limited<R: Read>(
     if let Some(size) = size.filter(|&s| s > limit) {
         return Err(too_large(Some(size)));
     }
-    let mut bytes = Vec::new();
+    // A regular file's size, when it is within the limit, is the capacity: the text is read
+    // into one block of its size (a file that grows meanwhile still stops at the limit).
+    let mut bytes =
+        Vec::with_capacity(size.map_or(0, |s| usize::try_from(s.saturating_add(1)).unwrap_or(0)));
     reader
         .take(limit.saturating_add(1))
         .read_to_end(&mut bytes)
