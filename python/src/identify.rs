@@ -2,6 +2,7 @@
 
 use hsid::Basis;
 use hsid_host::model::Record;
+use hsid_host::validation::checks::{BEFORE_FIT, checks_text};
 use hsid_host::workflow::{ElementFit, identify_record};
 use pyo3::prelude::*;
 
@@ -139,7 +140,14 @@ pub fn identify(
     Ok(Model::with_notes(id.model_file(), identified_notes(&id)))
 }
 
-/// Everything the workflow said, in order: the notes before the model and the element's.
+/// Everything the workflow said, in order: the notes before the model, the data checks (in
+/// the command line's words) and the element's note.
 fn identified_notes(id: &hsid_host::workflow::Identified) -> Vec<String> {
-    id.notes.iter().chain(&id.element_note).cloned().collect()
+    let checks = checks_text(&id.checks, &BEFORE_FIT);
+    id.notes
+        .iter()
+        .cloned()
+        .chain(checks)
+        .chain(id.element_note.iter().cloned())
+        .collect()
 }

@@ -62,6 +62,10 @@ def test_the_element_fit_route_is_the_same_in_python(inner_loops, cli, tmp_path)
     fit_notes = [n for n in model.notes if n.startswith('fit="auto": ')]
     assert len(fit_notes) == 1, model.notes
     assert 'fit="none" keeps the two-path model' in fit_notes[0]
+    # The data checks, in the command line's words: the input breaks the Table I structure.
+    checks = [n for n in model.notes if n.startswith("data checks: ")]
+    assert len(checks) == 1 and checks[0] in stdout, (checks, stdout)
+    assert "of 7 passed" in checks[0] and "warning [table1_structure]" in stdout
     # The play's gap is the servo's 0.2 V: the model simulates the play itself.
     assert abs(model.gap_at("ascending", 0.0) - 0.2) < 0.05
     sim = model.simulate(u)
