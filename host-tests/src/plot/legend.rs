@@ -6,8 +6,12 @@ use std::fmt::Write as _;
 use super::axis::Rect;
 use super::figure::Figure;
 use super::series::{Kind, Series};
-use super::style::{LEGEND_PAD, LEGEND_ROW, LEGEND_SIZE, LEGEND_SWATCH, LegendPosition};
-use super::svg::{dash_attr, escape, marker_element, marker_path, num, series_color, text_width};
+use super::style::{
+    ARROW_TEXT_SIZE, LEGEND_PAD, LEGEND_ROW, LEGEND_SIZE, LEGEND_SWATCH, LegendPosition,
+};
+use super::svg::{
+    arrow_element, dash_attr, escape, marker_element, marker_path, num, series_color, text_width,
+};
 
 impl Figure {
     /// Width and height of the legend box, `None` if there is no legend.
@@ -133,6 +137,21 @@ impl Figure {
                         marker_element(&d, *marker, &color, series.width, "")
                     );
                 }
+                Kind::Arrow { .. } => {
+                    let _ = writeln!(
+                        s,
+                        "{}",
+                        arrow_element(
+                            (x0, cy),
+                            (x0 + swatch, cy),
+                            ((0.0, 0.0), (0.0, 0.0)),
+                            "",
+                            &color,
+                            series.width.min(2.0),
+                            ""
+                        )
+                    );
+                }
                 Kind::Band { .. } => {
                     let _ = writeln!(
                         s,
@@ -182,6 +201,21 @@ impl Figure {
                 Kind::Scatter { x, y, .. } => {
                     // Markers are not connected: a missing point after each one.
                     along(&mut x.iter().zip(y).flat_map(|(&a, &b)| [to_px(a, b), None]));
+                }
+                Kind::Arrow { from, to, text } => {
+                    let ends = [to_px(from.0, from.1), to_px(to.0, to.1)];
+                    along(&mut ends.into_iter());
+                    // The text's box, below the `to` end.
+                    if let Some((x1, y1)) = ends[1] {
+                        let w = text_width(text, ARROW_TEXT_SIZE);
+                        let (top, bottom) = (y1 + 8.0, y1 + 8.0 + ARROW_TEXT_SIZE);
+                        let (left, right) = ((x1 + 4.0, top), (x1 + 4.0 + w, top));
+                        along(&mut [Some(left), Some(right), None].into_iter());
+                        along(
+                            &mut [Some((left.0, bottom)), Some((right.0, bottom)), None]
+                                .into_iter(),
+                        );
+                    }
                 }
                 Kind::Band { x, lower, upper } => {
                     along(&mut x.iter().zip(lower).map(|(&a, &b)| to_px(a, b)));

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::series::Series;
-use super::style::{Dash, Marker, PALETTE};
+use super::style::{ARROW_TEXT_SIZE, Dash, Marker, PALETTE};
 
 /// A point in px.
 pub(super) type Point = (f64, f64);
@@ -182,4 +182,86 @@ pub(super) fn marker_element(
             num(width)
         ),
     }
+}
+
+/// Arrowhead length in px for a line `width` px wide.
+pub(super) fn arrowhead_len(width: f64) -> f64 {
+    5.0 + 2.5 * width
+}
+
+/// A two-headed arrow from `p0` to `p1` (px) with a bar across each end and `text` below
+/// the `p1` end, as one `<g>` carrying `class` (empty or a ` class="…"` attribute) and the
+/// ends in data coordinates `data` as `data-from` and `data-to`. Heads shrink on a short
+/// arrow so that they never overlap.
+pub(super) fn arrow_element(
+    p0: Point,
+    p1: Point,
+    data: ((f64, f64), (f64, f64)),
+    text: &str,
+    color: &str,
+    width: f64,
+    class: &str,
+) -> String {
+    let (dx, dy) = (p1.0 - p0.0, p1.1 - p0.1);
+    let len = dx.hypot(dy);
+    let (ux, uy) = if len > 0.0 {
+        (dx / len, dy / len)
+    } else {
+        (1.0, 0.0)
+    };
+    // Normal to the arrow, in px.
+    let (nx, ny) = (-uy, ux);
+    let head = arrowhead_len(width).min(0.4 * len);
+    let half = 0.45 * head;
+    let bar = 3.0 * width + 4.0;
+    let mut g = format!(
+        r#"<g{class} data-from="{} {}" data-to="{} {}">"#,
+        data.0.0, data.0.1, data.1.0, data.1.1
+    );
+    // Shaft between the heads' bases, the bars across the ends.
+    let _ = write!(
+        g,
+        r#"<path d="M{} {}L{} {}M{} {}L{} {}M{} {}L{} {}" fill="none" stroke="{color}" stroke-width="{}" stroke-linecap="butt"/>"#,
+        num(p0.0 + ux * 0.8 * head),
+        num(p0.1 + uy * 0.8 * head),
+        num(p1.0 - ux * 0.8 * head),
+        num(p1.1 - uy * 0.8 * head),
+        num(p0.0 - nx * bar),
+        num(p0.1 - ny * bar),
+        num(p0.0 + nx * bar),
+        num(p0.1 + ny * bar),
+        num(p1.0 - nx * bar),
+        num(p1.1 - ny * bar),
+        num(p1.0 + nx * bar),
+        num(p1.1 + ny * bar),
+        num(width)
+    );
+    // The heads, tips on the ends.
+    let mut d = String::new();
+    for (tip, dir) in [(p0, 1.0), (p1, -1.0)] {
+        let (bx, by) = (tip.0 + dir * ux * head, tip.1 + dir * uy * head);
+        let _ = write!(
+            d,
+            "M{} {}L{} {}L{} {}Z",
+            num(tip.0),
+            num(tip.1),
+            num(bx + nx * half),
+            num(by + ny * half),
+            num(bx - nx * half),
+            num(by - ny * half)
+        );
+    }
+    let _ = write!(g, r#"<path d="{d}" fill="{color}" stroke="none"/>"#);
+    if !text.is_empty() {
+        let _ = write!(
+            g,
+            r#"<text x="{}" y="{}" font-size="{}" font-weight="bold" fill="{color}" stroke="white" stroke-width="4" stroke-linejoin="round" paint-order="stroke">{}</text>"#,
+            num(p1.0 + 4.0),
+            num(p1.1 + bar + ARROW_TEXT_SIZE),
+            ARROW_TEXT_SIZE,
+            escape(text)
+        );
+    }
+    g.push_str("</g>");
+    g
 }
