@@ -146,6 +146,7 @@ impl Figure {
                             (x0 + swatch, cy),
                             ((0.0, 0.0), (0.0, 0.0)),
                             "",
+                            f64::INFINITY,
                             &color,
                             series.width.min(2.0),
                             ""

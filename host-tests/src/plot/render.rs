@@ -128,7 +128,16 @@ impl Figure {
                         let _ = writeln!(
                             s,
                             "{}",
-                            arrow_element(p0, p1, data, text, &color, series.width, &class)
+                            arrow_element(
+                                p0,
+                                p1,
+                                data,
+                                text,
+                                plot.x + plot.w,
+                                &color,
+                                series.width,
+                                &class
+                            )
                         );
                     }
                 }

@@ -93,8 +93,9 @@ impl Series {
     }
 
     /// A two-headed arrow from `from` to `to` (data coordinates) with a short bar across each
-    /// end, as a dimension line marks a distance on a drawing, and `text` beside it: below the
-    /// `to` end, starting there, on a white halo so that it reads over the data (default width
+    /// end, as a dimension line marks a distance on a drawing, and `text` below it: centred
+    /// under an arrow longer than the text, else starting at the `to` end (moved left to stay
+    /// in the plot), on a white halo so that it reads over the data (default width
     /// 1.6 px; an empty `text` draws no text). Its SVG element is a `<g>` whose `data-from` and
     /// `data-to` attributes hold the ends in data coordinates, `x y`.
     pub fn arrow(from: (f64, f64), to: (f64, f64), text: impl Into<String>) -> Self {

@@ -190,7 +190,8 @@ pub(super) fn arrowhead_len(width: f64) -> f64 {
 }
 
 /// A two-headed arrow from `p0` to `p1` (px) with a bar across each end and `text` below
-/// the `p1` end, as one `<g>` carrying `class` (empty or a ` class="…"` attribute) and the
+/// it: centred when the arrow is longer than the text, else starting at the `p1` end (moved
+/// left as far as needed to end before `right`, in px); as one `<g>` carrying `class` (empty or a ` class="…"` attribute) and the
 /// ends in data coordinates `data` as `data-from` and `data-to`. Heads shrink on a short
 /// arrow so that they never overlap.
 pub(super) fn arrow_element(
@@ -198,6 +199,7 @@ pub(super) fn arrow_element(
     p1: Point,
     data: ((f64, f64), (f64, f64)),
     text: &str,
+    right: f64,
     color: &str,
     width: f64,
     class: &str,
@@ -253,11 +255,18 @@ pub(super) fn arrow_element(
     }
     let _ = write!(g, r#"<path d="{d}" fill="{color}" stroke="none"/>"#);
     if !text.is_empty() {
+        // Bold text is about a tenth wider than `text_width` says.
+        let w = 1.1 * text_width(text, ARROW_TEXT_SIZE);
+        let x = if w + 16.0 < len {
+            0.5 * (p0.0 + p1.0) - 0.5 * w
+        } else {
+            (p1.0 + 4.0).min(right - 4.0 - w)
+        };
         let _ = write!(
             g,
             r#"<text x="{}" y="{}" font-size="{}" font-weight="bold" fill="{color}" stroke="white" stroke-width="4" stroke-linejoin="round" paint-order="stroke">{}</text>"#,
-            num(p1.0 + 4.0),
-            num(p1.1 + bar + ARROW_TEXT_SIZE),
+            num(x),
+            num(p0.1.max(p1.1) + bar + ARROW_TEXT_SIZE),
             ARROW_TEXT_SIZE,
             escape(text)
         );
