@@ -122,6 +122,7 @@ fn refined_model_figures_hold_the_model_and_its_uncertainty() {
             "true-desc",
             "points-asc",
             "points-desc",
+            "gap-marker",
         ],
     );
     let b = columns(

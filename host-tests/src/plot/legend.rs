@@ -142,8 +142,7 @@ impl Figure {
                         s,
                         "{}",
                         arrow_element(
-                            (x0, cy),
-                            (x0 + swatch, cy),
+                            ((x0, cy), (x0 + swatch, cy)),
                             ((0.0, 0.0), (0.0, 0.0)),
                             "",
                             f64::INFINITY,

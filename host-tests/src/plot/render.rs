@@ -129,8 +129,7 @@ impl Figure {
                             s,
                             "{}",
                             arrow_element(
-                                p0,
-                                p1,
+                                (p0, p1),
                                 data,
                                 text,
                                 plot.x + plot.w,

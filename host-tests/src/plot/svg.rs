@@ -189,14 +189,13 @@ pub(super) fn arrowhead_len(width: f64) -> f64 {
     5.0 + 2.5 * width
 }
 
-/// A two-headed arrow from `p0` to `p1` (px) with a bar across each end and `text` below
+/// A two-headed arrow between `ends`, from `p0` to `p1` (px) with a bar across each end and `text` below
 /// it: centred when the arrow is longer than the text, else starting at the `p1` end (moved
 /// left as far as needed to end before `right`, in px); as one `<g>` carrying `class` (empty or a ` class="…"` attribute) and the
 /// ends in data coordinates `data` as `data-from` and `data-to`. Heads shrink on a short
 /// arrow so that they never overlap.
 pub(super) fn arrow_element(
-    p0: Point,
-    p1: Point,
+    (p0, p1): (Point, Point),
     data: ((f64, f64), (f64, f64)),
     text: &str,
     right: f64,
