@@ -93,8 +93,8 @@ mod tests {
         );
         let g = GapMarker::at_middle(&m, |_| Some(0.0123)).unwrap();
         let ((u0, y0), (u1, y1)) = g.ends();
-        assert_eq!((u0, y0), (0.0, 0.2));
-        assert!((u1 - 0.3).abs() < 1e-12 && y1 == y0);
+        assert_eq!((u0, y0), (0.0, m.border_desc_at(0.0)));
+        assert!((y0 - 0.2).abs() < 1e-12 && (u1 - 0.3).abs() < 1e-12 && y1 == y0);
         assert!((m.border_asc_at(u1) - y1).abs() < 1e-12);
         let s = FigureSettings {
             units: Some(("V".into(), "deg".into())),
@@ -105,9 +105,7 @@ mod tests {
             .to_svg()
             .unwrap();
         assert!(svg.contains("gap 0.300 ± 0.012 V"), "{svg}");
-        assert!(
-            svg.contains(r#"class="gap-marker" data-from="0 0.2" data-to="0.3"#),
-            "{svg}"
-        );
+        let data = format!(r#"class="gap-marker" data-from="0 {y0}" data-to="{u1} {y1}""#);
+        assert!(svg.contains(&data), "{svg}");
     }
 }
