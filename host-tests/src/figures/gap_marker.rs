@@ -31,8 +31,12 @@ pub(super) struct GapMarker {
 
 impl GapMarker {
     /// The reversal at the middle of `m`'s input interval, with the standard deviation
-    /// `std(u)` of the gap after a descent at `u`; `None` where the gap is not defined.
+    /// `std(u)` of the gap after a descent at `u`; `None` where the gap is not defined, and
+    /// for a static element (its two borders one: no gap).
     pub(super) fn at_middle(m: &HostModel, std: impl Fn(f64) -> Option<f64>) -> Option<Self> {
+        if m.knots_asc == m.knots_desc && m.border_asc == m.border_desc {
+            return None;
+        }
         let u = 0.5 * (m.u_min() + m.u_max());
         let gap = m.gap_at(Direction::Descending, u)?;
         Some(GapMarker {
@@ -107,5 +111,8 @@ mod tests {
         assert!(svg.contains("gap 0.300 ± 0.012 V"), "{svg}");
         let data = format!(r#"class="gap-marker" data-from="0 {y0}" data-to="{u1} {y1}""#);
         assert!(svg.contains(&data), "{svg}");
+        // A static element has no gap to mark.
+        let one = first_order(0.9, 0.1, m.border_asc.clone(), m.border_asc.clone());
+        assert_eq!(GapMarker::at_middle(&one, |_| None), None);
     }
 }
