@@ -12,8 +12,7 @@ pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
              residuals: what the record says the border is at each sample) and, dashed, the \
              true loop when known. The arrow marks the gap at the middle of the input \
              interval: arriving there falling, on P_d, the input must climb by the gap before \
-             P_a reaches the same value (± one standard deviation; the gap table above gives \
-             it at more inputs). Look for points that leave the bands systematically: a \
+             P_a reaches the same value (± one standard deviation when the model has one). Look for points that leave the bands systematically: a \
              border that misses shape there (more segments, or knots where it bends).",
         ),
         "borders-detail" => (
