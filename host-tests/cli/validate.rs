@@ -377,6 +377,7 @@ fn write_page(a: &ValidateArgs, path: &Path, s: &Shown<'_>) -> Result<(), Failur
         extra: s
             .element
             .map_or_else(Vec::new, |h| element_facts(h, None, s.units)),
+        truth: settings.truth.as_ref(),
     };
     run.page(
         figures.map_err(|e| e.to_string())?,

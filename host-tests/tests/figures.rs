@@ -107,7 +107,8 @@ fn refined_model_figures_hold_the_model_and_its_uncertainty() {
     )
     .unwrap();
     assert!(written.notes.is_empty(), "{:?}", written.notes);
-    assert_eq!(written.files.len(), 18, "{:?}", written.files);
+    // 18 and the gap marker's borders-gap.csv and borders-detail.svg.
+    assert_eq!(written.files.len(), 20, "{:?}", written.files);
     let f = |name: &str| out.join(name);
 
     // Borders: the model's, the bands, the truth, the partial residuals.
@@ -122,6 +123,7 @@ fn refined_model_figures_hold_the_model_and_its_uncertainty() {
             "true-desc",
             "points-asc",
             "points-desc",
+            "gap-marker",
         ],
     );
     let b = columns(

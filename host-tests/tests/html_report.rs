@@ -648,3 +648,27 @@ fn chromium_renders_the_paper_page_with_sized_figures() {
     let r = paper_report();
     render(&r.html, r.svg_files);
 }
+
+#[test]
+fn without_the_true_plant_the_gap_table_has_no_true_gap() {
+    let doc = Html::parse_document(&report().html);
+    let headers: Vec<Vec<String>> = doc
+        .select(&sel("section#headline table"))
+        .map(|t| t.select(&sel("th")).map(text).collect())
+        .collect();
+    let unit = format!("V{NASTY}");
+    let gap = headers
+        .iter()
+        .find(|h| h.contains(&format!("gap after a descent [{unit}]")))
+        .expect("a gap table");
+    assert_eq!(
+        *gap,
+        [
+            format!("u [{unit}]"),
+            format!("gap after a descent [{unit}]"),
+            format!("gap after an ascent [{unit}]"),
+            "loop height [deg]".to_string(),
+        ]
+    );
+    assert!(!report().html.contains("true mean gap"));
+}

@@ -30,6 +30,7 @@ mod figures;
 mod firmware;
 mod fleet;
 mod gap_uncertainty;
+mod html_gap;
 mod html_report;
 mod hysteresis;
 mod integrating;

@@ -2,13 +2,20 @@
 //! input units) with ±2σ bands from the fit's covariance, the element's output `w(t)` on the
 //! record against `u(t)` (the inner loops of a play, the jumps of a relay), the measured
 //! points (the model's `w(t)` plus the least-squares departure the simulation residual shows,
-//! as in `borders.rs`) and, for a play, the gap in the title. `borders-knots.csv` holds the
+//! as in `borders.rs`) and, for a play, the gap in the title and marked at the middle of the
+//! input interval (`gap_marker.rs`, with `borders-detail.svg` around it, as in `borders.rs`).
+//! `borders-knots.csv` holds the
 //! border values at the knots with their standard deviations, `element.csv` the gap,
 //! `element-output.csv` the element's output on the record.
 
-use super::borders::grid;
+use hsid::Direction;
+
+use super::borders::{
+    BAND_OPACITY, BORDER_WIDTH, POINT_SIZE, TRUE_WIDTH, detail, detail_x, grid, span,
+};
 use super::csv::{Table, band_label, save_svg};
 use super::error::FigureError;
+use super::gap_marker::GapMarker;
 use super::partial::departures;
 use super::{Context, Written};
 use crate::hysteresis::HysteresisModel;
@@ -45,6 +52,8 @@ pub(super) fn write(
     table.col(s.output("H_a"), asc.clone());
     table.col(s.output("H_d"), desc.clone());
     let (c_asc, c_desc) = (PALETTE[0], PALETTE[1]);
+    let host = m.to_host(0);
+    let mut detail_y = span(&asc, &desc, &g, detail_x(&host));
     if let Some(unc) = uncertainty {
         let layout = m.layout();
         for (v, first, color, col) in [
@@ -57,10 +66,12 @@ pub(super) fn write(
                 .collect();
             let lo: Vec<f64> = v.iter().zip(&sd).map(|(v, s)| v - 2.0 * s).collect();
             let hi: Vec<f64> = v.iter().zip(&sd).map(|(v, s)| v + 2.0 * s).collect();
+            let (a, b) = span(&lo, &hi, &g, detail_x(&host));
+            detail_y = (detail_y.0.min(a), detail_y.1.max(b));
             fig.push(
                 Series::band(&g, &lo, &hi)
                     .color(color)
-                    .opacity(0.3)
+                    .opacity(BAND_OPACITY)
                     .class(format!("band-{col}"))
                     .label(band_label(col, &sd, "")),
             );
@@ -73,7 +84,7 @@ pub(super) fn write(
             Series::line(&t.u, &t.asc)
                 .color("black")
                 .dash(Dash::Dashed)
-                .width(1.4)
+                .width(TRUE_WIDTH)
                 .class("true-asc")
                 .label("true loop"),
         );
@@ -81,21 +92,21 @@ pub(super) fn write(
             Series::line(&t.u, &t.desc)
                 .color("black")
                 .dash(Dash::Dashed)
-                .width(1.4)
+                .width(TRUE_WIDTH)
                 .class("true-desc"),
         );
     }
     fig.push(
         Series::line(&g, &asc)
             .color(c_asc)
-            .width(2.4)
+            .width(BORDER_WIDTH)
             .class("border-asc")
             .label("H_a"),
     );
     fig.push(
         Series::line(&g, &desc)
             .color(c_desc)
-            .width(2.4)
+            .width(BORDER_WIDTH)
             .class("border-desc")
             .label("H_d"),
     );
@@ -110,7 +121,27 @@ pub(super) fn write(
         }
         out.files.push(t.save(cx.dir, "element")?);
     }
+    let layout = m.layout();
+    let marker = (m.kind == MemoryElement::Play)
+        .then(|| {
+            GapMarker::at_middle(&host, |u| {
+                uncertainty.and_then(|unc| {
+                    unc.std_of(&layout, m, |p| {
+                        p.to_host(0).gap_at(Direction::Descending, u)
+                    })
+                })
+            })
+        })
+        .flatten();
+    if let Some(gm) = &marker {
+        fig.push(gm.series(s));
+        out.files.push(gm.table(s).save(cx.dir, "borders-gap")?);
+    }
     out.files.push(save_svg(&fig, cx.dir, "borders")?);
+    if marker.is_some() {
+        let d = detail(fig, detail_x(&host), detail_y);
+        out.files.push(save_svg(&d, cx.dir, "borders-detail")?);
+    }
     Ok(())
 }
 
@@ -159,17 +190,19 @@ fn trajectory(
         .unzip();
     fig.push(
         Series::scatter(&pu, &pw, Marker::Dot)
-            .size(1.3)
-            .color("#b0b0b0")
+            .size(POINT_SIZE)
+            .color("#d2d2d2")
             .class("points")
             .label("partial residuals"),
     );
+    // Light and thin: a play's inner loops fill the loop, and the borders and the gap
+    // marker are drawn over them.
     let path = match m.kind {
-        MemoryElement::Play => Series::line(u, w).width(1.0),
+        MemoryElement::Play => Series::line(u, w).width(0.5),
         MemoryElement::Relay => Series::scatter(u, w, Marker::Dot).size(1.6),
     };
     fig.push(
-        path.color("#303030")
+        path.color("#ababab")
             .class("element-output")
             .label("element output w(t) on the record"),
     );

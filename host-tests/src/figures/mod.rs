@@ -3,7 +3,8 @@
 //!
 //! | files | what |
 //! |---|---|
-//! | `borders.svg`, `borders.csv`, `borders-points.csv` | `P_a`, `P_d` against `u`, ±2σ bands, the true loop when known, and the measured points: partial residuals of the record given the LTI part |
+//! | `borders.svg`, `borders.csv`, `borders-points.csv`, `borders-gap.csv` | `P_a`, `P_d` against `u`, ±2σ bands, the true loop when known, the measured points (partial residuals of the record given the LTI part) and the gap marked at the middle of the input interval (a reversal after a descent: the arrow from `P_d` to `P_a`, `borders-gap.csv`) |
+//! | `borders-detail.svg` | the borders figure around the gap marker (an eighth of the input interval each side), where the loop and its bands are wide |
 //! | `bode-magnitude.svg`, `bode-phase.svg`, `bode.csv` | `G(e^{jω})` in dB and degrees, in Hz when the sample time is known, ±2σ bands |
 //! | `poles.svg`, `poles.csv`, `poles-ellipses.csv` | poles in the z-plane with the unit circle and 2σ ellipses |
 //! | `output.svg`, `output.csv` | measured and simulated output over time |
@@ -32,6 +33,7 @@ mod csv;
 mod element;
 mod element_borders;
 mod error;
+mod gap_marker;
 mod identified;
 mod output;
 mod partial;

@@ -2,7 +2,10 @@
 //! for a simulated record, the true borders; and the axis labels and CSV column names made
 //! from them.
 
+use hsid::Direction;
+
 use super::error::FigureError;
+use crate::identify::HostModel;
 
 /// The true borders of a simulated plant, sampled on a grid of inputs, drawn as the true loop.
 #[derive(Debug, Clone, PartialEq)]
@@ -13,6 +16,42 @@ pub struct TrueBorders {
     pub asc: Vec<f64>,
     /// The true descending border at `u`.
     pub desc: Vec<f64>,
+}
+
+impl TrueBorders {
+    /// The true borders as a model (its linear part the unit gain): the knots the grid, the
+    /// borders the true ones between them.
+    fn as_model(&self) -> HostModel {
+        HostModel {
+            order: 0,
+            a: nalgebra::DMatrix::zeros(0, 0),
+            b: Vec::new(),
+            c: Vec::new(),
+            d: 1.0,
+            mu0: self.asc.first().copied().unwrap_or(f64::NAN),
+            knots_asc: self.u.clone(),
+            knots_desc: self.u.clone(),
+            border_asc: self.asc.clone(),
+            border_desc: self.desc.clone(),
+            singular_values: Vec::new(),
+            whitened_singular_values: Vec::new(),
+            f: 0,
+            p: 0,
+            samples: 0,
+        }
+    }
+
+    /// The true gap at `u` after arriving in direction `dir`, by the definition of
+    /// [`HostModel::gap_at`] on the true borders (linear between the grid's points).
+    pub fn gap_at(&self, dir: Direction, u: f64) -> Option<f64> {
+        self.as_model().gap_at(dir, u)
+    }
+
+    /// The true mean gap, by the definition of [`HostModel::mean_gap`] on the true borders
+    /// (the same inputs as the identified model's when the grid spans its input interval).
+    pub fn mean_gap(&self) -> Option<f64> {
+        self.as_model().mean_gap()
+    }
 }
 
 /// Settings of the figures (configuration only; the model and record are passed separately).
@@ -103,6 +142,23 @@ mod tests {
         assert_eq!(bare.input("u"), "u");
         assert_eq!(bare.frequency(0.5), 0.5);
         assert_eq!(bare.time_axis().1, "t_samples");
+    }
+
+    #[test]
+    fn the_true_gap_is_read_on_the_true_borders() {
+        // A backlash of gap 0.2 and slope 1 on [−1, 1]: P_a = u − 0.1, P_d = u + 0.1.
+        let u: Vec<f64> = (0..=40).map(|i| -1.0 + 0.05 * f64::from(i)).collect();
+        let t = TrueBorders {
+            asc: u.iter().map(|u| u - 0.1).collect(),
+            desc: u.iter().map(|u| u + 0.1).collect(),
+            u,
+        };
+        for dir in [Direction::Ascending, Direction::Descending] {
+            let g = t.gap_at(dir, 0.3).unwrap_or(f64::NAN);
+            assert!((g - 0.2).abs() < 1e-12, "{g}");
+        }
+        let mean = t.mean_gap().unwrap_or(f64::NAN);
+        assert!((mean - 0.2).abs() < 1e-12, "{mean}");
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::identify::{HostModel, interpolate};
 use crate::model_file::ModelFile;
 use crate::numerics::poly::eval_w;
 use crate::refine::pem::PemFit;
-use crate::refine::uncertainty::{border_std_on_grid, fit_poles};
+use crate::refine::uncertainty::{border_covariance, border_std_on_grid, fit_poles};
 
 /// Covariance of `(re, im)` of a pole.
 pub(crate) type Cov2 = [[f64; 2]; 2];
@@ -56,6 +56,16 @@ impl<'a> UncertaintySource<'a> {
                     on(&model.knots_desc, &std.border_desc),
                 ))
             }
+        }
+    }
+
+    /// The covariance of `model`'s border values, `border_asc` then `border_desc`: the
+    /// refinement's block, correlations included, or the one a model file's standard
+    /// deviations give ([`HostModel::border_covariance_of_std`]).
+    pub fn border_covariance(&self, model: &HostModel) -> Option<DMatrix<f64>> {
+        match self {
+            Self::Refined(fit) => Some(border_covariance(fit)),
+            Self::Stored(file) => model.border_covariance_of_std(file.std.as_ref()?),
         }
     }
 

@@ -10,8 +10,17 @@ pub fn caption(stem: &str) -> Option<(&'static str, &'static str)> {
             "The two borders of the input element (rising P_a, falling P_d) times the static \
              gain, with ±2σ bands when the model was refined, the measured points (partial \
              residuals: what the record says the border is at each sample) and, dashed, the \
-             true loop when known. Look for points that leave the bands systematically: a \
+             true loop when known. The arrow marks the gap at the middle of the input \
+             interval: arriving there falling, on P_d, the input must climb by the gap before \
+             P_a reaches the same value (± one standard deviation when the model has one). Look for points that leave the bands systematically: a \
              border that misses shape there (more segments, or knots where it bends).",
+        ),
+        "borders-detail" => (
+            "The identified loop around the gap",
+            "The borders figure cut to an eighth of the input interval on each side of the \
+             gap marker, where the loop is wide: the ±2σ bands, the true loop when known and \
+             the gap can be read. A true loop outside the bands is a bias of the borders, \
+             not noise.",
         ),
         "bode-magnitude" => (
             "Bode magnitude of the linear part",
@@ -94,8 +103,14 @@ pub(crate) fn element_caption(stem: &str) -> Option<(&'static str, &'static str)
              ±2σ bands when the fit gave them (a model file keeps none), the element's output \
              w(t) on the record (inner loops of a play, jumps of a relay), the measured points \
              (partial residuals) and, dashed, the true loop when known. The title gives the \
-             play's gap. Points that leave the path systematically: a border that misses \
-             shape there.",
+             play's gap at mid-range (the mean of both directions); the arrow marks the one \
+             after a descent there, from H_d to H_a, with its standard deviation. Points that \
+             leave the path systematically: a border that misses shape there.",
+        )),
+        "borders-detail" => Some((
+            "The element around the gap",
+            "The element's figure cut to an eighth of the input interval on each side of the \
+             gap marker, where the loop, its ±2σ bands and the gap can be read.",
         )),
         _ => caption(stem),
     }
@@ -117,6 +132,7 @@ mod tests {
     fn every_figure_of_identify_and_diagnose_has_a_caption() {
         for stem in [
             "borders",
+            "borders-detail",
             "bode-magnitude",
             "bode-phase",
             "poles",

@@ -36,6 +36,7 @@ pub fn identified_page(
             skip: record.hold,
             estimation: Some(&id.checks),
             extra: vec![Fact::new("estimator", id.estimate.estimator.clone())],
+            truth: settings.truth.as_ref(),
         };
         return Ok(run.page(figures, reproduction));
     };
@@ -65,6 +66,7 @@ pub fn identified_page(
         skip: record.hold,
         estimation: Some(&id.checks),
         extra,
+        truth: settings.truth.as_ref(),
     };
     Ok(run.page(figures, reproduction))
 }

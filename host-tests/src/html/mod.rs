@@ -24,6 +24,7 @@ pub mod error;
 pub mod escape;
 pub mod figure;
 pub mod figures;
+pub mod gap_table;
 pub mod headline;
 pub mod identified;
 pub mod model_page;

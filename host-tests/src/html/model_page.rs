@@ -4,14 +4,19 @@
 
 use super::advice::BEFORE_FIT;
 use super::checks::{data_rows, test_rows};
+use super::gap_table::gap_table;
 use super::headline::{Fact, Headline};
-use super::model_words::{ModelElement, model_facts, sentence};
+use super::model_words::{MEAN_GAP, ModelElement, input_unit, model_facts, sentence};
 use super::{InlineFigure, Page, Reproduction};
+use crate::figures::TrueBorders;
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
 use crate::report::fit_report;
-use crate::units::UnitReport;
+use crate::units::{UnitReport, gap_text};
 use crate::validation::{Warning, residual_tests};
+
+/// The label of the true mean gap's fact, after the mean gap's.
+pub const TRUE_MEAN_GAP: &str = "true mean gap (--true-plant)";
 
 /// A model and the record it is shown on.
 pub struct ModelRun<'a> {
@@ -36,6 +41,9 @@ pub struct ModelRun<'a> {
     pub estimation: Option<&'a [Warning]>,
     /// Further facts (e.g. the noise model's prediction fit), after the fit.
     pub extra: Vec<Fact>,
+    /// The true borders of a simulated record (`--true-plant`): the true gap beside the
+    /// identified one.
+    pub truth: Option<&'a TrueBorders>,
 }
 
 impl ModelRun<'_> {
@@ -73,6 +81,18 @@ impl ModelRun<'_> {
             fit.replacen("simulation fit", "Simulation fit", 1)
         );
         let mut facts = model_facts(self.model.order, self.units);
+        if let Some(t) = self.truth
+            && let Some(i) = facts.iter().position(|f| f.label == MEAN_GAP)
+        {
+            let unit = input_unit(self.units);
+            facts.insert(
+                i + 1,
+                Fact::new(
+                    TRUE_MEAN_GAP,
+                    format!("{} {unit}", gap_text(t.mean_gap(), None)),
+                ),
+            );
+        }
         facts.extend(self.extra.iter().cloned());
         let shared = self.element == ModelElement::Static;
         let mut checks = match self.estimation {
@@ -119,7 +139,7 @@ impl ModelRun<'_> {
             headline: Headline {
                 lead: vec![sentence(self.element, self.model.order, self.units), fit],
                 facts,
-                tables: Vec::new(),
+                tables: gap_table(self.units, self.truth).into_iter().collect(),
             },
             figures,
             checks_note,

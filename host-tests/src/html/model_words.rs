@@ -55,6 +55,9 @@ impl ModelElement {
     }
 }
 
+/// The label of the mean gap's fact.
+pub const MEAN_GAP: &str = "mean gap (between the borders)";
+
 /// The input unit of the report, or a neutral word.
 pub fn input_unit(r: &UnitReport) -> &str {
     r.units.as_ref().map_or("input units", |u| u.input.as_str())
@@ -102,7 +105,7 @@ pub(crate) fn model_facts(order: usize, r: &UnitReport) -> Vec<Fact> {
         }
     }
     if let Some(g) = gap_text(r) {
-        facts.push(Fact::new("mean gap (between the borders)", g));
+        facts.push(Fact::new(MEAN_GAP, g));
     }
     if let Some(d) = &r.dead_band {
         facts.push(Fact::new(

@@ -88,9 +88,21 @@ pub fn uncertainty(
 }
 
 impl Uncertainty {
-    /// Adds the gap's standard deviation: the gradient of [`HysteresisModel::gap`] with
-    /// respect to the border values by central differences, through the covariance.
+    /// Adds the gap's standard deviation ([`std_of`](Self::std_of) [`HysteresisModel::gap`]).
     pub(crate) fn with_gap(mut self, layout: &Layout, model: &HysteresisModel) -> Self {
+        self.gap = self.std_of(layout, model, HysteresisModel::gap);
+        self
+    }
+
+    /// The standard deviation of `f(model)` to first order: the gradient of `f` with respect
+    /// to the border values by central differences, through their covariance. `None` when a
+    /// step leaves `f` undefined.
+    pub fn std_of(
+        &self,
+        layout: &Layout,
+        model: &HysteresisModel,
+        f: impl Fn(&HysteresisModel) -> Option<f64>,
+    ) -> Option<f64> {
         let th = model.theta(layout);
         let idx: Vec<usize> = layout.asc().chain(layout.desc()).collect();
         let h = 1e-6 * th.iter().fold(1e-3f64, |m, v| m.max(v.abs()));
@@ -100,18 +112,17 @@ impl Uncertainty {
                 let at = |s: f64| {
                     let mut t = th.clone();
                     t[i] += s;
-                    HysteresisModel::from_theta(layout, &model.knots, &t).gap()
+                    f(&HysteresisModel::from_theta(layout, &model.knots, &t))
                 };
                 Some((at(h)? - at(-h)?) / (2.0 * h))
             })
             .collect();
-        self.gap = grad.map(|g| {
+        grad.map(|g| {
             let g = DVector::from_vec(g);
             let p = DMatrix::from_fn(idx.len(), idx.len(), |i, j| {
                 self.covariance[(idx[i], idx[j])]
             });
             (g.transpose() * p * g)[(0, 0)].max(0.0).sqrt()
-        });
-        self
+        })
     }
 }

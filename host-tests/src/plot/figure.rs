@@ -47,6 +47,17 @@ impl Figure {
         }
     }
 
+    /// The title.
+    pub fn title(&self) -> &str {
+        &self.title
+    }
+
+    /// The figure with another title.
+    pub fn retitle(mut self, title: impl Into<String>) -> Self {
+        self.title = title.into();
+        self
+    }
+
     /// Label under the x axis.
     pub fn x_label(mut self, label: impl Into<String>) -> Self {
         self.x_label = label.into();

@@ -6,8 +6,13 @@ use std::fmt::Write as _;
 use super::axis::Rect;
 use super::figure::Figure;
 use super::series::{Kind, Series};
-use super::style::{LEGEND_PAD, LEGEND_ROW, LEGEND_SIZE, LEGEND_SWATCH, LegendPosition};
-use super::svg::{dash_attr, escape, marker_element, marker_path, num, series_color, text_width};
+use super::style::{
+    ARROW_TEXT_SIZE, LEGEND_PAD, LEGEND_ROW, LEGEND_SIZE, LEGEND_SWATCH, LegendPosition,
+};
+use super::svg::{
+    arrow_element, arrow_text_x, dash_attr, escape, marker_element, marker_path, num, series_color,
+    text_width,
+};
 
 impl Figure {
     /// Width and height of the legend box, `None` if there is no legend.
@@ -72,7 +77,7 @@ impl Figure {
         };
         let (bx, by) = match self.legend {
             LegendPosition::Best => {
-                let samples = self.pixel_samples(to_px);
+                let samples = self.pixel_samples(to_px, plot.x + plot.w);
                 let mut best = (usize::MAX, corner(LegendPosition::TopRight));
                 for pos in [
                     LegendPosition::TopRight,
@@ -133,6 +138,21 @@ impl Figure {
                         marker_element(&d, *marker, &color, series.width, "")
                     );
                 }
+                Kind::Arrow { .. } => {
+                    let _ = writeln!(
+                        s,
+                        "{}",
+                        arrow_element(
+                            ((x0, cy), (x0 + swatch, cy)),
+                            ((0.0, 0.0), (0.0, 0.0)),
+                            "",
+                            f64::INFINITY,
+                            &color,
+                            series.width.min(2.0),
+                            ""
+                        )
+                    );
+                }
                 Kind::Band { .. } => {
                     let _ = writeln!(
                         s,
@@ -155,8 +175,13 @@ impl Figure {
         let _ = writeln!(s, "</g>");
     }
 
-    /// Pixel positions along all drawn data, about every 5 px along lines, for legend placement.
-    fn pixel_samples(&self, to_px: &dyn Fn(f64, f64) -> Option<(f64, f64)>) -> Vec<(f64, f64)> {
+    /// Pixel positions along all drawn data, about every 5 px along lines, and around an
+    /// arrow's text, for legend placement (`right`: the plot's right edge, in px).
+    fn pixel_samples(
+        &self,
+        to_px: &dyn Fn(f64, f64) -> Option<(f64, f64)>,
+        right: f64,
+    ) -> Vec<(f64, f64)> {
         let mut out = Vec::new();
         let mut along = |pts: &mut dyn Iterator<Item = Option<(f64, f64)>>| {
             let mut prev: Option<(f64, f64)> = None;
@@ -182,6 +207,19 @@ impl Figure {
                 Kind::Scatter { x, y, .. } => {
                     // Markers are not connected: a missing point after each one.
                     along(&mut x.iter().zip(y).flat_map(|(&a, &b)| [to_px(a, b), None]));
+                }
+                Kind::Arrow { from, to, text } => {
+                    let ends = [to_px(from.0, from.1), to_px(to.0, to.1)];
+                    along(&mut ends.into_iter());
+                    // The text's box, below the arrow.
+                    if let [Some(p0), Some(p1)] = ends {
+                        let (x, w) = arrow_text_x((p0, p1), text, right);
+                        let top = p0.1.max(p1.1) + 8.0;
+                        let bottom = top + ARROW_TEXT_SIZE;
+                        let (l, r) = ((x, top), (x + w, top));
+                        along(&mut [Some(l), Some(r), None].into_iter());
+                        along(&mut [Some((l.0, bottom)), Some((r.0, bottom)), None].into_iter());
+                    }
                 }
                 Kind::Band { x, lower, upper } => {
                     along(&mut x.iter().zip(lower).map(|(&a, &b)| to_px(a, b)));

@@ -10,7 +10,8 @@ use super::style::{
     TITLE_SIZE,
 };
 use super::svg::{
-    band_path, dash_attr, escape, marker_element, marker_path, num, polyline, series_color,
+    arrow_element, band_path, dash_attr, escape, marker_element, marker_path, num, polyline,
+    series_color,
 };
 
 impl Figure {
@@ -118,6 +119,24 @@ impl Figure {
                             s,
                             "{}",
                             marker_element(&d, *marker, &color, series.width, &class)
+                        );
+                    }
+                }
+                Kind::Arrow { from, to, text } => {
+                    if let (Some(p0), Some(p1)) = (to_px(from.0, from.1), to_px(to.0, to.1)) {
+                        let data = (*from, *to);
+                        let _ = writeln!(
+                            s,
+                            "{}",
+                            arrow_element(
+                                (p0, p1),
+                                data,
+                                text,
+                                plot.x + plot.w,
+                                &color,
+                                series.width,
+                                &class
+                            )
                         );
                     }
                 }

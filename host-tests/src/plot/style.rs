@@ -12,6 +12,7 @@ pub(super) const TITLE_SIZE: f64 = 17.0;
 pub(super) const LABEL_SIZE: f64 = 14.0;
 pub(super) const TICK_SIZE: f64 = 12.0;
 pub(super) const LEGEND_SIZE: f64 = 12.0;
+pub(super) const ARROW_TEXT_SIZE: f64 = 14.0;
 pub(super) const TICK_LEN: f64 = 5.0;
 pub(super) const LEGEND_PAD: f64 = 8.0;
 pub(super) const LEGEND_SWATCH: f64 = 30.0;

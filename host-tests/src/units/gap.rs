@@ -74,15 +74,33 @@ impl HostModel {
 
     /// The standard deviation of [`mean_gap`](Self::mean_gap) for the covariance `cov` of the
     /// border values, ordered as `border_asc` then `border_desc` (a square matrix of their
-    /// total length), propagated to first order: `√(gᵀ cov g)` with `g` the gradient of the
-    /// mean gap in the border values by central differences. `None` when the mean gap is not
-    /// defined, when `cov` has another size, or when a step leaves the gap undefined.
+    /// total length), propagated to first order
+    /// ([`border_functional_std`](Self::border_functional_std)). `None` when the mean gap is not defined, when `cov` has
+    /// another size, or when a step leaves the gap undefined.
     pub fn mean_gap_std(&self, cov: &DMatrix<f64>) -> Option<f64> {
+        self.border_functional_std(cov, HostModel::mean_gap)
+    }
+
+    /// The standard deviation of [`gap_at`](Self::gap_at)`(dir, u)` for the covariance `cov`
+    /// of the border values, as for [`mean_gap_std`](Self::mean_gap_std).
+    pub fn gap_std_at(&self, dir: Direction, u: f64, cov: &DMatrix<f64>) -> Option<f64> {
+        self.border_functional_std(cov, |m| m.gap_at(dir, u))
+    }
+
+    /// The standard deviation of `f(self)` for the covariance `cov` of the border values
+    /// (`border_asc` then `border_desc`), to first order: `√(gᵀ cov g)` with `g` the gradient
+    /// of `f` in the border values by central differences. `None` when `f(self)` is not
+    /// defined, when `cov` has another size, or when a step leaves `f` undefined.
+    pub fn border_functional_std(
+        &self,
+        cov: &DMatrix<f64>,
+        f: impl Fn(&HostModel) -> Option<f64>,
+    ) -> Option<f64> {
         let (na, nd) = (self.border_asc.len(), self.border_desc.len());
         if cov.nrows() != na + nd || cov.ncols() != na + nd {
             return None;
         }
-        self.mean_gap()?;
+        f(self)?;
         let scale = self
             .border_asc
             .iter()
@@ -98,7 +116,7 @@ impl HostModel {
                     None => m.border_asc[i] += d,
                     Some(j) => m.border_desc[j] += d,
                 }
-                m.mean_gap()
+                f(&m)
             };
             grad.push((moved(h)? - moved(-h)?) / (2.0 * h));
         }

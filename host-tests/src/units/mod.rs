@@ -26,7 +26,7 @@ pub mod stated;
 pub mod time;
 
 pub use header::{HeaderComment, header_comments};
-pub use report::{GapAt, UnitReport};
+pub use report::{GapAt, UnitReport, gap_text};
 pub use stated::{
     UnitCharError, UnitsError, UnitsOrigin, check_unit_text, resolve_units, units_from_comments,
     units_from_names,

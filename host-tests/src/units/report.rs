@@ -25,6 +25,11 @@ pub struct GapAt {
     pub after_descent: Option<f64>,
     /// The play after arriving at `u` on the ascending path (input units).
     pub after_ascent: Option<f64>,
+    /// The standard deviation of `after_descent`, when known; set with
+    /// [`UnitReport::with_gap_stds`].
+    pub after_descent_std: Option<f64>,
+    /// The standard deviation of `after_ascent`, when known.
+    pub after_ascent_std: Option<f64>,
     /// `G(1) (P_d(u) − P_a(u))`: the steady-state output difference between the two paths
     /// (output units).
     pub loop_height: f64,
@@ -87,6 +92,8 @@ impl HostModel {
                         u,
                         after_descent: self.gap_at(Direction::Descending, u),
                         after_ascent: self.gap_at(Direction::Ascending, u),
+                        after_descent_std: None,
+                        after_ascent_std: None,
                         loop_height: g * self.loop_height(u),
                     }
                 })
@@ -120,6 +127,21 @@ impl UnitReport {
         self
     }
 
+    /// The report with the standard deviation of each gap in `gap`: `std_at(direction, u)`
+    /// for the gap after arriving at `u` in that direction (none where the gap is not
+    /// defined).
+    pub fn with_gap_stds(mut self, std_at: impl Fn(Direction, f64) -> Option<f64>) -> Self {
+        for g in &mut self.gap {
+            g.after_descent_std = g
+                .after_descent
+                .and_then(|_| std_at(Direction::Descending, g.u));
+            g.after_ascent_std = g
+                .after_ascent
+                .and_then(|_| std_at(Direction::Ascending, g.u));
+        }
+        self
+    }
+
     /// The mean gap with its standard deviation, both rounded to the uncertainty
     /// ([`rounded_pm`]; `0.197 ± 0.004`), or with five decimals when it has none.
     pub fn mean_gap_text(&self) -> Option<String> {
@@ -128,6 +150,31 @@ impl UnitReport {
             Some(s) => rounded_pm(g, s),
             None => format!("{g:.5}"),
         })
+    }
+}
+
+/// A gap as the reports write it (`hsid identify`'s lines and the HTML page's gap table):
+/// with its standard deviation, both rounded to it ([`rounded_pm`]), when known, else with
+/// five decimals; `none` when the gap is not defined.
+pub fn gap_text(gap: Option<f64>, std: Option<f64>) -> String {
+    match (gap, std) {
+        (Some(g), Some(s)) => rounded_pm(g, s),
+        (Some(g), None) => format!("{g:.5}"),
+        (None, _) => "none".to_string(),
+    }
+}
+
+impl GapAt {
+    /// The row's cells, as `hsid identify` prints them and the HTML page tabulates them: the
+    /// input `u`, the gap after a descent and after an ascent ([`gap_text`], input units),
+    /// and the loop height (output units).
+    pub fn cells(&self) -> [String; 4] {
+        [
+            format!("{:.5}", self.u),
+            gap_text(self.after_descent, self.after_descent_std),
+            gap_text(self.after_ascent, self.after_ascent_std),
+            format!("{:.5}", self.loop_height),
+        ]
     }
 }
 
@@ -159,10 +206,6 @@ fn pm(e: &ValueStd) -> String {
 fn shortest(v: f64) -> String {
     let rounded: f64 = format!("{v:.5e}").parse().unwrap_or(v);
     format!("{rounded}")
-}
-
-fn opt(v: Option<f64>) -> String {
-    v.map_or_else(|| "none".to_string(), |v| format!("{v:.5}"))
 }
 
 impl UnitReport {
@@ -223,12 +266,9 @@ impl UnitReport {
             self.lti_gain, self.cascade_gain
         ));
         for g in &self.gap {
+            let [u, descent, ascent, height] = g.cells();
             out.push(format!(
-                "gap at u = {:.5} {u_unit}: {} after a descent, {} after an ascent ({u_unit}); loop height {:.5} {y_unit}",
-                g.u,
-                opt(g.after_descent),
-                opt(g.after_ascent),
-                g.loop_height
+                "gap at u = {u} {u_unit}: {descent} after a descent, {ascent} after an ascent ({u_unit}); loop height {height} {y_unit}"
             ));
         }
         if let Some(m) = self.mean_gap_text() {

@@ -5,33 +5,54 @@
 
 use super::{Field, Identified, Lines};
 use crate::hysteresis::{HysteresisFit, Start};
+use crate::identify::HostModel;
 use crate::model::MemoryElement;
 use crate::refine::InnovationForm;
 use crate::refine::stochastic::{noise_text, prediction_report};
+use crate::refine::uncertainty::border_covariance;
 use crate::report::{UndefinedFit, fit_report, std_text};
 use crate::units::UnitReport;
 use crate::validation::checks::{BEFORE_FIT, checks_text};
 
 impl Identified {
-    /// The model read in units (its poles with their covariance when refined).
+    /// The model read in units (its poles with their covariance when refined, and then each
+    /// gap's and the mean gap's standard deviation from the borders' covariance).
     pub fn in_units(&self) -> UnitReport {
         let r = &self.record;
+        let model = &self.estimate.model;
         let cov = self.estimate.std.as_ref().map(|(_, c)| c.as_slice());
         let gap_std = self.estimate.std.as_ref().and_then(|(s, _)| s.mean_gap);
         let two_path = self.model_element().two_path();
-        self.estimate
-            .model
+        // The standard deviations are the refinement's, of its model (the one reported).
+        let borders = self
+            .best
+            .fit
+            .as_ref()
+            .filter(|f| self.estimate.std.is_some() && two_path && f.model == *model)
+            .map(border_covariance);
+        model
             .unit_report(r.ts, r.units.clone(), cov, two_path)
             .with_gap_std(gap_std)
+            .with_gap_stds(|dir, u| borders.as_ref().and_then(|c| model.gap_std_at(dir, u, c)))
     }
 
     /// The fitted element read in units: `G`'s poles and bandwidth, the static gain, the gap of
-    /// the borders (input units) and the loop height (output units); `None` without a fit.
+    /// the borders (input units) and the loop height (output units), with the standard
+    /// deviations of the gaps when the fit gave its covariance; `None` without a fit.
     pub(crate) fn element_in_units(&self) -> Option<UnitReport> {
         let fit = self.element.as_ref()?;
         let host = fit.model.to_host(self.record.len());
         let r = &self.record;
-        Some(host.unit_report(r.ts, r.units.clone(), None, true))
+        let u = fit.uncertainty.as_ref();
+        let layout = fit.model.layout();
+        let std_of = |f: &dyn Fn(&HostModel) -> Option<f64>| {
+            u.and_then(|u| u.std_of(&layout, &fit.model, |m| f(&m.to_host(0))))
+        };
+        Some(
+            host.unit_report(r.ts, r.units.clone(), None, true)
+                .with_gap_std(std_of(&HostModel::mean_gap))
+                .with_gap_stds(|dir, x| std_of(&|m| m.gap_at(dir, x))),
+        )
     }
 
     /// Every line `hsid identify` prints about the identification, in order. Each experiment
