@@ -5,6 +5,7 @@
 mod common;
 
 mod agreement;
+mod allocator;
 mod atomic_outputs;
 mod bad_input;
 mod bounded_inputs;
