@@ -82,23 +82,8 @@ fn pivoted_cholesky(a: &[f64], d: usize, tol: f64) -> (Vec<f64>, Vec<usize>, usi
 /// The largest eigenvalue of `a` by power iteration from the all-ones vector (PSD: the
 /// Rayleigh quotient rises to it).
 fn largest(a: &[f64], d: usize) -> f64 {
-    let mut x = vec![1.0 / (d.max(1) as f64).sqrt(); d];
-    let mut lambda = 0.0;
-    for _ in 0..ITERATIONS {
-        let y: Vec<f64> = a.chunks_exact(d).map(|row| dot(row, &x)).collect();
-        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let next: f64 = x.iter().zip(&y).map(|(p, q)| p * q).sum();
-        if norm == 0.0 {
-            return 0.0;
-        }
-        x = y.into_iter().map(|v| v / norm).collect();
-        let done = (next - lambda).abs() <= CONVERGED * next.abs();
-        lambda = next;
-        if done {
-            break;
-        }
-    }
-    lambda
+    let x = vec![1.0 / (d.max(1) as f64).sqrt(); d];
+    rayleigh(x, |x| a.chunks_exact(d).map(|row| dot(row, x)).collect()).unwrap_or(0.0)
 }
 
 /// The smallest eigenvalue of `a = Pᵀ L Lᵀ P` (that of `L Lᵀ`) by inverse iteration (solves
@@ -108,10 +93,9 @@ fn smallest(l: &[f64], d: usize) -> f64 {
     let mut x: Vec<f64> = (0..d).map(|i| 1.0 + (i % 7) as f64 / 7.0).collect();
     let norm0 = x.iter().map(|v| v * v).sum::<f64>().sqrt();
     x.iter_mut().for_each(|v| *v /= norm0);
-    let mut mu = 0.0;
-    for _ in 0..ITERATIONS {
+    let solve = |x: &[f64]| {
         // y = (L Lᵀ)⁻¹ x: forward with L, back with Lᵀ.
-        let mut y = x.clone();
+        let mut y = x.to_vec();
         for i in 0..d {
             let s = dot(&l[i * d..i * d + i], &y[..i]);
             y[i] = (y[i] - s) / l[i * d + i];
@@ -124,19 +108,34 @@ fn smallest(l: &[f64], d: usize) -> f64 {
                 *yk -= lik * yi;
             }
         }
-        let next: f64 = x.iter().zip(&y).map(|(p, q)| p * q).sum();
-        let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+        y
+    };
+    match rayleigh(x, solve) {
+        Some(mu) if mu > 0.0 => 1.0 / mu,
+        _ => 0.0,
+    }
+}
+
+/// The Rayleigh quotient `xᵀ A x` of the iteration `x ← A x / ‖A x‖` from the unit vector `x`
+/// (`apply` gives `A x`), until it changes by less than [`CONVERGED`] (relative) or for
+/// [`ITERATIONS`]; `None` when `A x` vanishes or is not finite.
+fn rayleigh(mut x: Vec<f64>, apply: impl Fn(&[f64]) -> Vec<f64>) -> Option<f64> {
+    let mut quotient = 0.0;
+    for _ in 0..ITERATIONS {
+        let y = apply(&x);
+        let next = dot(&x, &y);
+        let norm = dot(&y, &y).sqrt();
         if !(norm.is_finite() && norm > 0.0) {
-            return 0.0;
+            return None;
         }
         x = y.into_iter().map(|v| v / norm).collect();
-        let done = (next - mu).abs() <= CONVERGED * next.abs();
-        mu = next;
+        let done = (next - quotient).abs() <= CONVERGED * next.abs();
+        quotient = next;
         if done {
             break;
         }
     }
-    if mu > 0.0 { 1.0 / mu } else { 0.0 }
+    Some(quotient)
 }
 
 /// `Σ x_k y_k` in four lanes (the compiler vectorises it; a plain fold it may not reorder).
