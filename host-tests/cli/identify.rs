@@ -143,6 +143,21 @@ pub struct IdentifyArgs {
     /// one --data file; not with --stream, --integrating or --refine.
     #[arg(long, value_name = "NAME", conflicts_with_all = ["stream", "integrating", "refine"])]
     reference_column: Option<String>,
+    /// After the identification, fit friction on the model's velocity: the element's output
+    /// less F_c·tanh(v/v_s) + F_0 drives G (Coulomb friction with its sign smoothed over a
+    /// fitted velocity v_s, and a constant force; viscous friction is part of G), v the
+    /// increment per sample of an integrating plant (force → position) or the output's change
+    /// per sample, the element's output 0, 1 or 2 samples late; G, F_c, v_s, F_0 (and the
+    /// initial position and velocity of an integrating plant) fitted by simulation error (of
+    /// the position for an integrating plant) from the identified model. The model with
+    /// friction is reported, and written by --json (key "friction"), when it simulates the
+    /// last quarter of the record better than the identified model (fitted on the first three
+    /// quarters); a line says which. With --integrating, a first-order stable part and a
+    /// linear element (--nonlinearity static --segments 1) and a sample time, a line reads it
+    /// as a rigid body: mass, viscous and Coulomb friction and the offset per unit of the
+    /// input (kg, N s/m and N for a force in N and a position in m). Not with --stream.
+    #[arg(long, conflicts_with = "stream")]
+    friction: bool,
 }
 
 /// The request of these arguments, in the command line's words.
@@ -163,6 +178,7 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
     r.fit = a.fit.into();
     r.reference = a.reference_column.clone();
     r.settle = a.hold.settle;
+    r.friction = a.friction;
     r
 }
 

@@ -8,6 +8,7 @@ use clap::Args;
 use hsid_host::figures::{
     FigureSettings, RecordView, UncertaintySource, write_element_model_figures,
 };
+use hsid_host::friction::{FrictionModel, Initial};
 use hsid_host::html::model_page::ModelRun;
 use hsid_host::html::model_words::{ModelElement, element_facts};
 use hsid_host::html::{Reproduction, figures};
@@ -65,6 +66,13 @@ pub struct ValidateArgs {
     /// model read in them and the warnings.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// For a model with friction of an integrating plant (`identify --integrating
+    /// --friction`): the first samples of the record whose output sets the initial position
+    /// and velocity (least squares on their simulation; the benchmark protocols of
+    /// positioning drives allow the first 20). The position is then simulated from the input
+    /// and scored.
+    #[arg(long, value_name = "SAMPLES", default_value_t = 20)]
+    initial_samples: usize,
 }
 
 /// A fit in the JSON document of `validate --json`.
@@ -138,7 +146,43 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     let ts = resolve_ts(&stated).map_err(|e| e.to_string())?;
     let mut table = record.table;
     let mut warnings: Vec<String> = Vec::new();
-    if file.integrating {
+    let friction = FrictionModel::from_file(&file);
+    if friction.is_some() {
+        if noise.is_some() {
+            return Err(
+                "a model with friction (\"friction\") has no noise model or predictor: \
+                        drop --noise"
+                    .to_string()
+                    .into(),
+            );
+        }
+        if a.figures.dir().is_some() || a.html.is_some() {
+            return Err(
+                "the figures and the page do not draw a model with friction yet: drop \
+                        --out and --html (the fit is printed)"
+                    .to_string()
+                    .into(),
+            );
+        }
+    }
+    if let Some(f) = friction.as_ref().filter(|f| f.integrating) {
+        let k = a.initial_samples;
+        if k == 0 || k > table.columns[1].len() {
+            return Err(format!(
+                "--initial-samples {k}: give between 1 and the record's {} samples",
+                table.columns[1].len()
+            )
+            .into());
+        }
+        let w = format!(
+            "integrating model with friction: the position simulated from the input, from the \
+             position and velocity that fit the first {k} samples (Coulomb {:.6}, offset {:.6} \
+             in the element's output units)",
+            f.friction.coulomb, f.friction.offset
+        );
+        outln!("{w}")?;
+        warnings.push(w);
+    } else if file.integrating {
         // The file holds the stable part: it is validated on the output's increments.
         let w = "integrating model (one pole at z = 1): validated on the output's increments";
         outln!("{w}")?;
@@ -192,9 +236,24 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         warnings.push(w);
     }
     let element = element.map(|h| for_input(&h, u).0.model);
-    let sim = match &element {
-        Some(h) => hysteresis::simulate::simulate(h, u),
-        None => extended.simulate(u),
+    let sim = match (&element, &friction) {
+        (Some(h), _) => hysteresis::simulate::simulate(h, u),
+        (None, Some(f)) => {
+            let f = FrictionModel {
+                plant: extended.model.clone(),
+                ..f.clone()
+            };
+            match f.integrating {
+                true => f.simulate_after(u, &y[..a.initial_samples.min(y.len())]),
+                false => f.simulate_from(
+                    u,
+                    Initial::Rest {
+                        u_start: extended.u_start,
+                    },
+                ),
+            }
+        }
+        (None, None) => extended.simulate(u),
     };
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     let mut prediction = None;

@@ -560,6 +560,7 @@ impl HostModel {
             std: None,
             integrating: false,
             element: None,
+            friction: None,
         }
     }
 

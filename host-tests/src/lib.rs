@@ -8,6 +8,7 @@ pub mod closed_loop;
 pub mod diagnose;
 pub mod figures;
 pub mod fleet;
+pub mod friction;
 pub mod hold;
 pub mod html;
 pub mod hysteresis;

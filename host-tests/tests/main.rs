@@ -30,6 +30,8 @@ mod error_messages;
 mod figures;
 mod firmware;
 mod fleet;
+mod friction_emps;
+mod friction_records;
 mod gap_uncertainty;
 mod html_gap;
 mod html_report;

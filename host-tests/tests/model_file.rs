@@ -57,6 +57,7 @@ fn model() -> ModelFile {
         }),
         integrating: false,
         element: None,
+        friction: None,
     }
 }
 

@@ -4,6 +4,7 @@
 //! gap out there. The extended model starts as the model does ([`Extended`]): at rest, with
 //! the input before the record at the model's own `u_min`, not at an added knot.
 
+use crate::friction::{FrictionModel, Initial};
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
 
@@ -132,6 +133,12 @@ impl Simulate for Extended<FileModel> {
             FileModel::Integrating(m) => {
                 crate::integrating::integrate(&m.simulate_from(u, self.u_start), 0.0)
             }
+            FileModel::Friction(f) => f.simulate_from(
+                u,
+                Initial::Rest {
+                    u_start: self.u_start,
+                },
+            ),
         }
     }
 }
@@ -204,6 +211,7 @@ impl Interval for FileModel {
         match self {
             FileModel::TwoPath(m) | FileModel::Integrating(m) => m.interval(),
             FileModel::Element(h) => h.interval(),
+            FileModel::Friction(f) => f.plant.interval(),
         }
     }
 
@@ -212,6 +220,10 @@ impl Interval for FileModel {
             FileModel::TwoPath(m) => FileModel::TwoPath(Interval::extended(m, lo, hi)),
             FileModel::Integrating(m) => FileModel::Integrating(Interval::extended(m, lo, hi)),
             FileModel::Element(h) => FileModel::Element(h.extended(lo, hi)),
+            FileModel::Friction(f) => FileModel::Friction(FrictionModel {
+                plant: Interval::extended(&f.plant, lo, hi),
+                ..f.clone()
+            }),
         }
     }
 }

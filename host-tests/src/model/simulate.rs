@@ -2,6 +2,7 @@
 //! as it simulates ([`FileModel`]).
 
 use crate::diagnose::model::ExtendedModel;
+use crate::friction::FrictionModel;
 use crate::hysteresis::{HysteresisFit, HysteresisModel};
 use crate::identify::HostModel;
 use crate::model_file::ModelFile;
@@ -23,6 +24,13 @@ impl Simulate for HostModel {
 impl Simulate for HysteresisModel {
     fn simulate(&self, u: &[f64]) -> Vec<f64> {
         crate::hysteresis::simulate::simulate(self, u)
+    }
+}
+
+/// From rest at `u_min` (an integrating plant at the position 0).
+impl Simulate for FrictionModel {
+    fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        FrictionModel::simulate(self, u)
     }
 }
 
@@ -57,9 +65,9 @@ impl Simulate for RefModel {
 }
 
 /// The model of a model file, as it simulates: two paths (or one static border) before the
-/// linear part, the play or relay itself (a file with `"element"`), or the stable part of an
+/// linear part, the play or relay itself (a file with `"element"`), the stable part of an
 /// integrating plant (a file with `"integrating": true`, simulated as the plant's output, the
-/// increments summed from 0).
+/// increments summed from 0), or a model with friction (a file with `"friction"`).
 #[derive(Clone, Debug)]
 pub enum FileModel {
     /// A two-path or static element, then the linear part.
@@ -68,11 +76,17 @@ pub enum FileModel {
     Element(HysteresisModel),
     /// An integrating plant's stable part.
     Integrating(HostModel),
+    /// The element and `G` with friction on the velocity (a file with `"friction"`),
+    /// integrating or not.
+    Friction(FrictionModel),
 }
 
 impl FileModel {
     /// The model `file` holds.
     pub fn from_file(file: &ModelFile) -> Self {
+        if let Some(f) = FrictionModel::from_file(file) {
+            return FileModel::Friction(f);
+        }
         if let Some(h) = HysteresisModel::from_file(file) {
             return FileModel::Element(h);
         }
@@ -95,6 +109,7 @@ impl FileModel {
         match self {
             FileModel::TwoPath(m) | FileModel::Integrating(m) => m.element_output_from(u, u_start),
             FileModel::Element(h) => crate::hysteresis::simulate::element_output(h, u),
+            FileModel::Friction(f) => f.plant.element_output_from(u, u_start),
         }
     }
 }
@@ -105,6 +120,7 @@ impl Simulate for FileModel {
             FileModel::TwoPath(m) => m.simulate(u),
             FileModel::Element(h) => crate::hysteresis::simulate::simulate(h, u),
             FileModel::Integrating(m) => m.simulate_integrating(u, 0.0),
+            FileModel::Friction(f) => f.simulate(u),
         }
     }
 }

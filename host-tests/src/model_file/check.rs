@@ -40,6 +40,7 @@ pub(super) fn validate(m: &ModelFile, path: &Path) -> Checked {
     }
     noise(m, &bad)?;
     element(m, &bad)?;
+    friction(m, &bad)?;
     std(m, &bad)
 }
 
@@ -194,6 +195,52 @@ fn element(m: &ModelFile, bad: &Bad) -> Checked {
     }
     Ok(())
 }
+
+/// Friction on the velocity: finite forces, a positive velocity scale, a bounded delay, no
+/// feed-through and no element with memory beside it.
+fn friction(m: &ModelFile, bad: &Bad) -> Checked {
+    let Some(f) = m.friction else {
+        return Ok(());
+    };
+    finite(
+        bad,
+        "friction",
+        &mut [f.coulomb, f.velocity_scale, f.offset].into_iter(),
+    )?;
+    if f.velocity_scale <= 0.0 {
+        return Err(bad(
+            "friction",
+            format!(
+                "velocity_scale is {}: the Coulomb force changes sign over a positive velocity",
+                f.velocity_scale
+            ),
+        ));
+    }
+    if f.delay > MAX_FRICTION_DELAY {
+        return Err(bad(
+            "friction",
+            format!("delay is {} samples, at most {MAX_FRICTION_DELAY}", f.delay),
+        ));
+    }
+    if m.d != 0.0 {
+        return Err(bad(
+            "D",
+            format!("{}: a model with friction has no feed-through (D = 0)", m.d),
+        ));
+    }
+    if m.element.is_some() {
+        return Err(bad(
+            "friction",
+            "friction is fitted on a two-path or static element, not beside \"element\""
+                .to_string(),
+        ));
+    }
+    Ok(())
+}
+
+/// The largest delay of a model with friction's element output a file may state (the fit
+/// tries up to 2; a file may be written by hand).
+pub const MAX_FRICTION_DELAY: usize = 1000;
 
 type Bad<'a> = dyn Fn(&'static str, String) -> ModelFileError + 'a;
 

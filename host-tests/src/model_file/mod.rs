@@ -106,6 +106,13 @@ pub struct ModelFile {
     /// simulate it as a two-path model; a file without it reads as `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub element: Option<MemoryElement>,
+    /// Friction on the model's velocity ([`crate::friction`]): the element's output less
+    /// `coulomb · tanh(v / velocity_scale) + offset` drives `G` (strictly proper, `D = 0`), the
+    /// element's output `delay` samples late; `v` is `G`'s output for an integrating plant,
+    /// its change per sample otherwise. Written only when present (an older reader refuses
+    /// the file rather than simulate it without friction); a file without it reads as `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<crate::friction::Friction>,
 }
 
 impl ModelFile {

@@ -58,7 +58,7 @@ pub enum Baseline {
 }
 
 /// MATLAB's `fit` of an NRMSE, in percent.
-fn fit_percent(nrmse: f64) -> f64 {
+pub(crate) fn fit_percent(nrmse: f64) -> f64 {
     100.0 * (1.0 - nrmse)
 }
 

@@ -21,6 +21,7 @@ pub mod closed_loop;
 pub mod detect;
 pub mod element_fit;
 pub mod estimate;
+pub mod friction;
 pub mod report;
 mod request;
 
@@ -110,6 +111,10 @@ pub struct Identified {
     /// The data checks of the record as identified (`validation::checks::BEFORE_FIT`, at the
     /// chosen knots and horizons): the terminal's lines and the page's table.
     pub checks: Vec<Warning>,
+    /// The friction step, when the request asked for it and it ran
+    /// ([`IdentifyRequest::friction`]); its model is the one reported when
+    /// [`FrictionStep::reported`](friction::FrictionStep::reported).
+    pub friction: Option<friction::FrictionStep>,
 }
 
 impl Identified {
@@ -125,9 +130,14 @@ impl Identified {
     /// The model file: the fitted element's when it was fitted, else the model with its noise
     /// model and standard deviations; with the record's sample time and units.
     pub fn model_file(&self) -> ModelFile {
-        let mut file = match &self.element {
-            Some(fit) => fit.model.to_file(self.record.len()),
-            None => {
+        let friction = self.friction.as_ref().filter(|f| f.reported);
+        let mut file = match (&self.element, friction) {
+            (_, Some(step)) => step
+                .fit
+                .model
+                .to_file(self.record.len(), self.model_element()),
+            (Some(fit), None) => fit.model.to_file(self.record.len()),
+            (None, None) => {
                 let mut file = self.estimate.model.to_json(Some(self.model_element()));
                 file.noise = self.estimate.noise.as_ref().map(noise_file);
                 file.std = self.estimate.std.as_ref().map(|(s, _)| s.clone());
@@ -230,6 +240,32 @@ pub fn identify_record(
         false => request.element,
     };
     let checks = data_checks(&record.u, &record.y, &best.options, element);
+    let friction = match (request.friction, &fitted) {
+        (false, _) => None,
+        (true, Some(_)) => {
+            let s = request.syntax;
+            notes.push(format!(
+                "{}: not fitted: the element was fitted by simulation error itself ({} keeps \
+                 the model friction is fitted on)",
+                s.name(Field::Friction),
+                s.set(Field::Fit, s.text("none"))
+            ));
+            None
+        }
+        (true, None) => {
+            progress::stage(|| "fitting friction on the model's velocity".to_string())?;
+            match friction::step(&record, request, &estimate.model) {
+                Ok((step, lines)) => {
+                    notes.extend(lines);
+                    Some(step)
+                }
+                Err(line) => {
+                    notes.push(line);
+                    None
+                }
+            }
+        }
+    };
     Ok(Identified {
         record: record.into_owned(),
         best,
@@ -240,6 +276,7 @@ pub fn identify_record(
         baseline,
         request: request.clone(),
         checks,
+        friction,
     })
 }
 

@@ -68,6 +68,8 @@ pub enum Field {
     Data,
     /// The model order.
     Order,
+    /// Friction on the velocity.
+    Friction,
 }
 
 /// The most work a refinement at a given order may ask for before it starts: samples ×
@@ -109,6 +111,7 @@ impl Syntax {
             (Syntax::Cli, Field::Reference) => "--reference-column",
             (Syntax::Cli, Field::Data) => "--data",
             (Syntax::Cli, Field::Order) => "--order",
+            (Syntax::Cli, Field::Friction) => "--friction",
             (Syntax::Python, Field::UMin) => "umin",
             (Syntax::Python, Field::UMax) => "umax",
             (Syntax::Python, Field::Segments) => "segments",
@@ -122,6 +125,7 @@ impl Syntax {
             (Syntax::Python, Field::Reference) => "reference",
             (Syntax::Python, Field::Data) => "u, y",
             (Syntax::Python, Field::Order) => "order",
+            (Syntax::Python, Field::Friction) => "friction",
         }
     }
 
@@ -222,6 +226,9 @@ pub struct IdentifyRequest {
     pub reference: Option<String>,
     /// Samples of the hold skipped while the plant settles; `None`: half the hold.
     pub settle: Option<usize>,
+    /// After the model, fit friction on its velocity ([`crate::friction`]) and report the
+    /// model with it when it simulates the inner hold-out better ([`super::friction`]).
+    pub friction: bool,
     /// How messages and notes spell the settings.
     pub syntax: Syntax,
 }
@@ -257,6 +264,7 @@ impl IdentifyRequest {
             fit: ElementFit::Auto,
             reference: None,
             settle: None,
+            friction: false,
             syntax,
         }
     }

@@ -1,0 +1,120 @@
+//! Does the residual depend on the sign of the simulated velocity? Friction the model lacks
+//! pushes the output one way while the drive moves up and the other way while it moves
+//! down.
+//!
+//! The residual `r(t)` (of an integrating plant: its increments, the error of the velocity)
+//! is regressed on `1` and `sign(v̂(t))`, where `v̂` is the model's simulated velocity and the
+//! samples where the model barely moves (`|v̂| < 5 %` of its RMS) are left out. The residual
+//! of a simulation is strongly autocorrelated, so the coefficient's standard error is the
+//! Newey–West one (Bartlett weights up to `⌈4 (N/100)^{2/9}⌉` lags, and at least the longest
+//! run of one sign, so that a run counts as one observation, not as many); the test fires
+//! when `|t| > 3`.
+
+use crate::numerics::rms;
+
+/// The outcome of [`velocity_sign`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VelocitySign {
+    /// Half the difference of the residual's mean moving up and moving down (output units).
+    pub difference: f64,
+    /// Its t statistic (Newey–West standard error).
+    pub t: f64,
+    /// Samples used.
+    pub samples: usize,
+}
+
+impl VelocitySign {
+    /// The threshold on `|t|`.
+    pub const THRESHOLD: f64 = 3.0;
+
+    /// Whether the residual depends on the direction of motion.
+    pub fn fires(&self) -> bool {
+        self.t.abs() > Self::THRESHOLD
+    }
+}
+
+/// The test on the residual `r` and the simulated velocity `v` (same length); `None` when
+/// fewer than 20 samples move or all move one way.
+pub fn velocity_sign(r: &[f64], v: &[f64]) -> Option<VelocitySign> {
+    let floor = 0.05 * rms(v);
+    let pairs: Vec<(f64, f64)> = r
+        .iter()
+        .zip(v)
+        .filter(|(_, v)| v.abs() > floor)
+        .map(|(r, v)| (*r, v.signum()))
+        .collect();
+    let n = pairs.len();
+    let up = pairs.iter().filter(|(_, s)| *s > 0.0).count();
+    if n < 20 || up == 0 || up == n {
+        return None;
+    }
+    // OLS of r on [1, s].
+    let nf = n as f64;
+    let (sm, rm) = (
+        pairs.iter().map(|p| p.1).sum::<f64>() / nf,
+        pairs.iter().map(|p| p.0).sum::<f64>() / nf,
+    );
+    let sxx: f64 = pairs.iter().map(|(_, s)| (s - sm) * (s - sm)).sum();
+    let sxy: f64 = pairs.iter().map(|(r, s)| (s - sm) * (r - rm)).sum();
+    let beta = sxy / sxx;
+    let alpha = rm - beta * sm;
+    // Newey–West variance of beta: Σ_t Σ_s w(|t−s|) x_t e_t x_s e_s / sxx².
+    let xe: Vec<f64> = pairs
+        .iter()
+        .map(|(r, s)| (s - sm) * (r - alpha - beta * s))
+        .collect();
+    let longest = pairs
+        .chunk_by(|a, b| a.1 == b.1)
+        .map(<[(f64, f64)]>::len)
+        .max()
+        .unwrap_or(1);
+    let lags = ((4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize)
+        .max(longest)
+        .min(n - 1);
+    let mut s = xe.iter().map(|v| v * v).sum::<f64>();
+    for l in 1..=lags {
+        let w = 1.0 - l as f64 / (lags as f64 + 1.0);
+        let c: f64 = xe.iter().zip(&xe[l..]).map(|(a, b)| a * b).sum();
+        s += 2.0 * w * c;
+    }
+    let se = s.max(0.0).sqrt() / sxx;
+    Some(VelocitySign {
+        difference: beta,
+        t: beta / se,
+        samples: n,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// A velocity reversing every 500 samples; a residual of ±0.1 with the sign, plus an
+    /// AR(1) noise of its own (a recursion written here), against the noise alone.
+    #[test]
+    fn a_residual_that_follows_the_direction_fires_and_noise_does_not() {
+        let n = 20_000;
+        let v: Vec<f64> = (0..n)
+            .map(|t| if (t / 500) % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut e = 0.0;
+        let noise: Vec<f64> = (0..n)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                let g = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                e = 0.95 * e + g;
+                e
+            })
+            .collect();
+        let with: Vec<f64> = noise.iter().zip(&v).map(|(e, v)| e + 0.5 * v).collect();
+        let fired = velocity_sign(&with, &v).unwrap();
+        assert!(fired.fires(), "{fired:?}");
+        assert!((fired.difference - 0.5).abs() < 0.15, "{fired:?}");
+        let quiet = velocity_sign(&noise, &v).unwrap();
+        assert!(!quiet.fires(), "{quiet:?}");
+    }
+}

@@ -1,0 +1,535 @@
+//! The friction model fitted by simulation error from an identified model.
+//!
+//! **Start.** The friction enters `G` through its input, so a regression of the output on its
+//! own past, the element's past output and the friction regressors `tanh(v(t − 1)/v_s)` and
+//! `1` (the velocity `v` from the measured output) gives `G`, `F_c` and `F_0` at once for a
+//! fixed `v_s` (equation error, as an ARX fit starts an output-error one). It is run for
+//! `v_s` at 0.3 %, 1 %, 3 %, 10 % and 30 % of the velocity's RMS; each stable result, and the
+//! identified model with the friction of that regression (the ratio of the friction's
+//! coefficients to `G`'s gain), is simulated; the better of the two for each scale, and the
+//! identified model without friction, are the starts, each minimised and the smallest error
+//! kept: the fit never ends worse than the model it extends.
+//!
+//! **Delay.** The element's output may reach the drive a sample or two late (a computation
+//! or amplifier delay; a sampled rigid body whose position lags its velocity by a sample looks
+//! the same): each delay `d = 0, 1, 2` is fitted and the smallest error kept.
+//!
+//! **Fit.** Levenberg–Marquardt ([`crate::numerics::lm`]) on `F`, `B` (strictly proper, any
+//! gain), `F_c`, `ln v_s` and `F_0`, with forward-difference Jacobians and steps refused
+//! when `F` is not stable. The error is the simulation error of the output, for an integrating
+//! plant of the position (the sum of the increments the record holds): a drift of the
+//! position is what an integrating model gets wrong first, and the benchmark protocols of
+//! positioning drives score it. Samples in `skip` are left out of the error but not of the
+//! simulation (an inner hold-out).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::model::{Friction, FrictionModel, Initial, Polynomials, StartState, delayed, run};
+use crate::identify::HostModel;
+use crate::numerics::lm::{self, Jacobian, LmFailure, Problem, Settings, minimise};
+use crate::numerics::lstsq::{Scaling, lstsq};
+use crate::numerics::poly::{spectral_radius, tf_from_ss};
+
+/// The velocity scales of the start, as fractions of the velocity's RMS.
+const SCALES: [f64; 5] = [0.003, 0.01, 0.03, 0.1, 0.3];
+
+/// Samples the fit needs per parameter at least.
+const SAMPLES_PER_PARAMETER: usize = 10;
+
+/// Why [`fit_friction`] gave no model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FrictionError {
+    /// Too few samples for the parameters.
+    #[error(
+        "the friction fit needs at least {needed} samples for its {parameters} parameters, the record has {samples}"
+    )]
+    TooShort {
+        /// Samples in the record.
+        samples: usize,
+        /// Samples needed.
+        needed: usize,
+        /// Parameters of the model.
+        parameters: usize,
+    },
+    /// Input, output and skip lengths differ.
+    #[error("the friction fit was given {u} inputs, {y} outputs and {skip} skip flags")]
+    Lengths {
+        /// Inputs.
+        u: usize,
+        /// Outputs.
+        y: usize,
+        /// Skip flags (0: none).
+        skip: usize,
+    },
+    /// The output does not move: no velocity to act on.
+    #[error("the output does not change: there is no velocity for friction to act on")]
+    NoMotion,
+    /// The identified model does not simulate the record.
+    #[error("the identified model does not simulate the record (a non-finite output)")]
+    StartDoesNotSimulate,
+    /// The minimisation failed.
+    #[error("the friction fit: {0}")]
+    Minimise(#[from] LmFailure),
+}
+
+/// What [`fit_friction`] gives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionFit {
+    /// The fitted model (`G(1) = 1`, borders and friction scaled with it).
+    pub model: FrictionModel,
+    /// Where its simulation of the record starts: for an integrating plant the position
+    /// (relative to the record's first sample) and velocity fitted with it.
+    pub initial: Initial,
+    /// Sum of squared simulation errors (the samples scored) of the identified model.
+    pub sse_identified: f64,
+    /// The same of the fitted model.
+    pub sse: f64,
+    /// Samples scored.
+    pub scored: usize,
+    /// Iterations of the minimisation.
+    pub iterations: usize,
+    /// The relative decrease of the last step when the iteration limit ended the fit.
+    pub unconverged: Option<f64>,
+}
+
+/// Settings of [`fit_friction`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionOptions {
+    /// Jacobians computed at most.
+    pub iterations: usize,
+}
+
+impl Default for FrictionOptions {
+    /// 60 iterations.
+    fn default() -> Self {
+        Self { iterations: 60 }
+    }
+}
+
+/// Fits friction on the velocity of `start` (an identified model; its element is kept) to
+/// the record `(u, y)` as identified (for an integrating plant, `integrating`, the record of
+/// its increments: `y` holds `y(t) − y(t − 1)`), leaving the samples where `skip` is set out
+/// of the error (an empty `skip` leaves none out). See the [module](self).
+pub fn fit_friction(
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    start: &HostModel,
+    integrating: bool,
+    opts: &FrictionOptions,
+) -> Result<FrictionFit, FrictionError> {
+    if u.len() != y.len() || !(skip.is_empty() || skip.len() == y.len()) {
+        return Err(FrictionError::Lengths {
+            u: u.len(),
+            y: y.len(),
+            skip: skip.len(),
+        });
+    }
+    let n = start.order.max(1);
+    let parameters = 2 * n + 3;
+    let needed = SAMPLES_PER_PARAMETER * parameters + n + 2;
+    if y.len() < needed {
+        return Err(FrictionError::TooShort {
+            samples: y.len(),
+            needed,
+            parameters,
+        });
+    }
+    let skipped = |t: usize| skip.get(t).copied().unwrap_or(false);
+    let scored = (0..y.len()).filter(|&t| !skipped(t)).count();
+    // The target: the output, or the position of an integrating plant (its increments summed).
+    let target: Vec<f64> = match integrating {
+        true => crate::integrating::integrate(y, 0.0),
+        false => y.to_vec(),
+    };
+    let velocity: Vec<f64> = match integrating {
+        true => y.to_vec(),
+        false => std::iter::once(0.0)
+            .chain(y.windows(2).map(|w| w[1] - w[0]))
+            .collect(),
+    };
+    let v_rms = crate::numerics::rms(&velocity);
+    if !(v_rms > 0.0 && v_rms.is_finite()) {
+        return Err(FrictionError::NoMotion);
+    }
+    // Where the simulation starts (as [`FrictionModel::simulate_from`] starts it).
+    let u_start = match integrating {
+        true => u.first().copied().unwrap_or(0.0),
+        false => start.u_min(),
+    };
+    let h_raw = start.element_output_from(u, u_start);
+    let h0 = start.element_output_from(&[u_start], u_start)[0];
+    let initial = match integrating {
+        // Where the record starts: its first increment; both are fitted with the model.
+        true => StartState::Moving {
+            position: 0.0,
+            velocity: y[0],
+        },
+        false => StartState::Rest { h0 },
+    };
+    let sse_of = |sim: &[f64]| -> f64 {
+        sim.iter()
+            .zip(&target)
+            .enumerate()
+            .filter(|(t, _)| !skipped(*t))
+            .map(|(_, (a, b))| (a - b) * (a - b))
+            .sum()
+    };
+    // The identified model as polynomials, no friction.
+    let (mut b0, f0) = tf_from_ss(&start.a, &start.b, &start.c, start.d);
+    let feedthrough = b0.first().copied().unwrap_or(0.0);
+    b0.resize(f0.len(), 0.0);
+    // A feed-through moves to the next sample (the friction loop needs a strictly proper G).
+    if let Some(b1) = b0.get_mut(1) {
+        *b1 += feedthrough;
+    }
+    b0[0] = 0.0;
+    let identified = Polynomials {
+        b: b0,
+        f: f0.clone(),
+    };
+    let none = Friction {
+        coulomb: 0.0,
+        velocity_scale: v_rms * 0.01,
+        offset: 0.0,
+        delay: 0,
+    };
+    let sse_identified = sse_of(&run(&identified, &none, &h_raw, integrating, initial));
+    if !sse_identified.is_finite() {
+        return Err(FrictionError::StartDoesNotSimulate);
+    }
+    let order = f0.len() - 1;
+    let mut fitted: Option<(f64, Layout, lm::Minimum)> = None;
+    let mut last_error = None;
+    for delay in 0..=MAX_DELAY {
+        let layout = Layout {
+            n: order,
+            delay,
+            moving: integrating,
+        };
+        let h = delayed(&h_raw, h0, delay);
+        match fit_layout(
+            &layout,
+            &identified,
+            &h,
+            y,
+            &target,
+            &velocity,
+            initial,
+            skip,
+            opts,
+        ) {
+            Ok(min) => {
+                let sse: f64 = min.residual.iter().map(|r| r * r).sum();
+                if fitted.as_ref().is_none_or(|(best, ..)| sse < *best) {
+                    fitted = Some((sse, layout, min));
+                }
+            }
+            Err(e) => last_error = Some(e),
+        }
+    }
+    let Some((sse, layout, min)) = fitted else {
+        return Err(last_error.unwrap_or(FrictionError::StartDoesNotSimulate));
+    };
+    let (g, fr, state) = layout.parts(&min.theta, initial);
+    let initial = match state {
+        StartState::Moving { position, velocity } => Initial::Moving { position, velocity },
+        StartState::Rest { .. } => Initial::Rest { u_start },
+    };
+    Ok(FrictionFit {
+        model: FrictionModel::normalised(start, &g, &fr, integrating),
+        initial,
+        sse_identified,
+        sse,
+        scored,
+        iterations: min.iterations,
+        unconverged: min.unconverged,
+    })
+}
+
+/// The smallest velocity scale over which the Coulomb force of `fr` may change sign with `G`
+/// = `g`: `|b₁ F_c|`, the velocity the force gives in one sample. Over a narrower scale the
+/// sampled loop overshoots zero velocity every sample (its gain at zero velocity, `−b₁ F_c /
+/// v_s`, passes −1 for a slow `G`) and chatters at standstill, which no continuous drive
+/// does: the mean friction of the chatter is not the Coulomb force that holds the drive.
+fn sign_limit(g: &Polynomials, fr: &Friction) -> f64 {
+    (g.b.get(1).copied().unwrap_or(0.0) * fr.coulomb).abs()
+}
+
+/// Whether `fr` changes sign over a velocity scale the sampled loop follows ([`sign_limit`]).
+fn smooth_enough(g: &Polynomials, fr: &Friction) -> bool {
+    fr.velocity_scale >= sign_limit(g, fr)
+}
+
+/// The largest extra delay of the element's output tried.
+const MAX_DELAY: usize = 2;
+
+/// The start and the minimisation for one layout (order and delay), `h` the element's
+/// output delayed by it.
+#[allow(clippy::too_many_arguments)]
+fn fit_layout(
+    layout: &Layout,
+    identified: &Polynomials,
+    h: &[f64],
+    y: &[f64],
+    target: &[f64],
+    velocity: &[f64],
+    initial: StartState,
+    skip: &[bool],
+    opts: &FrictionOptions,
+) -> Result<lm::Minimum, FrictionError> {
+    let integrating = matches!(initial, StartState::Moving { .. });
+    let skipped = |t: usize| skip.get(t).copied().unwrap_or(false);
+    let sse_of = |sim: &[f64]| -> f64 {
+        sim.iter()
+            .zip(target)
+            .enumerate()
+            .filter(|(t, _)| !skipped(*t))
+            .map(|(_, (a, b))| (a - b) * (a - b))
+            .sum()
+    };
+    let v_rms = crate::numerics::rms(velocity);
+    let order = layout.n;
+    let none = Friction {
+        coulomb: 0.0,
+        velocity_scale: v_rms * 0.01,
+        offset: 0.0,
+        delay: layout.delay,
+    };
+    let sse0 = sse_of(&run(identified, &none, h, integrating, initial));
+    // One start per velocity scale (the better of the regression's model and the identified
+    // one with the regression's friction), and the identified model without friction.
+    let mut starts: Vec<(f64, Vec<f64>)> = Vec::new();
+    if sse0.is_finite() {
+        starts.push((sse0, layout.theta(identified, &none, initial)));
+    }
+    for k in SCALES {
+        let vs = k * v_rms;
+        let Some((arx, fr)) = equation_error(h, y, velocity, order, vs) else {
+            continue;
+        };
+        let fr = Friction {
+            delay: layout.delay,
+            ..fr
+        };
+        let smoothed = |g: &Polynomials, fr: Friction| Friction {
+            velocity_scale: fr.velocity_scale.max(1.01 * sign_limit(g, &fr)),
+            ..fr
+        };
+        // The friction is a force in the element's output units whichever `G` it drives.
+        let best = [
+            (arx.clone(), smoothed(&arx, fr)),
+            (identified.clone(), smoothed(identified, fr)),
+        ]
+        .into_iter()
+        .filter(|(g, _)| spectral_radius(&g.f) < 1.0)
+        .map(|(g, fr)| {
+            (
+                sse_of(&run(&g, &fr, h, integrating, initial)),
+                layout.theta(&g, &fr, initial),
+            )
+        })
+        .filter(|(sse, _)| sse.is_finite())
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+        starts.extend(best);
+    }
+    if starts.is_empty() {
+        return Err(FrictionError::StartDoesNotSimulate);
+    }
+    let residual = |th: &[f64]| -> Option<Vec<f64>> {
+        let (g, fr, state) = layout.parts(th, initial);
+        let sim = run(&g, &fr, h, integrating, state);
+        let r: Vec<f64> = sim
+            .iter()
+            .zip(target)
+            .enumerate()
+            .map(|(t, (a, b))| if skipped(t) { 0.0 } else { a - b })
+            .collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let admissible = |th: &[f64]| {
+        let (g, fr, _) = layout.parts(th, initial);
+        spectral_radius(&g.f) < 1.0 && smooth_enough(&g, &fr)
+    };
+    let h_rms = crate::numerics::rms(h).max(f64::MIN_POSITIVE);
+    let t_rms = crate::numerics::rms(target).max(f64::MIN_POSITIVE);
+    let b_size = starts[0].1[order..2 * order]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(1e-12);
+    let typical: Vec<f64> = (0..layout.len())
+        .map(|j| match layout.role(j) {
+            Role::Denominator => 1.0,
+            Role::Numerator => b_size,
+            Role::Force => h_rms,
+            Role::LogScale => 1.0,
+            Role::Position => t_rms,
+            Role::Velocity => v_rms,
+        })
+        .collect();
+    let problem = Problem {
+        residual: &residual,
+        admissible: &admissible,
+        jacobian: Jacobian::ForwardDifference { typical: &typical },
+    };
+    let base = Settings::default();
+    let settings = Settings {
+        iterations: opts.iterations,
+        min_gain: 1e-9,
+        damping: lm::Damping {
+            limit: lm::DampingLimit::Tries(14),
+            ..base.damping
+        },
+        ..base
+    };
+    // Each start minimised: the Coulomb term's scale makes the error surface bumpy (a sign
+    // that saturates leaves no gradient in `v_s`), and one start can stop in a valley the
+    // next one avoids.
+    let mut best: Option<lm::Minimum> = None;
+    let mut failure = None;
+    for (_, theta) in &starts {
+        match minimise(&problem, theta, &settings) {
+            Ok(min) => {
+                let sse = |m: &lm::Minimum| m.residual.iter().map(|r| r * r).sum::<f64>();
+                if best.as_ref().is_none_or(|b| sse(&min) < sse(b)) {
+                    best = Some(min);
+                }
+            }
+            Err(e) => failure = Some(e),
+        }
+    }
+    match (best, failure) {
+        (Some(min), _) => Ok(min),
+        (None, Some(e)) => Err(e.into()),
+        (None, None) => Err(FrictionError::StartDoesNotSimulate),
+    }
+}
+
+/// The parameter vector: `f₁ … f_n`, `b₁ … b_n`, `F_c`, `ln v_s`, `F_0`, and for an
+/// integrating plant (`moving`) the initial position and velocity; the delay fixed.
+#[derive(Clone, Copy, Debug)]
+struct Layout {
+    n: usize,
+    delay: usize,
+    moving: bool,
+}
+
+/// What a parameter is.
+enum Role {
+    Denominator,
+    Numerator,
+    Force,
+    LogScale,
+    Position,
+    Velocity,
+}
+
+impl Layout {
+    fn len(&self) -> usize {
+        2 * self.n + 3 + if self.moving { 2 } else { 0 }
+    }
+
+    fn role(&self, j: usize) -> Role {
+        let n = self.n;
+        if j < n {
+            Role::Denominator
+        } else if j < 2 * n {
+            Role::Numerator
+        } else if j == 2 * n + 1 {
+            Role::LogScale
+        } else if j == 2 * n + 3 {
+            Role::Position
+        } else if j == 2 * n + 4 {
+            Role::Velocity
+        } else {
+            Role::Force
+        }
+    }
+
+    fn theta(&self, g: &Polynomials, fr: &Friction, state: StartState) -> Vec<f64> {
+        let n = self.n;
+        let mut th = Vec::with_capacity(self.len());
+        th.extend_from_slice(&g.f[1..=n]);
+        th.extend_from_slice(&g.b[1..=n]);
+        th.push(fr.coulomb);
+        th.push(fr.velocity_scale.max(f64::MIN_POSITIVE).ln());
+        th.push(fr.offset);
+        if let (true, StartState::Moving { position, velocity }) = (self.moving, state) {
+            th.push(position);
+            th.push(velocity);
+        }
+        th
+    }
+
+    /// The polynomials, the friction and the start (`fixed` when it is not fitted).
+    fn parts(&self, th: &[f64], fixed: StartState) -> (Polynomials, Friction, StartState) {
+        let n = self.n;
+        let f = std::iter::once(1.0)
+            .chain(th[..n].iter().copied())
+            .collect();
+        let b = std::iter::once(0.0)
+            .chain(th[n..2 * n].iter().copied())
+            .collect();
+        let fr = Friction {
+            coulomb: th[2 * n],
+            velocity_scale: th[2 * n + 1].exp(),
+            offset: th[2 * n + 2],
+            delay: self.delay,
+        };
+        let state = match self.moving {
+            true => StartState::Moving {
+                position: th[2 * n + 3],
+                velocity: th[2 * n + 4],
+            },
+            false => fixed,
+        };
+        (Polynomials { b, f }, fr, state)
+    }
+}
+
+/// The equation-error fit of `G` and the friction for the velocity scale `vs`: `s(t)` (the
+/// increment or the output) on `−s(t − i)`, `h(t − i)` (`i = 1 … n`), `tanh(v(t − 1)/v_s)`
+/// and `1`; the friction's coefficients divided by `−Σ bᵢ`. `None` when the regression is
+/// singular or its gain vanishes.
+fn equation_error(
+    h: &[f64],
+    s: &[f64],
+    velocity: &[f64],
+    n: usize,
+    vs: f64,
+) -> Option<(Polynomials, Friction)> {
+    let rows = s.len().checked_sub(n)?;
+    let k = 2 * n + 2;
+    let x = DMatrix::from_fn(rows, k, |r, j| {
+        let t = r + n;
+        if j < n {
+            -s[t - 1 - j]
+        } else if j < 2 * n {
+            h[t - 1 - (j - n)]
+        } else if j == 2 * n {
+            // The velocity before the input at t − 1 acted.
+            (velocity[t - 1] / vs).tanh()
+        } else {
+            1.0
+        }
+    });
+    let yv = DVector::from_fn(rows, |r, _| s[r + n]);
+    let th = lstsq(&x, &yv, Scaling::UnitDiagonal)?;
+    let f: Vec<f64> = std::iter::once(1.0)
+        .chain(th.iter().take(n).copied())
+        .collect();
+    let b: Vec<f64> = std::iter::once(0.0)
+        .chain(th.iter().skip(n).take(n).copied())
+        .collect();
+    let gain = b.iter().sum::<f64>();
+    if gain.abs() < f64::MIN_POSITIVE || !gain.is_finite() {
+        return None;
+    }
+    let fr = Friction {
+        coulomb: -th[2 * n] / gain,
+        velocity_scale: vs,
+        offset: -th[2 * n + 1] / gain,
+        delay: 0,
+    };
+    Some((Polynomials { b, f }, fr))
+}
