@@ -25,6 +25,7 @@ mod diagnose;
 mod diagnose_hysteresis;
 mod diagnose_measured;
 mod diagnose_reference;
+mod diagnose_saturation;
 mod distributions;
 mod error_messages;
 mod figures;

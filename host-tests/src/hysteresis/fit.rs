@@ -1,5 +1,7 @@
 //! The simulation-error fit: `min Σ (y(t) − ŷ(t; θ))²` over the whole record by the shared
-//! Levenberg–Marquardt, from the starting model of [`start`](super::start).
+//! Levenberg–Marquardt, from the starting model of [`start`](super::start). On an output
+//! pinned at a level (a saturating sensor), `ŷ` is the simulation clamped there
+//! ([`ElementFitOptions::floor`]).
 //!
 //! # Jacobian
 //!
@@ -39,17 +41,32 @@ pub struct ElementFitOptions {
     /// 0.99997 on 2400 samples acts as a drift), so the fit finds the best model among those
     /// instead of one that must then be refused.
     pub max_pole_radius: f64,
+    /// Levels the measured output cannot go below and above (a saturating sensor, an end
+    /// stop): the simulation is clamped to them before the error is taken, so a sample pinned
+    /// at a level pulls the fit only where the model's output would not reach it. `None`: no
+    /// clamp.
+    pub floor: Option<f64>,
+    /// The upper level (see [`floor`](Self::floor)).
+    pub ceiling: Option<f64>,
 }
 
 impl ElementFitOptions {
-    /// A fit of `kind` with 60 iterations and a strictly proper, stable `G`.
+    /// A fit of `kind` with 60 iterations and a strictly proper, stable `G`, no clamp.
     pub fn new(kind: MemoryElement) -> Self {
         Self {
             kind,
             max_iter: 60,
             feedthrough: false,
             max_pole_radius: 1.0,
+            floor: None,
+            ceiling: None,
         }
+    }
+
+    /// `v` clamped to [`floor`](Self::floor) and [`ceiling`](Self::ceiling).
+    pub fn clamp(&self, v: f64) -> f64 {
+        let v = self.ceiling.map_or(v, |c| v.min(c));
+        self.floor.map_or(v, |f| v.max(f))
     }
 }
 
@@ -162,7 +179,11 @@ pub fn fit_hysteresis_skipping(
             .iter()
             .zip(y)
             .enumerate()
-            .map(|(t, (a, b))| if skipped(t) { 0.0 } else { a - b })
+            .map(
+                |(t, (a, b))| {
+                    if skipped(t) { 0.0 } else { opts.clamp(*a) - b }
+                },
+            )
             .collect();
         r.iter().all(|v| v.is_finite()).then_some(r)
     };

@@ -209,6 +209,9 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
             Some(h) => format!("order {}, horizons f = p = {h}", s.order.unwrap_or(0)),
             None => format!("order {}", s.order.unwrap_or(0)),
         },
+        Effect::OutputNonlinearity if s.element.is_some() => {
+            "output saturation: the element's simulation clamped at the pinned levels".into()
+        }
         Effect::OutputNonlinearity => format!(
             "output map with {} segments",
             s.output_map_segments.unwrap_or(0)
@@ -234,17 +237,24 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
             ),
             None => "MAD rule".into(),
         },
-        Effect::Hysteresis => match model.and_then(|m| m.hysteresis.as_ref()) {
-            Some(h) => match (h.kind, h.gap()) {
-                (MemoryElement::Play, Some(g)) => format!("play operator, gap {g:.4}"),
-                (MemoryElement::Play, None) => "play operator".into(),
-                (MemoryElement::Relay, _) => "relay with borders".into(),
-            },
-            None => match s.element {
-                Some(MemoryElement::Relay) => "relay with borders".into(),
-                _ => "play operator".into(),
-            },
-        },
+        Effect::Hysteresis => {
+            let element: String = match model.and_then(|m| m.hysteresis.as_ref()) {
+                Some(h) => match (h.kind, h.gap()) {
+                    (MemoryElement::Play, Some(g)) => format!("play operator, gap {g:.4}"),
+                    (MemoryElement::Play, None) => "play operator".into(),
+                    (MemoryElement::Relay, _) => "relay with borders".into(),
+                },
+                None => match s.element {
+                    Some(MemoryElement::Relay) => "relay with borders".into(),
+                    _ => "play operator".into(),
+                },
+            };
+            if s.output_map_segments.is_some() {
+                format!("{element}, with the output saturation at the pinned levels")
+            } else {
+                element
+            }
+        }
         Effect::StateDependentDynamics => {
             let map = match s.output_map_segments {
                 Some(k) => format!(", output map with {k} segments"),

@@ -22,21 +22,51 @@ use crate::validation::residual::LEVEL;
 
 impl Proposal<'_> {
     /// The play operator (backlash), then the relay with borders (switch), on a static model
-    /// without an output map or stores (the element's fit holds `G` and the borders alone);
-    /// `None` when the element's memory does not carry its gain (see the module doc).
+    /// without stores and without an output map other than the output saturation alone (the
+    /// element's fit holds `G` and the borders, and the clamp at the pinned levels); on an
+    /// output pinned at a level, each first with the output saturation. `None` when the
+    /// element's memory does not carry its gain (see the module doc).
     pub fn hysteresis(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let c = self.current;
-        let plain = c.output_map_segments.is_none() && c.dynamics == Dynamics::Linear;
+        let saturation_only =
+            c.output_map_segments == Some(1) && self.holdout.opts.saturation.any();
+        let plain =
+            (c.output_map_segments.is_none() || saturation_only) && c.dynamics == Dynamics::Linear;
         if !self.holdout.opts.identify.static_nonlinearity || !plain {
             return Ok(None);
         }
-        let opts = [
+        // On an output pinned at a level, each element first through the output saturation
+        // (its simulation clamped there, `G` and the borders fitted through the clamp; no
+        // parameter more, the levels are the data check's): the pinned samples would
+        // otherwise pull the element's fit. Without the clamp it is kept only if it scores
+        // better.
+        let clamps: &[bool] = if self.holdout.opts.saturation.any() && !saturation_only {
+            &[true, false]
+        } else {
+            &[false]
+        };
+        let mut opts = Vec::new();
+        for (label, kind) in [
             ("play operator (backlash)", MemoryElement::Play),
             ("relay with borders (switch)", MemoryElement::Relay),
-        ]
-        .into_iter()
-        .map(|(label, kind)| (label.to_string(), self.with(|s| s.element = Some(kind))))
-        .collect();
+        ] {
+            for &clamp in clamps {
+                let label = if clamp {
+                    format!("{label} with the output saturation")
+                } else {
+                    label.to_string()
+                };
+                opts.push((
+                    label,
+                    self.with(|s| {
+                        s.element = Some(kind);
+                        if clamp {
+                            s.output_map_segments = Some(1);
+                        }
+                    }),
+                ));
+            }
+        }
         let cand = self.best_of(Effect::Hysteresis, opts, Metric::Simulation)?;
         Ok(cand.filter(|c| self.memory_carries_gain(c)))
     }

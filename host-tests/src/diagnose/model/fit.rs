@@ -90,6 +90,23 @@ pub(super) fn fit_structure_impl(
     opts: &FitOptions,
     held: Option<(&Record, Range<usize>)>,
 ) -> Result<ExtendedModel, DiagnoseError> {
+    // With an element, an output map is the output saturation clamping the element's
+    // simulation ([`fit_element`]); the linear part that starts the element's fit is the
+    // element's without it.
+    let full = s;
+    let unclamped;
+    let clamp = (full.element.is_some() && full.output_map_segments.is_some())
+        .then_some(&opts.saturation)
+        .filter(|sat| sat.any());
+    let s = if full.element.is_some() && full.output_map_segments.is_some() {
+        unclamped = Structure {
+            output_map_segments: None,
+            ..full.clone()
+        };
+        &unclamped
+    } else {
+        full
+    };
     // Stores start from the linear part refined on the simulation error: the subspace
     // estimate of a slow, well-damped plant can put a lightly damped complex pair where the
     // plant has two real poles. The closed-loop estimate from a reference is not refined (see
@@ -272,7 +289,7 @@ pub(super) fn fit_structure_impl(
         });
     };
     let mut model = ExtendedModel {
-        structure: s.clone(),
+        structure: full.clone(),
         hammerstein,
         x0,
         output_map: map,
@@ -292,9 +309,9 @@ pub(super) fn fit_structure_impl(
         match &held {
             Some((whole, block)) => {
                 let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
-                fit_element(&mut model, whole, &skip, kind, shared, rec.len())?;
+                fit_element(&mut model, whole, &skip, kind, shared, rec.len(), clamp)?;
             }
-            None => fit_element(&mut model, rec, &flags, kind, shared, rec.len())?,
+            None => fit_element(&mut model, rec, &flags, kind, shared, rec.len(), clamp)?,
         }
     }
     if let Some(class) = s.dynamics.stores() {

@@ -17,7 +17,9 @@
 //! * `hysteresis`: the element itself — the play operator (backlash) or the relay with
 //!   borders (switch) on the knots — and `G`, fitted by simulation error from the static or
 //!   two-path subspace estimate ([`element`]), replace the Hammerstein part's simulation, so
-//!   inputs that reverse inside the range (inner loops) are represented,
+//!   inputs that reverse inside the range (inner loops) are represented; on an output pinned
+//!   at a level, `g` with the element is the output saturation alone (the identity with flat
+//!   ends at the pinned levels), `G` and the borders fitted through it,
 //! * `outliers`: samples flagged by the MAD rule are replaced, in the identification target,
 //!   by the model's own output (robust re-estimation), and left out of the error.
 //!
