@@ -56,12 +56,17 @@ pub fn record(
 /// tested for an output that integrates and identified so when it does, with a note;
 /// `integrating=False` keeps it as given); `detrend=True` subtracts the
 /// mean output (no hold); `mu0` is a known H(umin) without a hold; `ts` (seconds) and `units`
-/// ({"input", "output"}) are recorded in the model file. What was chosen and done is in
-/// `Model.notes`. The GIL is released while identifying.
+/// ({"input", "output"}) are recorded in the model file. `friction=True` fits Coulomb
+/// friction and an offset on the model's velocity after the identification and returns that
+/// model when it simulates the last quarter of the record better (docs/friction.md; with
+/// `integrating=True`, `order=1`, `nonlinearity="static"`, `segments=1` and `ts` a note reads it
+/// as a rigid body). What was chosen and done is in `Model.notes`. The GIL is released while
+/// identifying.
 #[pyfunction]
 #[pyo3(signature = (u, y, umin, umax, *, segments=None, knots=None, nonlinearity="backlash",
     f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true, integrating=None,
-    detrend=false, mu0=None, fit="auto", reference=None, basis="hat", settle=None))]
+    detrend=false, mu0=None, fit="auto", reference=None, basis="hat", settle=None,
+    friction=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -86,6 +91,7 @@ pub fn identify(
     reference: Option<&Bound<'_, PyAny>>,
     basis: &str,
     settle: Option<usize>,
+    friction: bool,
 ) -> PyResult<Model> {
     let (u, y) = record(u, y, hold)?;
     let ts = settings::sample_time(ts)?;
@@ -105,6 +111,7 @@ pub fn identify(
     request.detrend = detrend;
     request.mu0 = mu0;
     request.settle = settle;
+    request.friction = friction;
     request.fit = ElementFit::from_name(fit).ok_or_else(|| {
         Failure::new(
             Class::Settings,
