@@ -13,14 +13,7 @@
 
 use crate::common::{Scratch, hsid, p};
 
-const TRAIN: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/emps/emps_train.csv"
-);
-const TEST: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/emps/emps_test_pulses.csv"
-);
+use crate::common::{EMPS_TEST as TEST, EMPS_TRAIN as TRAIN};
 
 /// The number after `label` in `line`.
 fn number_after(line: &str, label: &str) -> f64 {

@@ -16,14 +16,7 @@ use hsid_host::model::Record;
 use hsid_host::numerics::poly::{spectral_radius, tf_from_ss};
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
 
-const TRAIN: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/emps/emps_train.csv"
-);
-const TEST: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../shared/data/emps/emps_test_pulses.csv"
-);
+use common::{EMPS_TEST as TEST, EMPS_TRAIN as TRAIN};
 
 #[test]
 fn emps_increments_get_a_stable_model_from_a_reflected_start() {

@@ -372,16 +372,7 @@ fn fit_layout(
         admissible: &admissible,
         jacobian: Jacobian::ForwardDifference { typical: &typical },
     };
-    let base = Settings::default();
-    let settings = Settings {
-        iterations: opts.iterations,
-        min_gain: 1e-9,
-        damping: lm::Damping {
-            limit: lm::DampingLimit::Tries(14),
-            ..base.damping
-        },
-        ..base
-    };
+    let settings = Settings::simulation_fit(opts.iterations);
     // Each start minimised: the Coulomb term's scale makes the error surface bumpy (a sign
     // that saturates leaves no gradient in `v_s`), and one start can stop in a valley the
     // next one avoids.

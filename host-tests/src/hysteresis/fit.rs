@@ -203,17 +203,10 @@ pub fn fit_hysteresis_skipping(
         admissible: &admissible,
         jacobian: Jacobian::ForwardDifference { typical: &typical },
     };
-    let base = Settings::default();
     let settings = Settings {
-        iterations: opts.max_iter,
-        min_gain: 1e-9,
-        damping: lm::Damping {
-            limit: lm::DampingLimit::Tries(14),
-            ..base.damping
-        },
         divergence: Divergence::Fail { growth: 1e6 },
         exhausted: Exhausted::ReturnBest,
-        ..base
+        ..Settings::simulation_fit(opts.max_iter)
     };
     let radius = spectral_radius(&layout.linear().polynomials(&th0[layout.plant()]).f);
     if radius < 1.0 && radius >= opts.max_pole_radius {

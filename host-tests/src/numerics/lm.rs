@@ -174,6 +174,23 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// The fit of a model with its own simulation (the element with memory, friction):
+    /// [`Settings::default`] with `iterations`, a stop when a step gains less than 10⁻⁹ of the
+    /// error, and up to 14 damped steps per iteration (a simulated element's error surface has
+    /// kinks the damping has to step over).
+    pub fn simulation_fit(iterations: usize) -> Self {
+        let base = Self::default();
+        Self {
+            iterations,
+            min_gain: 1e-9,
+            damping: Damping {
+                limit: DampingLimit::Tries(14),
+                ..base.damping
+            },
+            ..base
+        }
+    }
+
     /// The prediction-error refinement: `λ` from 10⁻³ (×10 until 10¹², ÷10 down to 10⁻¹²),
     /// Cholesky steps, divergence past `10⁸ (1 + ‖θ₀‖)`, and a failure when `iterations` pass
     /// without the relative decrease falling below `min_gain`.

@@ -138,6 +138,19 @@ pub fn hsid<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
     run
 }
 
+/// The EMPS positioning drive's training record (`../shared/data/emps/`, the benchmark's own
+/// files, read in place and never copied into the project).
+pub const EMPS_TRAIN: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/emps/emps_train.csv"
+);
+
+/// The EMPS test record (with its disturbance pulses).
+pub const EMPS_TEST: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../shared/data/emps/emps_test_pulses.csv"
+);
+
 /// The bundled servo record (`examples/data/servo.csv`, input in [-1, 1]).
 pub fn servo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
