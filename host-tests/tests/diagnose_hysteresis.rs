@@ -10,20 +10,13 @@
 
 use hsid_host::diagnose::{DiagnoseOptions, Effect, Validation, diagnose};
 use hsid_host::hysteresis::servo::{HOLD, RANGE, Servo};
-use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::Element;
 use hsid_host::model::{MemoryElement, Record};
 use hsid_host::report::fit;
 
 const LEN: usize = 3000;
 
 fn options() -> DiagnoseOptions {
-    let id = IdentifyOptions {
-        static_nonlinearity: true,
-        order: Some(2),
-        ..IdentifyOptions::uniform(-RANGE, RANGE, 6, HOLD)
-    };
-    DiagnoseOptions::new(id, Element::Static)
+    crate::common::static_order_two(RANGE, HOLD)
 }
 
 /// The diagnosis and the validation record's noise floor (RMSE of the noise itself after the

@@ -16,8 +16,7 @@ use hsid_host::diagnose::model::{FitOptions, evaluate, fit_structure};
 use hsid_host::diagnose::{
     DiagnoseOptions, Diagnosis, Effect, InitialState, Metric, Structure, Validation, diagnose,
 };
-use hsid_host::identify::IdentifyOptions;
-use hsid_host::model::{Element, Record};
+use hsid_host::model::Record;
 use hsid_host::report::fit;
 use hsid_host::validation::checks::saturation;
 
@@ -117,12 +116,7 @@ fn pinned(y: &[f64]) -> f64 {
 }
 
 fn options() -> DiagnoseOptions {
-    let id = IdentifyOptions {
-        static_nonlinearity: true,
-        order: Some(2),
-        ..IdentifyOptions::uniform(-RANGE, RANGE, 6, HOLD)
-    };
-    DiagnoseOptions::new(id, Element::Static)
+    crate::common::static_order_two(RANGE, HOLD)
 }
 
 /// What a run gives.

@@ -151,6 +151,17 @@ pub const EMPS_TEST: &str = concat!(
     "/../../shared/data/emps/emps_test_pulses.csv"
 );
 
+/// The diagnosis of a static model of order 2 with 6 uniform segments on `[-range, range]`
+/// after a hold of `hold` samples: the start the element-with-memory tests diagnose from.
+pub fn static_order_two(range: f64, hold: usize) -> hsid_host::diagnose::DiagnoseOptions {
+    let id = hsid_host::identify::IdentifyOptions {
+        static_nonlinearity: true,
+        order: Some(2),
+        ..hsid_host::identify::IdentifyOptions::uniform(-range, range, 6, hold)
+    };
+    hsid_host::diagnose::DiagnoseOptions::new(id, hsid_host::model::Element::Static)
+}
+
 /// The bundled servo record (`examples/data/servo.csv`, input in [-1, 1]).
 pub fn servo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/data/servo.csv")
