@@ -197,6 +197,13 @@ pub fn run(a: &IdentifyArgs) -> Result<(), Failure> {
         outln!("{line}")?;
     }
     let record = &id.record;
+    let friction = id.friction.as_ref().is_some_and(|f| f.reported);
+    if friction && (a.figures.dir().is_some() || a.html.is_some()) {
+        outln!(
+            "note: the figures and the page draw the identified model without friction (they do \
+             not draw friction yet); the lines above and --json give the model with it"
+        )?;
+    }
     let settings =
         crate::figures::settings(&a.figures, record.ts, record.units.as_ref(), &id.best.model)?;
     let figures = crate::figures::identified(&a.figures, &id, &settings)?;
