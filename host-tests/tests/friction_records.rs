@@ -118,6 +118,8 @@ fn a_body_with_coulomb_friction_and_stiction_is_read_back() {
         let step = id.friction.as_ref().unwrap();
         let lines = id.lines().unwrap();
         assert!(step.reported, "{lines:#?}");
+        // The identified linear model's equation error depends on the direction of motion.
+        assert!(step.evidence.unwrap().fires(), "{lines:#?}");
         assert!(step.with < 0.5 * step.without, "{lines:#?}");
         let ph = step.physical.unwrap();
         for l in lines.iter().filter(|l| l.starts_with("--friction")) {
@@ -139,7 +141,7 @@ fn a_body_with_coulomb_friction_and_stiction_is_read_back() {
 }
 
 #[test]
-fn without_friction_the_step_finds_none_and_keeps_the_model() {
+fn without_friction_the_step_finds_none_and_the_test_stays_quiet() {
     let body = Body {
         mass: 2.0,
         viscous: 5.0,
@@ -147,18 +149,20 @@ fn without_friction_the_step_finds_none_and_keeps_the_model() {
         offset: 0.0,
     };
     let ts = 1e-3;
-    let (u, y) = record(&body, 20_000, ts, 6.0, 1e-6, 21);
-    let mut rec = Record::new(u, y).unwrap();
-    rec.ts = Some(ts);
-    let id = identify_record(&rec, &request(-6.0, 6.0)).unwrap();
-    let step = id.friction.as_ref().unwrap();
-    let lines = id.lines().unwrap();
-    let ph = step.physical.unwrap();
-    // A friction that is not there is read as (nearly) none.
-    assert!(ph.coulomb.abs() < 0.05, "{lines:#?}");
-    assert!(ph.offset.abs() < 0.05, "{lines:#?}");
-    assert!((ph.mass - 2.0).abs() < 0.1, "{lines:#?}");
-    if let Some(e) = &step.evidence {
+    for seed in [21u64, 22, 23, 24] {
+        let (u, y) = record(&body, 20_000, ts, 6.0, 1e-6, seed);
+        let mut rec = Record::new(u, y).unwrap();
+        rec.ts = Some(ts);
+        let id = identify_record(&rec, &request(-6.0, 6.0)).unwrap();
+        let step = id.friction.as_ref().unwrap();
+        let lines = id.lines().unwrap();
+        let ph = step.physical.unwrap();
+        // A friction that is not there is read as (nearly) none.
+        assert!(ph.coulomb.abs() < 0.05, "{lines:#?}");
+        assert!(ph.offset.abs() < 0.05, "{lines:#?}");
+        assert!((ph.mass - 2.0).abs() < 0.1, "{lines:#?}");
+        let e = step.evidence.unwrap();
+        eprintln!("no friction, seed {seed}: {e:?}");
         assert!(!e.fires(), "{e:?}: {lines:#?}");
     }
 }

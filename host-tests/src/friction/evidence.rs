@@ -2,6 +2,18 @@
 //! pushes the output one way while the drive moves up and the other way while it moves
 //! down.
 //!
+//! [`velocity_sign_arx`] asks it of the model's equation: the output (an integrating plant's
+//! increment) regressed on its own past, the element's past output, `sign(v̂(t − 1))` and `1`
+//! (an ARX model of the model's order with the friction regressors, as the fit starts from);
+//! the sign's coefficient is the Coulomb force times `G`'s gain, and its t statistic, with
+//! Newey–West errors over `⌈4 (N/100)^{2/9}⌉` lags, is the test, together with its size: the
+//! Coulomb force it implies (the coefficient over the element's gain, `Σ bᵢ`) has to be at
+//! least 2 % of the element's output's spread ([`VelocitySign::MIN_FORCE_SHARE`]). On a long
+//! record with little noise any small mismatch of the linear model is significant (a
+//! frictionless body's record of 20,000 samples gives |t| near 3), but it implies no force a
+//! drive would notice. [`velocity_sign`] asks it of a simulation's residual
+//! directly, which drifts and so tests weakly:
+//!
 //! The residual `r(t)` (of an integrating plant: its increments, the error of the velocity)
 //! is regressed on `1` and `sign(v̂(t))`, where `v̂` is the model's simulated velocity and the
 //! samples where the model barely moves (`|v̂| < 5 %` of its RMS) are left out. The residual
@@ -21,16 +33,85 @@ pub struct VelocitySign {
     pub t: f64,
     /// Samples used.
     pub samples: usize,
+    /// The Coulomb force the coefficient implies over the standard deviation of the element's
+    /// output ([`velocity_sign_arx`]); `NaN` for [`velocity_sign`].
+    pub force_share: f64,
 }
 
 impl VelocitySign {
     /// The threshold on `|t|`.
     pub const THRESHOLD: f64 = 3.0;
 
-    /// Whether the residual depends on the direction of motion.
+    /// The smallest force share that counts, where it is measured.
+    pub const MIN_FORCE_SHARE: f64 = 0.02;
+
+    /// Whether the residual depends on the direction of motion: significantly, and (where it
+    /// is measured) by a force of at least [`MIN_FORCE_SHARE`](Self::MIN_FORCE_SHARE) of the
+    /// element's output's spread.
     pub fn fires(&self) -> bool {
         self.t.abs() > Self::THRESHOLD
+            && (self.force_share.is_nan() || self.force_share >= Self::MIN_FORCE_SHARE)
     }
+}
+
+/// The test in the model's equation: `s` the output (an integrating plant's increments), `h`
+/// the element's output, `v` the simulated velocity, all of one length, `n` the order. `None`
+/// when fewer than `2n + 20` samples move, all move one way, or the regression is singular.
+pub fn velocity_sign_arx(s: &[f64], h: &[f64], v: &[f64], n: usize) -> Option<VelocitySign> {
+    use crate::numerics::lstsq::{Scaling, lstsq};
+    use nalgebra::{DMatrix, DVector};
+    let len = s.len().min(h.len()).min(v.len());
+    let floor = 0.05 * rms(v);
+    let rows: Vec<usize> = (n.max(1)..len)
+        .filter(|&t| v[t - 1].abs() > floor)
+        .collect();
+    let k = 2 * n + 2;
+    let up = rows.iter().filter(|&&t| v[t - 1] > 0.0).count();
+    if rows.len() < k + 20 || up == 0 || up == rows.len() {
+        return None;
+    }
+    let x = DMatrix::from_fn(rows.len(), k, |r, j| {
+        let t = rows[r];
+        if j < n {
+            -s[t - 1 - j]
+        } else if j < 2 * n {
+            h[t - 1 - (j - n)]
+        } else if j == 2 * n {
+            v[t - 1].signum()
+        } else {
+            1.0
+        }
+    });
+    let y = DVector::from_iterator(rows.len(), rows.iter().map(|&t| s[t]));
+    let th = lstsq(&x, &y, Scaling::UnitDiagonal)?;
+    let e = &y - &x * &th;
+    // Newey–West covariance of the sign's coefficient: (XᵀX)⁻¹ S (XᵀX)⁻¹, row 2n.
+    let xtx_inv = x.tr_mul(&x).try_inverse()?;
+    let c = xtx_inv.row(2 * n).transpose();
+    // z_t = (cᵀ x_t) e_t: the coefficient's influence of each row.
+    let z: Vec<f64> = (0..rows.len())
+        .map(|r| x.row(r).dot(&c.transpose()) * e[r])
+        .collect();
+    let nf = rows.len() as f64;
+    let lags = ((4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize).min(rows.len() - 1);
+    let mut var = z.iter().map(|v| v * v).sum::<f64>();
+    for l in 1..=lags {
+        let w = 1.0 - l as f64 / (lags as f64 + 1.0);
+        var += 2.0 * w * z.iter().zip(&z[l..]).map(|(a, b)| a * b).sum::<f64>();
+    }
+    let beta = th[2 * n];
+    let se = var.max(0.0).sqrt();
+    // The Coulomb force the coefficient implies, against the spread of the element's output.
+    let gain: f64 = th.iter().skip(n).take(n).sum();
+    let hs: Vec<f64> = rows.iter().map(|&t| h[t - 1]).collect();
+    let hm = hs.iter().sum::<f64>() / nf;
+    let spread = (hs.iter().map(|v| (v - hm) * (v - hm)).sum::<f64>() / nf).sqrt();
+    Some(VelocitySign {
+        difference: beta,
+        t: beta / se,
+        samples: rows.len(),
+        force_share: (beta / gain).abs() / spread,
+    })
 }
 
 /// The test on the residual `r` and the simulated velocity `v` (same length); `None` when
@@ -82,6 +163,7 @@ pub fn velocity_sign(r: &[f64], v: &[f64]) -> Option<VelocitySign> {
         difference: beta,
         t: beta / se,
         samples: n,
+        force_share: f64::NAN,
     })
 }
 

@@ -289,6 +289,9 @@ fn fit_layout(
             .sum()
     };
     let v_rms = crate::numerics::rms(velocity);
+    // Beyond half the velocity's RMS the smoothed sign is a line over the record's velocities:
+    // viscous friction, which `G` holds, not Coulomb friction.
+    let v_max = 0.5 * v_rms;
     let order = layout.n;
     let none = Friction {
         coulomb: 0.0,
@@ -349,7 +352,7 @@ fn fit_layout(
     };
     let admissible = |th: &[f64]| {
         let (g, fr, _) = layout.parts(th, initial);
-        spectral_radius(&g.f) < 1.0 && smooth_enough(&g, &fr)
+        spectral_radius(&g.f) < 1.0 && smooth_enough(&g, &fr) && fr.velocity_scale <= v_max
     };
     let h_rms = crate::numerics::rms(h).max(f64::MIN_POSITIVE);
     let t_rms = crate::numerics::rms(target).max(f64::MIN_POSITIVE);

@@ -14,11 +14,17 @@ use super::{IdentifyRequest, Lines, baseline::fit_percent};
 use crate::choose::holdout::{FIT_FRACTION, holdout_start, nrmse};
 use crate::friction::{
     Friction, FrictionFit, FrictionModel, FrictionOptions, Initial, Physical, VelocitySign,
-    fit_friction, velocity_sign,
+    fit_friction, velocity_sign_arx,
 };
 use crate::identify::HostModel;
 use crate::model::Record;
 use crate::model_file::Units;
+
+/// The friction model is reported when its hold-out NRMSE is below this share of the model's
+/// without friction (a 4 % smaller squared error): a fit that only matches the model without
+/// friction (a record with no friction, where `F_c` and `v_s` trade against `G`'s damping) keeps
+/// the simpler model.
+const REPORT_MARGIN: f64 = 0.98;
 
 /// What the friction step found.
 #[derive(Clone, Debug, PartialEq)]
@@ -68,10 +74,11 @@ pub(crate) fn step(
     let score = |sim: &[f64]| nrmse(&target[cut..], &sim[cut..]).unwrap_or(f64::INFINITY);
     let plain_sim = plain.simulate_from(u, plain_start);
     let without = score(&plain_sim);
-    let evidence = direction_evidence(&plain_sim, &target, integrating);
+    let h = model.element_output_from(u, model.u_min());
+    let evidence = direction_evidence(&plain_sim, y, &h, model.order);
     let with = score(&part.model.simulate_from(u, part.initial));
     let fit = fit_friction(u, y, &[], model, integrating, &opts).map_err(fail)?;
-    let reported = with < without;
+    let reported = with < REPORT_MARGIN * without;
     let physical = record.ts.and_then(|ts| Physical::of(&fit.model, ts));
     let mut lines = vec![evidence_line(evidence.as_ref(), flag)];
     lines.push(friction_line(&fit.model.friction, flag, integrating));
@@ -109,46 +116,39 @@ pub(crate) fn step(
     ))
 }
 
-/// The direction test on the simulation `sim` of the identified model against `target` (the
-/// position of an integrating plant: its increments are tested, the error of the velocity).
-fn direction_evidence(sim: &[f64], target: &[f64], integrating: bool) -> Option<VelocitySign> {
-    let diff = |x: &[f64]| -> Vec<f64> { x.windows(2).map(|w| w[1] - w[0]).collect() };
-    let velocity = diff(sim);
-    let residual: Vec<f64> = match integrating {
-        true => diff(target)
-            .iter()
-            .zip(&velocity)
-            .map(|(y, s)| y - s)
-            .collect(),
-        false => target[1..]
-            .iter()
-            .zip(&sim[1..])
-            .map(|(y, s)| y - s)
-            .collect(),
-    };
-    velocity_sign(&residual, &velocity)
+/// The direction test in the identified model's equation ([`velocity_sign_arx`]): `sim` its
+/// simulation (the position of an integrating plant), `s` the record's output (an integrating
+/// plant's increments), `h` its element's output, `n` its order.
+fn direction_evidence(sim: &[f64], s: &[f64], h: &[f64], n: usize) -> Option<VelocitySign> {
+    let velocity: Vec<f64> = std::iter::once(0.0)
+        .chain(sim.windows(2).map(|w| w[1] - w[0]))
+        .collect();
+    velocity_sign_arx(s, h, &velocity, n)
 }
 
 /// The evidence's line.
 fn evidence_line(e: Option<&VelocitySign>, flag: &str) -> String {
     match e {
         Some(e) => format!(
-            "{flag}: the identified model's residual {} on the direction it moves (moving up \
-             against down: {:+.3e}, t = {:.1} with Newey–West errors over {} samples; the test \
-             fires beyond |t| = {})",
+            "{flag}: the identified model's equation error {} on the direction it moves (the \
+             sign of its simulated velocity as a regressor beside its ARX terms: coefficient \
+             {:+.3e}, t = {:.1} with Newey–West errors over {} samples, a Coulomb force of \
+             {:.1} % of the element's output's spread; the test fires beyond |t| = {} and {} %)",
             if e.fires() {
                 "depends"
             } else {
                 "does not depend significantly"
             },
-            2.0 * e.difference,
+            e.difference,
             e.t,
             e.samples,
-            VelocitySign::THRESHOLD
+            100.0 * e.force_share,
+            VelocitySign::THRESHOLD,
+            100.0 * VelocitySign::MIN_FORCE_SHARE
         ),
         None => format!(
-            "{flag}: the identified model moves one way only: the residual cannot be tested \
-             for the direction of motion"
+            "{flag}: the identified model moves one way only (or the regression is singular): \
+             its equation error cannot be tested for the direction of motion"
         ),
     }
 }
