@@ -4,6 +4,12 @@ use serde::Serialize;
 
 use super::warning::{Check, Warning, warn};
 
+/// The smallest quantisation step looked for, relative to the output's largest magnitude: a
+/// grid finer than 10⁻¹⁰ of it is the floating point's (an output differenced in floating
+/// point keeps the rounding of the values it came from, 10⁻¹⁷ of a position of 0.3 in an
+/// increment of 10⁻⁵), not a sensor's (a counter of 10¹⁰ steps is finer than any in use).
+const GRID_RESOLUTION: f64 = 1e-10;
+
 /// Levels at which the measured output saturates (found by the data checks).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Saturation {
@@ -73,13 +79,18 @@ pub(crate) fn output_sensor(y: &[f64]) -> Vec<Warning> {
     sorted.sort_by(f64::total_cmp);
     sorted.dedup();
     if sorted.len() >= 3 && sorted.len() * 5 < n {
+        // Differences below `GRID_RESOLUTION` of the output's size are the floating point's,
+        // not a sensor's (an output differenced or rescaled in floating point has them): they
+        // are not the grid, and a step that small would put every value on it.
+        let size = sorted.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let step = sorted
             .windows(2)
             .map(|w| w[1] - w[0])
+            .filter(|&d| d > GRID_RESOLUTION * size)
             .fold(f64::INFINITY, f64::min);
-        let on_grid = y
-            .iter()
-            .all(|v| ((v / step) - (v / step).round()).abs() < 1e-6);
+        let on_grid = step.is_finite()
+            && y.iter()
+                .all(|v| ((v / step) - (v / step).round()).abs() < 1e-6);
         if on_grid {
             out.push(warn(
                 Check::OutputQuantisation,
@@ -92,4 +103,31 @@ pub(crate) fn output_sensor(y: &[f64]) -> Vec<Warning> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floating_point_differences_are_not_a_sensor_grid() {
+        // Increments of a position on a 1e-6 grid, differenced in floating point: the
+        // differences carry noise near 1e-22, the sensor's grid is 1e-6, and that is found.
+        let pos: Vec<f64> = (0..4000)
+            .map(|t| 0.3 + 1e-6 * ((t / 7) % 9) as f64)
+            .collect();
+        let inc: Vec<f64> = pos.windows(2).map(|w| w[1] - w[0]).collect();
+        let out = output_sensor(&inc);
+        let q: Vec<&Warning> = out
+            .iter()
+            .filter(|w| w.check == Check::OutputQuantisation)
+            .collect();
+        assert_eq!(q.len(), 1, "{out:?}");
+        let step: f64 = q[0].message["the output is quantised in steps of ".len()..]
+            .split_whitespace()
+            .next()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(f64::NAN);
+        assert!((step - 1e-6).abs() < 1e-9, "{}", q[0].message);
+    }
 }
