@@ -23,6 +23,7 @@
 //! when `|t| > 3`.
 
 use crate::numerics::rms;
+use crate::validation::stats::newey_west_var_of_mean;
 
 /// The outcome of [`velocity_sign`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,14 +94,11 @@ pub fn velocity_sign_arx(s: &[f64], h: &[f64], v: &[f64], n: usize) -> Option<Ve
         .map(|r| x.row(r).dot(&c.transpose()) * e[r])
         .collect();
     let nf = rows.len() as f64;
-    let lags = ((4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize).min(rows.len() - 1);
-    let mut var = z.iter().map(|v| v * v).sum::<f64>();
-    for l in 1..=lags {
-        let w = 1.0 - l as f64 / (lags as f64 + 1.0);
-        var += 2.0 * w * z.iter().zip(&z[l..]).map(|(a, b)| a * b).sum::<f64>();
-    }
+    // Σ_t Σ_s w(|t − s|) z_t z_s = N² · the Newey–West variance of z's mean (z has mean 0:
+    // the residual is orthogonal to the regressors).
+    let lags = (4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize;
     let beta = th[2 * n];
-    let se = var.max(0.0).sqrt();
+    let se = nf * newey_west_var_of_mean(&z, lags).sqrt();
     // The Coulomb force the coefficient implies, against the spread of the element's output.
     let gain: f64 = th.iter().skip(n).take(n).sum();
     let hs: Vec<f64> = rows.iter().map(|&t| h[t - 1]).collect();
@@ -149,16 +147,9 @@ pub fn velocity_sign(r: &[f64], v: &[f64]) -> Option<VelocitySign> {
         .map(<[(f64, f64)]>::len)
         .max()
         .unwrap_or(1);
-    let lags = ((4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize)
-        .max(longest)
-        .min(n - 1);
-    let mut s = xe.iter().map(|v| v * v).sum::<f64>();
-    for l in 1..=lags {
-        let w = 1.0 - l as f64 / (lags as f64 + 1.0);
-        let c: f64 = xe.iter().zip(&xe[l..]).map(|(a, b)| a * b).sum();
-        s += 2.0 * w * c;
-    }
-    let se = s.max(0.0).sqrt() / sxx;
+    let lags = ((4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize).max(longest);
+    // Σ_t Σ_s w(|t − s|) xe_t xe_s = N² · the Newey–West variance of xe's mean (mean 0).
+    let se = nf * newey_west_var_of_mean(&xe, lags).sqrt() / sxx;
     Some(VelocitySign {
         difference: beta,
         t: beta / se,

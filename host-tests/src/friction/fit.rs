@@ -28,7 +28,7 @@ use super::model::{Friction, FrictionModel, Initial, Polynomials, StartState, de
 use crate::identify::HostModel;
 use crate::numerics::lm::{self, Jacobian, LmFailure, Problem, Settings, minimise};
 use crate::numerics::lstsq::{Scaling, lstsq};
-use crate::numerics::poly::{spectral_radius, tf_from_ss};
+use crate::numerics::poly::spectral_radius;
 
 /// The velocity scales of the start, as fractions of the velocity's RMS.
 const SCALES: [f64; 5] = [0.003, 0.01, 0.03, 0.1, 0.3];
@@ -176,29 +176,13 @@ pub fn fit_friction(
             .sum()
     };
     // The identified model as polynomials, no friction.
-    let (mut b0, f0) = tf_from_ss(&start.a, &start.b, &start.c, start.d);
-    let feedthrough = b0.first().copied().unwrap_or(0.0);
-    b0.resize(f0.len(), 0.0);
-    // A feed-through moves to the next sample (the friction loop needs a strictly proper G).
-    if let Some(b1) = b0.get_mut(1) {
-        *b1 += feedthrough;
-    }
-    b0[0] = 0.0;
-    let identified = Polynomials {
-        b: b0,
-        f: f0.clone(),
-    };
-    let none = Friction {
-        coulomb: 0.0,
-        velocity_scale: v_rms * 0.01,
-        offset: 0.0,
-        delay: 0,
-    };
+    let identified = Polynomials::strictly_proper(start);
+    let none = Friction::none(v_rms * 0.01);
     let sse_identified = sse_of(&run(&identified, &none, &h_raw, integrating, initial));
     if !sse_identified.is_finite() {
         return Err(FrictionError::StartDoesNotSimulate);
     }
-    let order = f0.len() - 1;
+    let order = identified.f.len() - 1;
     let mut fitted: Option<(f64, Layout, lm::Minimum)> = None;
     let mut last_error = None;
     for delay in 0..=MAX_DELAY {
@@ -294,10 +278,8 @@ fn fit_layout(
     let v_max = 0.5 * v_rms;
     let order = layout.n;
     let none = Friction {
-        coulomb: 0.0,
-        velocity_scale: v_rms * 0.01,
-        offset: 0.0,
         delay: layout.delay,
+        ..Friction::none(v_rms * 0.01)
     };
     let sse0 = sse_of(&run(identified, &none, h, integrating, initial));
     // One start per velocity scale (the better of the regression's model and the identified

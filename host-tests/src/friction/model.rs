@@ -24,6 +24,16 @@ pub struct Friction {
 }
 
 impl Friction {
+    /// No friction (the velocity scale `velocity_scale` kept for a fit to start from).
+    pub(crate) fn none(velocity_scale: f64) -> Self {
+        Self {
+            coulomb: 0.0,
+            velocity_scale,
+            offset: 0.0,
+            delay: 0,
+        }
+    }
+
     /// The force at velocity `v`.
     pub fn force(&self, v: f64) -> f64 {
         self.coulomb * (v / self.velocity_scale).tanh() + self.offset
@@ -69,6 +79,19 @@ pub(crate) struct Polynomials {
 }
 
 impl Polynomials {
+    /// `G` of `model` made strictly proper: a feed-through moves to the next sample (the
+    /// friction loop needs the velocity before the sample's input acts).
+    pub fn strictly_proper(model: &HostModel) -> Self {
+        let (mut b, f) = tf_from_ss(&model.a, &model.b, &model.c, model.d);
+        b.resize(f.len(), 0.0);
+        let d = b[0];
+        if let Some(b1) = b.get_mut(1) {
+            *b1 += d;
+        }
+        b[0] = 0.0;
+        Self { b, f }
+    }
+
     /// `G(1)`.
     pub fn gain(&self) -> f64 {
         self.b.iter().sum::<f64>() / self.f.iter().sum::<f64>()
@@ -121,20 +144,8 @@ impl FrictionModel {
     /// The identified model `model` as a friction model without friction (its feed-through
     /// moved a sample later, as [`fit_friction`](super::fit_friction) starts from it).
     pub(crate) fn normalised_plain(model: &HostModel, integrating: bool) -> Self {
-        let (mut b, f) = tf_from_ss(&model.a, &model.b, &model.c, model.d);
-        b.resize(f.len(), 0.0);
-        let d = b[0];
-        if let Some(b1) = b.get_mut(1) {
-            *b1 += d;
-        }
-        b[0] = 0.0;
-        let none = Friction {
-            coulomb: 0.0,
-            velocity_scale: 1.0,
-            offset: 0.0,
-            delay: 0,
-        };
-        Self::normalised(model, &Polynomials { b, f }, &none, integrating)
+        let g = Polynomials::strictly_proper(model);
+        Self::normalised(model, &g, &Friction::none(1.0), integrating)
     }
 
     /// `G` as polynomials (the feed-through, zero in a fitted model, is dropped).
