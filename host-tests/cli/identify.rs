@@ -61,9 +61,10 @@ pub struct IdentifyArgs {
     #[arg(long, value_enum, default_value = "hat")]
     basis: BasisArg,
     /// The input element: backlash or switch (two paths, Table I data), or static (one
-    /// memoryless border for both directions, any input).
-    #[arg(long, value_enum, default_value = "backlash")]
-    nonlinearity: Element,
+    /// memoryless border for both directions, any input). Not given: backlash, with the static
+    /// element identified beside it and reported when it simulates the inner hold-out better.
+    #[arg(long, value_enum)]
+    nonlinearity: Option<Element>,
     /// Known μ0 = H(u_min), for data without a hold (`--hold 0`). Without it, and without a
     /// hold, μ0 is estimated with the model.
     #[arg(
@@ -168,7 +169,8 @@ pub fn request(a: &IdentifyArgs) -> IdentifyRequest {
     r.knots_desc = a.knots.knots_desc.clone();
     r.order = a.order;
     r.horizons = a.horizons.given();
-    r.element = a.nonlinearity;
+    r.element = a.nonlinearity.unwrap_or(Element::Backlash);
+    r.choose_element = a.nonlinearity.is_none();
     r.basis = a.basis.into();
     r.mu0 = a.mu0;
     r.detrend = a.detrend;

@@ -27,6 +27,7 @@ mod diagnose_measured;
 mod diagnose_reference;
 mod diagnose_saturation;
 mod distributions;
+mod element_choice;
 mod error_messages;
 mod figures;
 mod firmware;

@@ -167,7 +167,7 @@ def identify(
     *,
     segments: Union[int, Literal["auto"], None] = None,
     knots: Union[FloatArray, Tuple[FloatArray, FloatArray], None] = None,
-    nonlinearity: Literal["backlash", "switch", "static"] = "backlash",
+    nonlinearity: Optional[Literal["backlash", "switch", "static"]] = None,
     f: Optional[int] = None,
     p: Optional[int] = None,
     order: Optional[int] = None,

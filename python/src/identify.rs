@@ -49,7 +49,9 @@ pub fn record(
 /// The library's identify workflow, as `hsid identify` runs it: segments per path (7, 10 or
 /// 14), horizons and order are chosen from the data and the model is refined by the
 /// prediction-error method; with `fit="auto"` (the default) the element itself is fitted by
-/// simulation error when the input reverses inside the range. The paper's estimator is
+/// simulation error when the input reverses inside the range. `nonlinearity` names the
+/// element; left out, the backlash is identified with the static element beside it (at the
+/// same structure) and the better on the inner hold-out is returned. The paper's estimator is
 /// `refine=False, segments=7, f=10, p=10`. `knots` (one array for both paths or a pair)
 /// replaces uniform segments; `reference` (an array, one value per sample) gives the
 /// closed-loop estimate; `integrating=True` fixes a pole at z = 1 (left out, the record is
@@ -63,7 +65,7 @@ pub fn record(
 /// as a rigid body). What was chosen and done is in `Model.notes`. The GIL is released while
 /// identifying.
 #[pyfunction]
-#[pyo3(signature = (u, y, umin, umax, *, segments=None, knots=None, nonlinearity="backlash",
+#[pyo3(signature = (u, y, umin, umax, *, segments=None, knots=None, nonlinearity=None,
     f=None, p=None, order=None, hold=300, ts=None, units=None, refine=true, integrating=None,
     detrend=false, mu0=None, fit="auto", reference=None, basis="hat", settle=None,
     friction=false))]
@@ -76,7 +78,7 @@ pub fn identify(
     umax: f64,
     segments: Option<&Bound<'_, PyAny>>,
     knots: Option<&Bound<'_, PyAny>>,
-    nonlinearity: &str,
+    nonlinearity: Option<&str>,
     f: Option<usize>,
     p: Option<usize>,
     order: Option<usize>,
@@ -101,11 +103,12 @@ pub fn identify(
         umax,
         settings::segments(segments)?,
         settings::knots(knots)?,
-        settings::nonlinearity(nonlinearity)?,
+        settings::nonlinearity(nonlinearity.unwrap_or("backlash"))?,
         settings::horizons(f, p),
         order,
         refine,
     );
+    request.choose_element = nonlinearity.is_none();
     request.integrating = integrating == Some(true);
     request.detect_integrating = integrating.is_none();
     request.detrend = detrend;

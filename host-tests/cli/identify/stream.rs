@@ -93,7 +93,7 @@ pub fn run(a: &IdentifyArgs, request: &IdentifyRequest) -> Result<(), Failure> {
         )?;
     }
     if let Some(out) = &a.out.json {
-        let mut file = model.to_json(Some(a.nonlinearity));
+        let mut file = model.to_json(Some(request.element));
         file.sample_time = ts;
         file.units = units;
         file.save(out).map_err(|e| e.to_string())?;

@@ -2,6 +2,7 @@
 //! by the prediction-error method, and the refined model's order by an information criterion.
 //! The paper's estimator (PI-MOESP at the given horizons, no refinement) stays one setting away.
 
+mod element;
 mod file;
 pub mod holdout;
 mod horizons;
@@ -10,6 +11,7 @@ mod linear;
 mod order;
 mod start;
 
+pub use element::static_beside;
 pub use file::{model_std, noise_file};
 
 pub use horizons::{

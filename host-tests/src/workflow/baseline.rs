@@ -7,6 +7,10 @@
 //! structure the user gave ([`IdentifyRequest::structure_given`]: knots, a segment count or
 //! horizons) is kept: its model is reported, or its refusal stands, and the line still says
 //! which simulates the hold-out better.
+//!
+//! When the user named no element ([`IdentifyRequest::choose_element`]), the static model at
+//! the two-path model's structure ([`static_beside`](crate::choose::static_beside)) is a third
+//! candidate on the same hold-out: the element is chosen from the data, not assumed.
 
 use super::{IdentifyRequest, Plan};
 use crate::choose::holdout::{FIT_FRACTION, element_holdout, nrmse, pem_holdout};
@@ -22,6 +26,9 @@ pub enum Reported {
     Model,
     /// The linear baseline.
     Linear,
+    /// The static element beside the request's two-path one (the element chosen from the
+    /// data).
+    Static,
 }
 
 /// Where the candidates were scored.
@@ -40,6 +47,8 @@ pub struct Comparison {
     pub model: f64,
     /// The linear baseline's.
     pub linear: f64,
+    /// The static model's, when it was a candidate.
+    pub static_model: Option<f64>,
     /// Where.
     pub on: ScoredOn,
     /// The one reported.
@@ -53,6 +62,19 @@ pub enum Baseline {
     Compared(Comparison),
     /// Reported alone: the model with the element could not be identified (why).
     Alone(String),
+    /// The model with the element could not be identified (`why`); the static model, left to
+    /// the data ([`IdentifyRequest::choose_element`]), was identified with its own choices
+    /// and compared with the linear baseline on the inner hold-out.
+    Instead {
+        /// Why the model with the element could not be identified.
+        why: String,
+        /// The static model's hold-out NRMSE.
+        static_model: f64,
+        /// The linear baseline's.
+        linear: f64,
+        /// [`Reported::Static`] or [`Reported::Linear`].
+        reported: Reported,
+    },
     /// Not available: the linear model could not be identified (why); the model is reported.
     Failed(String),
 }
@@ -79,19 +101,40 @@ impl Baseline {
                     }
                 };
                 let reported = match c.reported {
-                    Reported::Model if c.linear < c.model => format!(
-                        "the {element} model is reported as its structure was given (knots, \
-                         segments or horizons); the linear model simulates the held-out \
-                         samples better"
-                    ),
+                    Reported::Model
+                        if c.linear < c.model || c.static_model.is_some_and(|s| s < c.model) =>
+                    {
+                        format!(
+                            "the {element} model is reported as its structure was given (knots, \
+                         segments or horizons); {} simulates the held-out samples better",
+                            match c.linear < c.model {
+                                true => "the linear model",
+                                false => "the static model",
+                            }
+                        )
+                    }
                     Reported::Model => format!("the {element} model is reported"),
                     Reported::Linear => format!(
-                        "the linear model is reported (the {element} model did not simulate \
-                         the held-out samples better)"
+                        "the linear model is reported (the {element} model{} did not simulate \
+                         the held-out samples better)",
+                        match c.static_model {
+                            Some(_) => " and the static model",
+                            None => "",
+                        }
+                    ),
+                    Reported::Static => format!(
+                        "the static model is reported: the element was chosen from the data \
+                         (the {element} model's memory did not simulate the held-out samples \
+                         better; name the element to keep it)"
                     ),
                 };
+                let static_fit = c
+                    .static_model
+                    .map(|s| format!("static model: fit {:.1} %; ", fit_percent(s)))
+                    .unwrap_or_default();
                 format!(
-                    "linear OE: fit {:.1} %; {element} model: fit {:.1} % ({on}): {reported}",
+                    "linear OE: fit {:.1} %; {static_fit}{element} model: fit {:.1} % ({on}): \
+                     {reported}",
                     fit_percent(c.linear),
                     fit_percent(c.model)
                 )
@@ -100,7 +143,34 @@ impl Baseline {
                 "the {element} model could not be identified ({why}): the linear model (static \
                  element, one segment) is reported"
             ),
+            Baseline::Instead {
+                why,
+                static_model,
+                linear,
+                reported,
+            } => format!(
+                "the {element} model could not be identified ({why}): linear OE: fit {:.1} %; \
+                 static model: fit {:.1} % (simulation on the last {:.0} % of the estimation \
+                 record, each model refitted on the first {:.0} %): the {} model is reported",
+                fit_percent(*linear),
+                fit_percent(*static_model),
+                100.0 * (1.0 - FIT_FRACTION),
+                100.0 * FIT_FRACTION,
+                match reported {
+                    Reported::Static => "static",
+                    _ => "linear",
+                }
+            ),
             Baseline::Failed(why) => format!("no linear baseline: {why}"),
+        }
+    }
+
+    /// Whether the static model chosen from the data is the one reported.
+    pub fn reports_static(&self) -> bool {
+        match self {
+            Baseline::Compared(c) => c.reported == Reported::Static,
+            Baseline::Instead { reported, .. } => *reported == Reported::Static,
+            Baseline::Alone(_) | Baseline::Failed(_) => false,
         }
     }
 
@@ -108,6 +178,7 @@ impl Baseline {
     pub fn reports_linear(&self) -> bool {
         match self {
             Baseline::Compared(c) => c.reported == Reported::Linear,
+            Baseline::Instead { reported, .. } => *reported == Reported::Linear,
             Baseline::Alone(_) => true,
             Baseline::Failed(_) => false,
         }
@@ -122,14 +193,39 @@ pub(crate) fn wanted(request: &IdentifyRequest, plan: &Plan) -> bool {
         && !is_linear(&plan.options)
 }
 
+/// The static model `static_best` against the linear baseline `linear` on the inner hold-out
+/// of `record`, when the model with the element could not be identified (`why`); `None` when
+/// either has no hold-out score (the linear model is then reported alone).
+pub(crate) fn instead(
+    record: &Record,
+    why: String,
+    static_best: &Best,
+    linear: &Best,
+) -> Option<Baseline> {
+    let (u, y) = (&record.u[..], &record.y[..]);
+    let s = pem_holdout(u, y, static_best.fit.as_ref()?, &static_best.options).ok()?;
+    let l = pem_holdout(u, y, linear.fit.as_ref()?, &linear.options).ok()?;
+    Some(Baseline::Instead {
+        why,
+        static_model: s,
+        linear: l,
+        reported: match s < l {
+            true => Reported::Static,
+            false => Reported::Linear,
+        },
+    })
+}
+
 /// The model with the element (`model`, with its `element` fit when one was run) against the
-/// linear baseline `linear` on `record`.
+/// linear baseline `linear` and, when it was identified, the static model `static_best` on
+/// `record`. A static model without a score on the hold-out (its refit failed) is left out.
 pub(crate) fn compare(
     record: &Record,
     request: &IdentifyRequest,
     model: &Best,
     element: Option<&HysteresisFit>,
     linear: &Best,
+    static_best: Option<&Best>,
 ) -> Option<Comparison> {
     let (u, y) = (&record.u[..], &record.y[..]);
     let linear_fit = linear.fit.as_ref()?;
@@ -169,13 +265,26 @@ pub(crate) fn compare(
             (m?, whole_pem(linear_fit)?, ScoredOn::Whole(why))
         }
     };
-    let reported = match l < m && !request.structure_given() {
-        true => Reported::Linear,
-        false => Reported::Model,
+    let static_model = match on {
+        ScoredOn::HoldOut => static_best.and_then(|s| {
+            let fit = s.fit.as_ref()?;
+            pem_holdout(u, y, fit, &s.options).ok()
+        }),
+        ScoredOn::Whole(_) => None,
+    };
+    let reported = if request.structure_given() {
+        Reported::Model
+    } else if static_model.is_some_and(|s| s < m && s <= l) {
+        Reported::Static
+    } else if l < m {
+        Reported::Linear
+    } else {
+        Reported::Model
     };
     Some(Comparison {
         model: m,
         linear: l,
+        static_model,
         on,
         reported,
     })

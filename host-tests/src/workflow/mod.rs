@@ -35,7 +35,7 @@ pub use request::{
 };
 
 use crate::choose::noise_file;
-use crate::choose::{Best, ChooseError, best_model, linear_model};
+use crate::choose::{Best, ChooseError, best_model, linear_model, static_beside};
 use crate::closed_loop::ReferenceError;
 use crate::hysteresis::{HysteresisError, HysteresisFit};
 use crate::identify::IdentifyError;
@@ -119,12 +119,9 @@ pub struct Identified {
 
 impl Identified {
     /// The element of the reported model: the request's, or static when the linear baseline
-    /// is reported.
+    /// or the static model chosen from the data is reported.
     pub fn model_element(&self) -> Element {
-        match self.baseline.as_ref().is_some_and(Baseline::reports_linear) {
-            true => Element::Static,
-            false => self.request.element,
-        }
+        model_element(self.baseline.as_ref(), self.request.element)
     }
 
     /// The model file: the fitted element's when it was fitted, else the model with its noise
@@ -204,14 +201,17 @@ pub fn identify_record(
             .and_then(|()| linear_model(&record.u, &record.y, &plan.options, &plan.choices))
     });
     let settled = match (model, linear) {
-        (Ok(best), linear) => with_element(&record, request, best, linear, &mut notes)?,
+        (Ok(best), linear) => {
+            let beside = static_candidate(&record, request, &plan, &best, linear.is_some())?;
+            with_element(&record, request, best, linear, beside, &mut notes)?
+        }
         // The model with the element failed where the data chose its structure: the linear
         // model, when there is one, is the answer (a record whose output responds gives a
         // model). A structure the user gave (knots, segments, horizons) keeps its refusal.
         (Err(e), Some(Ok(linear)))
             if !request.structure_given() && !matches!(e, WorkflowError::Interrupted(_)) =>
         {
-            Settled::Linear(Box::new((linear, Baseline::Alone(e.to_string()))))
+            static_instead(&record, request, &plan, linear, e.to_string())?
         }
         (Err(e), _) => return Err(e),
     };
@@ -220,25 +220,21 @@ pub fn identify_record(
             let m = *parts;
             (m.best, m.estimate, m.element_note, m.element, m.baseline)
         }
-        Settled::Linear(parts) => {
+        Settled::Beside(parts) => {
             let (linear, why) = *parts;
             notes.push(why.report(request.element));
-            notes.extend(
-                linear
-                    .report()
-                    .into_iter()
-                    .map(|l| format!("linear model: {l}")),
-            );
+            let name = match why.reports_static() {
+                true => "static model",
+                false => "linear model",
+            };
+            notes.extend(linear.report().into_iter().map(|l| format!("{name}: {l}")));
             let (estimate, estimate_notes) = estimate::estimate(&linear, &record, request);
             notes.extend(estimate_notes);
             (linear, estimate, None, None, Some(why))
         }
     };
     progress::stage(|| "checking the data against the method's assumptions".to_string())?;
-    let element = match baseline.as_ref().is_some_and(Baseline::reports_linear) {
-        true => Element::Static,
-        false => request.element,
-    };
+    let element = model_element(baseline.as_ref(), request.element);
     let checks = data_checks(&record.u, &record.y, &best.options, element);
     let friction = match (request.friction, &fitted) {
         (false, _) => None,
@@ -293,8 +289,86 @@ struct ElementModel {
 enum Settled {
     /// The model with the element.
     Element(Box<ElementModel>),
-    /// The linear baseline, and why it is reported.
-    Linear(Box<(Best, Baseline)>),
+    /// The linear baseline or the static model chosen from the data, and why it is reported
+    /// ([`Baseline::reports_static`] tells which).
+    Beside(Box<(Best, Baseline)>),
+}
+
+/// The element of the model reported with `baseline` for a request of `requested`: static
+/// when the linear baseline or the static model is reported.
+fn model_element(baseline: Option<&Baseline>, requested: Element) -> Element {
+    match baseline.is_some_and(|b| b.reports_linear() || b.reports_static()) {
+        true => Element::Static,
+        false => requested,
+    }
+}
+
+/// The static model beside the two-path model `best`, when the request leaves the element to
+/// the data ([`IdentifyRequest::choose_element`]), the linear baseline is fitted
+/// (`baselined`: the hold-out compares them), no structure was given, and the record is
+/// within the choice window (a longer record keeps the named element: one more whole-record
+/// identification is what its window avoids). `None` also when it cannot be identified: the
+/// two-path model and the linear baseline remain.
+fn static_candidate(
+    record: &Record,
+    request: &IdentifyRequest,
+    plan: &Plan,
+    best: &Best,
+    baselined: bool,
+) -> Result<Option<Best>, WorkflowError> {
+    let wanted = request.choose_element
+        && request.element.two_path()
+        && baselined
+        && !request.structure_given()
+        && plan.choices.window.is_none_or(|w| record.len() <= w);
+    if !wanted {
+        return Ok(None);
+    }
+    progress::stage(|| "the static element at the same structure".to_string())?;
+    match static_beside(&record.u, &record.y, &plan.options, &plan.choices, best) {
+        Ok(s) => Ok(Some(s)),
+        Err(ChooseError::Interrupted(i)) => Err(WorkflowError::Interrupted(i)),
+        Err(_) => Ok(None),
+    }
+}
+
+/// The model when the one with the element could not be identified (`why`): the static model
+/// with its own choices of segments, horizons and order, when the request leaves the element
+/// to the data and the record is within the choice window, reported instead of the linear
+/// baseline `linear` when it simulates the inner hold-out better; else the linear model.
+fn static_instead(
+    record: &Record,
+    request: &IdentifyRequest,
+    plan: &Plan,
+    linear: Best,
+    why: String,
+) -> Result<Settled, WorkflowError> {
+    let wanted = request.choose_element
+        && request.element.two_path()
+        && plan.choices.window.is_none_or(|w| record.len() <= w);
+    let alone = |why| {
+        Ok(Settled::Beside(Box::new((
+            linear.clone(),
+            Baseline::Alone(why),
+        ))))
+    };
+    if !wanted {
+        return alone(why);
+    }
+    progress::stage(|| "the static element".to_string())?;
+    let mut options = plan.options.clone();
+    options.static_nonlinearity = true;
+    let static_best = match best_model(&record.u, &record.y, &options, &plan.choices) {
+        Ok(s) => s,
+        Err(ChooseError::Interrupted(i)) => return Err(WorkflowError::Interrupted(i)),
+        Err(_) => return alone(why),
+    };
+    progress::stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
+    match baseline::instead(record, why.clone(), &static_best, &linear) {
+        Some(b) if b.reports_static() => Ok(Settled::Beside(Box::new((static_best, b)))),
+        Some(b) => Ok(Settled::Beside(Box::new((linear, b)))),
+        None => alone(why),
+    }
 }
 
 /// The model with the element from the subspace model `best` on `record`: the closed-loop
@@ -307,6 +381,7 @@ fn with_element(
     request: &IdentifyRequest,
     mut best: Best,
     linear: Option<Result<Best, ChooseError>>,
+    beside: Option<Best>,
     notes: &mut Lines,
 ) -> Result<Settled, WorkflowError> {
     notes.extend(best.report());
@@ -335,9 +410,21 @@ fn with_element(
         Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
         Some(Ok(linear)) => {
             progress::stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
-            match baseline::compare(record, request, &best, element.as_ref(), &linear) {
+            match baseline::compare(
+                record,
+                request,
+                &best,
+                element.as_ref(),
+                &linear,
+                beside.as_ref(),
+            ) {
                 Some(c) if c.reported == Reported::Linear => {
-                    return Ok(Settled::Linear(Box::new((linear, Baseline::Compared(c)))));
+                    return Ok(Settled::Beside(Box::new((linear, Baseline::Compared(c)))));
+                }
+                Some(c) if c.reported == Reported::Static => {
+                    // `compare` reports the static model only when it scored one.
+                    let chosen = beside.unwrap_or(linear);
+                    return Ok(Settled::Beside(Box::new((chosen, Baseline::Compared(c)))));
                 }
                 Some(c) => Some(Baseline::Compared(c)),
                 None => Some(Baseline::Failed(

@@ -205,6 +205,11 @@ pub struct IdentifyRequest {
     pub horizons: Option<(usize, usize)>,
     /// The input element.
     pub element: Element,
+    /// The element was not named (the default): beside a two-path `element`, the static
+    /// element is identified at its structure and reported when it simulates the inner
+    /// hold-out better ([`static_beside`](crate::choose::static_beside),
+    /// [`baseline`](super::baseline)). False: the element named is the model's.
+    pub choose_element: bool,
     /// Border basis.
     pub basis: Basis,
     /// Known μ0 for a record without a hold.
@@ -255,6 +260,7 @@ impl IdentifyRequest {
             order: None,
             horizons: None,
             element: Element::Backlash,
+            choose_element: true,
             basis: Basis::Hat,
             mu0: None,
             detrend: false,
