@@ -151,14 +151,14 @@ impl Baseline {
             } => format!(
                 "the {element} model could not be identified ({why}): linear OE: fit {:.1} %; \
                  static model: fit {:.1} % (simulation on the last {:.0} % of the estimation \
-                 record, each model refitted on the first {:.0} %): the {} model is reported",
+                 record, each model refitted on the first {:.0} %): {}",
                 fit_percent(*linear),
                 fit_percent(*static_model),
                 100.0 * (1.0 - FIT_FRACTION),
                 100.0 * FIT_FRACTION,
                 match reported {
-                    Reported::Static => "static",
-                    _ => "linear",
+                    Reported::Static => "the static model is reported",
+                    _ => "the linear model (static element, one segment) is reported",
                 }
             ),
             Baseline::Failed(why) => format!("no linear baseline: {why}"),
