@@ -44,15 +44,31 @@ pub(crate) fn persistent_excitation(ex: &[f64], s: &CheckSetup) -> Vec<Warning> 
         let sp = spectrum(&g, dim, RANK_TOL);
         let condition = sp.condition();
         if condition > MAX_CONDITION {
+            // Full numerical rank with a large condition: every direction is excited, some a
+            // million times less than others; a rank below `dim`: some are not at all.
+            let how = match (sp.rank < dim, condition.is_finite()) {
+                (true, true) => format!(
+                    "its Hankel Gram has numerical rank {} of {dim} (condition {condition:.1e}): \
+                     some directions are not excited",
+                    sp.rank
+                ),
+                (true, false) => format!(
+                    "its Hankel Gram has numerical rank {} of {dim} (pivots below {RANK_TOL:.0e} \
+                     of the largest): some directions are not excited",
+                    sp.rank
+                ),
+                (false, _) => format!(
+                    "its Hankel Gram has full numerical rank {dim} but condition \
+                     {condition:.1e}: some directions are excited {:.0e} times less than others",
+                    condition
+                ),
+            };
             out.push(warn(
                 Check::PersistentExcitation,
                 format!(
-                    "the regressor is not persistently exciting of order (f+p)·m = {dim}: its Hankel Gram has numerical rank {} of {dim} ({}); the projection of eq. (11) is ill-conditioned and the model can be poor (shorter horizons or fewer knots help){at}",
-                    sp.rank,
-                    match condition.is_finite() {
-                        true => format!("condition {condition:.1e}"),
-                        false => format!("pivots below {RANK_TOL:.0e} of the largest"),
-                    }
+                    "the regressor is weakly exciting of order (f+p)·m = {dim}: {how}; the \
+                     projection of eq. (11) is ill-conditioned and the model can be poor \
+                     (shorter horizons or fewer knots help){at}"
                 ),
             ));
         }
