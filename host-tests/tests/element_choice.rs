@@ -15,8 +15,7 @@
 
 use crate::common;
 
-use common::nrmse;
-use hsid_host::model::{Element, FileModel, Record, Simulate, for_input};
+use hsid_host::model::{Element, Record};
 use hsid_host::model_file::ModelFile;
 use hsid_host::workflow::{
     Baseline, Identified, IdentifyRequest, Reported, Syntax, identify_record,
@@ -93,17 +92,7 @@ fn element(kind: Kind, u: &[f64]) -> Vec<f64> {
 
 /// The plant, at rest at `v[0]`.
 fn plant(v: &[f64]) -> Vec<f64> {
-    let (a1, a2) = (1.5, -0.7);
-    let b = 1.0 - a1 - a2;
-    let v0 = v.first().copied().unwrap_or(0.0);
-    let (mut y1, mut y2, mut v1) = (v0, v0, v0);
-    v.iter()
-        .map(|&x| {
-            let y = a1 * y1 + a2 * y2 + b * v1;
-            (y2, y1, v1) = (y1, y, x);
-            y
-        })
-        .collect()
+    common::second_order(v, 1.5, -0.7)
 }
 
 /// `(u, y, clean y)` of one realisation.
@@ -120,12 +109,7 @@ fn realisation(g: &mut Lcg, n: usize, kind: Kind, steps: bool, sd: f64) -> [Vec<
 /// The validation NRMSE of the model file, simulated from rest at the record's first input
 /// (a hold there put before it and its output dropped), and the noise floor.
 fn validate(file: &ModelFile, v: &[Vec<f64>; 3]) -> (f64, f64) {
-    const PREFIX: usize = 500;
-    let mut u = vec![v[0][0]; PREFIX];
-    u.extend(&v[0]);
-    let (model, _) = for_input(&FileModel::from_file(file), &u);
-    let sim = model.simulate(&u);
-    (nrmse(&v[1], &sim[PREFIX..]), nrmse(&v[1], &v[2]))
+    common::validate_file(file, v)
 }
 
 /// The identification of an estimation record with the element named or not, and its

@@ -16,9 +16,7 @@
 
 use crate::common;
 
-use common::nrmse;
 use hsid_host::model::{Element, Record};
-use hsid_host::model::{FileModel, Simulate, for_input};
 use hsid_host::model_file::ModelFile;
 use hsid_host::workflow::{Baseline, IdentifyRequest, Reported, Syntax, identify_record};
 
@@ -78,17 +76,7 @@ fn play(u: &[f64], h: f64) -> Vec<f64> {
 
 /// The plant: poles 0.7 and 0.6, unit static gain, one sample of delay; at rest at `v[0]`.
 fn plant(v: &[f64]) -> Vec<f64> {
-    let (a1, a2) = (1.3, -0.42);
-    let b = 1.0 - a1 - a2;
-    let v0 = v.first().copied().unwrap_or(0.0);
-    let (mut y1, mut y2, mut v1) = (v0, v0, v0);
-    v.iter()
-        .map(|&x| {
-            let y = a1 * y1 + a2 * y2 + b * v1;
-            (y2, y1, v1) = (y1, y, x);
-            y
-        })
-        .collect()
+    common::second_order(v, 1.3, -0.42)
 }
 
 /// `(u, y, clean y)` of one realisation with noise of standard deviation `sd`.
@@ -114,12 +102,7 @@ fn identify(u: &[f64], y: &[f64]) -> hsid_host::workflow::Identified {
 /// hold there put before it, its output dropped; the borders extended where the record leaves
 /// the identified interval) against the noisy output, and the noise floor (the clean output's).
 fn validate(file: &ModelFile, v: &[Vec<f64>; 3]) -> (f64, f64) {
-    const PREFIX: usize = 500;
-    let mut u = vec![v[0][0]; PREFIX];
-    u.extend(&v[0]);
-    let (model, _) = for_input(&FileModel::from_file(file), &u);
-    let sim = model.simulate(&u);
-    (nrmse(&v[1], &sim[PREFIX..]), nrmse(&v[1], &v[2]))
+    common::validate_file(file, v)
 }
 
 /// A record `Spec` of the family: seed, length, two levels or low-pass noise, play half-width,

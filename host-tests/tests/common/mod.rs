@@ -275,6 +275,35 @@ pub fn has(path: &Path, expected: &[&str]) {
     }
 }
 
+/// `y(t) = a₁ y(t−1) + a₂ y(t−2) + (1 − a₁ − a₂) v(t−1)` (unit static gain, one sample of
+/// delay), at rest at `v[0]`: the second-order plant of records written in the tests.
+pub fn second_order(v: &[f64], a1: f64, a2: f64) -> Vec<f64> {
+    let b = 1.0 - a1 - a2;
+    let v0 = v.first().copied().unwrap_or(0.0);
+    let (mut y1, mut y2, mut v1) = (v0, v0, v0);
+    v.iter()
+        .map(|&x| {
+            let y = a1 * y1 + a2 * y2 + b * v1;
+            (y2, y1, v1) = (y1, y, x);
+            y
+        })
+        .collect()
+}
+
+/// The validation NRMSE of a model file on `[u, y, clean y]` (simulated from rest at the
+/// record's first input: a hold there put before it, its output dropped; the borders extended
+/// where the record leaves the identified interval), and the noise floor (the clean
+/// output's NRMSE).
+pub fn validate_file(file: &hsid_host::model_file::ModelFile, v: &[Vec<f64>; 3]) -> (f64, f64) {
+    use hsid_host::model::{FileModel, Simulate, for_input};
+    const PREFIX: usize = 500;
+    let mut u = vec![v[0][0]; PREFIX];
+    u.extend(&v[0]);
+    let (model, _) = for_input(&FileModel::from_file(file), &u);
+    let sim = model.simulate(&u);
+    (nrmse(&v[1], &sim[PREFIX..]), nrmse(&v[1], &v[2]))
+}
+
 /// `‖y − ŷ‖ / ‖y − mean(y)‖`: the simulation error normalised by the output's spread.
 pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
     let mean = y.iter().sum::<f64>() / y.len() as f64;
