@@ -1,0 +1,296 @@
+//! The two-mass model fitted by simulation error from the current model.
+//!
+//! **Start.** The current model (linear, or with an element at the input) has put the
+//! record's dynamics into the poles of its `G`; they are split between the two-mass model's
+//! parts. Its slowest real pole `z₀` is the rigid-body mode, both masses turning together:
+//! `β_m = β_l = −ln z₀` (the rigid-body rate `(β_m + r β_l)/(1 + r)` is then `−ln z₀`). Each
+//! complex pair `z` is a candidate shaft resonance `ω = |ln z|` with damping
+//! `ζ = −ln|z|/ω`; without one (a first-order current model, or an over-damped fit) the
+//! resonance is tried at 0.1, 0.3 and 1 rad per sample with `ζ = 0.1`. For each resonance the
+//! inertia ratio `r` is tried at 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and
+//! `c = 2ζω r/(1 + r)`; the gain `g` is the least-squares one with the teeth in contact
+//! (`α = 0`, where the output is linear in `g`). The play's half-width starts at 1, 6, 36 and
+//! 216 times the output's RMS (the angle the motor turns in 1 to 216 samples at a typical
+//! speed).
+//!
+//! **Fit.** Levenberg–Marquardt ([`crate::numerics::lm`], [`Settings::simulation_fit`]) on
+//! the simulation error of the motor's speed, parameters as in
+//! [`TwoMassPlay::theta`](super::model::TwoMassPlay::theta), forward-difference Jacobians
+//! (the simulation is continuous in every parameter; the dead zone's kink and the shaft
+//! damping's switch at contact are crossed by a difference step only at the few samples
+//! within `10⁻⁶` of them, as for the element fit in [`crate::hysteresis::fit`]), steps
+//! refused where the fixed-step integration is not well inside its stability region. Every
+//! start gets [`SCREEN_ITERATIONS`] iterations; the [`FINALISTS`] best go on to the full
+//! budget and the smallest error is kept.
+
+use super::error::SandwichError;
+use super::model::{HALF_WIDTH, PARAMETERS, TwoMassPlay};
+use super::uncertainty::{Uncertainty, uncertainty};
+use crate::identify::HostModel;
+use crate::numerics::lm::{self, Jacobian, Minimum, Problem, Settings};
+use crate::numerics::poly::eigenvalues;
+use crate::numerics::rms;
+
+/// Iterations every start gets before the best are chosen.
+pub const SCREEN_ITERATIONS: usize = 8;
+
+/// Starts that get the full iteration budget.
+pub const FINALISTS: usize = 3;
+
+/// The inertia ratios `r` of the start.
+const RATIOS: [f64; 3] = [0.5, 1.5, 4.0];
+
+/// The play's half-width at the start, in multiples of the output's RMS.
+const WIDTHS: [f64; 4] = [1.0, 6.0, 36.0, 216.0];
+
+/// Resonances (rad per sample) tried when the current model has no complex pole.
+const RESONANCES: [f64; 3] = [0.1, 0.3, 1.0];
+
+/// Samples the fit needs per parameter at least.
+const SAMPLES_PER_PARAMETER: usize = 20;
+
+/// Settings of the fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TwoMassOptions {
+    /// Iteration limit of Levenberg–Marquardt for the finalists.
+    pub max_iter: usize,
+    /// Runge–Kutta steps per sample of the model's simulator.
+    pub substeps: usize,
+}
+
+impl Default for TwoMassOptions {
+    /// 60 iterations, 10 steps per sample.
+    fn default() -> Self {
+        Self {
+            max_iter: 60,
+            substeps: 10,
+        }
+    }
+}
+
+/// The fitted model and how the fit went.
+#[derive(Clone, Debug)]
+pub struct TwoMassFit {
+    /// The model.
+    pub model: TwoMassPlay,
+    /// `Σe²` of the best start (before any iteration).
+    pub initial_cost: f64,
+    /// `Σe²` at the optimum.
+    pub cost: f64,
+    /// Starts tried.
+    pub starts: usize,
+    /// Iterations of the kept finalist.
+    pub iterations: usize,
+    /// Standard deviations (`None` when `JᵀJ` is singular at the optimum).
+    pub uncertainty: Option<Uncertainty>,
+}
+
+impl TwoMassFit {
+    /// The play `2α` (the model's angle units).
+    pub fn gap(&self) -> f64 {
+        self.model.gap()
+    }
+
+    /// The play's standard deviation, when known.
+    pub fn gap_std(&self) -> Option<f64> {
+        self.uncertainty.as_ref().map(|u| u.gap)
+    }
+
+    /// The simulated output for an input record.
+    pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        self.model.simulate(u)
+    }
+}
+
+/// Refuses records the fit cannot use.
+fn check(u: &[f64], y: &[f64], opts: &TwoMassOptions) -> Result<(), SandwichError> {
+    if u.len() != y.len() {
+        return Err(SandwichError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    let need = SAMPLES_PER_PARAMETER * PARAMETERS;
+    if u.len() < need {
+        return Err(SandwichError::TooFewSamples {
+            have: u.len(),
+            need,
+        });
+    }
+    for (signal, x) in [("u", u), ("y", y)] {
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SandwichError::NonFinite { signal, index });
+        }
+        let first = x.first().copied().unwrap_or(0.0);
+        if x.iter().all(|&v| v == first) {
+            return Err(SandwichError::Constant(if signal == "u" {
+                "input"
+            } else {
+                "output"
+            }));
+        }
+    }
+    if opts.substeps == 0 {
+        return Err(SandwichError::NoSubsteps);
+    }
+    Ok(())
+}
+
+/// The resonances `(ω, ζ)` and the rigid-body rate of discrete poles `(re, im)`.
+pub fn split_poles(poles: &[(f64, f64)]) -> (Vec<(f64, f64)>, f64) {
+    let rate = |(re, im): (f64, f64)| -(re.hypot(im).max(1e-12)).ln();
+    let rigid = poles
+        .iter()
+        .filter(|(re, im)| im.abs() < 1e-9 && *re > 0.0 && *re < 1.0)
+        .map(|&p| rate(p))
+        .fold(f64::INFINITY, f64::min);
+    let rigid = if rigid.is_finite() {
+        rigid
+    } else {
+        poles
+            .iter()
+            .map(|&p| rate(p))
+            .filter(|r| *r > 0.0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let rigid = if rigid.is_finite() { rigid } else { 1e-3 };
+    let mut resonances: Vec<(f64, f64)> = poles
+        .iter()
+        .filter(|(_, im)| *im > 1e-9)
+        .map(|&(re, im)| {
+            let sigma = rate((re, im));
+            let omega = sigma.hypot(im.atan2(re));
+            (omega, (sigma / omega).clamp(0.01, 0.9))
+        })
+        .collect();
+    if resonances.is_empty() {
+        resonances = RESONANCES.iter().map(|&w| (w, 0.1)).collect();
+    }
+    (resonances, rigid.max(1e-6))
+}
+
+/// The starting parameter vectors from the poles (see the module).
+fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Vec<f64>> {
+    let (resonances, rigid) = split_poles(poles);
+    let y_rms = rms(y).max(f64::MIN_POSITIVE);
+    let mut out = Vec::new();
+    for &(omega, zeta) in &resonances {
+        for &r in &RATIOS {
+            let contact = TwoMassPlay {
+                gain: 1.0,
+                motor_damping: rigid,
+                stiffness: omega * omega * r / (1.0 + r),
+                shaft_damping: 2.0 * zeta * omega * r / (1.0 + r),
+                inertia_ratio: r,
+                load_damping: rigid,
+                half_width: 0.0,
+                substeps,
+            };
+            if !contact.integrable() {
+                continue;
+            }
+            let unit = contact.simulate(u);
+            let uu: f64 = unit.iter().map(|v| v * v).sum();
+            let uy: f64 = unit.iter().zip(y).map(|(a, b)| a * b).sum();
+            let gain = uy / uu;
+            if !gain.is_finite() || gain == 0.0 {
+                continue;
+            }
+            for &w in &WIDTHS {
+                let m = TwoMassPlay {
+                    gain,
+                    half_width: w * y_rms,
+                    ..contact.clone()
+                };
+                out.push(m.theta());
+            }
+        }
+    }
+    out
+}
+
+/// Fits the two-mass model with play to `(u, y)` (`y` the motor's speed) from the poles of
+/// the current model's `G`.
+pub fn fit_two_mass(
+    u: &[f64],
+    y: &[f64],
+    current: &HostModel,
+    opts: &TwoMassOptions,
+) -> Result<TwoMassFit, SandwichError> {
+    let poles = eigenvalues(current.a.clone()).unwrap_or_default();
+    fit_two_mass_from_poles(u, y, &poles, opts)
+}
+
+/// [`fit_two_mass`] from discrete poles `(re, im)` of any current model.
+pub fn fit_two_mass_from_poles(
+    u: &[f64],
+    y: &[f64],
+    poles: &[(f64, f64)],
+    opts: &TwoMassOptions,
+) -> Result<TwoMassFit, SandwichError> {
+    check(u, y, opts)?;
+    let substeps = opts.substeps;
+    let residual = |th: &[f64]| -> Option<Vec<f64>> {
+        let m = TwoMassPlay::from_theta(th, substeps)?;
+        let r: Vec<f64> = m.simulate(u).iter().zip(y).map(|(a, b)| a - b).collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let admissible =
+        |th: &[f64]| TwoMassPlay::from_theta(th, substeps).is_some_and(|m| m.integrable());
+    let sse = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let candidates = starts(u, y, poles, substeps);
+    let gain_size = candidates
+        .first()
+        .map_or(1.0, |t| t[0].abs())
+        .max(f64::MIN_POSITIVE);
+    let mut typical = vec![1.0; PARAMETERS];
+    typical[0] = gain_size;
+    typical[HALF_WIDTH] = rms(y).max(f64::MIN_POSITIVE);
+    let problem = Problem {
+        residual: &residual,
+        admissible: &admissible,
+        jacobian: Jacobian::ForwardDifference { typical: &typical },
+    };
+    let mut initial_cost = f64::INFINITY;
+    let mut screened: Vec<Minimum> = Vec::new();
+    let mut failure = None;
+    for th in &candidates {
+        let Some(r0) = residual(th) else { continue };
+        initial_cost = initial_cost.min(sse(&r0));
+        match lm::minimise(&problem, th, &Settings::simulation_fit(SCREEN_ITERATIONS)) {
+            Ok(m) => screened.push(m),
+            Err(e) => failure = Some(e),
+        }
+    }
+    if screened.is_empty() {
+        return Err(failure.map_or(SandwichError::NoStart, SandwichError::from));
+    }
+    screened.sort_by(|a, b| sse(&a.residual).total_cmp(&sse(&b.residual)));
+    let mut best: Option<Minimum> = None;
+    for start in screened.iter().take(FINALISTS) {
+        let m = match lm::minimise(
+            &problem,
+            &start.theta,
+            &Settings::simulation_fit(opts.max_iter),
+        ) {
+            Ok(m) => m,
+            Err(_) => start.clone(),
+        };
+        if best
+            .as_ref()
+            .is_none_or(|b| sse(&m.residual) < sse(&b.residual))
+        {
+            best = Some(m);
+        }
+    }
+    let best = best.ok_or(SandwichError::NoStart)?;
+    let model = TwoMassPlay::from_theta(&best.theta, substeps).ok_or(SandwichError::NoStart)?;
+    Ok(TwoMassFit {
+        uncertainty: uncertainty(&problem, &best.theta, &best.residual, &typical),
+        model,
+        initial_cost,
+        cost: sse(&best.residual),
+        starts: candidates.len(),
+        iterations: best.iterations,
+    })
+}
