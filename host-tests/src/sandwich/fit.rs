@@ -5,23 +5,35 @@
 //! parts. Its slowest real pole `z₀` is the rigid-body mode, both masses turning together:
 //! `β_m = β_l = −ln z₀` (the rigid-body rate `(β_m + r β_l)/(1 + r)` is then `−ln z₀`). Each
 //! complex pair `z` is a candidate shaft resonance `ω = |ln z|` with damping
-//! `ζ = −ln|z|/ω`; without one (a first-order current model, or an over-damped fit) the
-//! resonance is tried at 0.1, 0.3 and 1 rad per sample with `ζ = 0.1`. For each resonance the
+//! `ζ = −ln|z|/ω`; and since the current model may have none (a first-order model, or an
+//! over-damped fit of a record the play dominates) the resonance is also tried at 0.1, 0.3 and
+//! 1 rad per sample with `ζ = 0.3`. For each resonance the
 //! inertia ratio `r` is tried at 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and
 //! `c = 2ζω r/(1 + r)`; the gain `g` is the least-squares one with the teeth in contact
-//! (`α = 0`, where the output is linear in `g`). The play's half-width starts at 1, 6, 36 and
-//! 216 times the output's RMS (the angle the motor turns in 1 to 216 samples at a typical
-//! speed).
+//! (`α = 0`, where the output is linear in `g`).
+//!
+//! **Search.** The error is far from quadratic in the play: a play of the wrong size puts
+//! every contact at the wrong sample. So the play is not left to the iteration from a guess.
+//! (1) Each start above is fitted with the play held at 0 ([`SCREEN_ITERATIONS`]
+//! iterations): the two-mass model in contact, a linear model of the structure. (2) From the starts
+//! of the [`LINEAR_KEPT`] best (the fit in contact may have let the shaft go slack, where the
+//! play no longer acts, so its own parameters are no start for the play), the play is held at each point of a grid of half-widths from 1 to
+//! 1024 times the output's RMS (the angle the motor turns in 1 to 1024 samples at a typical
+//! speed), a factor `√2` apart, and the other parameters are fitted
+//! ([`PROFILE_ITERATIONS`] iterations): the error's profile in the play. (3) The [`FINALISTS`] best points of the grid and the best fit in
+//! contact get the full budget on every parameter, and the smallest error is kept.
 //!
 //! **Fit.** Levenberg–Marquardt ([`crate::numerics::lm`], [`Settings::simulation_fit`]) on
 //! the simulation error of the motor's speed, parameters as in
 //! [`TwoMassPlay::theta`](super::model::TwoMassPlay::theta), forward-difference Jacobians
 //! (the simulation is continuous in every parameter; the dead zone's kink and the shaft
 //! damping's switch at contact are crossed by a difference step only at the few samples
-//! within `10⁻⁶` of them, as for the element fit in [`crate::hysteresis::fit`]), steps
-//! refused where the fixed-step integration is not well inside its stability region. Every
-//! start gets [`SCREEN_ITERATIONS`] iterations; the [`FINALISTS`] best go on to the full
-//! budget and the smallest error is kept.
+//! within the step of them, as for the element fit in [`crate::hysteresis::fit`]), steps
+//! refused where the fixed-step integration is not well inside its stability region. The
+//! difference steps are `10⁻⁴` (relative; the element fit's are `10⁻⁶`): the simulator
+//! splits a step where the teeth meet or part, but the crossing is located by interpolation,
+//! and what is left of the step's share of the shaft damping's switch is a roughness of the
+//! error far below the noise that a `10⁻⁶` quotient could read as the slope.
 
 use super::error::SandwichError;
 use super::model::{HALF_WIDTH, PARAMETERS, TwoMassPlay};
@@ -31,20 +43,29 @@ use crate::numerics::lm::{self, Jacobian, Minimum, Problem, Settings};
 use crate::numerics::poly::eigenvalues;
 use crate::numerics::rms;
 
-/// Iterations every start gets before the best are chosen.
-pub const SCREEN_ITERATIONS: usize = 8;
+/// Iterations every start gets with the play held at 0.
+pub const SCREEN_ITERATIONS: usize = 15;
 
-/// Starts that get the full iteration budget.
+/// Fits in contact whose play is searched on the grid.
+pub const LINEAR_KEPT: usize = 3;
+
+/// Iterations at each point of the play's grid, the play held.
+pub const PROFILE_ITERATIONS: usize = 6;
+
+/// Points of the play's grid that get the full iteration budget.
 pub const FINALISTS: usize = 3;
 
 /// The inertia ratios `r` of the start.
 const RATIOS: [f64; 3] = [0.5, 1.5, 4.0];
 
-/// The play's half-width at the start, in multiples of the output's RMS.
-const WIDTHS: [f64; 4] = [1.0, 6.0, 36.0, 216.0];
+/// The play's grid: half-widths of `√2^i` times the output's RMS, `i < GRID`.
+const GRID: i32 = 21;
 
-/// Resonances (rad per sample) tried when the current model has no complex pole.
+/// Resonances (rad per sample) tried beside the current model's.
 const RESONANCES: [f64; 3] = [0.1, 0.3, 1.0];
+
+/// The difference steps, in multiples of the shared solver's `10⁻⁶` of a parameter's size.
+const DIFFERENCE_SCALE: f64 = 100.0;
 
 /// Samples the fit needs per parameter at least.
 const SAMPLES_PER_PARAMETER: usize = 20;
@@ -163,16 +184,13 @@ pub fn split_poles(poles: &[(f64, f64)]) -> (Vec<(f64, f64)>, f64) {
             (omega, (sigma / omega).clamp(0.01, 0.9))
         })
         .collect();
-    if resonances.is_empty() {
-        resonances = RESONANCES.iter().map(|&w| (w, 0.1)).collect();
-    }
+    resonances.extend(RESONANCES.iter().map(|&w| (w, 0.3)));
     (resonances, rigid.max(1e-6))
 }
 
-/// The starting parameter vectors from the poles (see the module).
+/// The starting parameter vectors in contact (`α = 0`) from the poles (see the module).
 fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Vec<f64>> {
     let (resonances, rigid) = split_poles(poles);
-    let y_rms = rms(y).max(f64::MIN_POSITIVE);
     let mut out = Vec::new();
     for &(omega, zeta) in &resonances {
         for &r in &RATIOS {
@@ -193,16 +211,8 @@ fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Ve
             let uu: f64 = unit.iter().map(|v| v * v).sum();
             let uy: f64 = unit.iter().zip(y).map(|(a, b)| a * b).sum();
             let gain = uy / uu;
-            if !gain.is_finite() || gain == 0.0 {
-                continue;
-            }
-            for &w in &WIDTHS {
-                let m = TwoMassPlay {
-                    gain,
-                    half_width: w * y_rms,
-                    ..contact.clone()
-                };
-                out.push(m.theta());
+            if gain.is_finite() && gain != 0.0 {
+                out.push(TwoMassPlay { gain, ..contact }.theta());
             }
         }
     }
@@ -243,38 +253,85 @@ pub fn fit_two_mass_from_poles(
         .first()
         .map_or(1.0, |t| t[0].abs())
         .max(f64::MIN_POSITIVE);
-    let mut typical = vec![1.0; PARAMETERS];
-    typical[0] = gain_size;
-    typical[HALF_WIDTH] = rms(y).max(f64::MIN_POSITIVE);
+    let y_rms = rms(y).max(f64::MIN_POSITIVE);
+    // Difference steps of `10⁻⁶ · typical`: 10⁻⁴ of the gain, 10⁻⁴ in the logarithms and
+    // 10⁻⁴ of the output's RMS × 100 in the play (see the module on the contact's switch).
+    let mut typical = vec![DIFFERENCE_SCALE; PARAMETERS];
+    typical[0] = DIFFERENCE_SCALE * gain_size;
+    typical[HALF_WIDTH] = DIFFERENCE_SCALE * y_rms;
     let problem = Problem {
         residual: &residual,
         admissible: &admissible,
         jacobian: Jacobian::ForwardDifference { typical: &typical },
     };
+    // (1) In contact: the play held at 0.
+    let with_play = |th: &[f64], alpha: f64| {
+        let mut t = th.to_vec();
+        t.push(alpha);
+        t
+    };
+    let residual_contact = |th: &[f64]| residual(&with_play(th, 0.0));
+    let admissible_contact = |th: &[f64]| admissible(&with_play(th, 0.0));
+    let contact = Problem {
+        residual: &residual_contact,
+        admissible: &admissible_contact,
+        jacobian: Jacobian::ForwardDifference {
+            typical: &typical[..HALF_WIDTH],
+        },
+    };
     let mut initial_cost = f64::INFINITY;
-    let mut screened: Vec<Minimum> = Vec::new();
+    let mut in_contact: Vec<(Minimum, &[f64])> = Vec::new();
     let mut failure = None;
     for th in &candidates {
-        let Some(r0) = residual(th) else { continue };
+        let th = &th[..HALF_WIDTH];
+        let Some(r0) = residual_contact(th) else {
+            continue;
+        };
         initial_cost = initial_cost.min(sse(&r0));
-        match lm::minimise(&problem, th, &Settings::simulation_fit(SCREEN_ITERATIONS)) {
-            Ok(m) => screened.push(m),
+        match lm::minimise(&contact, th, &Settings::simulation_fit(SCREEN_ITERATIONS)) {
+            Ok(m) => in_contact.push((m, th)),
             Err(e) => failure = Some(e),
         }
     }
-    if screened.is_empty() {
+    if in_contact.is_empty() {
         return Err(failure.map_or(SandwichError::NoStart, SandwichError::from));
     }
-    screened.sort_by(|a, b| sse(&a.residual).total_cmp(&sse(&b.residual)));
+    in_contact.sort_by(|a, b| sse(&a.0.residual).total_cmp(&sse(&b.0.residual)));
+    // (2) The play on its grid, the other parameters refitted at each point.
+    let mut grid: Vec<(f64, Vec<f64>)> = Vec::new();
+    for (_, from) in in_contact.iter().take(LINEAR_KEPT) {
+        for i in 0..GRID {
+            let alpha = y_rms * std::f64::consts::SQRT_2.powi(i);
+            let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
+            let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
+            let held = Problem {
+                residual: &residual_at,
+                admissible: &admissible_at,
+                jacobian: Jacobian::ForwardDifference {
+                    typical: &typical[..HALF_WIDTH],
+                },
+            };
+            let settings = Settings::simulation_fit(PROFILE_ITERATIONS);
+            if let Ok(m) = lm::minimise(&held, from, &settings) {
+                grid.push((sse(&m.residual), with_play(&m.theta, alpha)));
+            }
+        }
+    }
+    grid.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // (3) Every parameter from the best points and the best fit in contact.
+    let finalists = grid
+        .into_iter()
+        .take(FINALISTS)
+        .map(|(_, th)| th)
+        .chain(in_contact.first().map(|(m, _)| with_play(&m.theta, 0.0)));
     let mut best: Option<Minimum> = None;
-    for start in screened.iter().take(FINALISTS) {
-        let m = match lm::minimise(
-            &problem,
-            &start.theta,
-            &Settings::simulation_fit(opts.max_iter),
-        ) {
+    for start in finalists {
+        let m = match lm::minimise(&problem, &start, &Settings::simulation_fit(opts.max_iter)) {
             Ok(m) => m,
-            Err(_) => start.clone(),
+            Err(e) => {
+                failure = Some(e);
+                continue;
+            }
         };
         if best
             .as_ref()
@@ -283,7 +340,7 @@ pub fn fit_two_mass_from_poles(
             best = Some(m);
         }
     }
-    let best = best.ok_or(SandwichError::NoStart)?;
+    let best = best.ok_or(failure.map_or(SandwichError::NoStart, SandwichError::from))?;
     let model = TwoMassPlay::from_theta(&best.theta, substeps).ok_or(SandwichError::NoStart)?;
     Ok(TwoMassFit {
         uncertainty: uncertainty(&problem, &best.theta, &best.residual, &typical),

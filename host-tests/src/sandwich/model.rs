@@ -31,7 +31,8 @@
 //! light the play operator is its limit (the load follows `play(θ_m)`).
 //!
 //! The simulator holds `u` over each sample (zero-order hold) and integrates the three states
-//! with [`TwoMassPlay::substeps`] classical Runge–Kutta steps per sample; `y(t)` is `ω_m` at
+//! with [`TwoMassPlay::substeps`] classical Runge–Kutta steps per sample, a step split where
+//! the teeth meet or part; `y(t)` is `ω_m` at
 //! the start of sample `t`, before `u(t)` acts (strictly proper). It starts at rest with the
 //! teeth in the middle of the play (`Δ = 0`).
 
@@ -64,16 +65,25 @@ pub const PARAMETERS: usize = 7;
 /// Index of `α` in the parameter vector.
 pub const HALF_WIDTH: usize = 6;
 
-/// The shaft's torque (per motor inertia) at angle `d` and relative speed `dv`.
-fn shaft(d: f64, dv: f64, alpha: f64, k: f64, c: f64) -> f64 {
-    let excess = if d > alpha {
-        d - alpha
+/// Where the teeth are: `−1` in contact on the negative side (`Δ < −α`), `0` in the play,
+/// `+1` in contact on the positive side.
+fn side(d: f64, alpha: f64) -> i8 {
+    if d > alpha {
+        1
     } else if d < -alpha {
-        d + alpha
+        -1
     } else {
-        return 0.0;
-    };
-    k * excess + c * dv
+        0
+    }
+}
+
+/// The shaft's torque (per motor inertia) at angle `d` and relative speed `dv`, the teeth on
+/// `side` (held over an integration step, so that the right-hand side is smooth within it).
+fn shaft(side: i8, d: f64, dv: f64, alpha: f64, k: f64, c: f64) -> f64 {
+    match side {
+        0 => 0.0,
+        s => k * (d - f64::from(s) * alpha) + c * dv,
+    }
 }
 
 impl TwoMassPlay {
@@ -144,10 +154,11 @@ impl TwoMassPlay {
             && fastest * h < 1.5
     }
 
-    /// The derivative of `(Δ, ω_m, ω_l)` under input `u`.
-    fn derivative(&self, x: [f64; 3], u: f64) -> [f64; 3] {
+    /// The derivative of `(Δ, ω_m, ω_l)` under input `u` with the teeth on `side`.
+    fn derivative(&self, x: [f64; 3], u: f64, side: i8) -> [f64; 3] {
         let [d, wm, wl] = x;
         let t = shaft(
+            side,
             d,
             wm - wl,
             self.half_width,
@@ -161,23 +172,60 @@ impl TwoMassPlay {
         ]
     }
 
+    /// One classical Runge–Kutta step of length `h` with the teeth held on `side`.
+    fn rk4(&self, x: [f64; 3], u: f64, side: i8, h: f64) -> [f64; 3] {
+        let add =
+            |x: [f64; 3], k: [f64; 3], s: f64| [x[0] + s * k[0], x[1] + s * k[1], x[2] + s * k[2]];
+        let k1 = self.derivative(x, u, side);
+        let k2 = self.derivative(add(x, k1, h / 2.0), u, side);
+        let k3 = self.derivative(add(x, k2, h / 2.0), u, side);
+        let k4 = self.derivative(add(x, k3, h), u, side);
+        let mut out = x;
+        for i in 0..3 {
+            out[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        out
+    }
+
+    /// One integration step of length `h`. Where the teeth change side within it, the step
+    /// is split where `Δ` reaches the border (`±α`, by linear interpolation of `Δ` over the
+    /// step), each part integrated with its own side: the simulation then moves smoothly with
+    /// the parameters instead of by a step's share of the switch.
+    fn step(&self, x: [f64; 3], u: f64, h: f64) -> [f64; 3] {
+        let alpha = self.half_width;
+        let before = side(x[0], alpha);
+        let trial = self.rk4(x, u, before, h);
+        let after = side(trial[0], alpha);
+        if after == before {
+            return trial;
+        }
+        // The border crossed: leaving a contact its own, entering one the new side's.
+        let border = if before != 0 {
+            f64::from(before) * alpha
+        } else {
+            f64::from(after) * alpha
+        };
+        let span = trial[0] - x[0];
+        let frac = if span != 0.0 {
+            ((border - x[0]) / span).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let mut mid = self.rk4(x, u, before, frac * h);
+        mid[0] = border;
+        let next = if after != 0 && before != 0 { 0 } else { after };
+        self.rk4(mid, u, next, (1.0 - frac) * h)
+    }
+
     /// The motor's speed for the input record (see the module's sampling convention).
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
         let h = 1.0 / self.substeps.max(1) as f64;
         let mut x = [0.0f64; 3];
         let mut y = Vec::with_capacity(u.len());
-        let add =
-            |x: [f64; 3], k: [f64; 3], s: f64| [x[0] + s * k[0], x[1] + s * k[1], x[2] + s * k[2]];
         for &ut in u {
             y.push(x[1]);
             for _ in 0..self.substeps.max(1) {
-                let k1 = self.derivative(x, ut);
-                let k2 = self.derivative(add(x, k1, h / 2.0), ut);
-                let k3 = self.derivative(add(x, k2, h / 2.0), ut);
-                let k4 = self.derivative(add(x, k3, h), ut);
-                for i in 0..3 {
-                    x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                }
+                x = self.step(x, ut, h);
             }
         }
         y
