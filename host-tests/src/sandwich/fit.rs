@@ -351,3 +351,63 @@ pub fn fit_two_mass_from_poles(
         iterations: best.iterations,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records the fit cannot use are refused with the reason, before any simulation.
+    #[test]
+    fn unusable_records_are_refused() {
+        let opts = TwoMassOptions::default();
+        let poles = [(0.99, 0.0)];
+        let u: Vec<f64> = (0..400).map(|t| (t as f64 * 0.05).sin()).collect();
+        let y: Vec<f64> = u.iter().map(|v| 0.5 * v).collect();
+        let fit = |u: &[f64], y: &[f64], o: &TwoMassOptions| {
+            fit_two_mass_from_poles(u, y, &poles, o).map(|_| ())
+        };
+        assert_eq!(
+            fit(&u, &y[..399], &opts),
+            Err(SandwichError::LengthMismatch { u: 400, y: 399 })
+        );
+        assert_eq!(
+            fit(&u[..100], &y[..100], &opts),
+            Err(SandwichError::TooFewSamples {
+                have: 100,
+                need: SAMPLES_PER_PARAMETER * PARAMETERS
+            })
+        );
+        let mut bad = y.clone();
+        bad[7] = f64::NAN;
+        assert_eq!(
+            fit(&u, &bad, &opts),
+            Err(SandwichError::NonFinite {
+                signal: "y",
+                index: 7
+            })
+        );
+        assert_eq!(
+            fit(&u, &vec![1.0; 400], &opts),
+            Err(SandwichError::Constant("output"))
+        );
+        let none = TwoMassOptions {
+            substeps: 0,
+            ..opts
+        };
+        assert_eq!(fit(&u, &y, &none), Err(SandwichError::NoSubsteps));
+    }
+
+    /// The current model's slowest real pole is the rigid-body rate; a complex pair is a
+    /// resonance, tried beside the fixed ones.
+    #[test]
+    fn poles_are_split_into_rigid_body_and_resonance() {
+        let z = (-0.05f64).exp();
+        let (re, im) = (z * 0.2f64.cos(), z * 0.2f64.sin());
+        let (res, rigid) = split_poles(&[(0.998, 0.0), (0.5, 0.0), (re, im), (re, -im)]);
+        assert!((rigid - -(0.998f64.ln())).abs() < 1e-12, "{rigid}");
+        let omega = 0.05f64.hypot(0.2);
+        assert!((res[0].0 - omega).abs() < 1e-9, "{res:?}");
+        assert!((res[0].1 - 0.05 / omega).abs() < 1e-9, "{res:?}");
+        assert_eq!(res.len(), 1 + RESONANCES.len());
+    }
+}
