@@ -6,22 +6,23 @@
 //! `β_m = β_l = −ln z₀` (the rigid-body rate `(β_m + r β_l)/(1 + r)` is then `−ln z₀`). Each
 //! complex pair `z` is a candidate shaft resonance `ω = |ln z|` with damping
 //! `ζ = −ln|z|/ω`; and since the current model may have none (a first-order model, or an
-//! over-damped fit of a record the play dominates) the resonance is also tried at 0.1, 0.3 and
-//! 1 rad per sample with `ζ = 0.3`. For each resonance the
-//! inertia ratio `r` is tried at 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and
-//! `c = 2ζω r/(1 + r)`; the gain `g` is the least-squares one with the teeth in contact
-//! (`α = 0`, where the output is linear in `g`).
+//! over-damped fit of a record the play dominates) the resonance is also tried at 0.1, 0.3
+//! and 1 rad per sample with `ζ = 0.3`. For each resonance the inertia ratio `r` is tried at
+//! 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and `c = 2ζω r/(1 + r)`; the gain `g` is
+//! the least-squares one with the teeth in contact (`α = 0`, where the output is linear in
+//! `g`).
 //!
 //! **Search.** The error is far from quadratic in the play: a play of the wrong size puts
 //! every contact at the wrong sample. So the play is not left to the iteration from a guess.
 //! (1) Each start above is fitted with the play held at 0 ([`SCREEN_ITERATIONS`]
-//! iterations): the two-mass model in contact, a linear model of the structure. (2) From the starts
-//! of the [`LINEAR_KEPT`] best (the fit in contact may have let the shaft go slack, where the
-//! play no longer acts, so its own parameters are no start for the play), the play is held at each point of a grid of half-widths from 1 to
-//! 1024 times the output's RMS (the angle the motor turns in 1 to 1024 samples at a typical
-//! speed), a factor `√2` apart, and the other parameters are fitted
-//! ([`PROFILE_ITERATIONS`] iterations): the error's profile in the play. (3) The [`FINALISTS`] best points of the grid and the best fit in
-//! contact get the full budget on every parameter, and the smallest error is kept.
+//! iterations): the two-mass model in contact, a linear model of the structure. (2) From the
+//! starts of the [`LINEAR_KEPT`] best (the fit in contact may have let the shaft go slack,
+//! where the play no longer acts, so its own parameters are no start for the play), the play
+//! is held at each point of a grid of half-widths from 1 to 1024 times the output's RMS (the
+//! angle the motor turns in 1 to 1024 samples at a typical speed), a factor `√2` apart, and
+//! the other parameters are fitted ([`PROFILE_ITERATIONS`] iterations): the error's profile
+//! in the play. (3) The [`FINALISTS`] best points of the grid and the best fit in contact get
+//! the full budget on every parameter, and the smallest error is kept.
 //!
 //! **Fit.** Levenberg–Marquardt ([`crate::numerics::lm`], [`Settings::simulation_fit`]) on
 //! the simulation error of the motor's speed, parameters as in
