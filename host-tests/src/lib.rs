@@ -24,6 +24,7 @@ pub mod progress;
 pub mod reference;
 pub mod refine;
 pub mod report;
+pub mod sandwich;
 pub mod sim;
 pub mod simulate;
 pub mod table1;

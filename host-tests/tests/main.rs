@@ -60,3 +60,4 @@ mod refine_mc;
 mod refused_inputs;
 mod sim;
 mod stable_start;
+mod two_mass;

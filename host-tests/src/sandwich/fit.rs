@@ -1,0 +1,414 @@
+//! The two-mass model fitted by simulation error from the current model.
+//!
+//! **Start.** The current model (linear, or with an element at the input) has put the
+//! record's dynamics into the poles of its `G`; they are split between the two-mass model's
+//! parts. Its slowest real pole `z₀` is the rigid-body mode, both masses turning together:
+//! `β_m = β_l = −ln z₀` (the rigid-body rate `(β_m + r β_l)/(1 + r)` is then `−ln z₀`). Each
+//! complex pair `z` is a candidate shaft resonance `ω = |ln z|` with damping
+//! `ζ = −ln|z|/ω`; and since the current model may have none (a first-order model, or an
+//! over-damped fit of a record the play dominates) the resonance is also tried at 0.1, 0.3
+//! and 1 rad per sample with `ζ = 0.3`. For each resonance the inertia ratio `r` is tried at
+//! 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and `c = 2ζω r/(1 + r)`; the gain `g` is
+//! the least-squares one with the teeth in contact (`α = 0`, where the output is linear in
+//! `g`).
+//!
+//! **Search.** The error is far from quadratic in the play: a play of the wrong size puts
+//! every contact at the wrong sample. So the play is not left to the iteration from a guess.
+//! (1) Each start above is fitted with the play held at 0 ([`SCREEN_ITERATIONS`]
+//! iterations): the two-mass model in contact, a linear model of the structure. (2) From the
+//! starts of the [`LINEAR_KEPT`] best (the fit in contact may have let the shaft go slack,
+//! where the play no longer acts, so its own parameters are no start for the play), the play
+//! is held at each point of a grid of half-widths from 1 to 1024 times the output's RMS (the
+//! angle the motor turns in 1 to 1024 samples at a typical speed), a factor `√2` apart, and
+//! the other parameters are fitted ([`PROFILE_ITERATIONS`] iterations): the error's profile
+//! in the play. (3) The [`FINALISTS`] best points of the grid and the best fit in contact get
+//! the full budget on every parameter, and the smallest error is kept.
+//!
+//! **Fit.** Levenberg–Marquardt ([`crate::numerics::lm`], [`Settings::simulation_fit`]) on
+//! the simulation error of the motor's speed, parameters as in
+//! [`TwoMassPlay::theta`](super::model::TwoMassPlay::theta), forward-difference Jacobians
+//! (the simulation is continuous in every parameter; the dead zone's kink and the shaft
+//! damping's switch at contact are crossed by a difference step only at the few samples
+//! within the step of them, as for the element fit in [`crate::hysteresis::fit`]), steps
+//! refused where the fixed-step integration is not well inside its stability region. The
+//! difference steps are `10⁻⁴` (relative; the element fit's are `10⁻⁶`): the simulator
+//! splits a step where the teeth meet or part, but the crossing is located by interpolation,
+//! and what is left of the step's share of the shaft damping's switch is a roughness of the
+//! error far below the noise that a `10⁻⁶` quotient could read as the slope.
+
+use super::error::SandwichError;
+use super::model::{HALF_WIDTH, PARAMETERS, TwoMassPlay};
+use super::uncertainty::{Uncertainty, uncertainty};
+use crate::identify::HostModel;
+use crate::numerics::lm::{self, Jacobian, Minimum, Problem, Settings};
+use crate::numerics::poly::eigenvalues;
+use crate::numerics::rms;
+
+/// Iterations every start gets with the play held at 0.
+pub const SCREEN_ITERATIONS: usize = 15;
+
+/// Fits in contact whose play is searched on the grid.
+pub const LINEAR_KEPT: usize = 3;
+
+/// Iterations at each point of the play's grid, the play held.
+pub const PROFILE_ITERATIONS: usize = 6;
+
+/// Points of the play's grid that get the full iteration budget.
+pub const FINALISTS: usize = 3;
+
+/// The inertia ratios `r` of the start.
+const RATIOS: [f64; 3] = [0.5, 1.5, 4.0];
+
+/// The play's grid: half-widths of `√2^i` times the output's RMS, `i < GRID`.
+const GRID: i32 = 21;
+
+/// Resonances (rad per sample) tried beside the current model's.
+const RESONANCES: [f64; 3] = [0.1, 0.3, 1.0];
+
+/// The difference steps, in multiples of the shared solver's `10⁻⁶` of a parameter's size.
+const DIFFERENCE_SCALE: f64 = 100.0;
+
+/// Samples the fit needs per parameter at least.
+const SAMPLES_PER_PARAMETER: usize = 20;
+
+/// Settings of the fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TwoMassOptions {
+    /// Iteration limit of Levenberg–Marquardt for the finalists.
+    pub max_iter: usize,
+    /// Runge–Kutta steps per sample of the model's simulator.
+    pub substeps: usize,
+}
+
+impl Default for TwoMassOptions {
+    /// 60 iterations, 10 steps per sample.
+    fn default() -> Self {
+        Self {
+            max_iter: 60,
+            substeps: 10,
+        }
+    }
+}
+
+/// The fitted model and how the fit went.
+#[derive(Clone, Debug)]
+pub struct TwoMassFit {
+    /// The model.
+    pub model: TwoMassPlay,
+    /// `Σe²` of the best start (before any iteration).
+    pub initial_cost: f64,
+    /// `Σe²` at the optimum.
+    pub cost: f64,
+    /// Starts tried.
+    pub starts: usize,
+    /// Iterations of the kept finalist.
+    pub iterations: usize,
+    /// Standard deviations (`None` when `JᵀJ` is singular at the optimum).
+    pub uncertainty: Option<Uncertainty>,
+}
+
+impl TwoMassFit {
+    /// The play `2α` (the model's angle units).
+    pub fn gap(&self) -> f64 {
+        self.model.gap()
+    }
+
+    /// The play's standard deviation, when known.
+    pub fn gap_std(&self) -> Option<f64> {
+        self.uncertainty.as_ref().map(|u| u.gap)
+    }
+
+    /// The simulated output for an input record.
+    pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
+        self.model.simulate(u)
+    }
+}
+
+/// Refuses records the fit cannot use.
+fn check(u: &[f64], y: &[f64], opts: &TwoMassOptions) -> Result<(), SandwichError> {
+    if u.len() != y.len() {
+        return Err(SandwichError::LengthMismatch {
+            u: u.len(),
+            y: y.len(),
+        });
+    }
+    let need = SAMPLES_PER_PARAMETER * PARAMETERS;
+    if u.len() < need {
+        return Err(SandwichError::TooFewSamples {
+            have: u.len(),
+            need,
+        });
+    }
+    for (signal, x) in [("u", u), ("y", y)] {
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SandwichError::NonFinite { signal, index });
+        }
+        let first = x.first().copied().unwrap_or(0.0);
+        if x.iter().all(|&v| v == first) {
+            return Err(SandwichError::Constant(if signal == "u" {
+                "input"
+            } else {
+                "output"
+            }));
+        }
+    }
+    if opts.substeps == 0 {
+        return Err(SandwichError::NoSubsteps);
+    }
+    Ok(())
+}
+
+/// The resonances `(ω, ζ)` and the rigid-body rate of discrete poles `(re, im)`.
+pub fn split_poles(poles: &[(f64, f64)]) -> (Vec<(f64, f64)>, f64) {
+    let rate = |(re, im): (f64, f64)| -(re.hypot(im).max(1e-12)).ln();
+    let rigid = poles
+        .iter()
+        .filter(|(re, im)| im.abs() < 1e-9 && *re > 0.0 && *re < 1.0)
+        .map(|&p| rate(p))
+        .fold(f64::INFINITY, f64::min);
+    let rigid = if rigid.is_finite() {
+        rigid
+    } else {
+        poles
+            .iter()
+            .map(|&p| rate(p))
+            .filter(|r| *r > 0.0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let rigid = if rigid.is_finite() { rigid } else { 1e-3 };
+    let mut resonances: Vec<(f64, f64)> = poles
+        .iter()
+        .filter(|(_, im)| *im > 1e-9)
+        .map(|&(re, im)| {
+            let sigma = rate((re, im));
+            let omega = sigma.hypot(im.atan2(re));
+            (omega, (sigma / omega).clamp(0.01, 0.9))
+        })
+        .collect();
+    resonances.extend(RESONANCES.iter().map(|&w| (w, 0.3)));
+    (resonances, rigid.max(1e-6))
+}
+
+/// The starting parameter vectors in contact (`α = 0`) from the poles (see the module).
+fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Vec<f64>> {
+    let (resonances, rigid) = split_poles(poles);
+    let mut out = Vec::new();
+    for &(omega, zeta) in &resonances {
+        for &r in &RATIOS {
+            let contact = TwoMassPlay {
+                gain: 1.0,
+                motor_damping: rigid,
+                stiffness: omega * omega * r / (1.0 + r),
+                shaft_damping: 2.0 * zeta * omega * r / (1.0 + r),
+                inertia_ratio: r,
+                load_damping: rigid,
+                half_width: 0.0,
+                substeps,
+            };
+            if !contact.integrable() {
+                continue;
+            }
+            let unit = contact.simulate(u);
+            let uu: f64 = unit.iter().map(|v| v * v).sum();
+            let uy: f64 = unit.iter().zip(y).map(|(a, b)| a * b).sum();
+            let gain = uy / uu;
+            if gain.is_finite() && gain != 0.0 {
+                out.push(TwoMassPlay { gain, ..contact }.theta());
+            }
+        }
+    }
+    out
+}
+
+/// Fits the two-mass model with play to `(u, y)` (`y` the motor's speed) from the poles of
+/// the current model's `G`.
+pub fn fit_two_mass(
+    u: &[f64],
+    y: &[f64],
+    current: &HostModel,
+    opts: &TwoMassOptions,
+) -> Result<TwoMassFit, SandwichError> {
+    let poles = eigenvalues(current.a.clone()).unwrap_or_default();
+    fit_two_mass_from_poles(u, y, &poles, opts)
+}
+
+/// [`fit_two_mass`] from discrete poles `(re, im)` of any current model.
+pub fn fit_two_mass_from_poles(
+    u: &[f64],
+    y: &[f64],
+    poles: &[(f64, f64)],
+    opts: &TwoMassOptions,
+) -> Result<TwoMassFit, SandwichError> {
+    check(u, y, opts)?;
+    let substeps = opts.substeps;
+    let residual = |th: &[f64]| -> Option<Vec<f64>> {
+        let m = TwoMassPlay::from_theta(th, substeps)?;
+        let r: Vec<f64> = m.simulate(u).iter().zip(y).map(|(a, b)| a - b).collect();
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    };
+    let admissible =
+        |th: &[f64]| TwoMassPlay::from_theta(th, substeps).is_some_and(|m| m.integrable());
+    let sse = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let candidates = starts(u, y, poles, substeps);
+    let gain_size = candidates
+        .first()
+        .map_or(1.0, |t| t[0].abs())
+        .max(f64::MIN_POSITIVE);
+    let y_rms = rms(y).max(f64::MIN_POSITIVE);
+    // Difference steps of `10⁻⁶ · typical`: 10⁻⁴ of the gain, 10⁻⁴ in the logarithms and
+    // 10⁻⁴ of the output's RMS × 100 in the play (see the module on the contact's switch).
+    let mut typical = vec![DIFFERENCE_SCALE; PARAMETERS];
+    typical[0] = DIFFERENCE_SCALE * gain_size;
+    typical[HALF_WIDTH] = DIFFERENCE_SCALE * y_rms;
+    let problem = Problem {
+        residual: &residual,
+        admissible: &admissible,
+        jacobian: Jacobian::ForwardDifference { typical: &typical },
+    };
+    // (1) In contact: the play held at 0.
+    let with_play = |th: &[f64], alpha: f64| {
+        let mut t = th.to_vec();
+        t.push(alpha);
+        t
+    };
+    let residual_contact = |th: &[f64]| residual(&with_play(th, 0.0));
+    let admissible_contact = |th: &[f64]| admissible(&with_play(th, 0.0));
+    let contact = Problem {
+        residual: &residual_contact,
+        admissible: &admissible_contact,
+        jacobian: Jacobian::ForwardDifference {
+            typical: &typical[..HALF_WIDTH],
+        },
+    };
+    let mut initial_cost = f64::INFINITY;
+    let mut in_contact: Vec<(Minimum, &[f64])> = Vec::new();
+    let mut failure = None;
+    for th in &candidates {
+        let th = &th[..HALF_WIDTH];
+        let Some(r0) = residual_contact(th) else {
+            continue;
+        };
+        initial_cost = initial_cost.min(sse(&r0));
+        match lm::minimise(&contact, th, &Settings::simulation_fit(SCREEN_ITERATIONS)) {
+            Ok(m) => in_contact.push((m, th)),
+            Err(e) => failure = Some(e),
+        }
+    }
+    if in_contact.is_empty() {
+        return Err(failure.map_or(SandwichError::NoStart, SandwichError::from));
+    }
+    in_contact.sort_by(|a, b| sse(&a.0.residual).total_cmp(&sse(&b.0.residual)));
+    // (2) The play on its grid, the other parameters refitted at each point.
+    let mut grid: Vec<(f64, Vec<f64>)> = Vec::new();
+    for (_, from) in in_contact.iter().take(LINEAR_KEPT) {
+        for i in 0..GRID {
+            let alpha = y_rms * std::f64::consts::SQRT_2.powi(i);
+            let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
+            let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
+            let held = Problem {
+                residual: &residual_at,
+                admissible: &admissible_at,
+                jacobian: Jacobian::ForwardDifference {
+                    typical: &typical[..HALF_WIDTH],
+                },
+            };
+            let settings = Settings::simulation_fit(PROFILE_ITERATIONS);
+            if let Ok(m) = lm::minimise(&held, from, &settings) {
+                grid.push((sse(&m.residual), with_play(&m.theta, alpha)));
+            }
+        }
+    }
+    grid.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // (3) Every parameter from the best points and the best fit in contact.
+    let finalists = grid
+        .into_iter()
+        .take(FINALISTS)
+        .map(|(_, th)| th)
+        .chain(in_contact.first().map(|(m, _)| with_play(&m.theta, 0.0)));
+    let mut best: Option<Minimum> = None;
+    for start in finalists {
+        let m = match lm::minimise(&problem, &start, &Settings::simulation_fit(opts.max_iter)) {
+            Ok(m) => m,
+            Err(e) => {
+                failure = Some(e);
+                continue;
+            }
+        };
+        if best
+            .as_ref()
+            .is_none_or(|b| sse(&m.residual) < sse(&b.residual))
+        {
+            best = Some(m);
+        }
+    }
+    let best = best.ok_or(failure.map_or(SandwichError::NoStart, SandwichError::from))?;
+    let model = TwoMassPlay::from_theta(&best.theta, substeps).ok_or(SandwichError::NoStart)?;
+    Ok(TwoMassFit {
+        uncertainty: uncertainty(&problem, &best.theta, &best.residual, &typical),
+        model,
+        initial_cost,
+        cost: sse(&best.residual),
+        starts: candidates.len(),
+        iterations: best.iterations,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records the fit cannot use are refused with the reason, before any simulation.
+    #[test]
+    fn unusable_records_are_refused() {
+        let opts = TwoMassOptions::default();
+        let poles = [(0.99, 0.0)];
+        let u: Vec<f64> = (0..400).map(|t| (t as f64 * 0.05).sin()).collect();
+        let y: Vec<f64> = u.iter().map(|v| 0.5 * v).collect();
+        let fit = |u: &[f64], y: &[f64], o: &TwoMassOptions| {
+            fit_two_mass_from_poles(u, y, &poles, o).map(|_| ())
+        };
+        assert_eq!(
+            fit(&u, &y[..399], &opts),
+            Err(SandwichError::LengthMismatch { u: 400, y: 399 })
+        );
+        assert_eq!(
+            fit(&u[..100], &y[..100], &opts),
+            Err(SandwichError::TooFewSamples {
+                have: 100,
+                need: SAMPLES_PER_PARAMETER * PARAMETERS
+            })
+        );
+        let mut bad = y.clone();
+        bad[7] = f64::NAN;
+        assert_eq!(
+            fit(&u, &bad, &opts),
+            Err(SandwichError::NonFinite {
+                signal: "y",
+                index: 7
+            })
+        );
+        assert_eq!(
+            fit(&u, &vec![1.0; 400], &opts),
+            Err(SandwichError::Constant("output"))
+        );
+        let none = TwoMassOptions {
+            substeps: 0,
+            ..opts
+        };
+        assert_eq!(fit(&u, &y, &none), Err(SandwichError::NoSubsteps));
+    }
+
+    /// The current model's slowest real pole is the rigid-body rate; a complex pair is a
+    /// resonance, tried beside the fixed ones.
+    #[test]
+    fn poles_are_split_into_rigid_body_and_resonance() {
+        let z = (-0.05f64).exp();
+        let (re, im) = (z * 0.2f64.cos(), z * 0.2f64.sin());
+        let (res, rigid) = split_poles(&[(0.998, 0.0), (0.5, 0.0), (re, im), (re, -im)]);
+        assert!((rigid - -(0.998f64.ln())).abs() < 1e-12, "{rigid}");
+        let omega = 0.05f64.hypot(0.2);
+        assert!((res[0].0 - omega).abs() < 1e-9, "{res:?}");
+        assert!((res[0].1 - 0.05 / omega).abs() < 1e-9, "{res:?}");
+        assert_eq!(res.len(), 1 + RESONANCES.len());
+    }
+}
