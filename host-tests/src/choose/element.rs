@@ -5,19 +5,21 @@
 //! the two paths are fitted on different samples and disagree where the element does not.
 //!
 //! The static model is identified at the structure the two-path model's choices found (its
-//! segment count per path, its horizons and its order), with its own knots where the record
-//! has samples, and refined like it; the inner hold-out then decides between them and the
-//! linear baseline ([`crate::workflow::baseline`]). One identification and one refinement
-//! more, not a second search over segments, horizons and orders.
+//! segment count per path and its order), with its own knots where the record has samples and
+//! its own horizons (the static element's input Hankel Gram has other channels: horizons the
+//! two-path regressor supports can leave it rank deficient), and refined like it; the inner
+//! hold-out then decides between them and the linear baseline
+//! ([`crate::workflow::baseline`]). One refinement more, not a second search over segments and
+//! orders.
 
-use super::{Best, Choices, ChooseError, Horizons, KnotPlacement, Segments, best_model};
+use super::{Best, Choices, ChooseError, KnotPlacement, Segments, best_model};
 use crate::identify::IdentifyOptions;
 use crate::reference::uniform_knots;
 
 /// The static model of `(u, y)` at the structure of the two-path model `two_path` (identified
 /// from `base` with `choices`): its segment count per path (the given knots' count when the
-/// count was not chosen), horizons and order, knots merged where the record has few samples
-/// when `choices` places them so.
+/// count was not chosen) and order, knots merged where the record has few samples when
+/// `choices` places them so, horizons as `choices` sets them.
 pub fn static_beside(
     u: &[f64],
     y: &[f64],
@@ -33,12 +35,9 @@ pub fn static_beside(
     opts.static_nonlinearity = true;
     opts.knots_asc = uniform_knots(base.u_min(), base.u_max(), segments);
     opts.knots_desc = opts.knots_asc.clone();
-    opts.f = two_path.options.f;
-    opts.p = two_path.options.p;
     opts.order = Some(two_path.model.order);
     let choices = Choices {
         segments: Segments::Given,
-        horizons: Horizons::Given,
         knots: match choices.knots {
             KnotPlacement::FromData => KnotPlacement::FromData,
             KnotPlacement::Given => KnotPlacement::Given,
@@ -54,10 +53,9 @@ mod tests {
     use super::*;
 
     /// A first-order plant behind a deadzone, driven by a staircase: the static model is
-    /// identified at the backlash model's order and horizons, and its border follows the
-    /// deadzone.
+    /// identified at the backlash model's order, and its border follows the deadzone.
     #[test]
-    fn the_static_model_takes_the_two_path_structure_and_reads_a_deadzone() {
+    fn the_static_model_takes_the_two_path_order_and_reads_a_deadzone() {
         let n = 3000;
         let mut state = 0.37_f64;
         let mut level = 0.0;
@@ -84,10 +82,6 @@ mod tests {
         let s = static_beside(&u, &y, &base, &choices, &backlash).unwrap();
         assert!(s.options.static_nonlinearity);
         assert_eq!(s.model.order, backlash.model.order);
-        assert_eq!(
-            (s.options.f, s.options.p),
-            (backlash.options.f, backlash.options.p)
-        );
         // The border at 0 (inside the deadzone) and at 0.6 (0.5 out of it).
         let h = |x: f64| s.model.border_asc_at(x);
         assert!(h(0.0).abs() < 0.02, "H(0) = {}", h(0.0));
