@@ -46,22 +46,8 @@ const LEN: usize = 4000;
 /// Runge–Kutta steps per sample of the truth.
 const SUB: usize = 20;
 
-/// A small generator of its own (xorshift, Box–Muller).
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let (a, b) = (self.uniform().max(1e-300), self.uniform());
-        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-    }
-}
+/// The records' generator (xorshift, Box–Muller).
+use crate::common::XorShift as Rng;
 
 /// The true drive, SI units.
 #[derive(Clone, Copy, Debug)]

@@ -29,8 +29,8 @@ pub struct Uncertainty {
 }
 
 /// The forward-difference Jacobian of `problem` at `theta` (`None` if a step does not
-/// simulate).
-fn jacobian(
+/// simulate): steps of `10⁻⁶` of each parameter's size or its `typical` size.
+pub(crate) fn jacobian(
     problem: &Problem<'_>,
     theta: &[f64],
     r: &[f64],

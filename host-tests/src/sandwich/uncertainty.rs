@@ -7,7 +7,7 @@
 use nalgebra::DMatrix;
 
 use super::model::HALF_WIDTH;
-use crate::numerics::lm::{Jacobian, Problem};
+use crate::numerics::lm::Problem;
 
 /// The standard deviations of a fit.
 #[derive(Clone, Debug)]
@@ -40,22 +40,7 @@ pub fn uncertainty(
     if r.len() <= d || typical.len() != d {
         return None;
     }
-    let jac = match problem.jacobian {
-        Jacobian::Analytic(j) => j(theta),
-        _ => {
-            let mut jac = DMatrix::<f64>::zeros(r.len(), d);
-            for j in 0..d {
-                let step = 1e-6 * theta[j].abs().max(typical[j]);
-                let mut t = theta.to_vec();
-                t[j] += step;
-                let rj = (problem.residual)(&t)?;
-                for (i, (a, b)) in rj.iter().zip(r).enumerate() {
-                    jac[(i, j)] = (a - b) / step;
-                }
-            }
-            jac
-        }
-    };
+    let jac = crate::hysteresis::uncertainty::jacobian(problem, theta, r, typical)?;
     let sigma2 = r.iter().map(|v| v * v).sum::<f64>() / (r.len() - d) as f64;
     let covariance = jac.tr_mul(&jac).cholesky()?.inverse() * sigma2;
     // `α` enters by its magnitude, so its variance is the parameter's.

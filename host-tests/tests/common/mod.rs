@@ -275,6 +275,25 @@ pub fn has(path: &Path, expected: &[&str]) {
     }
 }
 
+/// A small generator of the tests' records (xorshift, Box–Muller), apart from the library's.
+pub struct XorShift(pub u64);
+
+impl XorShift {
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Standard normal.
+    pub fn normal(&mut self) -> f64 {
+        let (a, b) = (self.uniform().max(1e-300), self.uniform());
+        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+    }
+}
+
 /// `y(t) = a₁ y(t−1) + a₂ y(t−2) + (1 − a₁ − a₂) v(t−1)` (unit static gain, one sample of
 /// delay), at rest at `v[0]`: the second-order plant of records written in the tests.
 pub fn second_order(v: &[f64], a1: f64, a2: f64) -> Vec<f64> {
