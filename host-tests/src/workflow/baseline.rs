@@ -101,18 +101,12 @@ impl Baseline {
                     }
                 };
                 let reported = match c.reported {
-                    Reported::Model
-                        if c.linear < c.model || c.static_model.is_some_and(|s| s < c.model) =>
-                    {
-                        format!(
-                            "the {element} model is reported as its structure was given (knots, \
-                         segments or horizons); {} simulates the held-out samples better",
-                            match c.linear < c.model {
-                                true => "the linear model",
-                                false => "the static model",
-                            }
-                        )
-                    }
+                    // A structure given leaves no static candidate (`static_candidate`).
+                    Reported::Model if c.linear < c.model => format!(
+                        "the {element} model is reported as its structure was given (knots, \
+                         segments or horizons); the linear model simulates the held-out \
+                         samples better"
+                    ),
                     Reported::Model => format!("the {element} model is reported"),
                     Reported::Linear => format!(
                         "the linear model is reported (the {element} model{} did not simulate \
@@ -193,6 +187,12 @@ pub(crate) fn wanted(request: &IdentifyRequest, plan: &Plan) -> bool {
         && !is_linear(&plan.options)
 }
 
+/// The hold-out NRMSE of the refined model `best` on `record` ([`pem_holdout`]); `None` when
+/// it is not refined or its refit fails.
+fn best_holdout(record: &Record, best: &Best) -> Option<f64> {
+    pem_holdout(&record.u, &record.y, best.fit.as_ref()?, &best.options).ok()
+}
+
 /// The static model `static_best` against the linear baseline `linear` on the inner hold-out
 /// of `record`, when the model with the element could not be identified (`why`); `None` when
 /// either has no hold-out score (the linear model is then reported alone).
@@ -202,9 +202,8 @@ pub(crate) fn instead(
     static_best: &Best,
     linear: &Best,
 ) -> Option<Baseline> {
-    let (u, y) = (&record.u[..], &record.y[..]);
-    let s = pem_holdout(u, y, static_best.fit.as_ref()?, &static_best.options).ok()?;
-    let l = pem_holdout(u, y, linear.fit.as_ref()?, &linear.options).ok()?;
+    let s = best_holdout(record, static_best)?;
+    let l = best_holdout(record, linear)?;
     Some(Baseline::Instead {
         why,
         static_model: s,
@@ -266,10 +265,7 @@ pub(crate) fn compare(
         }
     };
     let static_model = match on {
-        ScoredOn::HoldOut => static_best.and_then(|s| {
-            let fit = s.fit.as_ref()?;
-            pem_holdout(u, y, fit, &s.options).ok()
-        }),
+        ScoredOn::HoldOut => static_best.and_then(|s| best_holdout(record, s)),
         ScoredOn::Whole(_) => None,
     };
     let reported = if request.structure_given() {

@@ -303,11 +303,20 @@ fn model_element(baseline: Option<&Baseline>, requested: Element) -> Element {
     }
 }
 
+/// Whether the request leaves the element to the data ([`IdentifyRequest::choose_element`])
+/// for `record`: no element named, a two-path default, and a record within the choice window
+/// (a longer record keeps the named element: one more whole-record identification is what
+/// its window avoids).
+fn element_left_to_data(record: &Record, request: &IdentifyRequest, plan: &Plan) -> bool {
+    request.choose_element
+        && request.element.two_path()
+        && plan.choices.window.is_none_or(|w| record.len() <= w)
+}
+
 /// The static model beside the two-path model `best`, when the request leaves the element to
 /// the data ([`IdentifyRequest::choose_element`]), the linear baseline is fitted
-/// (`baselined`: the hold-out compares them), no structure was given, and the record is
-/// within the choice window (a longer record keeps the named element: one more whole-record
-/// identification is what its window avoids). `None` also when it cannot be identified: the
+/// (`baselined`: the hold-out compares them) and no structure was given
+/// ([`element_left_to_data`]). `None` also when it cannot be identified: the
 /// two-path model and the linear baseline remain.
 fn static_candidate(
     record: &Record,
@@ -316,12 +325,7 @@ fn static_candidate(
     best: &Best,
     baselined: bool,
 ) -> Result<Option<Best>, WorkflowError> {
-    let wanted = request.choose_element
-        && request.element.two_path()
-        && baselined
-        && !request.structure_given()
-        && plan.choices.window.is_none_or(|w| record.len() <= w);
-    if !wanted {
+    if !(baselined && !request.structure_given() && element_left_to_data(record, request, plan)) {
         return Ok(None);
     }
     progress::stage(|| "the static element at the same structure".to_string())?;
@@ -334,7 +338,7 @@ fn static_candidate(
 
 /// The model when the one with the element could not be identified (`why`): the static model
 /// with its own choices of segments, horizons and order, when the request leaves the element
-/// to the data and the record is within the choice window, reported instead of the linear
+/// to the data ([`element_left_to_data`]), reported instead of the linear
 /// baseline `linear` when it simulates the inner hold-out better; else the linear model.
 fn static_instead(
     record: &Record,
@@ -343,9 +347,7 @@ fn static_instead(
     linear: Best,
     why: String,
 ) -> Result<Settled, WorkflowError> {
-    let wanted = request.choose_element
-        && request.element.two_path()
-        && plan.choices.window.is_none_or(|w| record.len() <= w);
+    let wanted = element_left_to_data(record, request, plan);
     let alone = |why| {
         Ok(Settled::Beside(Box::new((
             linear.clone(),
@@ -410,24 +412,24 @@ fn with_element(
         Some(Err(e)) => Some(Baseline::Failed(e.to_string())),
         Some(Ok(linear)) => {
             progress::stage(|| "comparing with the linear baseline on the inner hold-out".into())?;
-            match baseline::compare(
+            let compared = baseline::compare(
                 record,
                 request,
                 &best,
                 element.as_ref(),
                 &linear,
                 beside.as_ref(),
-            ) {
-                Some(c) if c.reported == Reported::Linear => {
+            );
+            // `compare` reports the static model only when it scored one.
+            match (compared, beside) {
+                (Some(c), _) if c.reported == Reported::Linear => {
                     return Ok(Settled::Beside(Box::new((linear, Baseline::Compared(c)))));
                 }
-                Some(c) if c.reported == Reported::Static => {
-                    // `compare` reports the static model only when it scored one.
-                    let chosen = beside.unwrap_or(linear);
+                (Some(c), Some(chosen)) if c.reported == Reported::Static => {
                     return Ok(Settled::Beside(Box::new((chosen, Baseline::Compared(c)))));
                 }
-                Some(c) => Some(Baseline::Compared(c)),
-                None => Some(Baseline::Failed(
+                (Some(c), _) => Some(Baseline::Compared(c)),
+                (None, _) => Some(Baseline::Failed(
                     "the candidates could not be simulated on the record".to_string(),
                 )),
             }
