@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::mpsc::{self, TryRecvError};
 use std::time::Duration;
 
 use hsid_host::progress::{Reporter, reporting};
@@ -44,15 +44,16 @@ pub fn interruptible<T: Send + 'static>(
             let _ = tx.send(out);
         })
         .map_err(|e| PyRuntimeError::new_err(format!("hsid: cannot start a thread: {e}")))?;
-    let mut rx = rx;
+    // A plain sleep and a look, without the GIL (no timed wait on the channel: a sleep cannot
+    // miss its wake-up); the sleep doubles from 1 ms to POLL so a short call returns at once.
+    let mut nap = Duration::from_millis(1);
     loop {
-        // The receiver goes into the closure and back: a shared one is not `Sync`.
-        let (got, back) = py.detach(move || (rx.recv_timeout(POLL), rx));
-        rx = back;
-        match got {
+        py.detach(|| std::thread::sleep(nap));
+        nap = (nap * 2).min(POLL);
+        match rx.try_recv() {
             Ok(out) => return Ok(out),
-            Err(RecvTimeoutError::Timeout) => {}
-            Err(RecvTimeoutError::Disconnected) => {
+            Err(TryRecvError::Empty) => {}
+            Err(TryRecvError::Disconnected) => {
                 return Err(PyRuntimeError::new_err(
                     "hsid: the identification stopped without a result (a panic: please \
                      report it with the data)",

@@ -15,7 +15,7 @@ from conftest import ROOT
 SERVO = ROOT / "examples" / "data" / "servo.csv"
 
 CHILD = r"""
-import sys, time
+import faulthandler, sys, time
 import numpy as np
 import hsid
 rows = [l for l in open(sys.argv[1]) if not l.startswith("#")][1:]
@@ -26,6 +26,8 @@ u, y = np.tile(u, 8), np.tile(y, 8)
 call = sys.argv[2]
 print("started", flush=True)
 start = time.monotonic()
+# Should the call outlive the signal by far, the Python stack goes to stderr (the test prints it).
+faulthandler.dump_traceback_later(45)
 try:
     if call == "identify":
         hsid.identify(u, y, umin=-1.0, umax=1.0)
@@ -51,7 +53,12 @@ def test_ctrl_c_raises_keyboard_interrupt_within_a_second(call):
     assert child.poll() is None, "the call ended before the signal"
     sent = time.monotonic()
     child.send_signal(signal.SIGINT)
-    out, err = child.communicate(timeout=60)
+    try:
+        out, err = child.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        out, err = child.communicate()
+        pytest.fail(f"no end within 60 s of the signal: stdout {out!r}, stderr {err!r}")
     words = out.split()
     assert words[:1] == ["interrupted"], (out, err)
     latency = float(words[1]) - sent
