@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{self, TryRecvError};
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::Duration;
 
 use hsid_host::progress::{Reporter, reporting};
@@ -44,16 +44,15 @@ pub fn interruptible<T: Send + 'static>(
             let _ = tx.send(out);
         })
         .map_err(|e| PyRuntimeError::new_err(format!("hsid: cannot start a thread: {e}")))?;
-    // A plain sleep and a look, without the GIL (no timed wait on the channel: a sleep cannot
-    // miss its wake-up); the sleep doubles from 1 ms to POLL so a short call returns at once.
-    let mut nap = Duration::from_millis(1);
+    let mut rx = rx;
     loop {
-        py.detach(|| std::thread::sleep(nap));
-        nap = (nap * 2).min(POLL);
-        match rx.try_recv() {
+        // The receiver goes into the closure and back: a shared one is not `Sync`.
+        let (got, back) = py.detach(move || (rx.recv_timeout(POLL), rx));
+        rx = back;
+        match got {
             Ok(out) => return Ok(out),
-            Err(TryRecvError::Empty) => {}
-            Err(TryRecvError::Disconnected) => {
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => {
                 return Err(PyRuntimeError::new_err(
                     "hsid: the identification stopped without a result (a panic: please \
                      report it with the data)",

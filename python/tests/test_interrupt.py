@@ -15,9 +15,13 @@ from conftest import ROOT
 SERVO = ROOT / "examples" / "data" / "servo.csv"
 
 CHILD = r"""
-import faulthandler, sys, time
+import faulthandler, signal, sys, time
 import numpy as np
 import hsid
+# Ctrl-C as an interactive interpreter has it: a process started in the background by a shell
+# without job control (`cmd &` in a script, as a CI runner may start the suite) inherits SIGINT
+# ignored, and Python then installs no KeyboardInterrupt handler at all.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 rows = [l for l in open(sys.argv[1]) if not l.startswith("#")][1:]
 u, y = np.array([[float(x) for x in l.split(",")] for l in rows]).T
 # The record eight times over (50,400 samples): the call lasts well beyond the signal on any
