@@ -46,6 +46,15 @@ pub enum Finding {
     StateDependenceBeyondStores,
     /// Outside the catalog: state-dependent dynamics not added.
     StateDependence,
+    /// Outside the catalog: the final model's equation error depends on the sign of its
+    /// simulated velocity ([`friction`]):
+    /// Coulomb friction on the model's velocity, which `hsid identify --friction` fits.
+    Friction {
+        /// The sign's t statistic (Newey–West errors).
+        t: f64,
+        /// The sign's coefficient in the equation (output units).
+        difference: f64,
+    },
     /// Outside the catalog: the output is quantised.
     Quantised,
     /// The output integrates (data check `integrating`): nothing is scored against a model
@@ -70,6 +79,7 @@ impl Finding {
                 | Finding::DirectionDependenceBeyondElement
                 | Finding::StateDependenceBeyondStores
                 | Finding::StateDependence
+                | Finding::Friction { .. }
                 | Finding::Quantised
         )
     }
@@ -107,4 +117,48 @@ pub fn outside_catalog(
         out.push(Finding::Quantised);
     }
     out
+}
+
+/// Friction on the velocity of `model` (the diagnosis's final model) on the estimation record
+/// `est` from sample `from` on: the friction step's evidence
+/// ([`velocity_sign_on`](crate::friction::velocity_sign_on)) in the model's
+/// output-error equation (its simulated output as the past), with the velocity of its
+/// simulated output. Asked only of a model whose simulation is its
+/// element and `G` (no element with memory, stores or output map): the equation the test
+/// writes is that model's.
+pub fn friction(
+    model: &super::model::ExtendedModel,
+    est: &crate::model::Record,
+    from: usize,
+) -> Option<Finding> {
+    if model.hysteresis.is_some() || model.stores.is_some() || model.output_map.is_some() {
+        return None;
+    }
+    let ud = super::simulate::delay_input(&est.u, model.structure.delay);
+    let h = model.hammerstein.nonlinearity_output(&ud);
+    let sim = model.hammerstein_output(&est.u);
+    let velocity: Vec<f64> = std::iter::once(0.0)
+        .chain(sim.windows(2).map(|w| w[1] - w[0]))
+        .collect();
+    let s: Vec<f64> = est
+        .y
+        .iter()
+        .zip(&est.time)
+        .map(|(y, &t)| y - model.additive.eval(t))
+        .collect();
+    let from = from.min(s.len());
+    let e = crate::friction::velocity_sign_on(
+        &s[from..],
+        &sim[from..],
+        &h[from..],
+        &velocity[from..],
+        model.hammerstein.order,
+    )?;
+    // On the t statistic alone: with the simulated past, whose lags are nearly functions of
+    // the element's past output, the regression's own `B`, and so the force it implies, is
+    // poorly determined.
+    (e.t.abs() > crate::friction::VelocitySign::THRESHOLD).then_some(Finding::Friction {
+        t: e.t,
+        difference: e.difference,
+    })
 }

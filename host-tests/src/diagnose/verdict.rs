@@ -25,6 +25,9 @@ impl Finding {
             }
             Finding::StateDependence => Some("state-dependent dynamics"),
             Finding::Quantised => Some("the output is quantised"),
+            Finding::Friction { .. } => Some(
+                "the error depends on the direction the model moves (friction on its velocity)",
+            ),
             _ => None,
         }
     }
@@ -98,6 +101,11 @@ impl fmt::Display for Finding {
                     "{test} fired ({detail}; p = {p_value:.2e}) but no catalog effect explains it ({why}): effect not identified"
                 )
             }
+            Finding::Friction { t, difference } => write!(
+                f,
+                "{OUTSIDE}{} (the sign of the final model's simulated velocity, a regressor beside the terms of its output-error equation, has the coefficient {difference:+.3e} with t = {t:.1} (Newey–West errors; the finding is made beyond |t| = 3)): Coulomb friction and an offset on the model's velocity are fitted by `hsid identify --friction` (docs/friction.md); the diagnosis does not add them as a step",
+                self.outside_name().unwrap_or_default(),
+            ),
             outside => write!(
                 f,
                 "{OUTSIDE}{} ({}",

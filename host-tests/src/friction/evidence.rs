@@ -59,9 +59,27 @@ impl VelocitySign {
 /// the element's output, `v` the simulated velocity, all of one length, `n` the order. `None`
 /// when fewer than `2n + 20` samples move, all move one way, or the regression is singular.
 pub fn velocity_sign_arx(s: &[f64], h: &[f64], v: &[f64], n: usize) -> Option<VelocitySign> {
+    velocity_sign_on(s, s, h, v, n)
+}
+
+/// The test of [`velocity_sign_arx`] with the past outputs taken from `past` (of `s`'s
+/// length): the model's simulated output makes it the model's output-error equation, whose
+/// regressors hold no measurement noise. With the measured past (an ARX equation) on a plant
+/// sampled fast beside its dynamics, the noise in the past outputs biases the AR terms, and the
+/// sign of the velocity, which follows the output's recent change, takes up the bias: a mass
+/// on a spring without friction, sampled at 100 times its 10 rad/s at 30 dB, tested at t =
+/// 20.8 with a force of 58 % that way, and at |t| < 3 on its simulated past
+/// (`tests/friction_spring.rs`).
+pub fn velocity_sign_on(
+    s: &[f64],
+    past: &[f64],
+    h: &[f64],
+    v: &[f64],
+    n: usize,
+) -> Option<VelocitySign> {
     use crate::numerics::lstsq::{Scaling, lstsq};
     use nalgebra::{DMatrix, DVector};
-    let len = s.len().min(h.len()).min(v.len());
+    let len = s.len().min(past.len()).min(h.len()).min(v.len());
     let floor = 0.05 * rms(v);
     let rows: Vec<usize> = (n.max(1)..len)
         .filter(|&t| v[t - 1].abs() > floor)
@@ -74,7 +92,7 @@ pub fn velocity_sign_arx(s: &[f64], h: &[f64], v: &[f64], n: usize) -> Option<Ve
     let x = DMatrix::from_fn(rows.len(), k, |r, j| {
         let t = rows[r];
         if j < n {
-            -s[t - 1 - j]
+            -past[t - 1 - j]
         } else if j < 2 * n {
             h[t - 1 - (j - n)]
         } else if j == 2 * n {

@@ -39,7 +39,7 @@ pub mod initial;
 pub mod model;
 pub mod physical;
 
-pub use evidence::{VelocitySign, velocity_sign, velocity_sign_arx};
+pub use evidence::{VelocitySign, velocity_sign, velocity_sign_arx, velocity_sign_on};
 pub use fit::{FrictionError, FrictionFit, FrictionOptions, fit_friction};
 pub use model::Initial;
 pub use model::{Friction, FrictionModel};
