@@ -33,29 +33,8 @@ const FLOOR: f64 = -2.55;
 /// Output SNR in dB.
 const SNR_DB: f64 = 30.0;
 
-/// SplitMix64 with Box–Muller normals: the records' own generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let u1 = self.uniform().max(1e-300);
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
+/// The records' own generator (SplitMix64, Box–Muller).
+use crate::common::SplitMix as Rng;
 
 /// A record: input, measured (noisy, clamped) output, and the noise-free clamped output.
 struct Simulated {

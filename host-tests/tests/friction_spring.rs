@@ -33,24 +33,8 @@ const SNR_DB: f64 = 30.0;
 /// The Coulomb force.
 const COULOMB: f64 = 0.15;
 
-/// SplitMix64 with Box–Muller normals: the records' own generator.
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let u1 = self.uniform().max(1e-300);
-        let u2 = self.uniform();
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
+/// The records' own generator (SplitMix64, Box–Muller).
+use crate::common::SplitMix as Rng;
 
 /// `(u, measured y, clean y)`: the hold, then levels held 20–80 samples through a first-order
 /// low-pass; the mass integrated by RK4 with the input held over each sample.

@@ -294,6 +294,26 @@ impl XorShift {
     }
 }
 
+/// SplitMix64 with Box–Muller normals: the generator of the saturation and spring records.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Standard normal.
+    pub fn normal(&mut self) -> f64 {
+        let (a, b) = (self.uniform().max(1e-300), self.uniform());
+        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+    }
+}
+
 /// `y(t) = a₁ y(t−1) + a₂ y(t−2) + (1 − a₁ − a₂) v(t−1)` (unit static gain, one sample of
 /// delay), at rest at `v[0]`: the second-order plant of records written in the tests.
 pub fn second_order(v: &[f64], a1: f64, a2: f64) -> Vec<f64> {
