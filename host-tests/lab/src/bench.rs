@@ -31,6 +31,9 @@ pub struct Outcome {
     pub steps: Vec<StepOutcome>,
     /// Wall time, ms.
     pub millis: u128,
+    /// The diagnosis found friction outside the catalog
+    /// ([`Finding::Friction`](hsid_host::diagnose::Finding::Friction)).
+    pub friction_found: bool,
 }
 
 /// One step of a run: its effect and setting, its validation error before and after (in the
@@ -99,7 +102,7 @@ impl Outcome {
     pub fn line(&self) -> String {
         let s = &self.scenario;
         format!(
-            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful steps {}{} | {} ms",
+            "{} {:<21} {:<11} {:<8} seed {:>2} | named {:<40} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful steps {}{} | {} ms{}",
             if self.passes() { "ok  " } else { "FAIL" },
             s.effect.map_or("clean", Effect::name),
             s.plant.name(),
@@ -128,7 +131,12 @@ impl Outcome {
                     st.p_worse
                 ))
                 .collect::<String>(),
-            self.millis
+            self.millis,
+            if self.friction_found {
+                " | friction found"
+            } else {
+                ""
+            }
         )
     }
 }
@@ -174,6 +182,10 @@ pub fn run_adjusted(
             })
             .collect(),
         millis,
+        friction_found: d
+            .unexplained
+            .iter()
+            .any(|f| matches!(f, hsid_host::diagnose::Finding::Friction { .. })),
     })
 }
 

@@ -34,6 +34,9 @@ pub struct Outcome {
     pub millis: u128,
     /// The minimum gain the diagnosis ran with ([`DiagnoseOptions::min_gain`]).
     pub min_gain: f64,
+    /// The diagnosis found friction outside the catalog
+    /// ([`Finding::Friction`](hsid_host::diagnose::Finding::Friction)).
+    pub friction_found: bool,
 }
 
 /// A step that raised the validation error.
@@ -86,7 +89,7 @@ impl Outcome {
         let named: Vec<&str> = self.named.iter().map(|e| e.name()).collect();
         let fired: Vec<&str> = self.fired.iter().map(|c| c.name()).collect();
         format!(
-            "{} {:<17} seed {:>2} | n {} ts {:.2} {:<9} {:<8} {:<15} snr {:>4.1} dB | named {:<36} | checks {:<32} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful {}{} | {} ms{}",
+            "{} {:<17} seed {:>2} | n {} ts {:.2} {:<9} {:<8} {:<15} snr {:>4.1} dB | named {:<36} | checks {:<32} | before {:.4} after {:.4} ({:.2}×) floor {:.4} ({:.2}×) | harmful {}{} | {} ms{}{}",
             if self.right() { "ok  " } else { "MISS" },
             s.class.name(),
             s.seed,
@@ -119,6 +122,11 @@ impl Outcome {
                 format!(" ({})", h.join("; "))
             },
             self.millis,
+            if self.friction_found {
+                " | friction found"
+            } else {
+                ""
+            },
             self.error
                 .as_ref()
                 .map_or(String::new(), |e| format!(" | error: {e}")),
@@ -151,6 +159,7 @@ pub fn run_adjusted(s: &Scenario, adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync)
         harmful: Vec::new(),
         millis,
         min_gain: data.options.min_gain,
+        friction_found: false,
     };
     match result {
         Err(e) => o.error = Some(e.to_string()),
@@ -159,6 +168,10 @@ pub fn run_adjusted(s: &Scenario, adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync)
             o.named = d.steps.iter().map(|s| s.effect).collect();
             o.fired = d.warnings.iter().map(|w| w.check).collect();
             o.fired.dedup();
+            o.friction_found = d
+                .unexplained
+                .iter()
+                .any(|f| matches!(f, hsid_host::diagnose::Finding::Friction { .. }));
             o.error_before = d.before.rmse;
             o.error_after_first = first.map_or(d.before.rmse, |f| f.error_after);
             if first.is_some_and(|f| f.metric == Metric::Prediction) {

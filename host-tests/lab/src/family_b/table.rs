@@ -231,6 +231,7 @@ mod tests {
             harmful: Vec::new(),
             millis: 0,
             min_gain: 0.20,
+            friction_found: false,
             truth,
         }
     }
