@@ -411,6 +411,7 @@ pub fn run(a: &DiagnoseArgs) -> Result<(), Failure> {
             "--integrating: the stable part G0 of the plant (one pole fixed at z = 1) on the output's increments y(t) - y(t-1); every error below is of the increments, output units per sample"
         )?;
         opts.identify = increments_options(&opts.identify);
+        opts.increments = true;
         validation = integrating::validation(validation);
         est.increments()
     } else {

@@ -152,3 +152,54 @@ fn without_friction_the_step_finds_none_and_the_test_stays_quiet() {
         assert!(!e.fires(), "{e:?}: {lines:#?}");
     }
 }
+
+/// `hsid diagnose --integrating --nonlinearity static --segments 1 --order 1 --hold 0
+/// --max-steps 0` of `(u, y)`: whether the base model gets the friction finding (the sign of
+/// the model's increments, the body's velocity), and the verdict. With steps the diagnosis
+/// adds an output map first (the friction, a function of the velocity, is one on the
+/// increments), and the finding is not asked of a model with an output map.
+fn diagnosed_friction(u: Vec<f64>, y: Vec<f64>, amp: f64) -> (bool, String) {
+    use hsid_host::diagnose::{DiagnoseOptions, Finding, Validation, diagnose};
+    use hsid_host::identify::IdentifyOptions;
+    let id = IdentifyOptions {
+        static_nonlinearity: true,
+        order: Some(1),
+        ..IdentifyOptions::uniform(-amp, amp, 1, 0)
+    };
+    let mut opts = DiagnoseOptions::new(
+        hsid_host::integrating::increments_options(&id),
+        Element::Static,
+    );
+    opts.increments = true;
+    opts.max_steps = 0;
+    let est = Record::new(u, y).unwrap().increments();
+    let d = diagnose(&est, &Validation::Split(0.7), &opts).unwrap();
+    let found = d.unexplained.iter().find_map(|f| match f {
+        Finding::Friction { t, .. } => Some(*t),
+        _ => None,
+    });
+    println!("friction finding: {found:?}; {}", d.verdict);
+    (found.is_some(), d.verdict.to_string())
+}
+
+#[test]
+fn the_diagnosis_of_the_increments_finds_the_friction_and_not_where_there_is_none() {
+    let ts = 1e-3;
+    let with = Body {
+        mass: 2.0,
+        viscous: 5.0,
+        coulomb: 1.5,
+        offset: 0.3,
+    };
+    let (u, y) = record(&with, 20_000, ts, 6.0, 1e-6, 11);
+    let (found, verdict) = diagnosed_friction(u, y, 6.0);
+    assert!(found, "{verdict}");
+    let without = Body {
+        coulomb: 0.0,
+        offset: 0.0,
+        ..with
+    };
+    let (u, y) = record(&without, 20_000, ts, 6.0, 1e-6, 21);
+    let (found, verdict) = diagnosed_friction(u, y, 6.0);
+    assert!(!found, "{verdict}");
+}

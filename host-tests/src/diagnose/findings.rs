@@ -123,13 +123,15 @@ pub fn outside_catalog(
 /// `est` from sample `from` on: the friction step's evidence
 /// ([`velocity_sign_on`](crate::friction::velocity_sign_on)) in the model's
 /// output-error equation (its simulated output as the past), with the velocity of its
-/// simulated output. Asked only of a model whose simulation is its
+/// simulated output (of the output itself when `increments`: an integrating plant's
+/// increments are its velocity). Asked only of a model whose simulation is its
 /// element and `G` (no element with memory, stores or output map): the equation the test
 /// writes is that model's.
 pub fn friction(
     model: &super::model::ExtendedModel,
     est: &crate::model::Record,
     from: usize,
+    increments: bool,
 ) -> Option<Finding> {
     if model.hysteresis.is_some() || model.stores.is_some() || model.output_map.is_some() {
         return None;
@@ -137,9 +139,12 @@ pub fn friction(
     let ud = super::simulate::delay_input(&est.u, model.structure.delay);
     let h = model.hammerstein.nonlinearity_output(&ud);
     let sim = model.hammerstein_output(&est.u);
-    let velocity: Vec<f64> = std::iter::once(0.0)
-        .chain(sim.windows(2).map(|w| w[1] - w[0]))
-        .collect();
+    let velocity: Vec<f64> = match increments {
+        true => sim.clone(),
+        false => std::iter::once(0.0)
+            .chain(sim.windows(2).map(|w| w[1] - w[0]))
+            .collect(),
+    };
     let s: Vec<f64> = est
         .y
         .iter()

@@ -209,7 +209,7 @@ fn diagnose_inner(
         stores,
         p.current.element.is_some(),
     ));
-    unexplained.extend(findings::friction(&model, est, hold));
+    unexplained.extend(findings::friction(&model, est, hold, opts.increments));
     let verdict = verdict::Verdict::new(
         p.steps.iter().map(|s| s.effect).collect(),
         p.steps.last().map(|s| (s.metric, s.error_after)),

@@ -58,6 +58,10 @@ pub struct DiagnoseOptions {
     pub select_segments: Option<std::ops::RangeInclusive<usize>>,
     /// Which effects a step proposes.
     pub proposing: Proposing,
+    /// The record is an integrating plant's increments (`hsid diagnose --integrating`): the
+    /// model's output is then the plant's velocity, which the friction finding
+    /// ([`Finding::Friction`](super::Finding::Friction)) takes the sign of.
+    pub increments: bool,
 }
 
 /// Which deterministic effects a step of the diagnosis fits and scores.
@@ -191,6 +195,7 @@ impl DiagnoseOptions {
             refine_poles: PoleRefinement::Final,
             select_segments: None,
             proposing: Proposing::WithEvidence,
+            increments: false,
         }
     }
 }
