@@ -139,11 +139,16 @@ pub fn friction(
     let ud = super::simulate::delay_input(&est.u, model.structure.delay);
     let h = model.hammerstein.nonlinearity_output(&ud);
     let sim = model.hammerstein_output(&est.u);
-    let velocity: Vec<f64> = match increments {
-        true => sim.clone(),
-        false => std::iter::once(0.0)
-            .chain(sim.windows(2).map(|w| w[1] - w[0]))
-            .collect(),
+    let change;
+    let velocity = match increments {
+        true => &sim,
+        false => {
+            change = crate::friction::evidence::per_sample_change(
+                &sim,
+                sim.first().copied().unwrap_or(0.0),
+            );
+            &change
+        }
     };
     let s: Vec<f64> = est
         .y

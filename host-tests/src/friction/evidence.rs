@@ -55,6 +55,17 @@ impl VelocitySign {
     }
 }
 
+/// The change of `x` per sample, `before` the value before its first sample: a velocity from
+/// a position (`before` = `x[0]` for a record that starts at rest, the first change 0).
+pub(crate) fn per_sample_change(x: &[f64], before: f64) -> Vec<f64> {
+    std::iter::once(before)
+        .chain(x.iter().copied())
+        .collect::<Vec<f64>>()
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .collect()
+}
+
 /// The test in the model's equation: `s` the output (an integrating plant's increments), `h`
 /// the element's output, `v` the simulated velocity, all of one length, `n` the order. `None`
 /// when fewer than `2n + 20` samples move, all move one way, or the regression is singular.

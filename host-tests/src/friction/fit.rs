@@ -30,6 +30,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::evidence::per_sample_change;
 use super::model::{Friction, FrictionModel, Initial, Polynomials, StartState, delayed, run};
 use crate::identify::HostModel;
 use crate::numerics::lm::{self, Jacobian, LmFailure, Problem, Settings, minimise};
@@ -163,9 +164,7 @@ pub fn fit_friction(
     };
     let velocity: Vec<f64> = match integrating {
         true => y.to_vec(),
-        false => std::iter::once(0.0)
-            .chain(y.windows(2).map(|w| w[1] - w[0]))
-            .collect(),
+        false => per_sample_change(y, y.first().copied().unwrap_or(0.0)),
     };
     let v_rms = crate::numerics::rms(&velocity);
     if !(v_rms > 0.0 && v_rms.is_finite()) {
@@ -259,6 +258,14 @@ fn sign_limit(g: &Polynomials, fr: &Friction) -> f64 {
     (g.b.get(1).copied().unwrap_or(0.0) * fr.coulomb).abs()
 }
 
+/// `fr` with its velocity scale raised just above [`sign_limit`] where it is below.
+fn smoothed(g: &Polynomials, fr: Friction) -> Friction {
+    Friction {
+        velocity_scale: fr.velocity_scale.max(1.01 * sign_limit(g, &fr)),
+        ..fr
+    }
+}
+
 /// Whether `fr` changes sign over a velocity scale the sampled loop follows ([`sign_limit`]).
 fn smooth_enough(g: &Polynomials, fr: &Friction) -> bool {
     fr.velocity_scale >= sign_limit(g, fr)
@@ -312,14 +319,12 @@ fn fit_layout(
     // velocity's sign is noise near every stop and the regression reads a fraction of the
     // Coulomb force, as errors in a regressor do).
     let simulated = run(identified, &none, h, integrating, initial);
-    let simulated_velocity: Vec<f64> = match integrating {
-        true => std::iter::once(simulated.first().copied().unwrap_or(0.0))
-            .chain(simulated.windows(2).map(|w| w[1] - w[0]))
-            .collect(),
-        false => std::iter::once(0.0)
-            .chain(simulated.windows(2).map(|w| w[1] - w[0]))
-            .collect(),
+    // (The position of an integrating plant starts from 0 before its first sample.)
+    let before = match integrating {
+        true => 0.0,
+        false => simulated.first().copied().unwrap_or(0.0),
     };
+    let simulated_velocity = per_sample_change(&simulated, before);
     let regressions = SCALES.iter().flat_map(|&k| {
         [velocity, &simulated_velocity[..]]
             .into_iter()
@@ -332,10 +337,6 @@ fn fit_layout(
         };
         let fr = Friction {
             delay: layout.delay,
-            ..fr
-        };
-        let smoothed = |g: &Polynomials, fr: Friction| Friction {
-            velocity_scale: fr.velocity_scale.max(1.01 * sign_limit(g, &fr)),
             ..fr
         };
         // The friction is a force in the element's output units whichever `G` it drives.
@@ -367,10 +368,7 @@ fn fit_layout(
                 offset: 0.0,
                 delay: layout.delay,
             };
-            let fr = Friction {
-                velocity_scale: fr.velocity_scale.max(1.01 * sign_limit(identified, &fr)),
-                ..fr
-            };
+            let fr = smoothed(identified, fr);
             let sse = sse_of(&run(identified, &fr, h, integrating, initial));
             if sse.is_finite() {
                 starts.push((sse, layout.theta(identified, &fr, initial)));

@@ -120,9 +120,8 @@ pub(crate) fn step(
 /// simulation (the position of an integrating plant), `s` the record's output (an integrating
 /// plant's increments), `h` its element's output, `n` its order.
 fn direction_evidence(sim: &[f64], s: &[f64], h: &[f64], n: usize) -> Option<VelocitySign> {
-    let velocity: Vec<f64> = std::iter::once(0.0)
-        .chain(sim.windows(2).map(|w| w[1] - w[0]))
-        .collect();
+    let velocity =
+        crate::friction::evidence::per_sample_change(sim, sim.first().copied().unwrap_or(0.0));
     velocity_sign_arx(s, h, &velocity, n)
 }
 
