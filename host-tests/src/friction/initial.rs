@@ -1,26 +1,26 @@
 //! The initial state of an integrating friction model from the first samples of a record:
 //! the position and velocity before the first sample whose simulation fits those samples
-//! best (least squares, Levenberg–Marquardt from the straight line through them).
+//! best (least squares, Levenberg–Marquardt from the parabola through them).
 //!
 //! A line alone is biased when the drive accelerates in those samples (it starts from rest
 //! under a step of force, say), and the position an integrating model starts from stays in
 //! every later sample: half a millimetre per second of velocity error over a 0.5 s time
 //! constant is a quarter of a millimetre for the rest of the record.
 
-use super::model::{FrictionModel, Initial, moving_start};
+use super::model::{FrictionModel, Initial, accelerating_start};
 use crate::numerics::lm::{Jacobian, Problem, Settings, minimise};
 
 impl FrictionModel {
     /// Where to start the simulation of a record whose input is `u` and whose output starts
     /// `y_first`: for an integrating model, the position and velocity that fit `y_first`
-    /// best (the line through them when the fit fails); otherwise rest at the first input.
+    /// best (the parabola through them when the fit fails); otherwise rest at the first input.
     pub fn initial_from(&self, u: &[f64], y_first: &[f64]) -> Initial {
         if !self.integrating {
             return Initial::Rest {
                 u_start: u.first().copied().unwrap_or(self.plant.u_min()),
             };
         }
-        let line = moving_start(y_first);
+        let line = accelerating_start(y_first);
         let k = y_first.len().min(u.len());
         let Initial::Moving { position, velocity } = line else {
             return line;

@@ -41,6 +41,6 @@ pub mod physical;
 
 pub use evidence::{VelocitySign, velocity_sign, velocity_sign_arx, velocity_sign_on};
 pub use fit::{FrictionError, FrictionFit, FrictionOptions, fit_friction};
-pub use model::Initial;
 pub use model::{Friction, FrictionModel};
+pub use model::{Initial, START_SAMPLES};
 pub use physical::Physical;

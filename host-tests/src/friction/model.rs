@@ -199,6 +199,34 @@ pub(crate) fn delayed(h: &[f64], h0: f64, d: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The first samples of a record an integrating model's start is read from, when it is fitted
+/// (and by default when it is validated: the benchmark protocols of positioning drives allow
+/// the first 20).
+pub const START_SAMPLES: usize = 20;
+
+/// The position before the first sample and the velocity there of the parabola through
+/// `y_first` (least squares: a drive that accelerates in those samples, as one starting from
+/// rest under a step of force does, biases a line's velocity); a line for fewer than 4.
+pub(crate) fn accelerating_start(y_first: &[f64]) -> Initial {
+    let n = y_first.len();
+    if n < 4 {
+        return moving_start(y_first);
+    }
+    // y(t) = p + v (t + 1) + a (t + 1)² / 2: p, v at t = −1.
+    let x = nalgebra::DMatrix::from_fn(n, 3, |t, j| {
+        let s = t as f64 + 1.0;
+        [1.0, s, 0.5 * s * s][j]
+    });
+    let yv = nalgebra::DVector::from_column_slice(y_first);
+    match crate::numerics::lstsq::lstsq(&x, &yv, crate::numerics::lstsq::Scaling::UnitDiagonal) {
+        Some(c) => Initial::Moving {
+            position: c[0],
+            velocity: c[1] + 0.5 * c[2],
+        },
+        None => moving_start(y_first),
+    }
+}
+
 /// The position before the first sample and the velocity of the line through `y_first`.
 pub(crate) fn moving_start(y_first: &[f64]) -> Initial {
     let n = y_first.len();
@@ -357,6 +385,28 @@ mod tests {
         // Terminal velocity (5 − 1.5)/4 per second before the reversal.
         let vt = (y[3999] - y[3998]) / ts;
         assert!((vt - 3.5 / 4.0).abs() < 0.02, "{vt}");
+    }
+
+    #[test]
+    fn a_parabola_through_the_first_samples_gives_the_start_of_an_accelerating_drive() {
+        // From rest at 0.3 under a constant acceleration of 0.004 per sample²: the position
+        // before the first sample and the increment to the first.
+        let y: Vec<f64> = (0..20)
+            .map(|t| {
+                let s = t as f64 + 1.0;
+                0.3 + 0.002 * s * s
+            })
+            .collect();
+        let Initial::Moving { position, velocity } = accelerating_start(&y) else {
+            unreachable!()
+        };
+        assert!((position - 0.3).abs() < 1e-12, "{position}");
+        assert!((velocity - (y[0] - 0.3)).abs() < 1e-12, "{velocity}");
+        // A line through the same samples reads a mean velocity ten times as large.
+        let Initial::Moving { velocity: line, .. } = moving_start(&y) else {
+            unreachable!()
+        };
+        assert!(line > 9.0 * velocity, "{line} {velocity}");
     }
 
     #[test]
