@@ -120,20 +120,41 @@ pub fn outside_catalog(
 }
 
 /// Friction on the velocity of `model` (the diagnosis's final model) on the estimation record
-/// `est` from sample `from` on: the friction step's evidence
-/// ([`velocity_sign_on`](crate::friction::velocity_sign_on)) in the model's
-/// output-error equation (its simulated output as the past), with the velocity of its
-/// simulated output (of the output itself when `increments`: an integrating plant's
-/// increments are its velocity). Asked only of a model whose simulation is its
-/// element and `G` (no element with memory, stores or output map): the equation the test
-/// writes is that model's.
+/// `est` from sample `from` on: [`friction_evidence`] beyond its threshold.
 pub fn friction(
     model: &super::model::ExtendedModel,
     est: &crate::model::Record,
     from: usize,
     increments: bool,
 ) -> Option<Finding> {
-    if model.hysteresis.is_some() || model.stores.is_some() || model.output_map.is_some() {
+    let e = friction_evidence(model, est, from, increments)?;
+    // On the t statistic alone: with the simulated past, whose lags are nearly functions of
+    // the element's past output, the regression's own `B`, and so the force it implies, is
+    // poorly determined.
+    (e.t.abs() > crate::friction::VelocitySign::THRESHOLD).then_some(Finding::Friction {
+        t: e.t,
+        difference: e.difference,
+    })
+}
+
+/// The friction step's evidence on `model` and the record `est` from sample `from` on
+/// ([`velocity_sign_on`](crate::friction::velocity_sign_on)): the sign of the model's
+/// simulated velocity in its output-error equation (its simulated output as the past), the
+/// velocity the change of its simulated output (the output itself when `increments`: an
+/// integrating plant's increments are its velocity). Asked only of a model whose simulation
+/// is its element and `G` (no element with memory, stores, output map or friction already):
+/// the equation the test writes is that model's.
+pub fn friction_evidence(
+    model: &super::model::ExtendedModel,
+    est: &crate::model::Record,
+    from: usize,
+    increments: bool,
+) -> Option<crate::friction::VelocitySign> {
+    if model.hysteresis.is_some()
+        || model.stores.is_some()
+        || model.output_map.is_some()
+        || model.friction.is_some()
+    {
         return None;
     }
     let ud = super::simulate::delay_input(&est.u, model.structure.delay);
@@ -157,18 +178,11 @@ pub fn friction(
         .map(|(y, &t)| y - model.additive.eval(t))
         .collect();
     let from = from.min(s.len());
-    let e = crate::friction::velocity_sign_on(
+    crate::friction::velocity_sign_on(
         &s[from..],
         &sim[from..],
         &h[from..],
         &velocity[from..],
         model.hammerstein.order,
-    )?;
-    // On the t statistic alone: with the simulated past, whose lags are nearly functions of
-    // the element's past output, the regression's own `B`, and so the force it implies, is
-    // poorly determined.
-    (e.t.abs() > crate::friction::VelocitySign::THRESHOLD).then_some(Finding::Friction {
-        t: e.t,
-        difference: e.difference,
-    })
+    )
 }

@@ -170,6 +170,7 @@ impl Context<'_> {
             residual: &ev.residual,
             input: &self.est.u[hold..],
             tests: &tests,
+            increments: self.opts.increments,
         };
         let (mut cands, chosen) = self.candidates(&proposal, &tests, &baseline, &p.current)?;
         let (chosen, refitted) = self.refit(&mut cands, chosen)?;

@@ -1,5 +1,6 @@
 //! Why a model class beyond the linear dynamics could not be fitted.
 
+use crate::friction::FrictionError;
 use crate::hysteresis::HysteresisError;
 
 /// Why a model class beyond the linear dynamics could not be fitted.
@@ -31,4 +32,7 @@ pub enum DynamicsError {
     /// The element with memory (play operator or relay) could not be fitted.
     #[error("element with memory: {0}")]
     Hysteresis(#[source] HysteresisError),
+    /// Friction on the velocity could not be fitted.
+    #[error("friction: {0}")]
+    Friction(#[source] FrictionError),
 }

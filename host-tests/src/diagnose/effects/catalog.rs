@@ -34,6 +34,11 @@ pub enum Effect {
     /// catalog the simulated scenarios cover ([`Effect::ALL`]); proposed with them
     /// ([`Effect::PROPOSED`]) on a static model.
     Hysteresis,
+    /// Coulomb friction and an offset on the output's velocity, fed back into `G`'s input
+    /// ([`crate::friction`]). Beyond the seven-effect catalog; proposed with them
+    /// ([`Effect::PROPOSED`]) on a model without an element with memory, stores or an output
+    /// map, where the sign of its simulated velocity explains its equation error.
+    Friction,
 }
 
 impl Effect {
@@ -49,10 +54,11 @@ impl Effect {
     ];
 
     /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
-    /// for state-dependent dynamics, then the element with memory.
-    pub const PROPOSED: [Effect; 9] = {
-        let mut all = [Effect::StateDependentDynamics; 9];
+    /// for state-dependent dynamics, then the element with memory, then friction.
+    pub const PROPOSED: [Effect; 10] = {
+        let mut all = [Effect::StateDependentDynamics; 10];
         all[8] = Effect::Hysteresis;
+        all[9] = Effect::Friction;
         let mut i = 0;
         while i < Effect::ALL.len() {
             all[i] = Effect::ALL[i];
@@ -73,6 +79,7 @@ impl Effect {
             Effect::Outliers => "outliers",
             Effect::StateDependentDynamics => "state_dependent_dynamics",
             Effect::Hysteresis => "hysteresis",
+            Effect::Friction => "friction",
         }
     }
 
@@ -115,6 +122,10 @@ impl Effect {
             // whose correlation with δ the prewhitened test often cannot resolve (as for a
             // missing order, whiteness is the evidence that something deterministic lacks).
             Effect::Hysteresis => &[Test::DirectionCorrelation, Test::Whiteness],
+            // An error that depends on the direction of motion leaves a residual correlated
+            // with the direction or a coloured one; the proposal then asks its own question
+            // (the sign of the simulated velocity in the model's equation).
+            Effect::Friction => &[Test::DirectionCorrelation, Test::Whiteness],
         }
     }
 
@@ -141,6 +152,9 @@ impl Effect {
             }
             Effect::Hysteresis => {
                 "the element itself: play operator (backlash) or relay with borders (switch) on the knots, with G, fitted by simulation error from the static model"
+            }
+            Effect::Friction => {
+                "Coulomb friction (a tanh of the output's velocity) and an offset subtracted from G's input, with G, fitted by simulation error from the current model"
             }
         }
     }
@@ -170,6 +184,8 @@ impl Effect {
             Effect::StateDependentDynamics => 6.0,
             // A second border on the knots (7 for the usual 6 segments) and w(−1).
             Effect::Hysteresis => 8.0,
+            // Coulomb force, velocity scale, offset.
+            Effect::Friction => 3.0,
         }
     }
 
@@ -185,6 +201,7 @@ impl Effect {
             Effect::Outliers => s.robust,
             Effect::StateDependentDynamics => s.dynamics != Dynamics::Linear,
             Effect::Hysteresis => s.element.is_some(),
+            Effect::Friction => s.friction,
         }
     }
 }
@@ -255,6 +272,18 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
                 element
             }
         }
+        Effect::Friction => match model.and_then(|m| m.friction.as_ref()) {
+            Some(fm) => format!(
+                "Coulomb {:.4} and offset {:.4} (the element's output's units), the sign smoothed \
+                 over {:.3e} of the output's change per sample, the element's output {} \
+                 sample(s) late",
+                fm.friction.coulomb,
+                fm.friction.offset,
+                fm.friction.velocity_scale,
+                fm.friction.delay
+            ),
+            None => "Coulomb friction and an offset on the output's velocity".into(),
+        },
         Effect::StateDependentDynamics => {
             let map = match s.output_map_segments {
                 Some(k) => format!(", output map with {k} segments"),

@@ -12,6 +12,7 @@ pub mod candidate;
 pub mod catalog;
 pub mod delay;
 pub mod drift;
+pub mod friction;
 pub mod holdout;
 pub mod hysteresis;
 pub mod noise;

@@ -33,6 +33,9 @@ pub struct Proposal<'a> {
     pub input: &'a [f64],
     /// The current model's tests on that residual.
     pub tests: &'a TestSet,
+    /// The record holds an integrating plant's increments
+    /// ([`DiagnoseOptions::increments`](crate::diagnose::DiagnoseOptions::increments)).
+    pub increments: bool,
 }
 
 impl Proposal<'_> {
@@ -126,6 +129,7 @@ impl Proposal<'_> {
             Effect::StateDependentDynamics => self.state_dependent_dynamics(),
             Effect::ColoredNoise => self.colored_noise(),
             Effect::Hysteresis => self.hysteresis(),
+            Effect::Friction => self.friction(),
         }
     }
 }

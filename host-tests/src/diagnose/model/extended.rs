@@ -3,6 +3,7 @@
 use crate::diagnose::output_map::OutputMap;
 use crate::diagnose::simulate::delay_input;
 use crate::diagnose::stores::Stores;
+use crate::friction::{FrictionModel, Initial};
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
 use crate::validation::noise::ArNoise;
@@ -35,6 +36,10 @@ pub struct ExtendedModel {
     /// The element with memory and `G` replacing the Hammerstein part's simulation
     /// ([`Structure::element`]); fitted on the delayed input.
     pub hysteresis: Option<HysteresisModel>,
+    /// The element and `G` with friction on the velocity replacing the Hammerstein part's
+    /// simulation ([`Structure::friction`]); fitted on the delayed input, simulated from rest
+    /// at `u_min`.
+    pub friction: Option<FrictionModel>,
 }
 
 impl ExtendedModel {
@@ -43,6 +48,10 @@ impl ExtendedModel {
         let ud = delay_input(u, self.structure.delay);
         if let Some(el) = &self.hysteresis {
             return crate::hysteresis::simulate::simulate(el, &ud);
+        }
+        if let Some(fm) = &self.friction {
+            let u_start = fm.plant.u_min();
+            return fm.simulate_from(&ud, Initial::Rest { u_start });
         }
         let h = self.hammerstein.nonlinearity_output(&ud);
         match &self.stores {
@@ -68,7 +77,10 @@ impl ExtendedModel {
                 .iter()
                 .map(|(re, im)| re.hypot(*im))
                 .fold(0.0, f64::max),
-            None => self.hammerstein.spectral_radius(),
+            None => match &self.friction {
+                Some(fm) => fm.plant.spectral_radius(),
+                None => self.hammerstein.spectral_radius(),
+            },
         }
     }
 

@@ -16,6 +16,7 @@ use super::element::fit_element;
 use super::estimator::{Estimator, estimate};
 use super::extended::ExtendedModel;
 use super::fit_options::{FitOptions, InitialState};
+use super::friction::fit_friction_into;
 use super::outliers::detect_outliers;
 use super::poles::{refine_poles, refine_poles_mapped};
 use super::refine_linear::{LinearFitParams, refine_linear};
@@ -303,6 +304,7 @@ pub(super) fn fit_structure_impl(
             .count(),
         stores: None,
         hysteresis: None,
+        friction: None,
     };
     if let Some(kind) = s.element {
         let shared = opts.identify.static_nonlinearity;
@@ -312,6 +314,15 @@ pub(super) fn fit_structure_impl(
                 fit_element(&mut model, whole, &skip, kind, shared, rec.len(), clamp)?;
             }
             None => fit_element(&mut model, rec, &flags, kind, shared, rec.len(), clamp)?,
+        }
+    }
+    if s.friction {
+        match &held {
+            Some((whole, block)) => {
+                let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
+                fit_friction_into(&mut model, whole, &skip)?;
+            }
+            None => fit_friction_into(&mut model, rec, &flags)?,
         }
     }
     if let Some(class) = s.dynamics.stores() {

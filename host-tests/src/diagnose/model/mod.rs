@@ -39,6 +39,7 @@ pub mod evaluate;
 pub mod extended;
 pub mod fit;
 pub mod fit_options;
+pub mod friction;
 pub mod outliers;
 pub mod output_fit;
 pub mod poles;

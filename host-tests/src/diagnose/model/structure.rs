@@ -45,6 +45,10 @@ pub struct Structure {
     /// element itself, `"play"` or `"relay"`).
     #[serde(serialize_with = "element_name")]
     pub element: Option<MemoryElement>,
+    /// Coulomb friction and an offset on the output's velocity, fed back into `G`'s input
+    /// ([`crate::friction`]), fitted with `G` by simulation error (`friction`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub friction: bool,
 }
 
 /// [`Structure::element`] as the name of the element it simulates.
@@ -93,6 +97,7 @@ impl Structure {
             robust_refit: false,
             dynamics: Dynamics::Linear,
             element: None,
+            friction: false,
         }
     }
 

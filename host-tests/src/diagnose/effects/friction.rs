@@ -1,0 +1,49 @@
+//! Friction on a model's velocity: Coulomb friction and an offset on the output's change,
+//! fed back into `G`'s input, fitted with `G` by simulation error from the current model
+//! ([`crate::friction`]).
+//!
+//! Proposed only where its own evidence is: the sign of the current model's simulated
+//! velocity, put beside the terms of its output-error equation, explains the output beyond
+//! `|t| = 3` ([`friction_evidence`]). The residual tests the other effects answer to
+//! (direction dependence, whiteness) fire for many causes; this one asks the question
+//! friction answers.
+
+use super::candidate::Candidate;
+use super::catalog::Effect;
+use super::proposal::Proposal;
+use crate::diagnose::error::DiagnoseError;
+use crate::diagnose::findings::friction_evidence;
+use crate::diagnose::model::{Dynamics, Metric};
+use crate::friction::VelocitySign;
+
+impl Proposal<'_> {
+    /// Friction on a model without an element with memory, stores or an output map (the
+    /// friction model simulates the element and `G` alone), of a plant's output (not of an
+    /// integrating plant's increments, whose model is not a position's), when the direction
+    /// of the model's simulated motion explains its equation error ([`friction_evidence`] on
+    /// the estimation record).
+    pub fn friction(&self) -> Result<Option<Candidate>, DiagnoseError> {
+        let c = self.current;
+        let plain = c.element.is_none()
+            && c.output_map_segments.is_none()
+            && c.dynamics == Dynamics::Linear
+            && !c.friction
+            && !self.increments;
+        if !plain || !self.moves_by_direction() {
+            return Ok(None);
+        }
+        let opts = vec![(
+            "Coulomb friction and an offset on the output's velocity".to_string(),
+            self.with(|s| s.friction = true),
+        )];
+        self.best_of(Effect::Friction, opts, Metric::Simulation)
+    }
+
+    /// Whether the current model's output-error equation on the estimation record depends on
+    /// the sign of its simulated velocity beyond [`VelocitySign::THRESHOLD`].
+    fn moves_by_direction(&self) -> bool {
+        let est = self.holdout.est;
+        friction_evidence(self.inner_model, est, est.hold, false)
+            .is_some_and(|e| e.t.abs() > VelocitySign::THRESHOLD)
+    }
+}
