@@ -303,19 +303,19 @@ fn options(a: &DiagnoseArgs, id: IdentifyOptions) -> Result<DiagnoseOptions, Str
 }
 
 /// Whether an added effect changes the model beyond what a model file holds (the order, the
-/// noise model, a robust refit and the element with memory it does hold).
+/// noise model, a robust refit, the element with memory and friction it does hold).
 fn not_in_the_model_file(e: Effect) -> bool {
     match e {
         Effect::UnmodeledDynamics
         | Effect::ColoredNoise
         | Effect::Outliers
-        | Effect::Hysteresis => false,
+        | Effect::Hysteresis
+        | Effect::Friction => false,
         Effect::OffsetDrift
         | Effect::InputDelay
         | Effect::OutputNonlinearity
         | Effect::PeriodicDisturbance
-        | Effect::StateDependentDynamics
-        | Effect::Friction => true,
+        | Effect::StateDependentDynamics => true,
     }
 }
 

@@ -148,14 +148,6 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     let mut warnings: Vec<String> = Vec::new();
     let friction = FrictionModel::from_file(&file);
     if friction.is_some() {
-        if noise.is_some() {
-            return Err(
-                "a model with friction (\"friction\") has no noise model or predictor: \
-                        drop --noise"
-                    .to_string()
-                    .into(),
-            );
-        }
         if a.figures.dir().is_some() || a.html.is_some() {
             return Err(
                 "the figures and the page do not draw a model with friction yet: drop \
@@ -219,13 +211,6 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
         .into());
     }
     let element = HysteresisModel::from_file(&file);
-    if element.is_some() && noise.is_some() {
-        return Err(
-            "a play or relay model (\"element\") has no noise model or predictor: drop --noise"
-                .to_string()
-                .into(),
-        );
-    }
     // Beyond the interval the borders continue on their end segments' lines: the model as it
     // simulates and predicts the record (the reading, the two-path figures and the page keep
     // the file's knots, which its standard deviations belong to).
@@ -258,9 +243,23 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     outln!("{}", fit_report(&y[skip..], &sim[skip..])?)?;
     let mut prediction = None;
     if let Some(nm) = &noise {
-        let mut predictor = InnovationForm::new(&extended.model, nm);
-        predictor.u_start = extended.u_start;
-        let pred = predictor.predict(u, y);
+        let pred = match element.is_some() || friction.is_some() {
+            // A simulation that is not `G`'s alone: the noise model predicts its residual
+            // (`v = C/D e`, so `v̂(t | t − 1) = v(t) − e(t)`, `e = (D/C) v`).
+            true => {
+                let r: Vec<f64> = y.iter().zip(&sim).map(|(a, b)| a - b).collect();
+                let e = hsid_host::refine::signal::filter(&nm.d, &nm.c, &r);
+                sim.iter()
+                    .zip(r.iter().zip(&e))
+                    .map(|(s, (r, e))| s + r - e)
+                    .collect()
+            }
+            false => {
+                let mut predictor = InnovationForm::new(&extended.model, nm);
+                predictor.u_start = extended.u_start;
+                predictor.predict(u, y)
+            }
+        };
         outln!(
             "{}",
             prediction_report(&y[skip..], &pred[skip..], nm.sigma2)?

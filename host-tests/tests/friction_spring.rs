@@ -18,6 +18,7 @@
 
 #![allow(clippy::panic, clippy::unwrap_used)]
 
+use crate::common::{hsid, p};
 use hsid_host::diagnose::{Effect, Finding, Validation, diagnose};
 use hsid_host::model::{Element, Record};
 use hsid_host::workflow::{IdentifyRequest, Syntax, identify_record};
@@ -178,6 +179,96 @@ fn the_diagnosis_adds_the_friction_and_not_where_there_is_none() {
             d.coulomb.is_none() && !d.found,
             "seed {seed}: {}",
             d.verdict
+        );
+    }
+}
+
+/// The command line's face of the step: `hsid diagnose --model-out` writes the model with its
+/// friction, and `hsid validate` simulates that file to the diagnosis's own validation error.
+#[test]
+fn the_diagnosed_model_file_holds_the_friction_and_validates_as_diagnosed() {
+    let dir = crate::common::Scratch::new("friction_spring_cli");
+    let (u, y, _) = simulate(1, COULOMB);
+    let (uv, yv, _) = simulate(1001, COULOMB);
+    let est = dir.write_uy("est.csv", &u, &y);
+    let val = dir.write_uy("val.csv", &uv, &yv);
+    let (model, json) = (dir.join("model.json"), dir.join("diagnosis.json"));
+    let hold = HOLD.to_string();
+    hsid(&[
+        "diagnose",
+        "--data",
+        p(&est),
+        "--validation",
+        p(&val),
+        "--validation-skip",
+        &hold,
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        &hold,
+        "--nonlinearity",
+        "static",
+        "--segments",
+        "6",
+        "--order",
+        "2",
+        "--model-out",
+        p(&model),
+        "--json",
+        p(&json),
+    ])
+    .success();
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let added: Vec<&str> = report["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["added"].as_bool() == Some(true))
+        .filter_map(|e| e["name"].as_str())
+        .collect();
+    assert!(added.contains(&"friction"), "{added:?}");
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let coulomb = file["friction"]["coulomb"].as_f64().unwrap();
+    assert!((coulomb - COULOMB).abs() < 0.2 * COULOMB, "{coulomb}");
+    let run = hsid(&[
+        "validate",
+        "--model",
+        p(&model),
+        "--data",
+        p(&val),
+        "--skip",
+        &hold,
+    ])
+    .success();
+    let rmse_of = |start: &str| -> f64 {
+        let line = run
+            .stdout
+            .lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("{start}: {}", run.stdout));
+        println!("validate: {line}");
+        line.split("RMSE ")
+            .nth(1)
+            .and_then(|r| r.split(',').next())
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let after = report["error_after"].as_f64().unwrap();
+    println!("diagnosis: friction {coulomb:.4}, validation RMSE {after:.4}");
+    let rmse = rmse_of("simulation fit on");
+    assert!((rmse - after).abs() < 0.05 * after, "{rmse} vs {after}");
+    // The noise model the diagnosis added last predicts the residual of that simulation.
+    if let Some(predicted) = report["prediction_error_after"].as_f64() {
+        let rmse = rmse_of("one-step prediction fit on");
+        println!("diagnosis: one-step prediction RMSE {predicted:.4}");
+        assert!(
+            (rmse - predicted).abs() < 0.05 * predicted,
+            "{rmse} vs {predicted}"
         );
     }
 }

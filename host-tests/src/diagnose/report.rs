@@ -73,9 +73,10 @@ pub struct ModelSummary {
 impl ModelSummary {
     /// Summary of a model whose input element is `kind`.
     pub fn of(m: &ExtendedModel, kind: Element) -> Self {
-        let mut model = match &m.hysteresis {
-            Some(el) => el.to_file(m.hammerstein.samples),
-            None => m.hammerstein.to_json(Some(kind)),
+        let mut model = match (&m.hysteresis, &m.friction) {
+            (Some(el), _) => el.to_file(m.hammerstein.samples),
+            (None, Some(fm)) => fm.to_file(m.hammerstein.samples, kind),
+            (None, None) => m.hammerstein.to_json(Some(kind)),
         };
         // v(t) = Σ a_i v(t − i) + e(t): C = 1, D = 1 − Σ a_i q⁻ⁱ.
         model.noise = m.noise.as_ref().map(|n| NoiseFile {
