@@ -147,15 +147,13 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     let mut table = record.table;
     let mut warnings: Vec<String> = Vec::new();
     let friction = FrictionModel::from_file(&file);
-    if friction.is_some() {
-        if a.figures.dir().is_some() || a.html.is_some() {
-            return Err(
-                "the figures and the page do not draw a model with friction yet: drop \
-                        --out and --html (the fit is printed)"
-                    .to_string()
-                    .into(),
-            );
-        }
+    if friction.is_some() && (a.figures.dir().is_some() || a.html.is_some()) {
+        return Err(
+            "the figures and the page do not draw a model with friction yet: drop --out and \
+             --html (the fit is printed)"
+                .to_string()
+                .into(),
+        );
     }
     if let Some(f) = friction.as_ref().filter(|f| f.integrating) {
         let k = a.initial_samples;
