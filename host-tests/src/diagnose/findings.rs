@@ -171,12 +171,7 @@ pub fn friction_evidence(
             &change
         }
     };
-    let s: Vec<f64> = est
-        .y
-        .iter()
-        .zip(&est.time)
-        .map(|(y, &t)| y - model.additive.eval(t))
-        .collect();
+    let s = model.less_additive(est);
     let from = from.min(s.len());
     crate::friction::velocity_sign_on(
         &s[from..],

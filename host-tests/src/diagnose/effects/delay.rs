@@ -50,13 +50,7 @@ impl Proposal<'_> {
         let shared = h.opts.identify.static_nonlinearity;
         let ud_fit = delay_input(&h.fit_part.u, total);
         let skip = vec![false; ud_fit.len()];
-        let target: Vec<f64> = h
-            .fit_part
-            .y
-            .iter()
-            .zip(&h.fit_part.time)
-            .map(|(y, &t)| y - m.additive.eval(t))
-            .collect();
+        let target = m.less_additive(&h.fit_part);
         let (hm, x0) = refit_borders(
             &m.hammerstein,
             &ud_fit,

@@ -35,12 +35,7 @@ pub(super) fn fit_element(
     clamp: Option<&Saturation>,
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
-    let target: Vec<f64> = rec
-        .y
-        .iter()
-        .zip(&rec.time)
-        .map(|(y, &t)| y - model.additive.eval(t))
-        .collect();
+    let target = model.less_additive(rec);
     let start = if shared {
         Start::Static
     } else {

@@ -43,6 +43,16 @@ pub struct ExtendedModel {
 }
 
 impl ExtendedModel {
+    /// The output of `rec` less this model's additive terms (trend, settling, sinusoids): what
+    /// its Hammerstein part, element or friction is fitted to and tested on.
+    pub(crate) fn less_additive(&self, rec: &crate::model::Record) -> Vec<f64> {
+        rec.y
+            .iter()
+            .zip(&rec.time)
+            .map(|(y, &t)| y - self.additive.eval(t))
+            .collect()
+    }
+
     /// Output of the Hammerstein part (delay included) for an input record.
     pub(crate) fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);

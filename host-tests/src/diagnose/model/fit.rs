@@ -59,12 +59,7 @@ pub(super) fn fit_stores(
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
     let h = model.hammerstein.nonlinearity_output(&ud);
-    let target: Vec<f64> = rec
-        .y
-        .iter()
-        .zip(&rec.time)
-        .map(|(y, &t)| y - model.additive.eval(t))
-        .collect();
+    let target = model.less_additive(rec);
     let data = DynamicsFit {
         h: &h,
         y: &target,

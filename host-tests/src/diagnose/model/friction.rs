@@ -21,12 +21,7 @@ pub(super) fn fit_friction_into(
     skip: &[bool],
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
-    let target: Vec<f64> = rec
-        .y
-        .iter()
-        .zip(&rec.time)
-        .map(|(y, &t)| y - model.additive.eval(t))
-        .collect();
+    let target = model.less_additive(rec);
     let fit = fit_friction(
         &ud,
         &target,
