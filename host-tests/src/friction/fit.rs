@@ -276,7 +276,7 @@ fn sign_limit(g: &Polynomials, fr: &Friction) -> f64 {
 /// At the floor every stick and slip of the simulation moves with the parameters and the
 /// error surface has a valley at each; over a wider sign it is smooth, and its minimum leads
 /// into the deepest (on EMPS every start ends in one valley this way; minimised at the floor
-/// at once, the starts end in valleys whose error differs by 70 %).
+/// at once, the starts end in valleys whose errors differ by up to 74 %).
 const SIGN_MARGINS: [f64; 4] = [30.0, 10.0, 3.0, 1.01];
 
 /// How far above [`sign_limit`] a fitted velocity scale stays at least: the last of
