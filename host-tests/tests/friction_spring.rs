@@ -193,6 +193,7 @@ fn the_diagnosed_model_file_holds_the_friction_and_validates_as_diagnosed() {
     let est = dir.write_uy("est.csv", &u, &y);
     let val = dir.write_uy("val.csv", &uv, &yv);
     let (model, json) = (dir.join("model.json"), dir.join("diagnosis.json"));
+    let page = dir.join("diagnosis.html");
     let hold = HOLD.to_string();
     hsid(&[
         "diagnose",
@@ -218,8 +219,16 @@ fn the_diagnosed_model_file_holds_the_friction_and_validates_as_diagnosed() {
         p(&model),
         "--json",
         p(&json),
+        "--html",
+        p(&page),
     ])
     .success();
+    // The page says the friction is part of the final model, and reads that model's `G`.
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(
+        html.contains("Coulomb friction and an offset on its velocity are fed back"),
+        "the page does not name the friction"
+    );
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let added: Vec<&str> = report["effects"]

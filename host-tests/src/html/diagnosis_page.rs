@@ -74,7 +74,12 @@ pub fn diagnosis_page(
         .as_ref()
         .map(|el| el.to_host(d.model.hammerstein.samples));
     let two_path = d.nonlinearity != Element::Static || element.is_some();
-    let m = element.as_ref().unwrap_or(&d.model.hammerstein);
+    // Friction refits `G` with it: the model's own plant is read.
+    let friction = d.model.friction.as_ref();
+    let m = element
+        .as_ref()
+        .or(friction.map(|f| &f.plant))
+        .unwrap_or(&d.model.hammerstein);
     let r = m.unit_report(ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let mut facts = vec![
@@ -100,8 +105,14 @@ pub fn diagnosis_page(
             lead: vec![
                 format!("Verdict: {}", d.verdict),
                 format!(
-                    "Final model: {}",
-                    sentence(d.nonlinearity.into(), m.order, &r)
+                    "Final model: {}{}",
+                    sentence(d.nonlinearity.into(), m.order, &r),
+                    match friction {
+                        Some(_) =>
+                            " Coulomb friction and an offset on its velocity are fed back \
+                                    into the linear part's input.",
+                        None => "",
+                    }
                 ),
             ],
             facts,
