@@ -283,8 +283,9 @@ const SIGN_MARGINS: [f64; 4] = [30.0, 10.0, 3.0, 1.01];
 /// [`SIGN_MARGINS`].
 const SIGN_MARGIN: f64 = SIGN_MARGINS[SIGN_MARGINS.len() - 1];
 
-/// The smallest excess of a start's velocity scale over `SIGN_MARGIN ×` [`sign_limit`], as a
-/// share of the scale (a start on the floor has a finite logarithm).
+/// The smallest excess of a start's velocity scale over its floor (the stage's margin times
+/// [`sign_limit`]), as a share of the scale: a start on or below the floor has a finite
+/// logarithm.
 const MIN_EXCESS: f64 = 1e-3;
 
 /// `fr` with its velocity scale raised just above [`sign_limit`] where it is below.
