@@ -31,10 +31,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::evidence::per_sample_change;
+use super::evidence::{change_from_rest, per_sample_change};
 use super::model::{
     Friction, FrictionModel, Initial, Polynomials, START_SAMPLES, StartState, accelerating_start,
-    delayed, run,
+    delayed, run, start_state,
 };
 use crate::identify::HostModel;
 use crate::numerics::lm::{self, Jacobian, LmFailure, Problem, Settings, minimise};
@@ -168,7 +168,7 @@ pub fn fit_friction(
     };
     let velocity: Vec<f64> = match integrating {
         true => y.to_vec(),
-        false => per_sample_change(y, y.first().copied().unwrap_or(0.0)),
+        false => change_from_rest(y),
     };
     let v_rms = crate::numerics::rms(&velocity);
     if !(v_rms > 0.0 && v_rms.is_finite()) {
@@ -181,23 +181,17 @@ pub fn fit_friction(
     };
     let h_raw = start.element_output_from(u, u_start);
     let h0 = start.element_output_from(&[u_start], u_start)[0];
-    let initial = match integrating {
-        // Where the record starts: its first increment; both are fitted with the model.
-        // Read off the record's first samples (a parabola through them), as a simulation of
-        // the model is started ([`FrictionModel::initial_from`], `hsid validate
-        // --initial-samples`), and held: fitted with the model over the whole record, the
-        // start's position is an offset of every later sample and absorbs the drift the model
-        // should explain (on EMPS the fit then read a mass 4 % and a viscous friction 10 % off
-        // the valley it finds from the record's start, and simulated the test record at 85 %).
-        true => match accelerating_start(&target[..target.len().min(START_SAMPLES)]) {
-            Initial::Moving { position, velocity } => StartState::Moving { position, velocity },
-            Initial::Rest { .. } => StartState::Moving {
-                position: 0.0,
-                velocity: y[0],
-            },
-        },
-        false => StartState::Rest { h0 },
+    // An integrating plant's start is read off the record's first samples (a parabola through
+    // them), as a simulation of the model is started ([`FrictionModel::initial_from`], `hsid
+    // validate --initial-samples`), and held: fitted with the model over the whole record, the
+    // start's position is an offset of every later sample and absorbs the drift the model
+    // should explain (on EMPS the fit then read a mass 4 % and a viscous friction 10 % off the
+    // valley it finds from the record's start, and simulated the test record at 85 %).
+    let start_at = match integrating {
+        true => accelerating_start(&target[..target.len().min(START_SAMPLES)]),
+        false => Initial::Rest { u_start },
     };
+    let initial = start_state(start_at, h0);
     let sse_of = |sim: &[f64]| -> f64 {
         sim.iter()
             .zip(&target)
@@ -247,13 +241,9 @@ pub fn fit_friction(
         return Err(last_error.unwrap_or(FrictionError::StartDoesNotSimulate));
     };
     let (g, fr) = layout.at(SIGN_MARGIN).parts(&min.theta);
-    let initial = match initial {
-        StartState::Moving { position, velocity } => Initial::Moving { position, velocity },
-        StartState::Rest { .. } => Initial::Rest { u_start },
-    };
     Ok(FrictionFit {
         model: FrictionModel::normalised(start, &g, &fr, integrating),
-        initial,
+        initial: start_at,
         sse_identified,
         sse,
         scored,
@@ -294,11 +284,6 @@ fn smoothed(g: &Polynomials, fr: Friction) -> Friction {
         velocity_scale: fr.velocity_scale.max(SIGN_MARGIN * sign_limit(g, &fr)),
         ..fr
     }
-}
-
-/// Whether `fr` changes sign over a velocity scale the sampled loop follows ([`sign_limit`]).
-fn smooth_enough(g: &Polynomials, fr: &Friction) -> bool {
-    fr.velocity_scale >= sign_limit(g, fr)
 }
 
 /// The largest extra delay of the element's output tried.
@@ -424,20 +409,18 @@ fn fit_layout(
     // The simulation error of `th` read with the floor at `margin`.
     let residual_at = |margin: f64, th: &[f64]| -> Option<Vec<f64>> {
         let (g, fr) = layout.at(margin).parts(th);
-        let sim = run(&g, &fr, h, integrating, initial);
-        let r: Vec<f64> = sim
-            .iter()
-            .zip(target)
-            .enumerate()
-            .map(|(t, (a, b))| if skipped(t) { 0.0 } else { a - b })
-            .collect();
+        let mut r = run(&g, &fr, h, integrating, initial);
+        for (t, (a, b)) in r.iter_mut().zip(target).enumerate() {
+            *a = if skipped(t) { 0.0 } else { *a - b };
+        }
         r.iter().all(|v| v.is_finite()).then_some(r)
     };
     let minimise_at = |margin: f64, theta: &[f64], settings: &Settings| {
         let residual = |th: &[f64]| residual_at(margin, th);
+        // The scale is above its floor by construction ([`Layout::parts`]).
         let admissible = |th: &[f64]| {
             let (g, fr) = layout.at(margin).parts(th);
-            spectral_radius(&g.f) < 1.0 && smooth_enough(&g, &fr) && fr.velocity_scale <= v_max
+            spectral_radius(&g.f) < 1.0 && fr.velocity_scale <= v_max
         };
         let problem = Problem {
             residual: &residual,

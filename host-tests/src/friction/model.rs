@@ -266,7 +266,8 @@ pub(crate) enum StartState {
     Moving { position: f64, velocity: f64 },
 }
 
-fn start_state(initial: Initial, h0: f64) -> StartState {
+/// The state a simulation from `initial` starts in, `h0` the element's output at rest.
+pub(crate) fn start_state(initial: Initial, h0: f64) -> StartState {
     match initial {
         Initial::Rest { .. } => StartState::Rest { h0 },
         Initial::Moving { position, velocity } => StartState::Moving { position, velocity },
