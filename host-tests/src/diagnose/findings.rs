@@ -120,18 +120,14 @@ pub fn outside_catalog(
 }
 
 /// Friction on the velocity of `model` (the diagnosis's final model) on the estimation record
-/// `est` from sample `from` on: [`friction_evidence`] beyond its threshold.
+/// `est` from sample `from` on: [`friction_evidence`].
 pub fn friction(
     model: &super::model::ExtendedModel,
     est: &crate::model::Record,
     from: usize,
     increments: bool,
 ) -> Option<Finding> {
-    let e = friction_evidence(model, est, from, increments)?;
-    // On the t statistic alone: with the simulated past, whose lags are nearly functions of
-    // the element's past output, the regression's own `B`, and so the force it implies, is
-    // poorly determined.
-    (e.t.abs() > crate::friction::VelocitySign::THRESHOLD).then_some(Finding::Friction {
+    friction_evidence(model, est, from, increments).map(|e| Finding::Friction {
         t: e.t,
         difference: e.difference,
     })
@@ -143,7 +139,10 @@ pub fn friction(
 /// velocity the change of its simulated output (the output itself when `increments`: an
 /// integrating plant's increments are its velocity). Asked only of a model whose simulation
 /// is its element and `G` (no element with memory, stores, output map or friction already):
-/// the equation the test writes is that model's.
+/// the equation the test writes is that model's. `None` below `|t| =`
+/// [`THRESHOLD`](crate::friction::VelocitySign::THRESHOLD): on the t statistic alone, as with
+/// the simulated past, whose lags are nearly functions of the element's past output, the
+/// regression's own `B`, and so the force it implies, is poorly determined.
 pub fn friction_evidence(
     model: &super::model::ExtendedModel,
     est: &crate::model::Record,
@@ -164,10 +163,7 @@ pub fn friction_evidence(
     let velocity = match increments {
         true => &sim,
         false => {
-            change = crate::friction::evidence::per_sample_change(
-                &sim,
-                sim.first().copied().unwrap_or(0.0),
-            );
+            change = crate::friction::evidence::change_from_rest(&sim);
             &change
         }
     };
@@ -180,4 +176,5 @@ pub fn friction_evidence(
         &velocity[from..],
         model.hammerstein.order,
     )
+    .filter(|e| e.t.abs() > crate::friction::VelocitySign::THRESHOLD)
 }

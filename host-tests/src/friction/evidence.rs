@@ -56,14 +56,20 @@ impl VelocitySign {
 }
 
 /// The change of `x` per sample, `before` the value before its first sample: a velocity from
-/// a position (`before` = `x[0]` for a record that starts at rest, the first change 0).
+/// a position.
 pub(crate) fn per_sample_change(x: &[f64], before: f64) -> Vec<f64> {
-    std::iter::once(before)
-        .chain(x.iter().copied())
-        .collect::<Vec<f64>>()
-        .windows(2)
-        .map(|w| w[1] - w[0])
+    x.iter()
+        .scan(before, |last, &v| {
+            let change = v - *last;
+            *last = v;
+            Some(change)
+        })
         .collect()
+}
+
+/// [`per_sample_change`] of a record that starts at rest: the first change 0.
+pub(crate) fn change_from_rest(x: &[f64]) -> Vec<f64> {
+    per_sample_change(x, x.first().copied().unwrap_or(0.0))
 }
 
 /// The test in the model's equation: `s` the output (an integrating plant's increments), `h`

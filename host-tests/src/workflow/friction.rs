@@ -120,8 +120,7 @@ pub(crate) fn step(
 /// simulation (the position of an integrating plant), `s` the record's output (an integrating
 /// plant's increments), `h` its element's output, `n` its order.
 fn direction_evidence(sim: &[f64], s: &[f64], h: &[f64], n: usize) -> Option<VelocitySign> {
-    let velocity =
-        crate::friction::evidence::per_sample_change(sim, sim.first().copied().unwrap_or(0.0));
+    let velocity = crate::friction::evidence::change_from_rest(sim);
     velocity_sign_arx(s, h, &velocity, n)
 }
 

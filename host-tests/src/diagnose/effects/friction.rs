@@ -14,7 +14,6 @@ use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::findings::friction_evidence;
 use crate::diagnose::model::{Dynamics, Metric};
-use crate::friction::VelocitySign;
 
 impl Proposal<'_> {
     /// Friction on a model without an element with memory, stores or an output map (the
@@ -40,10 +39,9 @@ impl Proposal<'_> {
     }
 
     /// Whether the current model's output-error equation on the estimation record depends on
-    /// the sign of its simulated velocity beyond [`VelocitySign::THRESHOLD`].
+    /// the sign of its simulated velocity ([`friction_evidence`]).
     fn moves_by_direction(&self) -> bool {
         let est = self.holdout.est;
-        friction_evidence(self.inner_model, est, est.hold, false)
-            .is_some_and(|e| e.t.abs() > VelocitySign::THRESHOLD)
+        friction_evidence(self.inner_model, est, est.hold, false).is_some()
     }
 }
