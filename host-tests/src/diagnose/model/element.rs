@@ -57,18 +57,8 @@ pub(super) fn fit_element(
     .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Hysteresis(e)))?;
     model.hysteresis = Some(fit.model);
     model.output_map = clamp.map(saturation_map);
-    // The additive terms were fitted to the subspace model's residual: refit them to the
-    // element model's.
-    if model.additive.columns() > 0 {
-        let out = model.hammerstein_output(&rec.u);
-        let r: Vec<f64> = rec
-            .y
-            .iter()
-            .zip(&out)
-            .map(|(y, o)| y - model.output_map.as_ref().map_or(*o, |g| g.eval(*o)))
-            .collect();
-        model.additive.fit(&r, &rec.time, skip);
-    }
+    // The additive terms were fitted to the subspace model's residual.
+    model.refit_additive(rec, skip);
     Ok(())
 }
 

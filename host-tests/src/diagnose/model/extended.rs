@@ -53,6 +53,24 @@ impl ExtendedModel {
             .collect()
     }
 
+    /// Refits the additive terms (when the model has any) to the residual of `rec` the model's
+    /// simulation leaves through its output map, without the `skip` samples: after the
+    /// simulation was replaced (an element with memory, friction), the terms fitted to the
+    /// old one's residual no longer belong to it.
+    pub(crate) fn refit_additive(&mut self, rec: &crate::model::Record, skip: &[bool]) {
+        if self.additive.columns() == 0 {
+            return;
+        }
+        let out = self.hammerstein_output(&rec.u);
+        let r: Vec<f64> = rec
+            .y
+            .iter()
+            .zip(&out)
+            .map(|(y, o)| y - self.output_map.as_ref().map_or(*o, |g| g.eval(*o)))
+            .collect();
+        self.additive.fit(&r, &rec.time, skip);
+    }
+
     /// Output of the Hammerstein part (delay included) for an input record.
     pub(crate) fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);

@@ -32,10 +32,6 @@ pub(super) fn fit_friction_into(
     )
     .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Friction(e)))?;
     model.friction = Some(fit.model);
-    if model.additive.columns() > 0 {
-        let out = model.hammerstein_output(&rec.u);
-        let r: Vec<f64> = rec.y.iter().zip(&out).map(|(y, o)| y - o).collect();
-        model.additive.fit(&r, &rec.time, skip);
-    }
+    model.refit_additive(rec, skip);
     Ok(())
 }
