@@ -242,16 +242,8 @@ pub fn run(a: &ValidateArgs) -> Result<(), Failure> {
     let mut prediction = None;
     if let Some(nm) = &noise {
         let pred = match element.is_some() || friction.is_some() {
-            // A simulation that is not `G`'s alone: the noise model predicts its residual
-            // (`v = C/D e`, so `v̂(t | t − 1) = v(t) − e(t)`, `e = (D/C) v`).
-            true => {
-                let r: Vec<f64> = y.iter().zip(&sim).map(|(a, b)| a - b).collect();
-                let e = hsid_host::refine::signal::filter(&nm.d, &nm.c, &r);
-                sim.iter()
-                    .zip(r.iter().zip(&e))
-                    .map(|(s, (r, e))| s + r - e)
-                    .collect()
-            }
+            // A simulation that is not `G`'s alone: the noise model predicts its residual.
+            true => nm.predict_around(&sim, y),
             false => {
                 let mut predictor = InnovationForm::new(&extended.model, nm);
                 predictor.u_start = extended.u_start;

@@ -110,6 +110,20 @@ impl NoiseModel {
         filter(&self.d, &self.c, v)
     }
 
+    /// One-step-ahead prediction of `y` by a model whose simulation is `sim` and whose
+    /// residual `v = y − sim` this noise model describes (`v = (C/D) e`): `sim + v − e`, the
+    /// residual's own prediction from its past added to the simulation. For a model that is
+    /// not `G` alone (an element with memory, friction), where the innovation form does not
+    /// apply.
+    pub fn predict_around(&self, sim: &[f64], y: &[f64]) -> Vec<f64> {
+        let v: Vec<f64> = y.iter().zip(sim).map(|(y, s)| y - s).collect();
+        let e = self.whiten(&v);
+        sim.iter()
+            .zip(v.iter().zip(&e))
+            .map(|(s, (v, e))| s + v - e)
+            .collect()
+    }
+
     /// The noise part of the innovation form in observer form: `(A_v, K_v, C_v)` with
     /// `C(q)/D(q) = 1 + C_v (qI − A_v)⁻¹ K_v`.
     pub(crate) fn state_space(&self) -> (DMatrix<f64>, Vec<f64>, Vec<f64>) {
@@ -423,4 +437,32 @@ pub(crate) fn noise_text(m: &NoiseModel) -> String {
         fmt(&m.d),
         m.sigma2
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NoiseModel;
+
+    #[test]
+    fn the_prediction_around_a_simulation_adds_the_residuals_own_prediction() {
+        // AR(1) residual, v(t) = 0.6 v(t − 1) + e(t): C = 1, D = 1 − 0.6 q⁻¹, so the
+        // prediction is sim(t) + 0.6 v(t − 1) (and sim(0) from zero initial state).
+        let nm = NoiseModel {
+            c: vec![1.0],
+            d: vec![1.0, -0.6],
+            sigma2: 1.0,
+        };
+        let sim = [1.0, -2.0, 0.5, 3.0];
+        let v = [0.2, -0.4, 1.0, 0.3];
+        let y: Vec<f64> = sim.iter().zip(&v).map(|(s, v)| s + v).collect();
+        let pred = nm.predict_around(&sim, &y);
+        for t in 0..4 {
+            let expected = sim[t] + if t > 0 { 0.6 * v[t - 1] } else { 0.0 };
+            assert!(
+                (pred[t] - expected).abs() < 1e-12,
+                "t {t}: {} vs {expected}",
+                pred[t]
+            );
+        }
+    }
 }
