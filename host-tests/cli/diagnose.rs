@@ -315,7 +315,8 @@ fn not_in_the_model_file(e: Effect) -> bool {
         | Effect::InputDelay
         | Effect::OutputNonlinearity
         | Effect::PeriodicDisturbance
-        | Effect::StateDependentDynamics => true,
+        | Effect::StateDependentDynamics
+        | Effect::PlayBetween => true,
     }
 }
 

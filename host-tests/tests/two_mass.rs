@@ -344,3 +344,162 @@ fn a_drive_without_play_gets_a_small_gap() {
         );
     }
 }
+
+/// `hsid diagnose` on the drives' records with the defaults a user would give (a static
+/// element, one segment on the inputs' range, no order): the diagnosis itself proposes the
+/// play between motor and load, and the step's play is the truth's within 10 %; on the drive
+/// without play it does not add it.
+#[test]
+fn the_diagnosis_adds_the_play_between_motor_and_load() {
+    use hsid_host::diagnose::{DiagnoseOptions, Effect, Validation, diagnose};
+    use hsid_host::model::{Element, Record};
+    let no_play = Drive {
+        alpha: 0.0,
+        ..DRIVES[0].1
+    };
+    for (name, drive, kind, seed, play) in [
+        (DRIVES[0].0, DRIVES[0].1, DRIVES[0].2, DRIVES[0].3, true),
+        ("no play", no_play, Input::Levels, 3, false),
+    ] {
+        let est = drive.record(kind, seed);
+        let val = drive.record(kind, seed + 1000);
+        let (lo, hi) = est
+            .u
+            .iter()
+            .chain(&val.u)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let opts = DiagnoseOptions::new(IdentifyOptions::uniform(lo, hi, 1, 0), Element::Static);
+        let record = Record::from_samples(est.u.iter().copied().zip(est.y.iter().copied()));
+        let validation = Validation::Separate {
+            record: Record::from_samples(val.u.iter().copied().zip(val.y.iter().copied())),
+            skip: 0,
+        };
+        let d = diagnose(&record, &validation, &opts).unwrap();
+        if std::env::var_os("HSID_TWO_MASS_REPORT").is_some() {
+            eprintln!("{}", hsid_host::diagnose::report::text(&d));
+        }
+        let named: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
+        let floor = fit(&val.y, &val.clean).rmse;
+        eprintln!(
+            "{name}: diagnosis {named:?}, validation RMSE {:.4e} → {:.4e} (floor {floor:.4e})",
+            d.before.rmse,
+            d.steps.last().map_or(d.before.rmse, |s| s.error_after),
+        );
+        let step = d.steps.iter().find(|s| s.effect == Effect::PlayBetween);
+        if !play {
+            assert!(step.is_none(), "{name}: {named:?}");
+            continue;
+        }
+        let step = step.unwrap_or_else(|| panic!("{name}: {named:?}"));
+        let tm = d.model.two_mass.as_ref().unwrap();
+        let gap = tm.gap() * TS;
+        eprintln!(
+            "{name}: step {:.4e} → {:.4e}; gap {gap:.4e} rad (true {:.4e}, std {:.1e})",
+            step.error_before,
+            step.error_after,
+            2.0 * drive.alpha,
+            tm.gap_std().unwrap_or(f64::NAN) * TS
+        );
+        assert!(
+            (gap - 2.0 * drive.alpha).abs() <= 0.1 * 2.0 * drive.alpha,
+            "{name}: gap {gap}"
+        );
+        assert!(
+            step.error_after < 1.2 * floor,
+            "{name}: {}",
+            step.error_after
+        );
+    }
+}
+
+/// The command line's face of the step: `hsid diagnose` on the first drive's records with its
+/// sample time and units names the play between motor and load, the page reads the drive in
+/// rad/s and rad, the JSON report carries it, and `--model-out` says the file holds the
+/// Hammerstein part only.
+#[test]
+fn the_command_line_reports_the_play_between_motor_and_load() {
+    use crate::common::{Scratch, hsid, p};
+    let dir = Scratch::new("two_mass_cli");
+    let (_, drive, kind, seed) = DRIVES[0];
+    let (est, val) = (drive.record(kind, seed), drive.record(kind, seed + 1000));
+    let est_csv = dir.write_uy("est.csv", &est.u, &est.y);
+    let val_csv = dir.write_uy("val.csv", &val.u, &val.y);
+    let (json, page, model) = (
+        dir.join("diagnosis.json"),
+        dir.join("diagnosis.html"),
+        dir.join("model.json"),
+    );
+    let lo = est
+        .u
+        .iter()
+        .chain(&val.u)
+        .fold(f64::INFINITY, |m, &v| m.min(v));
+    let hi = est
+        .u
+        .iter()
+        .chain(&val.u)
+        .fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+    let (lo, hi) = (lo.to_string(), hi.to_string());
+    let run = hsid(&[
+        "diagnose",
+        "--data",
+        p(&est_csv),
+        "--validation",
+        p(&val_csv),
+        "--umin",
+        &lo,
+        "--umax",
+        &hi,
+        "--hold",
+        "0",
+        "--nonlinearity",
+        "static",
+        "--segments",
+        "1",
+        "--ts",
+        "0.001",
+        "--input-unit",
+        "V",
+        "--output-unit",
+        "rad/s",
+        "--json",
+        p(&json),
+        "--html",
+        p(&page),
+        "--model-out",
+        p(&model),
+    ])
+    .success();
+    assert!(
+        run.stdout.contains("step 1: play_between"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stdout
+            .contains("holds the Hammerstein part; play_between only in the JSON report"),
+        "{}",
+        run.stdout
+    );
+    let html = std::fs::read_to_string(&page).unwrap();
+    let lead = "A two-mass drive with play between motor and load replaces the linear part";
+    let at = html
+        .find(lead)
+        .unwrap_or_else(|| panic!("no two-mass lead"));
+    let sentence = &html[at..(at + 400).min(html.len())];
+    println!("page: {sentence}");
+    assert!(
+        sentence.contains("rad/s × s between motor and load"),
+        "{sentence}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let gap = report["model_after"]["two_mass"]["gap"].as_f64().unwrap();
+    // The gap in the model's units (rad/s × samples) is the truth's 0.01 rad / 1 ms.
+    assert!(
+        (gap * TS - 2.0 * drive.alpha).abs() < 0.1 * 2.0 * drive.alpha,
+        "{gap}"
+    );
+}

@@ -68,6 +68,21 @@ pub struct ModelSummary {
     pub additive: super::model::Additive,
     /// Estimation samples flagged as outliers.
     pub flagged: usize,
+    /// The two-mass drive with play between motor and load, when the model has it (not part
+    /// of the model file).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub two_mass: Option<TwoMassSummary>,
+}
+
+/// The two-mass drive of a model in the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct TwoMassSummary {
+    /// Its parameters (per motor inertia, time in samples; see [`crate::sandwich::model`]).
+    pub model: crate::sandwich::TwoMassPlay,
+    /// The play `2α`, output units × samples.
+    pub gap: f64,
+    /// Its standard deviation, when known.
+    pub gap_std: Option<f64>,
 }
 
 impl ModelSummary {
@@ -91,6 +106,11 @@ impl ModelSummary {
             output_map: m.output_map.clone(),
             additive: m.additive.clone(),
             flagged: m.flagged,
+            two_mass: m.two_mass.as_ref().map(|tm| TwoMassSummary {
+                model: tm.model.clone(),
+                gap: tm.gap(),
+                gap_std: tm.gap_std(),
+            }),
         }
     }
 }
@@ -344,12 +364,25 @@ pub fn text(d: &Diagnosis) -> String {
     }
     let _ = writeln!(s, "{}", d.dead_time);
     let _ = writeln!(s);
-    let _ = writeln!(
-        s,
-        "final model: order {}, poles {}",
-        d.model.hammerstein.order,
-        poles(&d.model)
-    );
+    match &d.model.two_mass {
+        Some(tm) => {
+            let _ = writeln!(
+                s,
+                "final model: two-mass drive in place of G (order {}, poles {}): {}",
+                d.model.hammerstein.order,
+                poles(&d.model),
+                tm.describe(None, None)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "final model: order {}, poles {}",
+                d.model.hammerstein.order,
+                poles(&d.model)
+            );
+        }
+    }
     let _ = writeln!(
         s,
         "validation error after: RMSE {:.5}, NRMSE {:.4}, fit {:.2} %{}",

@@ -74,7 +74,7 @@ pub(crate) fn change_from_rest(x: &[f64]) -> Vec<f64> {
 
 /// The test in the model's equation: `s` the output (an integrating plant's increments), `h`
 /// the element's output, `v` the simulated velocity, all of one length, `n` the order. `None`
-/// when fewer than `2n + 20` samples move, all move one way, or the regression is singular.
+/// when fewer than `2n + 22` samples move, all move one way, or the regression is singular.
 pub fn velocity_sign_arx(s: &[f64], h: &[f64], v: &[f64], n: usize) -> Option<VelocitySign> {
     velocity_sign_on(s, s, h, v, n)
 }
@@ -94,16 +94,56 @@ pub fn velocity_sign_on(
     v: &[f64],
     n: usize,
 ) -> Option<VelocitySign> {
-    use crate::numerics::lstsq::{Scaling, lstsq};
-    use nalgebra::{DMatrix, DVector};
     let len = s.len().min(past.len()).min(h.len()).min(v.len());
     let floor = 0.05 * rms(v);
     let rows: Vec<usize> = (n.max(1)..len)
         .filter(|&t| v[t - 1].abs() > floor)
         .collect();
-    let k = 2 * n + 2;
     let up = rows.iter().filter(|&&t| v[t - 1] > 0.0).count();
-    if rows.len() < k + 20 || up == 0 || up == rows.len() {
+    if up == 0 || up == rows.len() {
+        return None;
+    }
+    let term = equation_term(s, past, h, &rows, |t| v[t - 1].signum(), n)?;
+    // The Coulomb force the coefficient implies, against the spread of the element's output.
+    let nf = rows.len() as f64;
+    let hs: Vec<f64> = rows.iter().map(|&t| h[t - 1]).collect();
+    let hm = hs.iter().sum::<f64>() / nf;
+    let spread = (hs.iter().map(|v| (v - hm) * (v - hm)).sum::<f64>() / nf).sqrt();
+    Some(VelocitySign {
+        difference: term.coefficient,
+        t: term.t,
+        samples: rows.len(),
+        force_share: (term.coefficient / term.gain).abs() / spread,
+    })
+}
+
+/// An extra term's coefficient in a model's equation ([`equation_term`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct EquationTerm {
+    /// The term's coefficient.
+    pub coefficient: f64,
+    /// Its t statistic (Newey–West standard error).
+    pub t: f64,
+    /// The equation's gain from the element's output, `Σ bᵢ`.
+    pub gain: f64,
+}
+
+/// The extra regressor `extra(t)` in the equation `s(t) = −Σ aᵢ past(t − i) + Σ bᵢ h(t − i)
+/// + β extra(t) + c` of order `n`, on the samples `rows` (each `≥ n`): its coefficient `β`
+/// and t statistic, Newey–West errors over `⌈4 (N/100)^{2/9}⌉` lags. `None` with fewer than
+/// `2n + 22` rows or a singular regression.
+pub(crate) fn equation_term(
+    s: &[f64],
+    past: &[f64],
+    h: &[f64],
+    rows: &[usize],
+    extra: impl Fn(usize) -> f64,
+    n: usize,
+) -> Option<EquationTerm> {
+    use crate::numerics::lstsq::{Scaling, lstsq};
+    use nalgebra::{DMatrix, DVector};
+    let k = 2 * n + 2;
+    if rows.len() < k + 20 {
         return None;
     }
     let x = DMatrix::from_fn(rows.len(), k, |r, j| {
@@ -113,7 +153,7 @@ pub fn velocity_sign_on(
         } else if j < 2 * n {
             h[t - 1 - (j - n)]
         } else if j == 2 * n {
-            v[t - 1].signum()
+            extra(t)
         } else {
             1.0
         }
@@ -121,7 +161,7 @@ pub fn velocity_sign_on(
     let y = DVector::from_iterator(rows.len(), rows.iter().map(|&t| s[t]));
     let th = lstsq(&x, &y, Scaling::UnitDiagonal)?;
     let e = &y - &x * &th;
-    // Newey–West covariance of the sign's coefficient: (XᵀX)⁻¹ S (XᵀX)⁻¹, row 2n.
+    // Newey–West covariance of the term's coefficient: (XᵀX)⁻¹ S (XᵀX)⁻¹, row 2n.
     let xtx_inv = x.tr_mul(&x).try_inverse()?;
     let c = xtx_inv.row(2 * n).transpose();
     // z_t = (cᵀ x_t) e_t: the coefficient's influence of each row.
@@ -134,16 +174,10 @@ pub fn velocity_sign_on(
     let lags = (4.0 * (nf / 100.0).powf(2.0 / 9.0)).ceil() as usize;
     let beta = th[2 * n];
     let se = nf * newey_west_var_of_mean(&z, lags).sqrt();
-    // The Coulomb force the coefficient implies, against the spread of the element's output.
-    let gain: f64 = th.iter().skip(n).take(n).sum();
-    let hs: Vec<f64> = rows.iter().map(|&t| h[t - 1]).collect();
-    let hm = hs.iter().sum::<f64>() / nf;
-    let spread = (hs.iter().map(|v| (v - hm) * (v - hm)).sum::<f64>() / nf).sqrt();
-    Some(VelocitySign {
-        difference: beta,
+    Some(EquationTerm {
+        coefficient: beta,
         t: beta / se,
-        samples: rows.len(),
-        force_share: (beta / gain).abs() / spread,
+        gain: th.iter().skip(n).take(n).sum(),
     })
 }
 

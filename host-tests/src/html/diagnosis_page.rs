@@ -80,6 +80,7 @@ pub fn diagnosis_page(
         .as_ref()
         .or(friction.map(|f| &f.plant))
         .unwrap_or(&d.model.hammerstein);
+    let output_unit = units.as_ref().map(|u| u.output.clone());
     let r = m.unit_report(ts, units, None, two_path);
     let added: Vec<&str> = d.steps.iter().map(|s| s.effect.name()).collect();
     let mut facts = vec![
@@ -107,11 +108,16 @@ pub fn diagnosis_page(
                 format!(
                     "Final model: {}{}",
                     sentence(d.nonlinearity.into(), m.order, &r),
-                    match friction {
-                        Some(_) =>
-                            " Coulomb friction and an offset on its velocity are fed back \
-                                    into the linear part's input.",
-                        None => "",
+                    match (friction, &d.model.two_mass) {
+                        (Some(_), _) => " Coulomb friction and an offset on its velocity are \
+                                         fed back into the linear part's input."
+                            .to_string(),
+                        (None, Some(tm)) => format!(
+                            " A two-mass drive with play between motor and load replaces the \
+                             linear part (the facts below are of the part it replaces): {}.",
+                            tm.describe(ts, output_unit.as_deref())
+                        ),
+                        (None, None) => String::new(),
                     }
                 ),
             ],

@@ -8,16 +8,18 @@
 //! `ζ = −ln|z|/ω`; and since the current model may have none (a first-order model, or an
 //! over-damped fit of a record the play dominates) the resonance is also tried at 0.1, 0.3
 //! and 1 rad per sample with `ζ = 0.3`. For each resonance the inertia ratio `r` is tried at
-//! 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and `c = 2ζω r/(1 + r)`; the gain `g` is
-//! the least-squares one with the teeth in contact (`α = 0`, where the output is linear in
-//! `g`).
+//! 0.5, 1.5 and 4, which gives `k = ω² r/(1 + r)` and `c = 2ζω r/(1 + r)`; the gain `g` and
+//! the torque offset `b` are the least-squares ones with the teeth in contact (`α = 0`, where
+//! the output is linear in `g` and `b`).
 //!
 //! **Search.** The error is far from quadratic in the play: a play of the wrong size puts
 //! every contact at the wrong sample. So the play is not left to the iteration from a guess.
 //! (1) Each start above is fitted with the play held at 0 ([`SCREEN_ITERATIONS`]
 //! iterations): the two-mass model in contact, a linear model of the structure. (2) From the
-//! starts of the [`LINEAR_KEPT`] best (the fit in contact may have let the shaft go slack,
-//! where the play no longer acts, so its own parameters are no start for the play), the play
+//! starts of the [`LINEAR_KEPT`] best, one per resonance (the best starts of one resonance
+//! differ in the inertia ratio alone and lead into one valley; and the fit in contact may
+//! have let the shaft go slack, where the play no longer acts, so its own parameters are no
+//! start for the play), the play
 //! is held at each point of a grid of half-widths from 1 to 1024 times the output's RMS (the
 //! angle the motor turns in 1 to 1024 samples at a typical speed), a factor `√2` apart, and
 //! the other parameters are fitted ([`PROFILE_ITERATIONS`] iterations): the error's profile
@@ -37,7 +39,7 @@
 //! error far below the noise that a `10⁻⁶` quotient could read as the slope.
 
 use super::error::SandwichError;
-use super::model::{HALF_WIDTH, PARAMETERS, TwoMassPlay};
+use super::model::{HALF_WIDTH, PARAMETERS, Start, TORQUE_OFFSET, TwoMassPlay};
 use super::uncertainty::{Uncertainty, uncertainty};
 use crate::identify::HostModel;
 use crate::numerics::lm::{self, Jacobian, Minimum, Problem, Settings};
@@ -55,6 +57,24 @@ pub const PROFILE_ITERATIONS: usize = 6;
 
 /// Points of the play's grid that get the full iteration budget.
 pub const FINALISTS: usize = 3;
+
+/// Factors `(f, g)` by which the resonance (`k` by `f²`, `c` by `f`) and the damping ratio
+/// (`c` by `g`) of the best fit are moved, to look into the valleys beside its own.
+const RESONANCE_STEPS: [(f64, f64); 6] = [
+    (0.5, 1.0),
+    (0.7, 1.0),
+    (1.4, 1.0),
+    (2.0, 1.0),
+    (1.0, 0.5),
+    (1.0, 2.0),
+];
+
+/// Rounds of moving the resonance (each kept only if the full fit from it is better).
+const RESONANCE_ROUNDS: usize = 2;
+
+/// How much smaller the steady start's least `Σe²` in contact must be than the rest start's
+/// for the fit to start in the steady state of the first input.
+const STEADY_BETTER: f64 = 0.8;
 
 /// The inertia ratios `r` of the start.
 const RATIOS: [f64; 3] = [0.5, 1.5, 4.0];
@@ -91,7 +111,7 @@ impl Default for TwoMassOptions {
 }
 
 /// The fitted model and how the fit went.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TwoMassFit {
     /// The model.
     pub model: TwoMassPlay,
@@ -121,6 +141,36 @@ impl TwoMassFit {
     /// The simulated output for an input record.
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
         self.model.simulate(u)
+    }
+
+    /// The drive in words, in seconds and the output's unit when they are known (the play in
+    /// the output's unit × s: rad for a speed in rad/s), else per sample.
+    pub fn describe(&self, ts: Option<f64>, output_unit: Option<&str>) -> String {
+        let std = self
+            .gap_std()
+            .map_or(String::new(), |s| format!(" (std {})", Self::per(s, ts)));
+        let unit = output_unit.map_or(String::new(), |u| format!(" {u}"));
+        let (rate, play_unit) = match ts {
+            Some(t) => (
+                format!("{:.1} rad/s", self.model.resonance() / t),
+                format!("{unit} × s"),
+            ),
+            None => (
+                format!("{:.4} rad/sample", self.model.resonance()),
+                format!("{unit} × samples"),
+            ),
+        };
+        format!(
+            "play {}{std}{play_unit} between motor and load, load/motor inertia {:.3}, shaft resonance {rate}, rigid-body pole {:.5}",
+            Self::per(self.gap(), ts),
+            self.model.inertia_ratio,
+            self.model.rigid_body_pole(),
+        )
+    }
+
+    /// An angle in the model's units (output × samples) in output × s when `ts` is known.
+    fn per(x: f64, ts: Option<f64>) -> String {
+        format!("{:.4e}", ts.map_or(x, |t| x * t))
     }
 }
 
@@ -189,8 +239,23 @@ pub fn split_poles(poles: &[(f64, f64)]) -> (Vec<(f64, f64)>, f64) {
     (resonances, rigid.max(1e-6))
 }
 
-/// The starting parameter vectors in contact (`α = 0`) from the poles (see the module).
-fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Vec<f64>> {
+/// The shaft's resonance `√(k (1 + r)/r)` of a parameter vector (at least [`HALF_WIDTH`]
+/// entries: `ln k` at 2, `ln r` at 4).
+fn start_resonance(th: &[f64]) -> f64 {
+    let (k, r) = (th[2].exp(), th[4].exp());
+    (k * (1.0 + r) / r).sqrt()
+}
+
+/// The starting parameter vectors in contact (`α = 0`) from the poles (see the module), each
+/// with its `Σe²`, the simulations starting as `start` says.
+fn starts(
+    u: &[f64],
+    y: &[f64],
+    kept: &dyn Fn(usize) -> bool,
+    poles: &[(f64, f64)],
+    substeps: usize,
+    start: Start,
+) -> Vec<(Vec<f64>, f64)> {
     let (resonances, rigid) = split_poles(poles);
     let mut out = Vec::new();
     for &(omega, zeta) in &resonances {
@@ -202,18 +267,51 @@ fn starts(u: &[f64], y: &[f64], poles: &[(f64, f64)], substeps: usize) -> Vec<Ve
                 shaft_damping: 2.0 * zeta * omega * r / (1.0 + r),
                 inertia_ratio: r,
                 load_damping: rigid,
+                torque_offset: 0.0,
                 half_width: 0.0,
                 substeps,
+                start,
             };
             if !contact.integrable() {
                 continue;
             }
+            // In contact the model is linear: its output is `g` times the response to `u`
+            // plus `b` times the response to a unit torque.
             let unit = contact.simulate(u);
-            let uu: f64 = unit.iter().map(|v| v * v).sum();
-            let uy: f64 = unit.iter().zip(y).map(|(a, b)| a * b).sum();
-            let gain = uy / uu;
-            if gain.is_finite() && gain != 0.0 {
-                out.push(TwoMassPlay { gain, ..contact }.theta());
+            let constant = TwoMassPlay {
+                gain: 0.0,
+                torque_offset: 1.0,
+                ..contact.clone()
+            }
+            .simulate(u);
+            let rows = || {
+                (0..y.len())
+                    .filter(|&t| kept(t))
+                    .map(|t| (unit[t], constant[t], y[t]))
+            };
+            let (mut aa, mut ab, mut bb, mut ay, mut by) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for (a, b, v) in rows() {
+                (aa, ab, bb, ay, by) = (aa + a * a, ab + a * b, bb + b * b, ay + a * v, by + b * v);
+            }
+            let det = aa * bb - ab * ab;
+            let (gain, torque_offset) = if det > 1e-12 * aa * bb {
+                ((ay * bb - by * ab) / det, (aa * by - ab * ay) / det)
+            } else {
+                (ay / aa, 0.0)
+            };
+            let cost: f64 = rows()
+                .map(|(a, b, v)| (gain * a + torque_offset * b - v).powi(2))
+                .sum();
+            if gain.is_finite() && gain != 0.0 && torque_offset.is_finite() && cost.is_finite() {
+                out.push((
+                    TwoMassPlay {
+                        gain,
+                        torque_offset,
+                        ..contact
+                    }
+                    .theta(),
+                    cost,
+                ));
             }
         }
     }
@@ -239,17 +337,57 @@ pub fn fit_two_mass_from_poles(
     poles: &[(f64, f64)],
     opts: &TwoMassOptions,
 ) -> Result<TwoMassFit, SandwichError> {
+    fit_two_mass_skipping(u, y, &[], poles, opts)
+}
+
+/// [`fit_two_mass_from_poles`] with the samples `t` where `skip[t]` left out of the error
+/// (the input drives the simulation through them: a held-out block, outliers); `skip` empty
+/// or of the record's length.
+pub fn fit_two_mass_skipping(
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    poles: &[(f64, f64)],
+    opts: &TwoMassOptions,
+) -> Result<TwoMassFit, SandwichError> {
     check(u, y, opts)?;
+    if !skip.is_empty() && skip.len() != y.len() {
+        return Err(SandwichError::LengthMismatch {
+            u: y.len(),
+            y: skip.len(),
+        });
+    }
+    let kept = |t: usize| !skip.get(t).copied().unwrap_or(false);
     let substeps = opts.substeps;
+    // From rest, unless the steady state of the first input (a record that starts in a hold)
+    // explains the record clearly better in contact, by the starts' least squares: with the
+    // torque offset free the steady start can mimic rest (`b = −g u(0)`) at the price of a
+    // bias everywhere after, so a near tie stays at rest.
+    let least = |c: &[(Vec<f64>, f64)]| c.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    let (rest, steady) = (
+        starts(u, y, &kept, poles, substeps, Start::Rest),
+        starts(u, y, &kept, poles, substeps, Start::Steady),
+    );
+    let (start, candidates) = if least(&steady) < STEADY_BETTER * least(&rest) {
+        (Start::Steady, steady)
+    } else {
+        (Start::Rest, rest)
+    };
+    let candidates: Vec<Vec<f64>> = candidates.into_iter().map(|p| p.0).collect();
     let residual = |th: &[f64]| -> Option<Vec<f64>> {
-        let m = TwoMassPlay::from_theta(th, substeps)?;
-        let r: Vec<f64> = m.simulate(u).iter().zip(y).map(|(a, b)| a - b).collect();
+        let m = TwoMassPlay::from_theta(th, substeps, start)?;
+        let r: Vec<f64> = m
+            .simulate(u)
+            .iter()
+            .zip(y)
+            .enumerate()
+            .map(|(t, (a, b))| if kept(t) { a - b } else { 0.0 })
+            .collect();
         r.iter().all(|v| v.is_finite()).then_some(r)
     };
     let admissible =
-        |th: &[f64]| TwoMassPlay::from_theta(th, substeps).is_some_and(|m| m.integrable());
+        |th: &[f64]| TwoMassPlay::from_theta(th, substeps, start).is_some_and(|m| m.integrable());
     let sse = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
-    let candidates = starts(u, y, poles, substeps);
     let gain_size = candidates
         .first()
         .map_or(1.0, |t| t[0].abs())
@@ -259,6 +397,7 @@ pub fn fit_two_mass_from_poles(
     // 10⁻⁴ of the output's RMS × 100 in the play (see the module on the contact's switch).
     let mut typical = vec![DIFFERENCE_SCALE; PARAMETERS];
     typical[0] = DIFFERENCE_SCALE * gain_size;
+    typical[TORQUE_OFFSET] = DIFFERENCE_SCALE * gain_size * rms(u).max(f64::MIN_POSITIVE);
     typical[HALF_WIDTH] = DIFFERENCE_SCALE * y_rms;
     let problem = Problem {
         residual: &residual,
@@ -298,9 +437,23 @@ pub fn fit_two_mass_from_poles(
         return Err(failure.map_or(SandwichError::NoStart, SandwichError::from));
     }
     in_contact.sort_by(|a, b| sse(&a.0.residual).total_cmp(&sse(&b.0.residual)));
-    // (2) The play on its grid, the other parameters refitted at each point.
+    // (2) The play on its grid, the other parameters refitted at each point, from the best
+    // start of each of the LINEAR_KEPT best resonances (the best starts of one resonance
+    // differ only in the inertia ratio and lead to one valley).
+    let mut kept: Vec<&[f64]> = Vec::new();
+    for (_, from) in &in_contact {
+        if kept.len() == LINEAR_KEPT {
+            break;
+        }
+        if !kept
+            .iter()
+            .any(|k| (start_resonance(k) / start_resonance(from) - 1.0).abs() < 1e-6)
+        {
+            kept.push(from);
+        }
+    }
     let mut grid: Vec<(f64, Vec<f64>)> = Vec::new();
-    for (_, from) in in_contact.iter().take(LINEAR_KEPT) {
+    for from in kept {
         for i in 0..GRID {
             let alpha = y_rms * std::f64::consts::SQRT_2.powi(i);
             let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
@@ -341,8 +494,39 @@ pub fn fit_two_mass_from_poles(
             best = Some(m);
         }
     }
-    let best = best.ok_or(failure.map_or(SandwichError::NoStart, SandwichError::from))?;
-    let model = TwoMassPlay::from_theta(&best.theta, substeps).ok_or(SandwichError::NoStart)?;
+    let mut best = best.ok_or(failure.map_or(SandwichError::NoStart, SandwichError::from))?;
+    // (4) The shaft's resonance and damping moved by the factors of RESONANCE_STEPS, the play
+    // held, the best of them fitted in full: the error has a valley per resonance, and the
+    // grid's starts are a factor √3 or more apart.
+    for _ in 0..RESONANCE_ROUNDS {
+        let alpha = best.theta[HALF_WIDTH];
+        let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
+        let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
+        let held = Problem {
+            residual: &residual_at,
+            admissible: &admissible_at,
+            jacobian: Jacobian::ForwardDifference {
+                typical: &typical[..HALF_WIDTH],
+            },
+        };
+        let moved = RESONANCE_STEPS
+            .iter()
+            .filter_map(|&(f, g): &(f64, f64)| {
+                let mut th = best.theta[..HALF_WIDTH].to_vec();
+                th[2] += 2.0 * f.ln();
+                th[3] += (f * g).ln();
+                lm::minimise(&held, &th, &Settings::simulation_fit(PROFILE_ITERATIONS)).ok()
+            })
+            .min_by(|a, b| sse(&a.residual).total_cmp(&sse(&b.residual)));
+        let Some(moved) = moved else { break };
+        let start = with_play(&moved.theta, alpha);
+        match lm::minimise(&problem, &start, &Settings::simulation_fit(opts.max_iter)) {
+            Ok(m) if sse(&m.residual) < sse(&best.residual) * (1.0 - 1e-9) => best = m,
+            _ => break,
+        }
+    }
+    let model =
+        TwoMassPlay::from_theta(&best.theta, substeps, start).ok_or(SandwichError::NoStart)?;
     Ok(TwoMassFit {
         uncertainty: uncertainty(&problem, &best.theta, &best.residual, &typical),
         model,

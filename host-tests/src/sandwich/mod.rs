@@ -20,5 +20,7 @@ pub mod model;
 pub mod uncertainty;
 
 pub use error::SandwichError;
-pub use fit::{TwoMassFit, TwoMassOptions, fit_two_mass, fit_two_mass_from_poles};
-pub use model::TwoMassPlay;
+pub use fit::{
+    TwoMassFit, TwoMassOptions, fit_two_mass, fit_two_mass_from_poles, fit_two_mass_skipping,
+};
+pub use model::{Start, TwoMassPlay};

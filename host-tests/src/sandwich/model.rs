@@ -5,7 +5,7 @@
 //! crossed the play:
 //!
 //! ```text
-//! ω̇_m = g u − T − β_m ω_m
+//! ω̇_m = g u + b − T − β_m ω_m
 //! ω̇_l = T / r − β_l ω_l
 //! Δ̇   = ω_m − ω_l
 //! T   = k dz(Δ, α) + c (ω_m − ω_l) [|Δ| > α]
@@ -33,11 +33,25 @@
 //! The simulator holds `u` over each sample (zero-order hold) and integrates the three states
 //! with [`TwoMassPlay::substeps`] classical Runge–Kutta steps per sample, a step split where
 //! the teeth meet or part; `y(t)` is `ω_m` at
-//! the start of sample `t`, before `u(t)` acts (strictly proper). It starts at rest with the
-//! teeth in the middle of the play (`Δ = 0`).
+//! the start of sample `t`, before `u(t)` acts (strictly proper). It starts as
+//! [`TwoMassPlay::start`] says ([`Start`]): at rest with the teeth in the middle of the play
+//! (`Δ = 0`), for a record that starts from standstill whatever its first input; or in the
+//! steady state of its first input ([`TwoMassPlay::steady_state`]), both parts turning
+//! together at the speed that input holds and the shaft twisted by the torque that carries the
+//! load, for a record that starts in a hold. The fit chooses it on the record.
+
+/// How a simulation starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Start {
+    /// At rest, the teeth in the middle of the play.
+    Rest,
+    /// In the steady state of the first input.
+    Steady,
+}
 
 /// The model's parameters (see the module's equations).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TwoMassPlay {
     /// `g`: the input's gain on the motor's acceleration (output units per sample per input
     /// unit).
@@ -52,18 +66,27 @@ pub struct TwoMassPlay {
     pub inertia_ratio: f64,
     /// `β_l`: the load's viscous damping, per sample.
     pub load_damping: f64,
+    /// `b`: a constant torque on the motor, per motor inertia (output units per sample): the
+    /// input's offset from the motor's zero torque, times `g` (a drive whose input is not
+    /// zero at rest, or a static element's offset in front of it).
+    pub torque_offset: f64,
     /// `α ≥ 0`: the play's half-width, in output units × samples (the motor's angle as the
     /// sum of its measured speed).
     pub half_width: f64,
     /// Runge–Kutta steps per sample.
     pub substeps: usize,
+    /// How its simulations start.
+    pub start: Start,
 }
 
-/// The parameter vector of the fit: `g`, `ln β_m`, `ln k`, `ln c`, `ln r`, `ln β_l`, `α`.
-pub const PARAMETERS: usize = 7;
+/// The parameter vector of the fit: `g`, `ln β_m`, `ln k`, `ln c`, `ln r`, `ln β_l`, `b`, `α`.
+pub const PARAMETERS: usize = 8;
+
+/// Index of `b` in the parameter vector.
+pub const TORQUE_OFFSET: usize = 6;
 
 /// Index of `α` in the parameter vector.
-pub const HALF_WIDTH: usize = 6;
+pub const HALF_WIDTH: usize = 7;
 
 /// Where the teeth are: `−1` in contact on the negative side (`Δ < −α`), `0` in the play,
 /// `+1` in contact on the positive side.
@@ -101,23 +124,26 @@ impl TwoMassPlay {
             self.shaft_damping.ln(),
             self.inertia_ratio.ln(),
             self.load_damping.ln(),
+            self.torque_offset,
             self.half_width,
         ]
     }
 
     /// The model of a parameter vector (see [`PARAMETERS`]); `α` is taken by its magnitude.
     /// `None` unless `theta` has [`PARAMETERS`] entries.
-    pub fn from_theta(theta: &[f64], substeps: usize) -> Option<Self> {
+    pub fn from_theta(theta: &[f64], substeps: usize, start: Start) -> Option<Self> {
         match *theta {
-            [gain, bm, k, c, r, bl, alpha] => Some(Self {
+            [gain, bm, k, c, r, bl, b, alpha] => Some(Self {
                 gain,
                 motor_damping: bm.exp(),
                 stiffness: k.exp(),
                 shaft_damping: c.exp(),
                 inertia_ratio: r.exp(),
                 load_damping: bl.exp(),
+                torque_offset: b,
                 half_width: alpha.abs(),
                 substeps,
+                start,
             }),
             _ => None,
         }
@@ -126,6 +152,34 @@ impl TwoMassPlay {
     /// The shaft's resonance with the teeth in contact, `√(k (1 + r)/r)`, in rad per sample.
     pub fn resonance(&self) -> f64 {
         (self.stiffness * (1.0 + self.inertia_ratio) / self.inertia_ratio).sqrt()
+    }
+
+    /// The discrete pole of the rigid-body mode with the teeth in contact,
+    /// `exp(−(β_m + r β_l)/(1 + r))`: the slowest decay of the motor's speed (the shaft's
+    /// resonance decays at least as fast).
+    pub fn rigid_body_pole(&self) -> f64 {
+        let r = self.inertia_ratio;
+        (-(self.motor_damping + r * self.load_damping) / (1.0 + r)).exp()
+    }
+
+    /// The steady state `(Δ, ω_m, ω_l)` under a constant input `u`: both parts at
+    /// `ω = (g u + b)/(β_m + r β_l)`, the shaft carrying the load's damping torque
+    /// `T = r β_l ω` with the twist `Δ = T/k + α sign(T)` (the teeth in contact on the side
+    /// that drives the load; `Δ = 0`, the middle of the play, without a torque).
+    pub fn steady_state(&self, u: f64) -> [f64; 3] {
+        let r = self.inertia_ratio;
+        let w = (self.gain * u + self.torque_offset) / (self.motor_damping + r * self.load_damping);
+        let t = r * self.load_damping * w;
+        let d = if t == 0.0 {
+            0.0
+        } else {
+            t / self.stiffness + self.half_width * t.signum()
+        };
+        if [w, d].iter().all(|v| v.is_finite()) {
+            [d, w, w]
+        } else {
+            [0.0; 3]
+        }
     }
 
     /// Whether the fixed-step integration is well inside its stability region: the fastest
@@ -147,6 +201,7 @@ impl TwoMassPlay {
                 self.shaft_damping,
                 r,
                 self.load_damping,
+                self.torque_offset,
                 self.half_width,
             ]
             .iter()
@@ -167,7 +222,7 @@ impl TwoMassPlay {
         );
         [
             wm - wl,
-            self.gain * u - t - self.motor_damping * wm,
+            self.gain * u + self.torque_offset - t - self.motor_damping * wm,
             t / self.inertia_ratio - self.load_damping * wl,
         ]
     }
@@ -220,7 +275,10 @@ impl TwoMassPlay {
     /// The motor's speed for the input record (see the module's sampling convention).
     pub fn simulate(&self, u: &[f64]) -> Vec<f64> {
         let h = 1.0 / self.substeps.max(1) as f64;
-        let mut x = [0.0f64; 3];
+        let mut x = match self.start {
+            Start::Rest => [0.0; 3],
+            Start::Steady => self.steady_state(u.first().copied().unwrap_or(0.0)),
+        };
         let mut y = Vec::with_capacity(u.len());
         for &ut in u {
             y.push(x[1]);
@@ -244,8 +302,10 @@ mod tests {
             shaft_damping: 0.03,
             inertia_ratio: 1.0,
             load_damping: 2e-3,
+            torque_offset: 0.0,
             half_width: alpha,
             substeps: 10,
+            start: Start::Rest,
         }
     }
 
@@ -253,9 +313,37 @@ mod tests {
     #[test]
     fn steady_speed_is_the_rigid_body_gain() {
         let m = model(5.0);
-        let y = m.simulate(&vec![1.0; 20_000]);
+        // From rest (a first input of 0), then a unit input.
+        let mut u = vec![1.0; 20_000];
+        u[0] = 0.0;
+        let y = m.simulate(&u);
+        assert_eq!(y[0], 0.0);
         let want = 1e-3 / (2e-3 + 2e-3);
         let last = y.last().copied().unwrap_or(f64::NAN);
+        assert!((last - want).abs() < 1e-3 * want, "{last} vs {want}");
+    }
+
+    /// The start for a first input held is that input's equilibrium: the simulation stays at
+    /// it (the speed and the twist that the dynamics reach from rest), with the torque offset
+    /// and the play.
+    #[test]
+    fn the_steady_state_of_the_first_input_is_an_equilibrium() {
+        let m = TwoMassPlay {
+            torque_offset: -2e-4,
+            start: Start::Steady,
+            ..model(5.0)
+        };
+        let y = m.simulate(&[0.7; 3000]);
+        let want = (0.7e-3 - 2e-4) / (2e-3 + 2e-3);
+        assert!((y[0] - want).abs() < 1e-12, "{} vs {want}", y[0]);
+        let drift = y.iter().map(|v| (v - want).abs()).fold(0.0, f64::max);
+        assert!(drift < 1e-9 * want, "{drift}");
+        // From rest the same input settles at the same speed.
+        let mut u = vec![0.7; 20_000];
+        u[0] = 2e-4 / 1e-3;
+        let from_rest = m.simulate(&u);
+        assert_eq!(from_rest[0], 0.0);
+        let last = from_rest.last().copied().unwrap_or(f64::NAN);
         assert!((last - want).abs() < 1e-3 * want, "{last} vs {want}");
     }
 
@@ -264,12 +352,18 @@ mod tests {
     /// the shaft's resonance has died out (3.7e-4 at sample 150).
     #[test]
     fn the_motor_runs_free_inside_the_play() {
+        // From rest (a first input of 0), the unit input from sample 1 on.
+        let step = |n: usize| {
+            let mut u = vec![1.0; n + 1];
+            u[0] = 0.0;
+            u
+        };
         let m = model(50.0);
-        let y = m.simulate(&[1.0; 40]);
-        let free = y[10] - y[9];
+        let y = m.simulate(&step(40));
+        let free = y[11] - y[10];
         assert!((free - 1e-3).abs() < 5e-5, "{free}");
-        let rigid = model(0.0).simulate(&[1.0; 200]);
-        let carried = rigid[151] - rigid[150];
+        let rigid = model(0.0).simulate(&step(200));
+        let carried = rigid[152] - rigid[151];
         let want = 0.5e-3 * (-0.002f64 * 150.0).exp();
         assert!((carried - want).abs() < 0.05 * want, "{carried} vs {want}");
     }
@@ -277,7 +371,7 @@ mod tests {
     #[test]
     fn theta_round_trip() {
         let m = model(3.0);
-        let back = TwoMassPlay::from_theta(&m.theta(), 10);
+        let back = TwoMassPlay::from_theta(&m.theta(), 10, Start::Rest);
         let ok = back.is_some_and(|b| {
             b.theta()
                 .iter()
@@ -285,7 +379,7 @@ mod tests {
                 .all(|(a, b)| (a - b).abs() < 1e-12)
         });
         assert!(ok);
-        assert!(TwoMassPlay::from_theta(&[1.0; 3], 10).is_none());
+        assert!(TwoMassPlay::from_theta(&[1.0; 3], 10, Start::Rest).is_none());
         assert!(m.integrable());
         assert!(
             !TwoMassPlay {

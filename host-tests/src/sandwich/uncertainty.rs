@@ -10,7 +10,7 @@ use super::model::HALF_WIDTH;
 use crate::numerics::lm::Problem;
 
 /// The standard deviations of a fit.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Uncertainty {
     /// `σ̂²`, the residual variance.
     pub sigma2: f64,

@@ -2,6 +2,7 @@
 
 use crate::friction::FrictionError;
 use crate::hysteresis::HysteresisError;
+use crate::sandwich::SandwichError;
 
 /// Why a model class beyond the linear dynamics could not be fitted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -35,4 +36,7 @@ pub enum DynamicsError {
     /// Friction on the velocity could not be fitted.
     #[error("friction: {0}")]
     Friction(#[source] FrictionError),
+    /// The two-mass drive with play between motor and load could not be fitted.
+    #[error("play between motor and load: {0}")]
+    TwoMass(#[source] SandwichError),
 }

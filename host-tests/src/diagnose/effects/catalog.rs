@@ -39,6 +39,12 @@ pub enum Effect {
     /// ([`Effect::PROPOSED`]) on a model without an element with memory, stores or an output
     /// map, where the sign of its simulated velocity explains its equation error.
     Friction,
+    /// Play between two dynamic parts: the two-mass drive whose shaft has a dead zone of the
+    /// gear play ([`crate::sandwich`]) in place of `G` and any input element. Beyond the
+    /// seven-effect catalog; proposed with them ([`Effect::PROPOSED`]) on a model of order
+    /// at most 3 where the error depends on the direction of motion, and kept only when the
+    /// play carries the gain (not the drive's order alone).
+    PlayBetween,
 }
 
 impl Effect {
@@ -54,11 +60,13 @@ impl Effect {
     ];
 
     /// Every effect the diagnosis proposes: the catalog, then the level-dependent stores
-    /// for state-dependent dynamics, then the element with memory, then friction.
-    pub const PROPOSED: [Effect; 10] = {
-        let mut all = [Effect::StateDependentDynamics; 10];
+    /// for state-dependent dynamics, then the element with memory, then friction, then play
+    /// between motor and load.
+    pub const PROPOSED: [Effect; 11] = {
+        let mut all = [Effect::StateDependentDynamics; 11];
         all[8] = Effect::Hysteresis;
         all[9] = Effect::Friction;
+        all[10] = Effect::PlayBetween;
         let mut i = 0;
         while i < Effect::ALL.len() {
             all[i] = Effect::ALL[i];
@@ -80,6 +88,7 @@ impl Effect {
             Effect::StateDependentDynamics => "state_dependent_dynamics",
             Effect::Hysteresis => "hysteresis",
             Effect::Friction => "friction",
+            Effect::PlayBetween => "play_between",
         }
     }
 
@@ -126,6 +135,8 @@ impl Effect {
             // with the direction or a coloured one; the proposal then asks its own question
             // (the sign of the simulated velocity in the model's equation).
             Effect::Friction => &[Test::DirectionCorrelation, Test::Whiteness],
+            // The same; the proposal then asks whether the play carries the gain.
+            Effect::PlayBetween => &[Test::DirectionCorrelation, Test::Whiteness],
         }
     }
 
@@ -155,6 +166,9 @@ impl Effect {
             }
             Effect::Friction => {
                 "Coulomb friction (a tanh of the output's velocity) and an offset subtracted from G's input, with G, fitted by simulation error from the current model"
+            }
+            Effect::PlayBetween => {
+                "two-mass drive with the gear play between motor and load (a dead zone in the shaft's stiffness), the motor's speed the output, in place of G and any input element, fitted by simulation error from G's poles"
             }
         }
     }
@@ -186,6 +200,9 @@ impl Effect {
             Effect::Hysteresis => 8.0,
             // Coulomb force, velocity scale, offset.
             Effect::Friction => 3.0,
+            // Seven parameters of the two mass drive, less the order-2 G's four they replace,
+            // and the play.
+            Effect::PlayBetween => 4.0,
         }
     }
 
@@ -202,6 +219,7 @@ impl Effect {
             Effect::StateDependentDynamics => s.dynamics != Dynamics::Linear,
             Effect::Hysteresis => s.element.is_some(),
             Effect::Friction => s.friction,
+            Effect::PlayBetween => s.play_between,
         }
     }
 }
@@ -283,6 +301,10 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
                 fm.friction.delay
             ),
             None => "Coulomb friction and an offset on the output's velocity".into(),
+        },
+        Effect::PlayBetween => match model.and_then(|m| m.two_mass.as_ref()) {
+            Some(tm) => format!("two-mass drive: {}", tm.describe(None, None)),
+            None => "two-mass drive with play between motor and load".into(),
         },
         Effect::StateDependentDynamics => {
             let map = match s.output_map_segments {

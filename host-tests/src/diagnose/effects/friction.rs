@@ -27,6 +27,7 @@ impl Proposal<'_> {
             && c.output_map_segments.is_none()
             && c.dynamics == Dynamics::Linear
             && !c.friction
+            && !c.play_between
             && !self.increments;
         if !plain || !self.moves_by_direction() {
             return Ok(None);

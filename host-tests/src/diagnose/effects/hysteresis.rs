@@ -30,8 +30,9 @@ impl Proposal<'_> {
         let c = self.current;
         let saturation_only =
             c.output_map_segments == Some(1) && self.holdout.opts.saturation.any();
-        let plain =
-            (c.output_map_segments.is_none() || saturation_only) && c.dynamics == Dynamics::Linear;
+        let plain = (c.output_map_segments.is_none() || saturation_only)
+            && c.dynamics == Dynamics::Linear
+            && !c.play_between;
         if !self.holdout.opts.identify.static_nonlinearity || !plain {
             return Ok(None);
         }

@@ -20,6 +20,7 @@ pub mod order;
 pub mod outliers;
 pub mod output_map;
 pub mod periodic;
+pub mod play_between;
 pub mod proposal;
 pub mod stores;
 

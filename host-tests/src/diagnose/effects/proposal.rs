@@ -130,6 +130,7 @@ impl Proposal<'_> {
             Effect::ColoredNoise => self.colored_noise(),
             Effect::Hysteresis => self.hysteresis(),
             Effect::Friction => self.friction(),
+            Effect::PlayBetween => self.play_between(),
         }
     }
 }

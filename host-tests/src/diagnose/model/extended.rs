@@ -6,6 +6,7 @@ use crate::diagnose::stores::Stores;
 use crate::friction::{FrictionModel, Initial};
 use crate::hysteresis::HysteresisModel;
 use crate::identify::HostModel;
+use crate::sandwich::TwoMassFit;
 use crate::validation::noise::ArNoise;
 
 use super::additive::Additive;
@@ -40,6 +41,10 @@ pub struct ExtendedModel {
     /// simulation ([`Structure::friction`]); fitted on the delayed input, simulated from rest
     /// at `u_min`.
     pub friction: Option<FrictionModel>,
+    /// The two-mass drive with play between motor and load replacing `G`'s simulation (and
+    /// the element's) ([`Structure::play_between`]); driven by the Hammerstein part's static
+    /// output on the delayed input, from rest.
+    pub two_mass: Option<TwoMassFit>,
 }
 
 impl ExtendedModel {
@@ -74,6 +79,9 @@ impl ExtendedModel {
     /// Output of the Hammerstein part (delay included) for an input record.
     pub(crate) fn hammerstein_output(&self, u: &[f64]) -> Vec<f64> {
         let ud = delay_input(u, self.structure.delay);
+        if let Some(tm) = &self.two_mass {
+            return tm.simulate(&self.hammerstein.nonlinearity_output(&ud));
+        }
         if let Some(el) = &self.hysteresis {
             return crate::hysteresis::simulate::simulate(el, &ud);
         }
@@ -99,6 +107,9 @@ impl ExtendedModel {
     /// The spectral radius of the simulated linear part (`G` of the element model when there
     /// is one).
     pub fn spectral_radius(&self) -> f64 {
+        if let Some(tm) = &self.two_mass {
+            return tm.model.rigid_body_pole();
+        }
         match &self.hysteresis {
             Some(el) => el
                 .poles()

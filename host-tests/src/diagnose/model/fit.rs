@@ -21,6 +21,7 @@ use super::outliers::detect_outliers;
 use super::poles::{refine_poles, refine_poles_mapped};
 use super::refine_linear::{LinearFitParams, refine_linear};
 use super::structure::Structure;
+use super::two_mass::fit_two_mass_into;
 use crate::model::Record;
 
 /// Fits a structure on a record.
@@ -300,6 +301,7 @@ pub(super) fn fit_structure_impl(
         stores: None,
         hysteresis: None,
         friction: None,
+        two_mass: None,
     };
     if let Some(kind) = s.element {
         let shared = opts.identify.static_nonlinearity;
@@ -318,6 +320,15 @@ pub(super) fn fit_structure_impl(
                 fit_friction_into(&mut model, whole, &skip)?;
             }
             None => fit_friction_into(&mut model, rec, &flags)?,
+        }
+    }
+    if s.play_between {
+        match &held {
+            Some((whole, block)) => {
+                let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
+                fit_two_mass_into(&mut model, whole, &skip)?;
+            }
+            None => fit_two_mass_into(&mut model, rec, &flags)?,
         }
     }
     if let Some(class) = s.dynamics.stores() {

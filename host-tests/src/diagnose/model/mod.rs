@@ -20,6 +20,11 @@
 //!   inputs that reverse inside the range (inner loops) are represented; on an output pinned
 //!   at a level, `g` with the element is the output saturation alone (the identity with flat
 //!   ends at the pinned levels), `G` and the borders fitted through it,
+//! * `friction`: Coulomb friction and an offset on the output's velocity fed back into `G`'s
+//!   input ([`friction`]),
+//! * `play_between`: the two-mass drive with gear play between motor and load, driven by the
+//!   static output and fitted from `G`'s poles, in place of `G` and any element
+//!   ([`two_mass`]),
 //! * `outliers`: samples flagged by the MAD rule are replaced, in the identification target,
 //!   by the model's own output (robust re-estimation), and left out of the error.
 //!
@@ -45,6 +50,7 @@ pub mod output_fit;
 pub mod poles;
 pub mod refine_linear;
 pub mod structure;
+pub mod two_mass;
 
 pub use additive::Additive;
 pub use borders::{BorderBasis, refit_borders};

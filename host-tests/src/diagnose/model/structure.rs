@@ -49,6 +49,12 @@ pub struct Structure {
     /// ([`crate::friction`]), fitted with `G` by simulation error (`friction`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub friction: bool,
+    /// Play between two dynamic parts: the two-mass drive whose shaft has a dead zone of the
+    /// gear play ([`crate::sandwich`]), driven by the Hammerstein part's static output and
+    /// fitted by simulation error from `G`'s poles, in place of `G` and any element
+    /// (`play_between`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub play_between: bool,
 }
 
 /// [`Structure::element`] as the name of the element it simulates.
@@ -98,6 +104,7 @@ impl Structure {
             dynamics: Dynamics::Linear,
             element: None,
             friction: false,
+            play_between: false,
         }
     }
 
