@@ -410,6 +410,19 @@ pub fn fit_two_mass_skipping(
         t.push(alpha);
         t
     };
+    // The other parameters fitted from `from` with the play held at `alpha`.
+    let fit_held = |alpha: f64, from: &[f64], iterations: usize| -> Option<Minimum> {
+        let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
+        let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
+        let held = Problem {
+            residual: &residual_at,
+            admissible: &admissible_at,
+            jacobian: Jacobian::ForwardDifference {
+                typical: &typical[..HALF_WIDTH],
+            },
+        };
+        lm::minimise(&held, from, &Settings::simulation_fit(iterations)).ok()
+    };
     let residual_contact = |th: &[f64]| residual(&with_play(th, 0.0));
     let admissible_contact = |th: &[f64]| admissible(&with_play(th, 0.0));
     let contact = Problem {
@@ -456,17 +469,7 @@ pub fn fit_two_mass_skipping(
     for from in kept {
         for i in 0..GRID {
             let alpha = y_rms * std::f64::consts::SQRT_2.powi(i);
-            let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
-            let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
-            let held = Problem {
-                residual: &residual_at,
-                admissible: &admissible_at,
-                jacobian: Jacobian::ForwardDifference {
-                    typical: &typical[..HALF_WIDTH],
-                },
-            };
-            let settings = Settings::simulation_fit(PROFILE_ITERATIONS);
-            if let Ok(m) = lm::minimise(&held, from, &settings) {
+            if let Some(m) = fit_held(alpha, from, PROFILE_ITERATIONS) {
                 grid.push((sse(&m.residual), with_play(&m.theta, alpha)));
             }
         }
@@ -500,22 +503,13 @@ pub fn fit_two_mass_skipping(
     // grid's starts are a factor √3 or more apart.
     for _ in 0..RESONANCE_ROUNDS {
         let alpha = best.theta[HALF_WIDTH];
-        let residual_at = |th: &[f64]| residual(&with_play(th, alpha));
-        let admissible_at = |th: &[f64]| admissible(&with_play(th, alpha));
-        let held = Problem {
-            residual: &residual_at,
-            admissible: &admissible_at,
-            jacobian: Jacobian::ForwardDifference {
-                typical: &typical[..HALF_WIDTH],
-            },
-        };
         let moved = RESONANCE_STEPS
             .iter()
             .filter_map(|&(f, g): &(f64, f64)| {
                 let mut th = best.theta[..HALF_WIDTH].to_vec();
                 th[2] += 2.0 * f.ln();
                 th[3] += (f * g).ln();
-                lm::minimise(&held, &th, &Settings::simulation_fit(PROFILE_ITERATIONS)).ok()
+                fit_held(alpha, &th, PROFILE_ITERATIONS)
             })
             .min_by(|a, b| sse(&a.residual).total_cmp(&sse(&b.residual)));
         let Some(moved) = moved else { break };
