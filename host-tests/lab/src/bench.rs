@@ -3,8 +3,6 @@
 //! confusion table of true against named effects.
 
 use std::fmt::Write as _;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use hsid_host::diagnose::{DiagnoseError, DiagnoseOptions, Effect, Metric, Proposing, diagnose};
 
@@ -197,28 +195,16 @@ pub fn run_all(
     adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync),
     progress: &(dyn Fn(&Outcome) + Sync),
 ) -> Vec<Result<Outcome, String>> {
-    let next = AtomicUsize::new(0);
-    let out: Mutex<Vec<(usize, Result<Outcome, String>)>> = Mutex::new(Vec::new());
-    std::thread::scope(|sc| {
-        for _ in 0..threads.max(1) {
-            sc.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(s) = scenarios.get(i) else { break };
-                    let r = run_adjusted(s, adjust).map_err(|e| e.to_string());
-                    if let Ok(o) = &r {
-                        progress(o);
-                    }
-                    if let Ok(mut v) = out.lock() {
-                        v.push((i, r));
-                    }
-                }
-            });
-        }
-    });
-    let mut v = out.into_inner().unwrap_or_default();
-    v.sort_by_key(|(i, _)| *i);
-    v.into_iter().map(|(_, r)| r).collect()
+    crate::parallel::in_parallel(
+        scenarios,
+        threads,
+        &|s| run_adjusted(s, adjust).map_err(|e| e.to_string()),
+        &|r| {
+            if let Ok(o) = r {
+                progress(o);
+            }
+        },
+    )
 }
 
 /// The confusion table (Markdown): rows the true effect, columns the effect named first.

@@ -11,6 +11,7 @@
 //!   written apart from the first two, with its own resolvability check and table (example
 //!   `confusion_c`);
 //! * [`generality`]: the generality benchmark on random plants (example `generality`);
+//! * [`parallel`]: the families' runs across threads, outcomes in the scenarios' order;
 //! * [`displacement`]: PI-MOESP's Schur complements from the lagged sums by the generalised
 //!   Schur algorithm, the host reference of the structured onboard solve.
 
@@ -19,4 +20,5 @@ pub mod displacement;
 pub mod family_b;
 pub mod family_c;
 pub mod generality;
+pub mod parallel;
 pub mod scenario;

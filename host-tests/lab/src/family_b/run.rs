@@ -1,8 +1,5 @@
 //! Runs of the diagnosis on the family (in parallel), each scored against its truth.
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use super::class::Class;
 use super::generate::{Truth, generate};
 use super::scenario::Scenario;
@@ -212,24 +209,5 @@ pub fn run_all(
     adjust: &(dyn Fn(&mut DiagnoseOptions) + Sync),
     progress: &(dyn Fn(&Outcome) + Sync),
 ) -> Vec<Outcome> {
-    let next = AtomicUsize::new(0);
-    let out: Mutex<Vec<(usize, Outcome)>> = Mutex::new(Vec::new());
-    std::thread::scope(|sc| {
-        for _ in 0..threads.max(1) {
-            sc.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(s) = scenarios.get(i) else { break };
-                    let o = run_adjusted(s, adjust);
-                    progress(&o);
-                    if let Ok(mut v) = out.lock() {
-                        v.push((i, o));
-                    }
-                }
-            });
-        }
-    });
-    let mut v = out.into_inner().unwrap_or_default();
-    v.sort_by_key(|(i, _)| *i);
-    v.into_iter().map(|(_, o)| o).collect()
+    crate::parallel::in_parallel(scenarios, threads, &|s| run_adjusted(s, adjust), progress)
 }
