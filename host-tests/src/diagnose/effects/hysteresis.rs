@@ -12,13 +12,12 @@
 //! current model (`effects::choose`); a real element whose fit also improves `G` keeps the
 //! whole gain.
 
-use super::candidate::{Candidate, compare};
+use super::candidate::Candidate;
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
-use crate::diagnose::model::{Dynamics, Metric, evaluate};
+use crate::diagnose::model::{Dynamics, Metric};
 use crate::model::MemoryElement;
-use crate::validation::residual::LEVEL;
 
 impl Proposal<'_> {
     /// The play operator (backlash), then the relay with borders (switch), on a static model
@@ -83,10 +82,6 @@ impl Proposal<'_> {
             let mid = 0.5 * (*a + *d);
             (*a, *d) = (mid, mid);
         }
-        let (est, range) = (self.holdout.est, &self.holdout.range);
-        let with = evaluate(&cand.inner_model, est, range.clone(), Metric::Simulation);
-        let without = evaluate(&collapsed, est, range.clone(), Metric::Simulation);
-        let (_, p) = compare(&without, &with);
-        p < LEVEL
+        self.beats_on_block(&cand.inner_model, &collapsed)
     }
 }

@@ -12,13 +12,10 @@
 //! significantly (one-sided Diebold–Mariano at the catalog's level).
 
 use super::candidate::Candidate;
-use super::candidate::compare;
 use super::catalog::Effect;
 use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
-use crate::diagnose::model::evaluate;
 use crate::diagnose::model::{Dynamics, Metric};
-use crate::validation::residual::LEVEL;
 
 /// The largest order of the current model the two-mass drive replaces.
 pub const MAX_ORDER: usize = 3;
@@ -57,10 +54,6 @@ impl Proposal<'_> {
             return false;
         };
         tm.model.half_width = 0.0;
-        let (est, range) = (self.holdout.est, &self.holdout.range);
-        let with = evaluate(&cand.inner_model, est, range.clone(), Metric::Simulation);
-        let without = evaluate(&closed, est, range.clone(), Metric::Simulation);
-        let (_, p) = compare(&without, &with);
-        p < LEVEL
+        self.beats_on_block(&cand.inner_model, &closed)
     }
 }

@@ -6,7 +6,8 @@ use super::catalog::Effect;
 use super::holdout::Holdout;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::evidence::{Tried, Unscored};
-use crate::diagnose::model::{Evaluation, ExtendedModel, Metric, Structure};
+use crate::diagnose::model::{Evaluation, ExtendedModel, Metric, Structure, evaluate};
+use crate::validation::residual::LEVEL;
 use crate::validation::residual::TestSet;
 
 /// What a proposal needs.
@@ -111,6 +112,16 @@ impl Proposal<'_> {
             significance: Significance::DieboldMariano,
             tried,
         }))
+    }
+
+    /// Whether `with` simulates the first fold's block significantly better than `without`
+    /// (one-sided Diebold–Mariano at the catalog's level): an extension's own part against
+    /// the same model with that part taken out (an element's memory, a play).
+    pub(crate) fn beats_on_block(&self, with: &ExtendedModel, without: &ExtendedModel) -> bool {
+        let (est, range) = (self.holdout.est, &self.holdout.range);
+        let with = evaluate(with, est, range.clone(), Metric::Simulation);
+        let without = evaluate(without, est, range.clone(), Metric::Simulation);
+        compare(&without, &with).1 < LEVEL
     }
 
     /// Proposes the effect's extension with its best setting, or `None` when it has nothing
