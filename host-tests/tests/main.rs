@@ -34,6 +34,7 @@ mod firmware;
 mod fleet;
 mod friction_emps;
 mod friction_records;
+mod friction_speed;
 mod friction_spring;
 mod gap_uncertainty;
 mod html_gap;

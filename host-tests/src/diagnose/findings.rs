@@ -127,17 +127,23 @@ pub fn friction(
     from: usize,
     increments: bool,
 ) -> Option<Finding> {
-    friction_evidence(model, est, from, increments).map(|e| Finding::Friction {
-        t: e.t,
-        difference: e.difference,
-    })
+    // A plant that does not integrate may measure a position (the velocity the output's
+    // change) or a speed (the output itself): the first reading that fires.
+    let readings: &[bool] = if increments { &[true] } else { &[false, true] };
+    readings
+        .iter()
+        .find_map(|&on_output| friction_evidence(model, est, from, on_output))
+        .map(|e| Finding::Friction {
+            t: e.t,
+            difference: e.difference,
+        })
 }
 
 /// The friction step's evidence on `model` and the record `est` from sample `from` on
 /// ([`velocity_sign_on`](crate::friction::velocity_sign_on)): the sign of the model's
 /// simulated velocity in its output-error equation (its simulated output as the past), the
 /// velocity the change of its simulated output (the output itself when `increments`: an
-/// integrating plant's increments are its velocity). Asked only of a model whose simulation
+/// integrating plant's increments, or a speed, are the velocity). Asked only of a model whose simulation
 /// is its element and `G` (no element with memory, stores, output map or friction already):
 /// the equation the test writes is that model's. `None` below `|t| =`
 /// [`THRESHOLD`](crate::friction::VelocitySign::THRESHOLD): on the t statistic alone, as with

@@ -62,6 +62,7 @@ mod tests {
                 velocity_scale: 1e-3,
                 offset: -0.05,
                 delay: 1,
+                speed: false,
             },
         };
         let text = serde_json::to_string(&m.to_file(100, Element::Static)).unwrap();

@@ -16,6 +16,15 @@
 //! mass on a spring at 30 dB the regressions all start in the valley of half the force); the
 //! smallest error is kept, so the fit never ends worse than the model it extends.
 //!
+//! **Element.** The element of the identified model was fitted without friction, and where
+//! the output is a speed its borders took up what they could of it (in the steady state
+//! Coulomb friction on a speed is a static jump of the force where the speed changes sign):
+//! held in the fit, that element leaves the friction a fraction of its force. The fit is run
+//! from the identified element and from the straight line that fits the element's output
+//! over the record best, and the smaller error kept (on a motor's speed behind an actuator,
+//! with a static element of four segments: the hold-out error 24 % under the model's from the
+//! identified element, 92 % from the line).
+//!
 //! **Delay.** The element's output may reach the drive a sample or two late (a computation
 //! or amplifier delay; a sampled rigid body whose position lags its velocity by a sample looks
 //! the same): each delay `d = 0, 1, 2` is fitted and the smallest error kept.
@@ -121,12 +130,18 @@ pub struct FrictionFit {
 pub struct FrictionOptions {
     /// Jacobians computed at most.
     pub iterations: usize,
+    /// The output of a plant that does not integrate is a speed (a motor's): the friction
+    /// acts on its sign, not on the sign of its change ([`Friction::speed`]).
+    pub speed: bool,
 }
 
 impl Default for FrictionOptions {
-    /// 60 iterations.
+    /// 60 iterations, the output a position.
     fn default() -> Self {
-        Self { iterations: 60 }
+        Self {
+            iterations: 60,
+            speed: false,
+        }
     }
 }
 
@@ -159,6 +174,69 @@ pub fn fit_friction(
             parameters,
         });
     }
+    let given = fit_element(u, y, skip, start, integrating, opts);
+    let u_start = match integrating {
+        true => u.first().copied().unwrap_or(0.0),
+        false => start.u_min(),
+    };
+    let Some(line) = straightened(start, u, u_start) else {
+        return given;
+    };
+    let lined = fit_element(u, y, skip, &line, integrating, opts);
+    match (given, lined) {
+        (Ok(g), Ok(l)) if l.sse < g.sse => Ok(FrictionFit {
+            sse_identified: g.sse_identified,
+            ..l
+        }),
+        (Ok(g), _) => Ok(g),
+        (Err(_), Ok(l)) => Ok(l),
+        (Err(e), Err(_)) => Err(e),
+    }
+}
+
+/// `model` with its element replaced by the straight line that best fits the element's
+/// output over the record's input `u` (least squares of `h(t)` on `u(t)` and 1; `u_start`
+/// the input before the record): the element a friction fit also starts from. `None` when
+/// the element is a line already (within 10⁻⁹ of its spread) or the input does not vary.
+fn straightened(model: &HostModel, u: &[f64], u_start: f64) -> Option<HostModel> {
+    let h = model.element_output_from(u, u_start);
+    let n = u.len() as f64;
+    let (um, hm) = (u.iter().sum::<f64>() / n, h.iter().sum::<f64>() / n);
+    let sxx: f64 = u.iter().map(|a| (a - um) * (a - um)).sum();
+    let sxy: f64 = u.iter().zip(&h).map(|(a, b)| (a - um) * (b - hm)).sum();
+    if !(sxx > 0.0 && sxx.is_finite() && sxy.is_finite()) {
+        return None;
+    }
+    let slope = sxy / sxx;
+    let at = |k: &f64| slope * k + (hm - slope * um);
+    let spread = crate::numerics::rms(&h.iter().map(|v| v - hm).collect::<Vec<_>>());
+    let off = |knots: &[f64], borders: &[f64]| {
+        knots
+            .iter()
+            .zip(borders)
+            .fold(0.0f64, |m, (k, b)| m.max((at(k) - b).abs()))
+    };
+    let bent =
+        off(&model.knots_asc, &model.border_asc).max(off(&model.knots_desc, &model.border_desc));
+    if bent <= 1e-9 * spread.max(f64::MIN_POSITIVE) {
+        return None;
+    }
+    let mut line = model.clone();
+    line.border_asc = model.knots_asc.iter().map(at).collect();
+    line.border_desc = model.knots_desc.iter().map(at).collect();
+    line.mu0 = at(&model.u_min());
+    Some(line)
+}
+
+/// [`fit_friction`] with the element of `start` held (the record's lengths checked).
+fn fit_element(
+    u: &[f64],
+    y: &[f64],
+    skip: &[bool],
+    start: &HostModel,
+    integrating: bool,
+    opts: &FrictionOptions,
+) -> Result<FrictionFit, FrictionError> {
     let skipped = |t: usize| skip.get(t).copied().unwrap_or(false);
     let scored = (0..y.len()).filter(|&t| !skipped(t)).count();
     // The target: the output, or the position of an integrating plant (its increments summed).
@@ -166,7 +244,8 @@ pub fn fit_friction(
         true => crate::integrating::integrate(y, 0.0),
         false => y.to_vec(),
     };
-    let velocity: Vec<f64> = match integrating {
+    let on_output = integrating || opts.speed;
+    let velocity: Vec<f64> = match on_output {
         true => y.to_vec(),
         false => change_from_rest(y),
     };
@@ -202,7 +281,10 @@ pub fn fit_friction(
     };
     // The identified model as polynomials, no friction.
     let identified = Polynomials::strictly_proper(start);
-    let none = Friction::none(v_rms * 0.01);
+    let none = Friction {
+        speed: opts.speed,
+        ..Friction::none(v_rms * 0.01)
+    };
     let sse_identified = sse_of(&run(&identified, &none, &h_raw, integrating, initial));
     if !sse_identified.is_finite() {
         return Err(FrictionError::StartDoesNotSimulate);
@@ -215,6 +297,7 @@ pub fn fit_friction(
             n: order,
             delay,
             margin: SIGN_MARGINS[0],
+            speed: opts.speed,
         };
         let h = delayed(&h_raw, h0, delay);
         match fit_layout(
@@ -304,6 +387,7 @@ fn fit_layout(
     opts: &FrictionOptions,
 ) -> Result<lm::Minimum, FrictionError> {
     let integrating = matches!(initial, StartState::Moving { .. });
+    let on_output = integrating || layout.speed;
     let skipped = |t: usize| skip.get(t).copied().unwrap_or(false);
     let sse_of = |sim: &[f64]| -> f64 {
         sim.iter()
@@ -320,6 +404,7 @@ fn fit_layout(
     let order = layout.n;
     let none = Friction {
         delay: layout.delay,
+        speed: layout.speed,
         ..Friction::none(v_rms * 0.01)
     };
     let sse0 = sse_of(&run(identified, &none, h, integrating, initial));
@@ -339,7 +424,11 @@ fn fit_layout(
         true => 0.0,
         false => simulated.first().copied().unwrap_or(0.0),
     };
-    let simulated_velocity = per_sample_change(&simulated, before);
+    let simulated_velocity = match on_output && !integrating {
+        // A speed: the simulated output is the velocity.
+        true => simulated.clone(),
+        false => per_sample_change(&simulated, before),
+    };
     let regressions = SCALES.iter().flat_map(|&k| {
         [velocity, &simulated_velocity[..]]
             .into_iter()
@@ -352,6 +441,7 @@ fn fit_layout(
         };
         let fr = Friction {
             delay: layout.delay,
+            speed: layout.speed,
             ..fr
         };
         // The friction is a force in the element's output units whichever `G` it drives.
@@ -382,6 +472,7 @@ fn fit_layout(
                 velocity_scale: k * v_rms,
                 offset: 0.0,
                 delay: layout.delay,
+                speed: layout.speed,
             };
             let fr = smoothed(identified, fr);
             let sse = sse_of(&run(identified, &fr, h, integrating, initial));
@@ -505,6 +596,8 @@ struct Layout {
     /// The velocity scale's floor as a multiple of [`sign_limit`] (a stage of
     /// [`SIGN_MARGINS`]).
     margin: f64,
+    /// The output is a speed ([`Friction::speed`]).
+    speed: bool,
 }
 
 /// What a parameter is.
@@ -570,6 +663,7 @@ impl Layout {
             velocity_scale: 0.0,
             offset: th[2 * n + 2],
             delay: self.delay,
+            speed: self.speed,
         };
         fr.velocity_scale = self.margin * sign_limit(&g, &fr) + th[2 * n + 1].exp();
         (g, fr)
@@ -619,6 +713,7 @@ fn equation_error(
         velocity_scale: vs,
         offset: -th[2 * n + 1] / gain,
         delay: 0,
+        speed: false,
     };
     Some((Polynomials { b, f }, fr))
 }

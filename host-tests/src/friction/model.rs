@@ -21,6 +21,11 @@ pub struct Friction {
     /// without it.
     #[serde(default)]
     pub delay: usize,
+    /// `G`'s output is a speed (a motor's): the friction acts on the sign of the output
+    /// itself, not of its change per sample. Always so for an integrating plant, whose `G`
+    /// gives the velocity (the position its sum).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub speed: bool,
 }
 
 impl Friction {
@@ -31,7 +36,14 @@ impl Friction {
             velocity_scale,
             offset: 0.0,
             delay: 0,
+            speed: false,
         }
+    }
+
+    /// Whether the velocity is `G`'s output itself (a speed, or an integrating plant's
+    /// increments) rather than its change.
+    pub(crate) fn on_output(&self, integrating: bool) -> bool {
+        integrating || self.speed
     }
 
     /// The force at velocity `v`.
@@ -46,6 +58,7 @@ impl Friction {
             velocity_scale: self.velocity_scale,
             offset: self.offset * k,
             delay: self.delay,
+            speed: self.speed,
         }
     }
 }
@@ -274,8 +287,35 @@ pub(crate) fn start_state(initial: Initial, h0: f64) -> StartState {
     }
 }
 
+/// The velocity of a plant that does not integrate resting with the element's output at `h0`:
+/// 0 for a position; for a speed (`on_output`) the root of `s = G(1) (h0 − F(s))`, which lies
+/// within `G(1) |F_c|` of `G(1) (h0 − F_0)` (the sign's `tanh` is within ±1), found by
+/// bisection on that bracket (the function is continuous and changes sign across it).
+fn steady_velocity(g: &Polynomials, friction: &Friction, h0: f64, on_output: bool) -> f64 {
+    if !on_output {
+        return 0.0;
+    }
+    let k = g.gain();
+    let centre = k * (h0 - friction.offset);
+    let reach = (k * friction.coulomb).abs();
+    let excess = |s: f64| s - k * (h0 - friction.force(s));
+    let (mut lo, mut hi) = (centre - reach, centre + reach);
+    if !(lo.is_finite() && hi.is_finite()) || reach == 0.0 {
+        return centre;
+    }
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// The simulation: `s(t) = −Σ f_i s(t−i) + Σ b_i w(t−i)`, the velocity `v(t)` (`s(t)` for an
-/// integrating plant, `s(t) − s(t − 1)` otherwise), `w(t) = h(t) − F(v(t))`, and the output
+/// integrating plant or a speed, `s(t) − s(t − 1)` otherwise), `w(t) = h(t) − F(v(t))`, and the output
 /// `s(t)` or its running sum.
 pub(crate) fn run(
     g: &Polynomials,
@@ -285,13 +325,14 @@ pub(crate) fn run(
     start: StartState,
 ) -> Vec<f64> {
     let n = g.f.len() - 1;
+    let on_output = friction.on_output(integrating);
     let (mut s_past, mut w_past, mut position) = match start {
         StartState::Rest { h0 } => {
             // A plant that integrates, started at rest, holds no velocity: G's state is zero.
             if integrating {
                 (vec![0.0; n], vec![0.0; n], 0.0)
             } else {
-                let w0 = h0 - friction.force(0.0);
+                let w0 = h0 - friction.force(steady_velocity(g, friction, h0, on_output));
                 (vec![g.gain() * w0; n], vec![w0; n], 0.0)
             }
         }
@@ -307,7 +348,7 @@ pub(crate) fn run(
         for i in 0..n {
             s += g.b[i + 1] * w_past[i] - g.f[i + 1] * s_past[i];
         }
-        let v = match integrating {
+        let v = match on_output {
             true => s,
             false => s - s_past.first().copied().unwrap_or(s),
         };
@@ -350,6 +391,7 @@ mod tests {
             velocity_scale: 1e-9,
             offset: 0.0,
             delay: 0,
+            speed: false,
         };
         let force: Vec<f64> = (0..6000)
             .map(|t| if t < 4000 { 5.0 } else { -5.0 })

@@ -5,6 +5,7 @@ use super::class::{Class, Loop};
 use super::design::Scenario;
 use super::generate::{Data, Truth, generate};
 use super::resolvable::{Resolvability, resolvability};
+use super::servo::Mechanics;
 use hsid_host::diagnose::{Check, Diagnosis, Effect, Finding, diagnose};
 
 /// A step that raised the validation error.
@@ -62,6 +63,10 @@ pub struct Outcome {
     pub friction_found: bool,
     /// Whether the true effect is resolvable on the estimation record.
     pub resolvability: Resolvability,
+    /// A two-mass drive's play: the truth `2α` (rad) and the diagnosis's, when its final
+    /// model is a two-mass drive (the model's gap, in the output's units × samples, times
+    /// the sample time: rad for the motor's speed in rad/s).
+    pub play: Option<(f64, Option<f64>)>,
     /// Wall time of the diagnosis, ms.
     pub millis: u128,
 }
@@ -82,6 +87,14 @@ impl Outcome {
         self.resolvability.resolvable
     }
 
+    /// The play found over the truth's, less 1, when both are known.
+    pub fn play_error(&self) -> Option<f64> {
+        match self.play {
+            Some((truth, Some(found))) => Some(found / truth - 1.0),
+            _ => None,
+        }
+    }
+
     /// One line for logs.
     pub fn line(&self) -> String {
         let (s, t, d) = (&self.scenario, &self.truth, &self.truth.design);
@@ -89,7 +102,7 @@ impl Outcome {
         let fired: Vec<&str> = self.fired.iter().map(|c| c.name()).collect();
         let harmful: Vec<String> = self.harmful.iter().map(Harm::describe).collect();
         format!(
-            "{} {:<12} {:<6} seed {:>2} | {} n {} ts {:.4} s {} {} {} snr {:.1} dB level {:.3}{}{} | named {} | checks {} | before {:.5} after {:.5} floor {:.5} | resolvable {} | harmful {} | {} ms + check {} ms{}{}",
+            "{} {:<12} {:<6} seed {:>2} | {} n {} ts {:.4} s {} {} {} snr {:.1} dB level {:.3}{}{} | named {} | checks {} | before {:.5} after {:.5} floor {:.5} | resolvable {} | harmful {} | {} ms + check {} ms{}{}{}",
             if self.right() { "ok  " } else { "MISS" },
             s.class.name(),
             s.lp.name(),
@@ -132,6 +145,14 @@ impl Outcome {
             },
             self.millis,
             self.resolvability.millis,
+            match (self.play, self.play_error()) {
+                (Some((truth, Some(found))), Some(e)) => format!(
+                    " | play {truth:.4} rad, found {found:.4} ({:+.1} %)",
+                    100.0 * e
+                ),
+                (Some((truth, None)), _) => format!(" | play {truth:.4} rad, not found"),
+                _ => String::new(),
+            },
             if self.friction_found {
                 " | friction found"
             } else {
@@ -162,6 +183,17 @@ pub fn score(
         harmful: Vec::new(),
         friction_found: false,
         resolvability: resolvability(data, s.class, result.as_ref().ok().copied()),
+        play: match &data.truth.servo.mechanics {
+            Mechanics::TwoMass(d) if d.half_play > 0.0 => Some((
+                2.0 * d.half_play,
+                result
+                    .as_ref()
+                    .ok()
+                    .and_then(|r| r.model.two_mass.as_ref())
+                    .map(|tm| tm.gap() * data.truth.design.ts),
+            )),
+            _ => None,
+        },
         millis,
     };
     match result {

@@ -168,6 +168,27 @@ pub fn summary(outcomes: &[Outcome]) -> String {
         count(Method::Candidate),
         count(Method::Undecided)
     );
+    let plays: Vec<&Outcome> = outcomes
+        .iter()
+        .filter(|o| o.play.is_some_and(|(_, found)| found.is_some()))
+        .collect();
+    let within = plays
+        .iter()
+        .filter(|o| o.play_error().is_some_and(|e| e.abs() <= 0.1))
+        .count();
+    let errors: Vec<String> = plays
+        .iter()
+        .filter_map(|o| o.play_error())
+        .map(|e| format!("{:+.1} %", 100.0 * e))
+        .collect();
+    let _ = writeln!(
+        s,
+        "two-mass play after the step within 10 % of the truth: {} of {} runs with the step{}{}",
+        within,
+        plays.len(),
+        if errors.is_empty() { "" } else { ": " },
+        errors.join(", ")
+    );
     let errors = outcomes.iter().filter(|o| o.error.is_some()).count();
     let _ = writeln!(
         s,

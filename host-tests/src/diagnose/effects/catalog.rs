@@ -293,11 +293,14 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
         Effect::Friction => match model.and_then(|m| m.friction.as_ref()) {
             Some(fm) => format!(
                 "Coulomb {:.4} and offset {:.4} (the element's output's units), the sign smoothed \
-                 over {:.3e} of the output's change per sample, the element's output {} \
-                 sample(s) late",
+                 over {:.3e} of {}, the element's output {} sample(s) late",
                 fm.friction.coulomb,
                 fm.friction.offset,
                 fm.friction.velocity_scale,
+                match fm.friction.speed {
+                    true => "the output (a speed)",
+                    false => "the output's change per sample",
+                },
                 fm.friction.delay
             ),
             None => "Coulomb friction and an offset on the output's velocity".into(),

@@ -20,7 +20,9 @@ impl Proposal<'_> {
     /// friction model simulates the element and `G` alone), of a plant's output (not of an
     /// integrating plant's increments, whose model is not a position's), when the direction
     /// of the model's simulated motion explains its equation error ([`friction_evidence`] on
-    /// the estimation record).
+    /// the estimation record). The output may be a position, whose change is the velocity, or
+    /// a speed (a motor's), the velocity itself: each reading whose evidence fires is tried
+    /// and the better on the hold-out kept.
     pub fn friction(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let c = self.current;
         let plain = c.element.is_none()
@@ -29,20 +31,43 @@ impl Proposal<'_> {
             && !c.friction
             && !c.play_between
             && !self.increments;
-        if !plain || !self.moves_by_direction() {
+        if !plain {
             return Ok(None);
         }
-        let opts = vec![(
-            "Coulomb friction and an offset on the output's velocity".to_string(),
-            self.with(|s| s.friction = true),
-        )];
+        let readings = [
+            (
+                false,
+                "Coulomb friction and an offset on the output's change (a position's velocity)",
+            ),
+            (
+                true,
+                "Coulomb friction and an offset on the output's sign (the output a speed)",
+            ),
+        ];
+        let opts: Vec<(String, _)> = readings
+            .into_iter()
+            .filter(|(speed, _)| self.moves_by_direction(*speed))
+            .map(|(speed, label)| {
+                (
+                    label.to_string(),
+                    self.with(|s| {
+                        s.friction = true;
+                        s.friction_on_speed = speed;
+                    }),
+                )
+            })
+            .collect();
+        if opts.is_empty() {
+            return Ok(None);
+        }
         self.best_of(Effect::Friction, opts, Metric::Simulation)
     }
 
     /// Whether the current model's output-error equation on the estimation record depends on
-    /// the sign of its simulated velocity ([`friction_evidence`]).
-    fn moves_by_direction(&self) -> bool {
+    /// the sign of its simulated velocity ([`friction_evidence`]): the simulated output itself
+    /// when `speed`, else its change.
+    fn moves_by_direction(&self, speed: bool) -> bool {
         let est = self.holdout.est;
-        friction_evidence(self.inner_model, est, est.hold, false).is_some()
+        friction_evidence(self.inner_model, est, est.hold, speed).is_some()
     }
 }

@@ -317,9 +317,9 @@ pub(super) fn fit_structure_impl(
         match &held {
             Some((whole, block)) => {
                 let skip: Vec<bool> = (0..whole.len()).map(|t| block.contains(&t)).collect();
-                fit_friction_into(&mut model, whole, &skip)?;
+                fit_friction_into(&mut model, whole, &skip, s.friction_on_speed)?;
             }
-            None => fit_friction_into(&mut model, rec, &flags)?,
+            None => fit_friction_into(&mut model, rec, &flags, s.friction_on_speed)?,
         }
     }
     if s.play_between {

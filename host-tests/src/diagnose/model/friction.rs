@@ -14,11 +14,13 @@ use super::extended::ExtendedModel;
 /// Replaces the simulation of `model`'s Hammerstein part by its element and `G` with friction
 /// on the velocity, fitted on the simulation error of `rec` without the `skip` samples (the
 /// input drives the simulation through them), from the Hammerstein part (the fit never ends
-/// worse than it: its start is among the fit's).
+/// worse than it: its start is among the fit's); the friction on the sign of the output itself
+/// when `speed`, else of its change.
 pub(super) fn fit_friction_into(
     model: &mut ExtendedModel,
     rec: &Record,
     skip: &[bool],
+    speed: bool,
 ) -> Result<(), DiagnoseError> {
     let ud = delay_input(&rec.u, model.structure.delay);
     let target = model.less_additive(rec);
@@ -28,7 +30,10 @@ pub(super) fn fit_friction_into(
         skip,
         &model.hammerstein,
         false,
-        &FrictionOptions::default(),
+        &FrictionOptions {
+            speed,
+            ..FrictionOptions::default()
+        },
     )
     .map_err(|e| DiagnoseError::Dynamics(DynamicsError::Friction(e)))?;
     model.friction = Some(fit.model);

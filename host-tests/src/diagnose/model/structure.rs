@@ -49,6 +49,10 @@ pub struct Structure {
     /// ([`crate::friction`]), fitted with `G` by simulation error (`friction`).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub friction: bool,
+    /// With [`friction`](Self::friction): the output is a speed, the friction acts on its
+    /// sign (not on the sign of its change, as on a position's) ([`crate::friction::Friction::speed`]).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub friction_on_speed: bool,
     /// Play between two dynamic parts: the two-mass drive whose shaft has a dead zone of the
     /// gear play ([`crate::sandwich`]), driven by the Hammerstein part's static output and
     /// fitted by simulation error from `G`'s poles, in place of `G` and any element
@@ -104,6 +108,7 @@ impl Structure {
             dynamics: Dynamics::Linear,
             element: None,
             friction: false,
+            friction_on_speed: false,
             play_between: false,
         }
     }
