@@ -164,8 +164,8 @@ fn the_diagnosis_adds_friction_on_a_motors_speed_and_not_where_there_is_none() {
     }
 }
 
-/// `hsid diagnose --model-out` writes the friction on the speed (`"speed": true`) and `hsid
-/// validate` simulates that file to the diagnosis's own validation error.
+/// `hsid diagnose --model-out` writes the friction on the speed (`"speed": true`, as the
+/// format's schema has it) and `hsid validate` simulates that file to the diagnosis's own validation error.
 #[test]
 fn the_model_file_keeps_the_friction_on_the_speed() {
     let dir = crate::common::Scratch::new("friction_speed_cli");
@@ -204,6 +204,11 @@ fn the_model_file_keeps_the_friction_on_the_speed() {
     let file: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
     assert_eq!(file["friction"]["speed"].as_bool(), Some(true), "{file}");
+    assert_eq!(
+        crate::common::schema_errors(&file),
+        Vec::<String>::new(),
+        "{file}"
+    );
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let after = report["error_after"].as_f64().unwrap();
