@@ -14,6 +14,7 @@ use super::proposal::Proposal;
 use crate::diagnose::error::DiagnoseError;
 use crate::diagnose::findings::friction_evidence;
 use crate::diagnose::model::{Dynamics, Metric};
+use crate::friction::VelocitySign;
 
 impl Proposal<'_> {
     /// Friction on a model without an element with memory, stores or an output map (the
@@ -22,7 +23,8 @@ impl Proposal<'_> {
     /// of the model's simulated motion explains its equation error ([`friction_evidence`] on
     /// the estimation record). The output may be a position, whose change is the velocity, or
     /// a speed (a motor's), the velocity itself: each reading whose evidence fires is tried
-    /// and the better on the hold-out kept.
+    /// and the better on the hold-out kept, among the fits whose Coulomb level opposes the
+    /// motion (`F_c > 0`).
     pub fn friction(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let c = self.current;
         let plain = c.element.is_none()
@@ -44,23 +46,44 @@ impl Proposal<'_> {
                 "Coulomb friction and an offset on the output's sign (the output a speed)",
             ),
         ];
-        let opts: Vec<(String, _)> = readings
-            .into_iter()
-            .filter(|(speed, _)| self.moves_by_direction(*speed))
-            .map(|(speed, label)| {
-                (
-                    label.to_string(),
-                    self.with(|s| {
-                        s.friction = true;
-                        s.friction_on_speed = speed;
-                    }),
-                )
-            })
-            .collect();
-        if opts.is_empty() {
-            return Ok(None);
+        // Each reading scored on its own: one whose force helps the motion along (a negative
+        // Coulomb level, a feedback of the output's sign that is no friction) or is too small
+        // to matter (under the evidence's 2 % of the element's output's spread: an offset and
+        // a delay in friction's clothes) is not friction and does not stand in for the other.
+        let mut best: Option<Candidate> = None;
+        let mut tried = Vec::new();
+        for (speed, label) in readings {
+            if !self.moves_by_direction(speed) {
+                continue;
+            }
+            let structure = self.with(|s| {
+                s.friction = true;
+                s.friction_on_speed = speed;
+            });
+            let opts = vec![(label.to_string(), structure)];
+            let Some(c) = self.best_of(Effect::Friction, opts, Metric::Simulation)? else {
+                continue;
+            };
+            tried.extend(c.tried.iter().cloned());
+            let opposes = c.inner_model.friction.as_ref().is_some_and(|f| {
+                // The element's output's spread on the estimation record, in the units of the
+                // fitted model's force (its element scaled with `G(1) = 1`).
+                let est = self.holdout.est;
+                let h = f.plant.element_output_from(&est.u, f.plant.u_min());
+                let mean = h.iter().sum::<f64>() / h.len().max(1) as f64;
+                let centred: Vec<f64> = h.iter().map(|v| v - mean).collect();
+                let spread = crate::numerics::rms(&centred);
+                f.friction.coulomb >= VelocitySign::MIN_FORCE_SHARE * spread
+            });
+            if opposes
+                && best
+                    .as_ref()
+                    .is_none_or(|b| c.evaluation.rmse < b.evaluation.rmse)
+            {
+                best = Some(c);
+            }
         }
-        self.best_of(Effect::Friction, opts, Metric::Simulation)
+        Ok(best.map(|c| Candidate { tried, ..c }))
     }
 
     /// Whether the current model's output-error equation on the estimation record depends on
