@@ -175,31 +175,12 @@ fn the_model_file_keeps_the_friction_on_the_speed() {
     let val = dir.write_uy("val.csv", &uv, &yv);
     let (model, json) = (dir.join("model.json"), dir.join("diagnosis.json"));
     let hold = HOLD.to_string();
-    hsid(&[
-        "diagnose",
-        "--data",
-        p(&est),
-        "--validation",
-        p(&val),
-        "--validation-skip",
-        &hold,
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--hold",
-        &hold,
-        "--nonlinearity",
-        "static",
-        "--segments",
-        "6",
-        "--order",
-        "2",
-        "--model-out",
-        p(&model),
-        "--json",
-        p(&json),
-    ])
+    crate::common::diagnose_static_six(
+        &est,
+        &val,
+        HOLD,
+        &["--model-out", p(&model), "--json", p(&json)],
+    )
     .success();
     let file: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
@@ -222,18 +203,7 @@ fn the_model_file_keeps_the_friction_on_the_speed() {
         &hold,
     ])
     .success();
-    let line = run
-        .stdout
-        .lines()
-        .find(|l| l.starts_with("simulation fit on"))
-        .unwrap_or_else(|| panic!("{}", run.stdout));
-    let rmse: f64 = line
-        .split("RMSE ")
-        .nth(1)
-        .and_then(|r| r.split(',').next())
-        .unwrap()
-        .parse()
-        .unwrap();
-    println!("validate: {line}; diagnosis {after:.5}");
+    let rmse = crate::common::validate_rmse(&run.stdout, "simulation fit on");
+    println!("diagnosis {after:.5}");
     assert!((rmse - after).abs() < 0.05 * after, "{rmse} vs {after}");
 }

@@ -195,33 +195,19 @@ fn the_diagnosed_model_file_holds_the_friction_and_validates_as_diagnosed() {
     let (model, json) = (dir.join("model.json"), dir.join("diagnosis.json"));
     let page = dir.join("diagnosis.html");
     let hold = HOLD.to_string();
-    hsid(&[
-        "diagnose",
-        "--data",
-        p(&est),
-        "--validation",
-        p(&val),
-        "--validation-skip",
-        &hold,
-        "--umin",
-        "-1",
-        "--umax",
-        "1",
-        "--hold",
-        &hold,
-        "--nonlinearity",
-        "static",
-        "--segments",
-        "6",
-        "--order",
-        "2",
-        "--model-out",
-        p(&model),
-        "--json",
-        p(&json),
-        "--html",
-        p(&page),
-    ])
+    crate::common::diagnose_static_six(
+        &est,
+        &val,
+        HOLD,
+        &[
+            "--model-out",
+            p(&model),
+            "--json",
+            p(&json),
+            "--html",
+            p(&page),
+        ],
+    )
     .success();
     // The page says the friction is part of the final model, and reads that model's `G`.
     let html = std::fs::read_to_string(&page).unwrap();
@@ -245,20 +231,7 @@ fn the_diagnosed_model_file_holds_the_friction_and_validates_as_diagnosed() {
     assert!((coulomb - COULOMB).abs() < 0.2 * COULOMB, "{coulomb}");
     let validate = ["validate", "--model", p(&model), "--data", p(&val)];
     let run = hsid(&[&validate[..], &["--skip", &hold]].concat()).success();
-    let rmse_of = |start: &str| -> f64 {
-        let line = run
-            .stdout
-            .lines()
-            .find(|l| l.starts_with(start))
-            .unwrap_or_else(|| panic!("{start}: {}", run.stdout));
-        println!("validate: {line}");
-        line.split("RMSE ")
-            .nth(1)
-            .and_then(|r| r.split(',').next())
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
+    let rmse_of = |start: &str| crate::common::validate_rmse(&run.stdout, start);
     let after = report["error_after"].as_f64().unwrap();
     println!("diagnosis: friction {coulomb:.4}, validation RMSE {after:.4}");
     let rmse = rmse_of("simulation fit on");

@@ -350,3 +350,47 @@ pub fn nrmse(y: &[f64], yhat: &[f64]) -> f64 {
     let d: f64 = y.iter().map(|a| (a - mean).powi(2)).sum();
     (e / d).sqrt()
 }
+
+/// `hsid diagnose` of the record `est` validated on `val` (both `u,y` files opening with a
+/// hold of `hold` samples at −1, the input in [−1, 1]) with the static element of six segments
+/// and order 2, then `extra`: the command the friction tests write the model file with.
+pub fn diagnose_static_six(est: &Path, val: &Path, hold: usize, extra: &[&str]) -> Run {
+    let hold = hold.to_string();
+    let args = [
+        "diagnose",
+        "--data",
+        p(est),
+        "--validation",
+        p(val),
+        "--validation-skip",
+        &hold,
+        "--umin",
+        "-1",
+        "--umax",
+        "1",
+        "--hold",
+        &hold,
+        "--nonlinearity",
+        "static",
+        "--segments",
+        "6",
+        "--order",
+        "2",
+    ];
+    hsid(&[&args[..], extra].concat())
+}
+
+/// The RMSE of the line of `hsid validate`'s output that starts with `start` (`simulation fit
+/// on`, `one-step prediction fit on`), printed.
+pub fn validate_rmse(stdout: &str, start: &str) -> f64 {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with(start))
+        .unwrap_or_else(|| panic!("{start}: {stdout}"));
+    println!("validate: {line}");
+    line.split("RMSE ")
+        .nth(1)
+        .and_then(|r| r.split(',').next())
+        .and_then(|r| r.parse().ok())
+        .unwrap_or_else(|| panic!("no RMSE in {line}"))
+}
