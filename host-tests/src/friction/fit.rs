@@ -175,10 +175,7 @@ pub fn fit_friction(
         });
     }
     let given = fit_element(u, y, skip, start, integrating, opts);
-    let u_start = match integrating {
-        true => u.first().copied().unwrap_or(0.0),
-        false => start.u_min(),
-    };
+    let u_start = start_input(u, start, integrating);
     let Some(line) = straightened(start, u, u_start) else {
         return given;
     };
@@ -194,14 +191,24 @@ pub fn fit_friction(
     }
 }
 
+/// The input before the record, where the simulation starts (as
+/// [`FrictionModel::simulate_from`] starts it): an integrating plant moving at its first input,
+/// any other at rest at `u_min`.
+fn start_input(u: &[f64], start: &HostModel, integrating: bool) -> f64 {
+    match integrating {
+        true => u.first().copied().unwrap_or(0.0),
+        false => start.u_min(),
+    }
+}
+
 /// `model` with its element replaced by the straight line that best fits the element's
 /// output over the record's input `u` (least squares of `h(t)` on `u(t)` and 1; `u_start`
 /// the input before the record): the element a friction fit also starts from. `None` when
 /// the element is a line already (within 10⁻⁹ of its spread) or the input does not vary.
 fn straightened(model: &HostModel, u: &[f64], u_start: f64) -> Option<HostModel> {
+    use crate::validation::stats::{mean, variance};
     let h = model.element_output_from(u, u_start);
-    let n = u.len() as f64;
-    let (um, hm) = (u.iter().sum::<f64>() / n, h.iter().sum::<f64>() / n);
+    let (um, hm) = (mean(u), mean(&h));
     let sxx: f64 = u.iter().map(|a| (a - um) * (a - um)).sum();
     let sxy: f64 = u.iter().zip(&h).map(|(a, b)| (a - um) * (b - hm)).sum();
     if !(sxx > 0.0 && sxx.is_finite() && sxy.is_finite()) {
@@ -209,7 +216,7 @@ fn straightened(model: &HostModel, u: &[f64], u_start: f64) -> Option<HostModel>
     }
     let slope = sxy / sxx;
     let at = |k: &f64| slope * k + (hm - slope * um);
-    let spread = crate::numerics::rms(&h.iter().map(|v| v - hm).collect::<Vec<_>>());
+    let spread = variance(&h).sqrt();
     let off = |knots: &[f64], borders: &[f64]| {
         knots
             .iter()
@@ -253,11 +260,7 @@ fn fit_element(
     if !(v_rms > 0.0 && v_rms.is_finite()) {
         return Err(FrictionError::NoMotion);
     }
-    // Where the simulation starts (as [`FrictionModel::simulate_from`] starts it).
-    let u_start = match integrating {
-        true => u.first().copied().unwrap_or(0.0),
-        false => start.u_min(),
-    };
+    let u_start = start_input(u, start, integrating);
     let h_raw = start.element_output_from(u, u_start);
     let h0 = start.element_output_from(&[u_start], u_start)[0];
     // An integrating plant's start is read off the record's first samples (a parabola through

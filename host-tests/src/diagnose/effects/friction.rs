@@ -70,9 +70,7 @@ impl Proposal<'_> {
                 // fitted model's force (its element scaled with `G(1) = 1`).
                 let est = self.holdout.est;
                 let h = f.plant.element_output_from(&est.u, f.plant.u_min());
-                let mean = h.iter().sum::<f64>() / h.len().max(1) as f64;
-                let centred: Vec<f64> = h.iter().map(|v| v - mean).collect();
-                let spread = crate::numerics::rms(&centred);
+                let spread = crate::validation::stats::variance(&h).sqrt();
                 f.friction.coulomb >= VelocitySign::MIN_FORCE_SHARE * spread
             });
             if opposes
