@@ -22,6 +22,7 @@ mod closed_loop;
 mod compensation;
 mod csv_layouts;
 mod diagnose;
+mod diagnose_end_stop;
 mod diagnose_hysteresis;
 mod diagnose_measured;
 mod diagnose_reference;

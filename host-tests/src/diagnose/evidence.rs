@@ -9,6 +9,7 @@ use serde::{Serialize, Serializer};
 use super::delay::DeadTime;
 use super::dynamics::DynamicsError;
 use super::effects::Effect;
+use super::end_stop::EndStops;
 use crate::identify::IdentifyError;
 use crate::validation::checks::{Check, Warning};
 use crate::validation::residual::{TestResult, TestSet};
@@ -22,6 +23,9 @@ pub enum Evidence {
     DeadTime(DeadTime),
     /// The data check found the output saturated (output nonlinearity).
     Saturation(Warning),
+    /// The model's simulation goes beyond levels the output stays at, with noise on it (an
+    /// end stop the data check cannot see: output nonlinearity).
+    EndStop(EndStops),
 }
 
 impl fmt::Display for Evidence {
@@ -30,6 +34,7 @@ impl fmt::Display for Evidence {
             Evidence::Test(t) => write!(f, "{}: {} (p = {:.2e})", t.name, t.detail, t.p_value),
             Evidence::DeadTime(d) => d.fmt(f),
             Evidence::Saturation(w) => write!(f, "data check output_saturation: {}", w.message),
+            Evidence::EndStop(e) => e.fmt(f),
         }
     }
 }
@@ -122,12 +127,14 @@ impl Serialize for Tried {
 }
 
 /// The evidence of an effect: its tests that fired, the dead-time test for a delay, the
-/// saturation check for an output nonlinearity.
+/// saturation check and the end stops fitted to the model's simulation for an output
+/// nonlinearity.
 pub fn evidence(
     e: Effect,
     tests: &TestSet,
     dead: &DeadTime,
     warnings: &[Warning],
+    stops: Option<&EndStops>,
 ) -> Vec<Evidence> {
     let mut v: Vec<Evidence> = e
         .evidence_tests()
@@ -148,6 +155,7 @@ pub fn evidence(
                 .cloned()
                 .map(Evidence::Saturation),
         );
+        v.extend(stops.copied().map(Evidence::EndStop));
     }
     v
 }

@@ -36,6 +36,7 @@ pub mod delay;
 pub mod diagnosis;
 pub mod dynamics;
 pub mod effects;
+pub mod end_stop;
 pub mod error;
 pub mod evidence;
 pub mod figures;

@@ -52,6 +52,51 @@ impl HostModel {
             })
             .collect()
     }
+    /// [`linear_response`](Self::linear_response) against end stops: where the next state's
+    /// output (with the present input's direct term) would pass `upper` (`lower`), the state
+    /// is set at rest at that level, `(I − A)⁻¹ B ℓ` (`G(1) = 1`): a drive held at a mechanical
+    /// stop, which leaves it as soon as the push turns.
+    pub fn linear_response_held(
+        &self,
+        h: &[f64],
+        x0: &[f64],
+        upper: Option<f64>,
+        lower: Option<f64>,
+    ) -> Vec<f64> {
+        let n = self.order;
+        let steady = self.steady_state();
+        let mut x: Vec<f64> = x0
+            .iter()
+            .copied()
+            .chain(std::iter::repeat(0.0))
+            .take(n)
+            .collect();
+        let mut next = vec![0.0; n];
+        let out = |x: &[f64], hi: f64| {
+            self.d * hi + self.c.iter().zip(x).map(|(c, x)| c * x).sum::<f64>()
+        };
+        h.iter()
+            .map(|&hi| {
+                let y = out(&x, hi);
+                for (i, nx) in next.iter_mut().enumerate() {
+                    *nx = self.b[i] * hi + (0..n).map(|j| self.a[(i, j)] * x[j]).sum::<f64>();
+                }
+                let ahead = out(&next, hi);
+                let at = match (upper, lower) {
+                    (Some(l), _) if ahead > l => Some(l),
+                    (_, Some(l)) if ahead < l => Some(l),
+                    _ => None,
+                };
+                if let Some(l) = at {
+                    for (nx, s) in next.iter_mut().zip(&steady) {
+                        *nx = s * l;
+                    }
+                }
+                std::mem::swap(&mut x, &mut next);
+                y
+            })
+            .collect()
+    }
     /// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
     pub(crate) fn rest_state(&self) -> Vec<f64> {
         let n = self.order;

@@ -9,6 +9,7 @@ use super::delay::DeadTime;
 use super::diagnosis::{Rejected, Step};
 use super::effects::candidate::compare_common;
 use super::effects::{self, Candidate, Effect, Holdout, Proposal};
+use super::end_stop::{EndStops, fit_levels};
 use super::error::DiagnoseError;
 use super::evidence::{Tried, evidence};
 use super::findings::Finding;
@@ -171,18 +172,27 @@ impl Context<'_> {
             input: &self.est.u[hold..],
             tests: &tests,
             increments: self.opts.increments,
+            every: self.opts.proposing == Proposing::Every,
         };
-        let (mut cands, chosen) = self.candidates(&proposal, &tests, &baseline, &p.current)?;
+        // The end stops the model's simulation shows on the estimation record (evidence of an
+        // output nonlinearity the data check cannot see; not for an integrating plant's
+        // increments, whose simulation is not the output's level).
+        let idx: Vec<usize> = (hold..ne).collect();
+        let stops = (!self.opts.increments)
+            .then(|| fit_levels(&self.est.y, &ev.output, &idx))
+            .flatten();
+        let (mut cands, chosen) =
+            self.candidates(&proposal, &tests, stops.as_ref(), &baseline, &p.current)?;
         let (chosen, refitted) = self.refit(&mut cands, chosen)?;
         let Some(ci) = chosen else {
-            self.reject(p, &cands, tests);
+            self.reject(p, &cands, tests, stops.as_ref());
             return Ok(Flow::Stop);
         };
         let Some(new_model) = refitted else {
             return Ok(Flow::Stop);
         };
         let deterministic = cands[ci].effect.deterministic();
-        self.record(p, &cands, ci, new_model, &tests);
+        self.record(p, &cands, ci, new_model, &tests, stops.as_ref());
         Ok(if deterministic {
             Flow::Continue
         } else {
@@ -196,6 +206,7 @@ impl Context<'_> {
         &self,
         proposal: &Proposal,
         tests: &TestSet,
+        stops: Option<&EndStops>,
         baseline: &Evaluation,
         current: &Structure,
     ) -> Result<(Vec<Candidate>, Option<usize>), DiagnoseError> {
@@ -204,13 +215,15 @@ impl Context<'_> {
         let tried: Vec<Effect> = Effect::PROPOSED
             .into_iter()
             .filter(|&e| {
-                // A saturated output found by the data checks is direct evidence of an output
-                // nonlinearity, even when the residual tests lack power.
+                // A saturated output found by the data checks, or end stops the model's
+                // simulation goes beyond, is direct evidence of an output nonlinearity, even
+                // when the residual tests lack power.
                 let saturated = e == Effect::OutputNonlinearity
-                    && self
-                        .warnings
-                        .iter()
-                        .any(|w| w.check == Check::OutputSaturation);
+                    && (stops.is_some()
+                        || self
+                            .warnings
+                            .iter()
+                            .any(|w| w.check == Check::OutputSaturation));
                 e.deterministic() && (effects::has_evidence(e, tests) || saturated || every)
             })
             .collect();
@@ -334,12 +347,18 @@ impl Context<'_> {
     }
 
     /// Nothing passed: the candidates are rejected and every test that fired is a finding.
-    fn reject(&self, p: &mut Progress, cands: &[Candidate], tests: TestSet) {
+    fn reject(
+        &self,
+        p: &mut Progress,
+        cands: &[Candidate],
+        tests: TestSet,
+        stops: Option<&EndStops>,
+    ) {
         p.rejected = cands
             .iter()
             .map(|c| Rejected {
                 effect: c.effect,
-                evidence: evidence(c.effect, &tests, self.dead, self.warnings),
+                evidence: evidence(c.effect, &tests, self.dead, self.warnings, stops),
                 inner_gain: c.gain,
                 inner_p: c.p_value,
                 inner_test: c.significance,
@@ -370,6 +389,7 @@ impl Context<'_> {
         ci: usize,
         new_model: ExtendedModel,
         tests: &TestSet,
+        stops: Option<&EndStops>,
     ) {
         let c = &cands[ci];
         let metric = if c.effect.deterministic() {
@@ -395,7 +415,7 @@ impl Context<'_> {
         };
         p.steps.push(Step {
             effect: c.effect,
-            evidence: evidence(c.effect, tests, self.dead, self.warnings),
+            evidence: evidence(c.effect, tests, self.dead, self.warnings, stops),
             setting: effects::setting(c.effect, &c.structure, Some(&new_model)),
             inner_gain: c.gain,
             inner_p: c.p_value,

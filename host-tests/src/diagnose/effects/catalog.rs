@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use crate::diagnose::end_stop::EndStop;
 use crate::diagnose::model::{Dynamics, ExtendedModel, Structure};
 use crate::model::MemoryElement;
 use crate::validation::residual::{Test, TestSet};
@@ -244,6 +245,24 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
             Some(h) => format!("order {}, horizons f = p = {h}", s.order.unwrap_or(0)),
             None => format!("order {}", s.order.unwrap_or(0)),
         },
+        Effect::OutputNonlinearity if s.end_stop.is_some() => {
+            let at = |l: Option<f64>| l.map_or("none".to_string(), |l| format!("{l:.4}"));
+            let stop = s.end_stop.unwrap_or(EndStop {
+                levels: Default::default(),
+                held: false,
+            });
+            let sat = stop.levels;
+            format!(
+                "end stop: {} at levels fitted to the data (upper {}, lower {}; no sample sits at a level exactly)",
+                match (stop.held, s.element.is_some()) {
+                    (true, _) => "mechanical, the model's state held at rest",
+                    (false, true) => "the element's simulation clamped",
+                    (false, false) => "the output clamped",
+                },
+                at(sat.ceiling),
+                at(sat.floor)
+            )
+        }
         Effect::OutputNonlinearity if s.element.is_some() => {
             "output saturation: the element's simulation clamped at the pinned levels".into()
         }
@@ -284,7 +303,9 @@ pub fn setting(effect: Effect, s: &Structure, model: Option<&ExtendedModel>) -> 
                     _ => "play operator".into(),
                 },
             };
-            if s.output_map_segments.is_some() {
+            if s.end_stop.is_some() {
+                format!("{element}, with the end stop at the fitted levels")
+            } else if s.output_map_segments.is_some() {
                 format!("{element}, with the output saturation at the pinned levels")
             } else {
                 element

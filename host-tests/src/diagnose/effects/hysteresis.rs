@@ -27,8 +27,8 @@ impl Proposal<'_> {
     /// element's memory does not carry its gain (see the module doc).
     pub fn hysteresis(&self) -> Result<Option<Candidate>, DiagnoseError> {
         let c = self.current;
-        let saturation_only =
-            c.output_map_segments == Some(1) && self.holdout.opts.saturation.any();
+        let saturation_only = c.output_map_segments == Some(1)
+            && (self.holdout.opts.saturation.any() || c.end_stop.is_some());
         let plain = (c.output_map_segments.is_none() || saturation_only)
             && c.dynamics == Dynamics::Linear
             && !c.play_between;

@@ -37,6 +37,9 @@ pub struct Proposal<'a> {
     /// The record holds an integrating plant's increments
     /// ([`DiagnoseOptions::increments`](crate::diagnose::DiagnoseOptions::increments)).
     pub increments: bool,
+    /// Every effect is proposed, with or without its evidence
+    /// ([`Proposing::Every`](crate::diagnose::Proposing::Every)).
+    pub every: bool,
 }
 
 impl Proposal<'_> {

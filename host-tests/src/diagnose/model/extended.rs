@@ -90,10 +90,22 @@ impl ExtendedModel {
             return fm.simulate_from(&ud, Initial::Rest { u_start });
         }
         let h = self.hammerstein.nonlinearity_output(&ud);
-        match &self.stores {
-            Some(st) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
-            None => self.hammerstein.linear_response(&h, &self.x0),
+        match (&self.stores, self.held_levels()) {
+            (Some(st), _) => st.simulate(&h).unwrap_or_else(|| vec![f64::NAN; h.len()]),
+            (None, Some((upper, lower))) => self
+                .hammerstein
+                .linear_response_held(&h, &self.x0, upper, lower),
+            (None, None) => self.hammerstein.linear_response(&h, &self.x0),
         }
+    }
+
+    /// A mechanical end stop's levels in `G`'s output (before the output map): the map's
+    /// preimages of its ceiling and floor.
+    fn held_levels(&self) -> Option<(Option<f64>, Option<f64>)> {
+        let stop = self.structure.end_stop.filter(|s| s.held)?;
+        let g = self.output_map.as_ref()?;
+        let pre = |y: Option<f64>| y.and_then(|y| g.preimage(y));
+        Some((pre(stop.levels.ceiling), pre(stop.levels.floor)))
     }
 
     /// The largest spectral radius a model fitted on `n` samples can have and still be

@@ -87,6 +87,18 @@ pub(super) fn fit_structure_impl(
     opts: &FitOptions,
     held: Option<(&Record, Range<usize>)>,
 ) -> Result<ExtendedModel, DiagnoseError> {
+    // End stops fitted to the data stand in for the levels the data check finds.
+    let stopped;
+    let opts = match &s.end_stop {
+        Some(stop) => {
+            stopped = FitOptions {
+                saturation: stop.levels,
+                ..opts.clone()
+            };
+            &stopped
+        }
+        None => opts,
+    };
     // With an element, an output map is the output saturation clamping the element's
     // simulation ([`fit_element`]); the linear part that starts the element's fit is the
     // element's without it.
@@ -177,7 +189,22 @@ pub(super) fn fit_structure_impl(
                 }
             }
         }
-        let m = estimate(&ud, &target, rd.as_deref(), &idopts)?;
+        let m = match estimate(&ud, &target, rd.as_deref(), &idopts) {
+            Ok(m) => m,
+            // A later round is identified on the output inverted through the map, its
+            // clipped samples imputed: where that estimate fails, the best round before it
+            // stands (as when it fits worse).
+            Err(_)
+                if s.output_map_segments.is_some() && !s.robust_refit && best_round.is_some() =>
+            {
+                if let Some((_, bm, bx, bg)) = &best_round {
+                    last = Some((bm.clone(), bx.clone()));
+                    map = bg.clone();
+                }
+                break;
+            }
+            Err(e) => return Err(e),
+        };
         let refit = if opts.refit {
             refit_borders(
                 &m,

@@ -2,6 +2,7 @@
 
 use serde::{Serialize, Serializer};
 
+use crate::diagnose::end_stop::EndStop;
 use crate::diagnose::stores::StoresClass;
 use crate::model::MemoryElement;
 
@@ -25,6 +26,11 @@ pub struct Structure {
     pub frequencies: Vec<f64>,
     /// Segments of the monotone output map (`output_nonlinearity`).
     pub output_map_segments: Option<usize>,
+    /// End stops fitted to the data ([`crate::diagnose::end_stop`]), clamping the output map
+    /// in place of the levels the data check finds (`output_nonlinearity` on an output held
+    /// at a level with noise on it, which the check cannot see).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub end_stop: Option<EndStop>,
     /// Order of the AR noise model (`colored_noise`).
     pub noise_ar_order: Option<usize>,
     /// Outliers flagged by the MAD rule and left out of the error (`outliers`).
@@ -102,6 +108,7 @@ impl Structure {
             settling: None,
             frequencies: Vec::new(),
             output_map_segments: None,
+            end_stop: None,
             noise_ar_order: None,
             robust: false,
             robust_refit: false,
