@@ -33,25 +33,9 @@ impl HostModel {
     }
     /// The response of `G` to `h` from the state `x0`.
     pub fn linear_response(&self, h: &[f64], x0: &[f64]) -> Vec<f64> {
-        let n = self.order;
-        let mut x: Vec<f64> = x0
-            .iter()
-            .copied()
-            .chain(std::iter::repeat(0.0))
-            .take(n)
-            .collect();
-        let mut next = vec![0.0; n];
-        h.iter()
-            .map(|&hi| {
-                let y = self.d * hi + self.c.iter().zip(&x).map(|(c, x)| c * x).sum::<f64>();
-                for (i, nx) in next.iter_mut().enumerate() {
-                    *nx = self.b[i] * hi + (0..n).map(|j| self.a[(i, j)] * x[j]).sum::<f64>();
-                }
-                std::mem::swap(&mut x, &mut next);
-                y
-            })
-            .collect()
+        self.respond(h, x0, None)
     }
+
     /// [`linear_response`](Self::linear_response) against end stops: where the next state's
     /// output (with the present input's direct term) would pass `upper` (`lower`), the state
     /// is set at rest at that level, `(I − A)⁻¹ B ℓ` (`G(1) = 1`): a drive held at a mechanical
@@ -63,8 +47,19 @@ impl HostModel {
         upper: Option<f64>,
         lower: Option<f64>,
     ) -> Vec<f64> {
-        let n = self.order;
         let steady = self.steady_state();
+        self.respond(h, x0, Some((&steady, upper, lower)))
+    }
+
+    /// The state recursion, the state set at rest at a stop's level (`steady` times the level)
+    /// where `stops` has one the next output passes.
+    fn respond(
+        &self,
+        h: &[f64],
+        x0: &[f64],
+        stops: Option<(&[f64], Option<f64>, Option<f64>)>,
+    ) -> Vec<f64> {
+        let n = self.order;
         let mut x: Vec<f64> = x0
             .iter()
             .copied()
@@ -81,15 +76,17 @@ impl HostModel {
                 for (i, nx) in next.iter_mut().enumerate() {
                     *nx = self.b[i] * hi + (0..n).map(|j| self.a[(i, j)] * x[j]).sum::<f64>();
                 }
-                let ahead = out(&next, hi);
-                let at = match (upper, lower) {
-                    (Some(l), _) if ahead > l => Some(l),
-                    (_, Some(l)) if ahead < l => Some(l),
-                    _ => None,
-                };
-                if let Some(l) = at {
-                    for (nx, s) in next.iter_mut().zip(&steady) {
-                        *nx = s * l;
+                if let Some((steady, upper, lower)) = stops {
+                    let ahead = out(&next, hi);
+                    let at = match (upper, lower) {
+                        (Some(l), _) if ahead > l => Some(l),
+                        (_, Some(l)) if ahead < l => Some(l),
+                        _ => None,
+                    };
+                    if let Some(l) = at {
+                        for (nx, s) in next.iter_mut().zip(steady) {
+                            *nx = s * l;
+                        }
                     }
                 }
                 std::mem::swap(&mut x, &mut next);
@@ -97,6 +94,7 @@ impl HostModel {
             })
             .collect()
     }
+
     /// The state at rest at `u_min`: `(I − A)⁻¹ B μ0`.
     pub(crate) fn rest_state(&self) -> Vec<f64> {
         let n = self.order;
