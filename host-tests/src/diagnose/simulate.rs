@@ -122,3 +122,53 @@ impl HostModel {
         xs.iter().zip(x0).map(|(a, b)| a * b).sum::<f64>() / nn
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `x⁺ = 0.5 x + h`, `y = 0.5 x` (unit static gain), a linear element on [-1, 1].
+    fn first_order() -> HostModel {
+        let k = vec![-1.0, 0.0, 1.0];
+        HostModel {
+            order: 1,
+            a: DMatrix::from_element(1, 1, 0.5),
+            b: vec![1.0],
+            c: vec![0.5],
+            d: 0.0,
+            mu0: 0.0,
+            knots_asc: k.clone(),
+            knots_desc: k.clone(),
+            border_asc: k.clone(),
+            border_desc: k,
+            singular_values: vec![],
+            whitened_singular_values: vec![],
+            f: 1,
+            p: 1,
+            samples: 0,
+        }
+    }
+
+    #[test]
+    fn a_response_held_at_a_stop_rests_there_and_leaves_when_the_push_turns() {
+        let m = first_order();
+        // A step to 1 for 10 samples, then to -1: free, the output rises as 1 − 0.5^t; held at
+        // 0.6, it rests at 0.6 from the first sample that would pass it (0.75 at t = 2) and
+        // falls from there when the input turns, as a first-order response from rest at 0.6.
+        let h: Vec<f64> = (0..20).map(|t| if t < 10 { 1.0 } else { -1.0 }).collect();
+        let free = m.linear_response(&h, &[0.0]);
+        let held = m.linear_response_held(&h, &[0.0], Some(0.6), None);
+        assert!((free[2] - 0.75).abs() < 1e-12, "{free:?}");
+        assert!((held[1] - 0.5).abs() < 1e-12, "{held:?}");
+        for (t, y) in held.iter().enumerate().take(11).skip(2) {
+            assert!((y - 0.6).abs() < 1e-12, "t = {t}: {held:?}");
+        }
+        // After the turn: y(t) = −1 + 1.6 · 0.5^(t − 10) from t = 10.
+        for (t, y) in held.iter().enumerate().skip(11) {
+            let want = -1.0 + 1.6 * 0.5f64.powi(t as i32 - 10);
+            assert!((y - want).abs() < 1e-12, "t = {t}: {y} against {want}");
+        }
+        // Without stops the held response is the free one.
+        assert_eq!(m.linear_response_held(&h, &[0.0], None, None), free);
+    }
+}
