@@ -802,3 +802,29 @@ where
     };
     Ok((model, settings.knots.is_shared()))
 }
+
+#[cfg(test)]
+impl HostModel {
+    /// A first-order model for unit tests: `x⁺ = 0.5 x + h`, `y = 0.5 x` (pole 0.5, unit
+    /// static gain), a linear element `h(u) = u` on [-1, 1].
+    pub(crate) fn first_order_for_tests() -> Self {
+        let k = vec![-1.0, 0.0, 1.0];
+        HostModel {
+            order: 1,
+            a: nalgebra::DMatrix::from_element(1, 1, 0.5),
+            b: vec![1.0],
+            c: vec![0.5],
+            d: 0.0,
+            mu0: 0.0,
+            knots_asc: k.clone(),
+            knots_desc: k.clone(),
+            border_asc: k.clone(),
+            border_desc: k,
+            singular_values: vec![],
+            whitened_singular_values: vec![],
+            f: 1,
+            p: 1,
+            samples: 0,
+        }
+    }
+}

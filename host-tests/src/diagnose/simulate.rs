@@ -127,26 +127,8 @@ impl HostModel {
 mod tests {
     use super::*;
 
-    /// `x⁺ = 0.5 x + h`, `y = 0.5 x` (unit static gain), a linear element on [-1, 1].
     fn first_order() -> HostModel {
-        let k = vec![-1.0, 0.0, 1.0];
-        HostModel {
-            order: 1,
-            a: DMatrix::from_element(1, 1, 0.5),
-            b: vec![1.0],
-            c: vec![0.5],
-            d: 0.0,
-            mu0: 0.0,
-            knots_asc: k.clone(),
-            knots_desc: k.clone(),
-            border_asc: k.clone(),
-            border_desc: k,
-            singular_values: vec![],
-            whitened_singular_values: vec![],
-            f: 1,
-            p: 1,
-            samples: 0,
-        }
+        HostModel::first_order_for_tests()
     }
 
     #[test]
