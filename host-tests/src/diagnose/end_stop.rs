@@ -61,15 +61,16 @@ pub const MIN_REDUCTION: f64 = 0.05;
 /// Levels tried per end: the output's quantiles over its outer quarter.
 const LEVELS: usize = 101;
 
+/// Whether `s` is beyond `level`: above it at the upper end, below it at the lower.
+fn past(s: f64, level: f64, upper: bool) -> bool {
+    if upper { s > level } else { s < level }
+}
+
 /// The squared error of `sim` clamped at `level` (above it for the upper end, below it for the
 /// lower end) against `y` over `idx`, and how many samples the clamp moves.
 fn clamped_sse(y: &[f64], sim: &[f64], idx: &[usize], level: f64, upper: bool) -> (f64, usize) {
     idx.iter().fold((0.0, 0), |(sse, n), &t| {
-        let beyond = if upper {
-            sim[t] > level
-        } else {
-            sim[t] < level
-        };
+        let beyond = past(sim[t], level, upper);
         let s = if beyond { level } else { sim[t] };
         (sse + (y[t] - s).powi(2), n + usize::from(beyond))
     })
@@ -105,13 +106,7 @@ fn fit_end(y: &[f64], sim: &[f64], idx: &[usize], upper: bool) -> Option<(f64, u
     // stop (the level's tolerance).
     let (ss, m) = idx
         .iter()
-        .filter(|&&t| {
-            if upper {
-                sim[t] > level
-            } else {
-                sim[t] < level
-            }
-        })
+        .filter(|&&t| past(sim[t], level, upper))
         .fold((0.0, 0usize), |(ss, m), &t| {
             (ss + (y[t] - level).powi(2), m + 1)
         });

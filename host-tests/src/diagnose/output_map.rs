@@ -45,34 +45,18 @@ impl OutputMap {
         self.v[j] + t * (self.v[j + 1] - self.v[j])
     }
 
-    /// The input at which the map without its clipping reaches `y` (the first, on a flat
-    /// part), extrapolated with the end slopes; `None` where no increasing part reaches it.
-    pub(crate) fn preimage(&self, y: f64) -> Option<f64> {
-        let n = self.x.len();
-        if n < 2 {
-            return Some(y);
-        }
-        let slope = |j: usize| (self.v[j + 1] - self.v[j]) / (self.x[j + 1] - self.x[j]);
-        if y < self.v[0] {
-            return (slope(0) > 0.0).then(|| self.x[0] + (y - self.v[0]) / slope(0));
-        }
-        if y > self.v[n - 1] {
-            let s = slope(n - 2);
-            return (s > 0.0).then(|| self.x[n - 1] + (y - self.v[n - 1]) / s);
-        }
-        (0..n - 1).find_map(|j| {
-            let s = slope(j);
-            (self.v[j] <= y && y <= self.v[j + 1] && s > 0.0)
-                .then(|| self.x[j] + (y - self.v[j]) / s)
-        })
-    }
-
     /// `g⁻¹(y)` where `g` is invertible with a slope of at least `min_slope`, else `None`.
     pub(crate) fn invert(&self, y: f64, min_slope: f64) -> Option<f64> {
-        let min_slope = min_slope.max(1e-12);
         if self.ceiling.is_some_and(|c| y >= c) || self.floor.is_some_and(|f| y <= f) {
             return None;
         }
+        self.preimage(y, min_slope)
+    }
+
+    /// The input at which the map without its clipping reaches `y`, on a part with a slope of
+    /// at least `min_slope` (extrapolated with the end slopes); `None` where none reaches it.
+    pub(crate) fn preimage(&self, y: f64, min_slope: f64) -> Option<f64> {
+        let min_slope = min_slope.max(1e-12);
         let n = self.x.len();
         if n < 2 {
             return Some(y);

@@ -104,7 +104,7 @@ impl ExtendedModel {
     fn held_levels(&self) -> Option<(Option<f64>, Option<f64>)> {
         let stop = self.structure.end_stop.filter(|s| s.held)?;
         let g = self.output_map.as_ref()?;
-        let pre = |y: Option<f64>| y.and_then(|y| g.preimage(y));
+        let pre = |y: Option<f64>| y.and_then(|y| g.preimage(y, 0.0));
         Some((pre(stop.levels.ceiling), pre(stop.levels.floor)))
     }
 
